@@ -1,0 +1,45 @@
+"""polyell: exact acceleration polytopes and dynamic manipulability ellipsoids.
+
+Implements P. Chiacchio, "A new dynamic manipulability ellipsoid for redundant
+manipulators", Robotica 18 (2000), and compares both ellipsoid definitions with the
+exact task-space acceleration polytope.
+"""
+
+from polyell.analysis import ELLIPSOID_KINDS, Analysis, InverseSolution, analyze
+from polyell.errors import (
+    InputError,
+    PolyellError,
+    SolverError,
+    UndefinedEllipsoidError,
+    UnreachableAccelerationError,
+)
+from polyell.geometry import (
+    RANK_RTOL,
+    AffineSubspace,
+    DirectionalLimits,
+    Ellipsoid,
+    Polytope,
+)
+from polyell.models import Dynamics, PlanarArm
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "ELLIPSOID_KINDS",
+    "RANK_RTOL",
+    "AffineSubspace",
+    "Analysis",
+    "DirectionalLimits",
+    "Dynamics",
+    "Ellipsoid",
+    "InputError",
+    "InverseSolution",
+    "PlanarArm",
+    "PolyellError",
+    "Polytope",
+    "SolverError",
+    "UndefinedEllipsoidError",
+    "UnreachableAccelerationError",
+    "__version__",
+    "analyze",
+]

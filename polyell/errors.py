@@ -1,0 +1,66 @@
+"""Exceptions raised by polyell.
+
+Every error the package raises on purpose derives from :class:`PolyellError`, so a
+caller can catch the package's failures with one ``except`` clause.  Messages name the
+argument, what was expected, what arrived and how to fix it.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "InputError",
+    "PolyellError",
+    "SolverError",
+    "UndefinedEllipsoidError",
+    "UnreachableAccelerationError",
+]
+
+
+class PolyellError(Exception):
+    """Base class of every error polyell raises on purpose."""
+
+
+class InputError(PolyellError, ValueError):
+    """An argument has the wrong type, shape, value or mathematical property.
+
+    Parameters
+    ----------
+    argument : str
+        Name of the offending argument, as the caller wrote it.
+    expected : str
+        What the argument should have been.
+    got : str
+        What arrived instead.
+    fix : str, optional
+        A concrete way to repair the call.
+    """
+
+    def __init__(self, argument: str, expected: str, got: str, fix: str = "") -> None:
+        self.argument = argument
+        self.expected = expected
+        self.got = got
+        self.fix = fix
+        message = f"{argument}: expected {expected}, got {got}."
+        if fix:
+            message += f" Fix: {fix}"
+        super().__init__(message)
+
+
+class UndefinedEllipsoidError(PolyellError):
+    """An ellipsoid definition does not exist at this configuration.
+
+    The classic (Yoshikawa) ellipsoid of eq. (27) needs ``J J^T`` to be invertible; at a
+    singular configuration it is undefined.
+    """
+
+
+class UnreachableAccelerationError(PolyellError, ValueError):
+    """A task-space acceleration lies outside the set the robot can reach at all.
+
+    Raised by the inverse maps when ``xdd`` is not in the affine set ``xdd_g + Im(M)``
+    (a singular configuration), so no joint acceleration produces it.
+    """
+
+
+class SolverError(PolyellError):
+    """A numerical solver (linear program, log-det program) failed to return a solution."""

@@ -1,0 +1,15 @@
+"""Geometry: the exact polytope, ellipsoids, affine sets and directional limits."""
+
+from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.limits import DirectionalLimits
+from polyell.geometry.polytope import Polytope
+from polyell.geometry.subspace import RANK_RTOL, AffineSubspace, rank_revealing_svd
+
+__all__ = [
+    "RANK_RTOL",
+    "AffineSubspace",
+    "DirectionalLimits",
+    "Ellipsoid",
+    "Polytope",
+    "rank_revealing_svd",
+]

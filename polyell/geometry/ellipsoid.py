@@ -1,0 +1,205 @@
+r"""Ellipsoids in the task space, possibly degenerate (eq. 16-24, 38)."""
+
+from __future__ import annotations
+
+from functools import cached_property
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.linalg import null_space
+from scipy.special import gammaln
+
+from polyell.errors import InputError
+from polyell.geometry.limits import DirectionalLimits, limits_through_affine_set
+from polyell.geometry.subspace import AffineSubspace
+from polyell.validation import check_array, check_directions, check_points
+
+__all__ = ["Ellipsoid", "unit_ball_volume"]
+
+#: Distance tolerance of membership tests, relative to the ellipsoid's size.
+_ATOL_RELATIVE = 1e-9
+
+
+def _canonical_signs(axes: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Flip each column so that its largest-magnitude entry is positive."""
+    if axes.size == 0:
+        return axes
+    pivots = axes[np.argmax(np.abs(axes), axis=0), np.arange(axes.shape[1])]
+    return axes * np.where(pivots < 0, -1.0, 1.0)
+
+
+def unit_ball_volume(r: int) -> float:
+    """Volume of the unit ball in R^r: ``pi^(r/2) / Gamma(r/2 + 1)``."""
+    return float(np.exp(0.5 * r * np.log(np.pi) - gammaln(0.5 * r + 1)))
+
+
+class Ellipsoid:
+    r"""The ellipsoid :math:`\{ c + U \operatorname{diag}(s)\, u : \|u\| \le 1 \}`.
+
+    Equivalently :math:`(\ddot x - c)^T N (\ddot x - c) \le 1` with the core
+    :math:`N = U \operatorname{diag}(s)^{-2} U^T`, restricted to the affine set
+    :math:`c + \operatorname{Im}(U)` when the rank ``r`` is below ``m`` (eq. 38): then it
+    is degenerate (a segment, a disc, ...) and :attr:`volume` is its r-dimensional volume.
+
+    Parameters
+    ----------
+    center : array-like, shape (m,)
+        Centre ``c`` [m/s^2].
+    axes : array-like, shape (m, r)
+        Orthonormal principal axes ``U`` (columns).
+    semi_axes : array-like, shape (r,)
+        Strictly positive semi-axis lengths ``s`` [m/s^2], any order (sorted descending).
+    kind : str, optional
+        The definition it comes from (``"chiacchio"``, ``"yoshikawa"``, ...), for display.
+
+    Examples
+    --------
+    >>> import polyell as pe
+    >>> E = pe.Ellipsoid(center=[0.0, 0.0], axes=[[1.0, 0.0], [0.0, 1.0]], semi_axes=[2.0, 1.0])
+    >>> E.limits([1.0, 0.0])
+    DirectionalLimits(lo=array(-2.), hi=array(2.))
+    """
+
+    def __init__(
+        self, center: ArrayLike, axes: ArrayLike, semi_axes: ArrayLike, *, kind: str = "custom"
+    ) -> None:
+        self.center = check_array("center", center, (None,))
+        m = self.center.size
+        U = check_array("axes", axes, (m, None))
+        s = check_array("semi_axes", semi_axes, (U.shape[1],))
+        if np.any(s <= 0):
+            raise InputError(
+                "semi_axes", "strictly positive lengths", f"{s}", "drop axes of zero length."
+            )
+        if not np.allclose(U.T @ U, np.eye(U.shape[1]), atol=1e-9):
+            raise InputError(
+                "axes",
+                "orthonormal columns",
+                f"U^T U - I with max |entry| {np.max(np.abs(U.T @ U - np.eye(U.shape[1]))):.3g}",
+                "orthonormalise the axes, e.g. with an SVD.",
+            )
+        order = np.argsort(-s, kind="stable")
+        self.semi_axes = s[order]
+        self.axes = _canonical_signs(U[:, order])
+        self.kind = kind
+        if self.rank == m:
+            basis, normals = np.eye(m), np.zeros((m, 0))
+        else:
+            basis = self.axes
+            normals = null_space(self.axes.T) if self.rank else np.eye(m)
+        self.affine_set = AffineSubspace(point=self.center, basis=basis, normals=normals)
+        self.atol = _ATOL_RELATIVE * max(
+            float(self.semi_axes.sum()), float(np.linalg.norm(self.center)), np.finfo(float).tiny
+        )
+
+    @classmethod
+    def from_core(cls, center: ArrayLike, core: ArrayLike, *, kind: str = "custom") -> Ellipsoid:
+        """The full-dimensional ellipsoid ``(x - c)^T N (x - c) <= 1`` of a positive-definite N.
+
+        Parameters
+        ----------
+        center : array-like, shape (m,)
+        core : array-like, shape (m, m)
+            Symmetric positive-definite core ``N`` [(m/s^2)^-2].
+        kind : str, optional
+        """
+        c = check_array("center", center, (None,))
+        N = check_array("core", core, (c.size, c.size))
+        eigenvalues, eigenvectors = np.linalg.eigh(0.5 * (N + N.T))
+        if eigenvalues[0] <= 0:
+            raise InputError(
+                "core", "a positive-definite core", f"smallest eigenvalue {eigenvalues[0]:.3g}"
+            )
+        return cls(c, eigenvectors, 1.0 / np.sqrt(eigenvalues), kind=kind)
+
+    def __repr__(self) -> str:
+        return (
+            f"Ellipsoid(kind={self.kind!r}, center={np.round(self.center, 6).tolist()}, "
+            f"semi_axes={np.round(self.semi_axes, 6).tolist()}, rank={self.rank})"
+        )
+
+    @property
+    def ambient_dim(self) -> int:
+        """Task-space dimension m."""
+        return int(self.center.size)
+
+    @property
+    def rank(self) -> int:
+        """Number r of principal axes of non-zero length (its dimension)."""
+        return int(self.semi_axes.size)
+
+    @cached_property
+    def core(self) -> NDArray[np.float64]:
+        """Core ``N = U diag(s)^-2 U^T``, shape (m, m), semidefinite when ``rank < m``."""
+        return (self.axes / self.semi_axes**2) @ self.axes.T
+
+    @cached_property
+    def volume(self) -> float:
+        """Volume in its affine set: ``V_r prod(s)`` (1 for a single point)."""
+        return unit_ball_volume(self.rank) * float(np.prod(self.semi_axes))
+
+    def support(self, normals: ArrayLike) -> NDArray[np.float64]:
+        """Support function ``max_{x in E} a . x = a . c + ||diag(s) U^T a||``.
+
+        Parameters
+        ----------
+        normals : array-like, shape (m,) or (k, m)
+
+        Returns
+        -------
+        ndarray, shape () or (k,)
+        """
+        a = check_points("normals", normals, self.ambient_dim)
+        return a @ self.center + np.linalg.norm((a @ self.axes) * self.semi_axes, axis=-1)
+
+    def contains(self, points: ArrayLike) -> NDArray[np.bool_]:
+        """Whether points lie in the ellipsoid (to the tolerance :attr:`atol`).
+
+        Parameters
+        ----------
+        points : array-like, shape (m,) or (k, m)
+
+        Returns
+        -------
+        inside : ndarray of bool, shape () or (k,)
+        """
+        x = check_points("points", points, self.ambient_dim)
+        u = ((x - self.center) @ self.axes) / self.semi_axes
+        radius = np.linalg.norm(u, axis=-1)
+        slack = self.atol / self.semi_axes[-1] if self.rank else 0.0
+        return (self.affine_set.distance(x) <= self.atol) & (radius <= 1.0 + slack)
+
+    def limits(self, directions: ArrayLike) -> DirectionalLimits:
+        r"""Achievable accelerations along unit directions, eq. (23)-(24).
+
+        For a line :math:`\{a t\}` in the ellipsoid's affine set, :math:`a` solves
+        :math:`\alpha a^2 + 2 \beta a + \gamma \le 0` with :math:`\alpha = t^T N t`,
+        :math:`\beta = -t^T N c`, :math:`\gamma = c^T N c - 1`, giving the interval (24),
+        empty when :math:`\beta^2 - \alpha\gamma < 0`.  For a degenerate ellipsoid a line
+        that leaves the affine set meets it in at most one point, tested directly: eq. (23)
+        alone would be wrong there because N is only semidefinite.
+
+        Parameters
+        ----------
+        directions : array-like, shape (m,) or (k, m)
+
+        Returns
+        -------
+        DirectionalLimits
+            NaN where the line misses the ellipsoid.
+        """
+        T = check_directions("directions", directions, self.ambient_dim)
+        return limits_through_affine_set(
+            self.affine_set, T, self.atol, self._interval_eq24, self.contains
+        )
+
+    def _interval_eq24(
+        self, lines: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        Nt = lines @ self.core
+        alpha = np.einsum("ij,ij->i", Nt, lines)
+        beta = -Nt @ self.center
+        gamma = self.center @ self.core @ self.center - 1.0
+        discriminant = beta**2 - alpha * gamma
+        root = np.sqrt(np.where(discriminant >= 0, discriminant, np.nan))
+        return (-beta - root) / alpha, (-beta + root) / alpha

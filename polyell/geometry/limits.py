@@ -1,0 +1,127 @@
+"""Closed-form directional limits: a line through the origin against a set of halfspaces."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from polyell.geometry.subspace import AffineSubspace
+
+__all__ = [
+    "DirectionalLimits",
+    "limits_through_affine_set",
+    "line_interval_in_halfspaces",
+]
+
+
+def line_interval_in_halfspaces(
+    A: NDArray[np.float64], b: NDArray[np.float64], directions: NDArray[np.float64], atol: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The interval ``{a : A (a t) <= b}`` for each direction ``t``.
+
+    Each facet ``A_i x <= b_i`` cuts the line at ``a = b_i / (A_i . t)``: from above when
+    ``A_i . t > 0``, from below when ``< 0``; when ``A_i . t = 0`` it keeps the whole
+    line if ``b_i >= 0`` and empties it otherwise.
+
+    Parameters
+    ----------
+    A : ndarray, shape (F, m)
+        Facet normals.
+    b : ndarray, shape (F,)
+        Offsets.
+    directions : ndarray, shape (k, m)
+        Unit directions.
+    atol : float
+        An interval with ``lo > hi`` by at most ``atol`` (a line grazing a vertex or edge)
+        is the single point ``(lo + hi) / 2``.
+
+    Returns
+    -------
+    lo, hi : ndarray, shape (k,)
+        Interval ends, NaN where the line misses the set.
+    """
+    slopes = directions @ A.T  # (k, F)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cuts = b / slopes
+    upper = np.where(slopes > 0, cuts, np.inf).min(axis=1, initial=np.inf)
+    lower = np.where(slopes < 0, cuts, -np.inf).max(axis=1, initial=-np.inf)
+    blocked = ((slopes == 0) & (b < 0)).any(axis=1)
+    grazing = (lower > upper) & (lower - upper <= atol)
+    middle = 0.5 * (lower + upper)
+    lower = np.where(grazing, middle, lower)
+    upper = np.where(grazing, middle, upper)
+    empty = blocked | (lower > upper)
+    return np.where(empty, np.nan, lower), np.where(empty, np.nan, upper)
+
+
+class DirectionalLimits(NamedTuple):
+    """Achievable accelerations ``a`` along directions ``t``: the intervals ``[lo, hi]``.
+
+    Unpacks as ``lo, hi = limits``.  Both ends are NaN where the line ``{a t}`` meets no
+    achievable acceleration; an interval need not contain 0 (gravity can push it away).
+
+    Attributes
+    ----------
+    lo, hi : ndarray, shape (k,) or ()
+        Interval ends [m/s^2 for a linear task, rad/s^2 for an angular one].
+    """
+
+    lo: NDArray[np.float64]
+    hi: NDArray[np.float64]
+
+    @property
+    def feasible(self) -> NDArray[np.bool_]:
+        """True where the interval is non-empty."""
+        return ~np.isnan(self.lo)
+
+
+def limits_through_affine_set(
+    affine_set: AffineSubspace,
+    directions: NDArray[np.float64],
+    atol: float,
+    interval_on_lines: Callable[
+        [NDArray[np.float64]], tuple[NDArray[np.float64], NDArray[np.float64]]
+    ],
+    contains: Callable[[NDArray[np.float64]], NDArray[np.bool_]],
+) -> DirectionalLimits:
+    """Directional limits of a set that lies in ``affine_set``, for any of its dimensions.
+
+    A line ``{a t}`` lying in the affine set gets the interval from
+    ``interval_on_lines``; a line crossing the set in one point ``a0 t`` gets
+    ``[a0, a0]`` if that point belongs to the set; any other line gets an empty interval.
+    For a full-dimensional set every line is of the first kind.
+
+    Parameters
+    ----------
+    affine_set : AffineSubspace
+        The affine hull of the set.
+    directions : ndarray, shape (m,) or (k, m)
+        Unit directions, already validated.
+    atol : float
+        Distance tolerance for "on the affine set".
+    interval_on_lines : callable
+        ``(k', m) -> (lo, hi)`` for lines that lie in the affine set.
+    contains : callable
+        ``(k', m) -> bool`` membership test for single points.
+
+    Returns
+    -------
+    DirectionalLimits
+        With the leading shape of ``directions``.
+    """
+    T = np.atleast_2d(directions)
+    lo = np.full(T.shape[0], np.nan)
+    hi = np.full(T.shape[0], np.nan)
+    meeting = affine_set.meet_lines(T, atol)
+    if meeting.inside.any():
+        lo[meeting.inside], hi[meeting.inside] = interval_on_lines(T[meeting.inside])
+    if meeting.single.any():
+        a0 = meeting.a0[meeting.single]
+        member = contains(a0[:, None] * T[meeting.single])
+        lo[meeting.single] = np.where(member, a0, np.nan)
+        hi[meeting.single] = np.where(member, a0, np.nan)
+    shape = directions.shape[:-1]
+    return DirectionalLimits(lo.reshape(shape), hi.reshape(shape))

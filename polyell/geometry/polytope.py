@@ -1,0 +1,217 @@
+r"""The exact task-space acceleration polytope (eq. 15), a zonotope."""
+
+from __future__ import annotations
+
+from functools import cached_property
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from polyell.errors import InputError
+from polyell.geometry.cddlib import halfspaces_from_vertices
+from polyell.geometry.limits import (
+    DirectionalLimits,
+    limits_through_affine_set,
+    line_interval_in_halfspaces,
+)
+from polyell.geometry.linprog import polytope_limits_lp
+from polyell.geometry.subspace import (
+    RANK_RTOL,
+    AffineSubspace,
+    RankRevealingSVD,
+    rank_revealing_svd,
+)
+from polyell.geometry.zonotope import zonotope_facets, zonotope_vertices, zonotope_volume
+from polyell.validation import check_array, check_directions, check_points
+
+__all__ = ["ATOL_RELATIVE", "Polytope"]
+
+#: Distance tolerance of membership tests, relative to the polytope's size.
+ATOL_RELATIVE = 1e-9
+
+
+class Polytope:
+    r"""The zonotope :math:`P = \{ M \tilde\tau + \ddot x_g : \|\tilde\tau\|_\infty \le 1 \}`.
+
+    Eq. (15) of the paper: every end-effector acceleration the arm can produce at rest,
+    exactly.  Its generators are the n columns of ``M`` (eq. 14).  When ``rank M = r <
+    m`` (a singular configuration, eq. 35) it lies in the r-dimensional affine set
+    ``xdd_g + Im(M)``: it is then described by ``A_eq x = b_eq`` together with
+    ``A x <= b``, and :attr:`volume` is its r-dimensional volume.
+
+    Parameters
+    ----------
+    generators : array-like, shape (m, n)
+        The matrix ``M`` [m/s^2 per unit normalized torque].
+    center : array-like, shape (m,)
+        The centre ``xdd_g`` [m/s^2].
+    rank_rtol : float, optional
+        Singular values of ``M`` at or below ``rank_rtol * sigma_max`` count as zero.
+    svd : RankRevealingSVD, optional
+        A decomposition of ``M`` already computed with the same tolerance (used by
+        :class:`~polyell.Analysis` so that polytope and ellipsoid share one rank decision).
+
+    Examples
+    --------
+    >>> import polyell as pe
+    >>> P = pe.Polytope([[1.0, 0.0, 1.0], [0.0, 1.0, 1.0]], center=[0.0, -1.0])
+    >>> P.dim, round(P.volume, 12)
+    (2, 12.0)
+    """
+
+    def __init__(
+        self,
+        generators: ArrayLike,
+        center: ArrayLike,
+        *,
+        rank_rtol: float = RANK_RTOL,
+        svd: RankRevealingSVD | None = None,
+    ) -> None:
+        shape = np.shape(generators)
+        if len(shape) != 2:
+            raise InputError("generators", "a matrix of shape (m, n)", f"shape {shape}")
+        self.generators = check_array("generators", generators, shape)
+        self.center = check_array("center", center, (shape[0],))
+        self._svd = svd if svd is not None else rank_revealing_svd(self.generators, rank_rtol)
+        self.affine_set = AffineSubspace.from_svd(self.center, self._svd)
+        self.atol = ATOL_RELATIVE * max(
+            float(np.linalg.norm(self.generators, axis=0).sum()),
+            float(np.linalg.norm(self.center)),
+            np.finfo(float).tiny,
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"Polytope(m={self.ambient_dim}, n={self.generators.shape[1]}, dim={self.dim}, "
+            f"facets={self.A.shape[0]}, volume={self.volume:.6g})"
+        )
+
+    @property
+    def ambient_dim(self) -> int:
+        """Task-space dimension m."""
+        return int(self.center.size)
+
+    @property
+    def dim(self) -> int:
+        """Dimension r of the polytope (``rank M``)."""
+        return self.affine_set.dim
+
+    @cached_property
+    def _reduced(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """Generators, facet normals and offsets in the affine set's coordinates."""
+        G = self.affine_set.basis.T @ self.generators
+        if self.dim == 0:
+            return G, np.zeros((0, 0)), np.zeros(0)
+        normals, offsets = zonotope_facets(G)
+        return G, normals, offsets
+
+    @cached_property
+    def A(self) -> NDArray[np.float64]:
+        """Unit outward facet normals in task coordinates, shape (F, m)."""
+        return self._reduced[1] @ self.affine_set.basis.T
+
+    @cached_property
+    def b(self) -> NDArray[np.float64]:
+        """Facet offsets, shape (F,): ``P = {x : A x <= b, A_eq x = b_eq}``."""
+        return self._reduced[2] + self.A @ self.center
+
+    @property
+    def A_eq(self) -> NDArray[np.float64]:
+        """Equality normals, shape (m - r, m); empty when P is full-dimensional."""
+        return self.affine_set.equalities[0]
+
+    @property
+    def b_eq(self) -> NDArray[np.float64]:
+        """Equality right-hand sides, shape (m - r,)."""
+        return self.affine_set.equalities[1]
+
+    @cached_property
+    def vertices(self) -> NDArray[np.float64]:
+        """Extreme points, shape (V, m); counter-clockwise when ``dim == 2``."""
+        G, normals, offsets = self._reduced
+        if self.dim == 0:
+            return self.center[None, :].copy()
+        reduced = zonotope_vertices(G, normals, offsets)
+        return self.center + reduced @ self.affine_set.basis.T
+
+    @cached_property
+    def volume(self) -> float:
+        """Volume in the affine set (r-dimensional; 1 for a single point) [(m/s^2)^r]."""
+        return zonotope_volume(self._reduced[0])
+
+    def halfspaces(
+        self, method: Literal["zonotope", "cdd"] = "zonotope"
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Facets ``(A, b)`` in task coordinates by the chosen method.
+
+        Parameters
+        ----------
+        method : {"zonotope", "cdd"}
+            ``"zonotope"``: the closed-form facets (the default, :attr:`A`, :attr:`b`).
+            ``"cdd"``: pycddlib's V-to-H conversion of :attr:`vertices`, within the
+            affine set.  Both describe the same set; the rows may come in another order.
+
+        Returns
+        -------
+        A : ndarray, shape (F, m)
+        b : ndarray, shape (F,)
+        """
+        if method == "zonotope":
+            return self.A, self.b
+        if method != "cdd":
+            raise InputError("method", "'zonotope' or 'cdd'", repr(method))
+        if self.dim == 0:
+            return np.zeros((0, self.ambient_dim)), np.zeros(0)
+        A_red, b_red = halfspaces_from_vertices(self.affine_set.coordinates(self.vertices))
+        A = A_red @ self.affine_set.basis.T
+        return A, b_red + A @ self.center
+
+    def contains(self, points: ArrayLike) -> NDArray[np.bool_]:
+        """Whether points are achievable accelerations (to the tolerance :attr:`atol`).
+
+        Parameters
+        ----------
+        points : array-like, shape (m,) or (k, m)
+
+        Returns
+        -------
+        inside : ndarray of bool, shape () or (k,)
+        """
+        x = check_points("points", points, self.ambient_dim)
+        on_set = self.affine_set.distance(x) <= self.atol
+        return on_set & np.all(x @ self.A.T <= self.b + self.atol, axis=-1)
+
+    def limits(
+        self, directions: ArrayLike, method: Literal["closed_form", "lp"] = "closed_form"
+    ) -> DirectionalLimits:
+        """Achievable accelerations ``a`` along unit directions: ``{a : a t in P}``.
+
+        Parameters
+        ----------
+        directions : array-like, shape (m,) or (k, m)
+            Unit directions ``t``.
+        method : {"closed_form", "lp"}
+            ``"closed_form"``: each line against every facet (fast, the default).
+            ``"lp"``: two linear programs per direction in the normalized-torque space,
+            solved by cvxpy with Clarabel (the reference; slow).
+
+        Returns
+        -------
+        DirectionalLimits
+            ``(lo, hi)`` of the leading shape of ``directions``; NaN where the line
+            misses P.
+        """
+        T = check_directions("directions", directions, self.ambient_dim)
+        if method == "lp":
+            lo, hi = polytope_limits_lp(self.generators, self.center, np.atleast_2d(T))
+            return DirectionalLimits(lo.reshape(T.shape[:-1]), hi.reshape(T.shape[:-1]))
+        if method != "closed_form":
+            raise InputError("method", "'closed_form' or 'lp'", repr(method))
+        return limits_through_affine_set(
+            self.affine_set,
+            T,
+            self.atol,
+            lambda lines: line_interval_in_halfspaces(self.A, self.b, lines, self.atol),
+            self.contains,
+        )

@@ -1,0 +1,197 @@
+r"""Rank decisions and the affine set that holds a degenerate polytope or ellipsoid.
+
+At a singular configuration (eq. 35) ``M = U_1 \Sigma V_1^T`` has rank ``r < m`` and both
+the polytope (15) and the ellipsoid (38) lie in the ``r``-dimensional affine set
+``xdd_g + Im(M) = xdd_g + Im(U_1)``.  One rank decision, made here, is shared by every
+object built from the same ``M`` so that they always agree on the dimension.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "PARALLEL_TOL",
+    "RANK_RTOL",
+    "AffineSubspace",
+    "LineMeeting",
+    "RankRevealingSVD",
+    "rank_revealing_svd",
+]
+
+#: Singular values at or below ``RANK_RTOL * sigma_max`` count as zero (eq. 35).
+RANK_RTOL = 1e-10
+#: A unit direction whose component off the subspace is at most this is parallel to it.
+PARALLEL_TOL = 1e-9
+
+
+class RankRevealingSVD(NamedTuple):
+    """The singular value decomposition of eq. (35), split at the numerical rank.
+
+    Attributes
+    ----------
+    U1 : ndarray, shape (m, r)
+        Orthonormal basis of ``Im(M)``.
+    U2 : ndarray, shape (m, m - r)
+        Orthonormal basis of ``Im(M)^perp``.
+    sigma : ndarray, shape (r,)
+        The non-zero singular values, descending.
+    V1 : ndarray, shape (n, r)
+        Orthonormal basis of ``Ker(M)^perp``.
+    singular_values : ndarray, shape (min(m, n),)
+        All singular values, including those counted as zero.
+    rtol : float
+        The relative tolerance used for the rank decision.
+    """
+
+    U1: NDArray[np.float64]
+    U2: NDArray[np.float64]
+    sigma: NDArray[np.float64]
+    V1: NDArray[np.float64]
+    singular_values: NDArray[np.float64]
+    rtol: float
+
+    @property
+    def rank(self) -> int:
+        """Numerical rank ``r``."""
+        return int(self.sigma.size)
+
+    def pinv(self) -> NDArray[np.float64]:
+        """The generalized inverse ``V_1 Sigma^-1 U_1^T`` of eq. (37), shape (n, m)."""
+        return (self.V1 / self.sigma) @ self.U1.T
+
+
+def rank_revealing_svd(M: NDArray[np.float64], rtol: float = RANK_RTOL) -> RankRevealingSVD:
+    """Decompose ``M`` (eq. 35) and decide its numerical rank.
+
+    Parameters
+    ----------
+    M : ndarray, shape (m, n)
+        The matrix.
+    rtol : float, optional
+        Singular values ``<= rtol * sigma_max`` are treated as zero.  A zero matrix has
+        rank 0.
+
+    Returns
+    -------
+    RankRevealingSVD
+    """
+    U, s, Vt = np.linalg.svd(M, full_matrices=True)
+    rank = int(np.count_nonzero(s > rtol * s[0])) if s.size and s[0] > 0 else 0
+    return RankRevealingSVD(
+        U1=U[:, :rank],
+        U2=U[:, rank:],
+        sigma=s[:rank],
+        V1=Vt[:rank].T,
+        singular_values=s,
+        rtol=rtol,
+    )
+
+
+class LineMeeting(NamedTuple):
+    """How the lines ``{a t}`` through the origin meet an affine set.
+
+    Attributes
+    ----------
+    inside : ndarray of bool, shape (k,)
+        The whole line lies in the set (it is parallel to it and the set contains 0).
+    single : ndarray of bool, shape (k,)
+        The line crosses the set in exactly one point ``a = a0``.
+    a0 : ndarray, shape (k,)
+        The crossing parameter where ``single`` is true, NaN elsewhere.
+    """
+
+    inside: NDArray[np.bool_]
+    single: NDArray[np.bool_]
+    a0: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class AffineSubspace:
+    """The affine set ``point + Im(basis)`` in the m-dimensional task space.
+
+    Attributes
+    ----------
+    point : ndarray, shape (m,)
+        A point of the set (the centre ``xdd_g``).
+    basis : ndarray, shape (m, r)
+        Orthonormal basis of the directions in the set.
+    normals : ndarray, shape (m, m - r)
+        Orthonormal basis of the directions orthogonal to the set.
+    """
+
+    point: NDArray[np.float64]
+    basis: NDArray[np.float64]
+    normals: NDArray[np.float64]
+
+    @classmethod
+    def from_svd(cls, point: NDArray[np.float64], svd: RankRevealingSVD) -> AffineSubspace:
+        """The set ``point + Im(M)``; the whole space (identity basis) when M has full rank."""
+        m = point.size
+        if svd.rank == m:
+            return cls(point=point, basis=np.eye(m), normals=np.zeros((m, 0)))
+        return cls(point=point, basis=svd.U1, normals=svd.U2)
+
+    @property
+    def dim(self) -> int:
+        """Dimension ``r`` of the set."""
+        return int(self.basis.shape[1])
+
+    @property
+    def ambient_dim(self) -> int:
+        """Dimension ``m`` of the task space."""
+        return int(self.point.size)
+
+    @property
+    def equalities(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """``(A_eq, b_eq)`` with the set equal to ``{x : A_eq x = b_eq}``; shapes (m-r, m), (m-r,)."""
+        return self.normals.T.copy(), self.normals.T @ self.point
+
+    def coordinates(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Coordinates ``basis^T (x - point)`` of points, shape ``(..., r)``."""
+        return (x - self.point) @ self.basis
+
+    def distance(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Euclidean distance of points ``x`` (shape ``(..., m)``) from the set."""
+        return np.linalg.norm((x - self.point) @ self.normals, axis=-1)
+
+    def project(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Orthogonal projection of points ``x`` (shape ``(..., m)``) onto the set."""
+        return self.point + self.coordinates(x) @ self.basis.T
+
+    def meet_lines(self, directions: NDArray[np.float64], atol: float) -> LineMeeting:
+        """Intersect the lines ``{a t : a real}`` with the set.
+
+        Parameters
+        ----------
+        directions : ndarray, shape (k, m)
+            Unit directions ``t``.
+        atol : float
+            Distance below which a point counts as lying on the set.  A direction whose
+            component off the set is at most ``PARALLEL_TOL`` is taken as parallel.
+
+        Returns
+        -------
+        LineMeeting
+        """
+        k = directions.shape[0]
+        if self.dim == self.ambient_dim:
+            return LineMeeting(np.ones(k, bool), np.zeros(k, bool), np.full(k, np.nan))
+        off = directions @ self.normals  # (k, m - r)
+        target = self.point @ self.normals  # (m - r,): solve a * off = target
+        off_norm2 = np.einsum("ij,ij->i", off, off)
+        parallel = off_norm2 <= PARALLEL_TOL**2
+        through_origin = np.linalg.norm(target) <= atol
+        with np.errstate(invalid="ignore", divide="ignore"):
+            a0 = np.where(parallel, np.nan, (off @ target) / off_norm2)
+        residual = np.linalg.norm(a0[:, None] * off - target, axis=1)
+        single = ~parallel & (residual <= atol)
+        return LineMeeting(
+            inside=parallel & through_origin,
+            single=single,
+            a0=np.where(single, a0, np.nan),
+        )

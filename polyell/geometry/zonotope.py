@@ -1,0 +1,196 @@
+r"""Closed forms for a zonotope ``Z = { G t : ||t||_inf <= 1 }`` in its own coordinates.
+
+The acceleration polytope (15) is ``xdd_g + Z`` with ``G = M`` (written in the
+coordinates of its affine set).  Here ``G`` has shape (r, n) and full row rank ``r``.
+
+* Facets: every facet normal ``a`` is orthogonal to ``r - 1`` linearly independent
+  generators and, conversely, every such ``a`` is a facet normal.  The offset is the
+  support function ``h(a) = sum_i |a . g_i|``.
+* Vertices: every vertex lies on a facet ``a``, where the generators not orthogonal to
+  ``a`` take the sign ``sign(a . g_i)``; only the orthogonal ones vary.
+* Volume: ``vol(Z) = 2^r sum_{|S| = r} |det G_S|``.
+"""
+
+from __future__ import annotations
+
+from itertools import combinations, product
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.spatial import ConvexHull
+
+from polyell.errors import InputError
+
+__all__ = [
+    "MAX_CORNER_JOINTS",
+    "corner_vertices",
+    "zonotope_facets",
+    "zonotope_vertices",
+    "zonotope_volume",
+]
+
+#: Largest number of generators for which the 2^n cube corners are enumerated.
+MAX_CORNER_JOINTS = 16
+#: Generators shorter than this fraction of the longest one are zero.
+_ZERO_GENERATOR_RTOL = 1e-12
+#: Subsets whose normal is this small relative to their generator lengths are dependent.
+_DEPENDENT_RTOL = 1e-12
+#: Unit normals closer than this (up to sign) are the same facet direction.
+_SAME_NORMAL_TOL = 1e-10
+#: A generator with |a . g| <= this * |g| lies in the facet plane of normal a.
+_IN_FACET_RTOL = 1e-10
+
+
+def _nonzero_generators(G: NDArray[np.float64]) -> NDArray[np.float64]:
+    lengths = np.linalg.norm(G, axis=0)
+    if lengths.size == 0 or lengths.max() == 0:
+        return G[:, :0]
+    return G[:, lengths > _ZERO_GENERATOR_RTOL * lengths.max()]
+
+
+def _unique_directions(normals: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Drop unit vectors equal, up to sign, to an earlier one."""
+    minus = np.linalg.norm(normals[:, None, :] - normals[None, :, :], axis=2)
+    plus = np.linalg.norm(normals[:, None, :] + normals[None, :, :], axis=2)
+    same = np.triu(np.minimum(minus, plus) < _SAME_NORMAL_TOL, k=1)
+    return normals[~same.any(axis=0)]
+
+
+def zonotope_facets(G: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Facet normals and offsets of the zonotope, ``Z = { y : normals @ y <= offsets }``.
+
+    Parameters
+    ----------
+    G : ndarray, shape (r, n)
+        Generators (columns) spanning R^r, r >= 1.
+
+    Returns
+    -------
+    normals : ndarray, shape (F, r)
+        Unit outward facet normals, in pairs ``a, -a``.
+    offsets : ndarray, shape (F,)
+        ``h(a) = sum_i |a . g_i|``.
+    """
+    r = G.shape[0]
+    gens = _nonzero_generators(G)
+    if r == 1:
+        normals = np.array([[1.0]])
+    else:
+        subsets = np.array(list(combinations(range(gens.shape[1]), r - 1)), dtype=int)
+        blocks = np.transpose(gens[:, subsets], (1, 0, 2))  # (C, r, r-1)
+        # Generalised cross product: component k is (-1)^k det(block without row k).
+        cofactors = np.stack(
+            [(-1) ** k * np.linalg.det(np.delete(blocks, k, axis=1)) for k in range(r)],
+            axis=1,
+        )
+        size = np.linalg.norm(cofactors, axis=1)
+        scale = np.prod(np.linalg.norm(blocks, axis=1), axis=1)
+        independent = size > _DEPENDENT_RTOL * scale
+        normals = _unique_directions(cofactors[independent] / size[independent, None])
+    offsets = np.abs(normals @ gens).sum(axis=1)
+    return np.concatenate([normals, -normals]), np.concatenate([offsets, offsets])
+
+
+def _order_polygon(points: NDArray[np.float64]) -> NDArray[np.float64]:
+    centre = points.mean(axis=0)
+    angles = np.arctan2(points[:, 1] - centre[1], points[:, 0] - centre[0])
+    return points[np.argsort(angles)]
+
+
+def _unique_points(points: NDArray[np.float64], atol: float) -> NDArray[np.float64]:
+    keep: list[int] = []
+    for i, p in enumerate(points):
+        if not keep or np.min(np.linalg.norm(points[keep] - p, axis=1)) > atol:
+            keep.append(i)
+    return points[keep]
+
+
+def zonotope_vertices(
+    G: NDArray[np.float64],
+    normals: NDArray[np.float64],
+    offsets: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """Extreme points of the zonotope from its facets (no 2^n enumeration).
+
+    Parameters
+    ----------
+    G : ndarray, shape (r, n)
+        Generators spanning R^r, r >= 1.
+    normals, offsets : ndarray, shapes (F, r) and (F,)
+        The facets from :func:`zonotope_facets`.
+
+    Returns
+    -------
+    vertices : ndarray, shape (V, r)
+        The extreme points; in counter-clockwise order when r = 2.
+    """
+    r = G.shape[0]
+    gens = _nonzero_generators(G)
+    lengths = np.linalg.norm(gens, axis=0)
+    atol = 1e-9 * max(lengths.sum(), 1e-300)
+    candidates = []
+    for a in normals:
+        dots = a @ gens
+        in_facet = np.abs(dots) <= _IN_FACET_RTOL * lengths
+        base = gens[:, ~in_facet] @ np.sign(dots[~in_facet])
+        free = gens[:, in_facet]
+        signs = np.array(list(product((-1.0, 1.0), repeat=free.shape[1])))
+        candidates.append(base + signs @ free.T)
+    points = np.concatenate(candidates)
+    active = np.abs(points @ normals.T - offsets) <= atol  # (P, F)
+    extreme = np.array(
+        [np.linalg.matrix_rank(normals[row]) == r if row.sum() >= r else False for row in active],
+        dtype=bool,
+    )
+    vertices = _unique_points(points[extreme], atol)
+    return _order_polygon(vertices) if r == 2 else vertices
+
+
+def zonotope_volume(G: NDArray[np.float64]) -> float:
+    """Volume of the zonotope in R^r: ``2^r sum_{|S| = r} |det G_S|``.
+
+    Parameters
+    ----------
+    G : ndarray, shape (r, n)
+        Generators; r = 0 gives 1 (the counting measure of a point).
+    """
+    r = G.shape[0]
+    if r == 0:
+        return 1.0
+    gens = _nonzero_generators(G)
+    subsets = np.array(list(combinations(range(gens.shape[1]), r)), dtype=int)
+    if subsets.size == 0:
+        return 0.0
+    dets = np.linalg.det(np.transpose(gens[:, subsets], (1, 0, 2)))
+    return float(2.0**r * np.abs(dets).sum())
+
+
+def corner_vertices(G: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Extreme points by brute force: the images of all 2^n cube corners, reduced by Qhull.
+
+    An independent check of :func:`zonotope_vertices`; exponential in ``n``.
+
+    Parameters
+    ----------
+    G : ndarray, shape (r, n)
+        Generators spanning R^r, r >= 1, with ``n <= MAX_CORNER_JOINTS``.
+
+    Raises
+    ------
+    InputError
+        If ``n > MAX_CORNER_JOINTS``.
+    """
+    r, n = G.shape
+    if n > MAX_CORNER_JOINTS:
+        raise InputError(
+            "generators",
+            f"at most {MAX_CORNER_JOINTS} columns for the 2^n corner enumeration",
+            f"{n} columns",
+            "use the facet-based vertices (Polytope.vertices), which scale polynomially.",
+        )
+    corners = np.array(list(product((-1.0, 1.0), repeat=n))) @ G.T
+    if r == 1:
+        return np.array([[corners.min()], [corners.max()]])
+    hull = ConvexHull(corners)
+    points = corners[hull.vertices]
+    return _order_polygon(points) if r == 2 else points

@@ -1,0 +1,98 @@
+r"""Inverse maps: the joint accelerations and torques behind a task-space acceleration.
+
+Each ellipsoid definition comes with its own solution of :math:`J \ddot q = \ddot x`:
+
+* classic (Yoshikawa), eq. (26): :math:`\ddot q = J^\dagger \ddot x`, the minimum-norm
+  joint acceleration, :math:`J^\dagger = J^T (J J^T)^{-1}`;
+* new (Chiacchio), eq. (33) and, at singular configurations, eq. (40):
+  :math:`\ddot q = J_Q^\# \ddot x - (I - J_Q^\# J) B^{-1} (g - \tau_c)` with the
+  weighted generalized inverse :math:`J_Q^\# = Q^{-1/2} (J Q^{-1/2})^\#` of eq. (41),
+  equal to :math:`J_Q^\dagger = Q^{-1} J^T (J Q^{-1} J^T)^{-1}` (eq. 31) when J has
+  full rank.  It solves eq. (34): the minimum normalized-torque norm.
+
+The normalized torque is :math:`\tilde\tau = L^{-1} (B \ddot q + g - \tau_c)` (eq. 10,
+12 with the shift for asymmetric limits).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "chiacchio_joint_accelerations",
+    "jacobian_pseudoinverse",
+    "normalized_torques",
+    "weighted_generalized_inverse",
+]
+
+
+def jacobian_pseudoinverse(J: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``J^+ = J^T (J J^T)^-1`` (eq. 26), shape (n, m); J must have full row rank."""
+    return np.linalg.solve(J @ J.T, J).T
+
+
+def _symmetric_power(Q: NDArray[np.float64], power: float) -> NDArray[np.float64]:
+    eigenvalues, eigenvectors = np.linalg.eigh(Q)
+    return (eigenvectors * eigenvalues**power) @ eigenvectors.T
+
+
+def weighted_generalized_inverse(
+    J: NDArray[np.float64], Q: NDArray[np.float64], rank: int
+) -> NDArray[np.float64]:
+    """``J_Q^# = Q^-1/2 (J Q^-1/2)^#`` (eq. 41), shape (n, m).
+
+    Parameters
+    ----------
+    J : ndarray, shape (m, n)
+        Jacobian.
+    Q : ndarray, shape (n, n)
+        Weight ``B L^-2 B`` (eq. 20), symmetric positive definite.
+    rank : int
+        Rank of J, decided once for the analysis; the generalized inverse keeps that many
+        singular values (eq. 37).
+    """
+    Q_inv_sqrt = _symmetric_power(Q, -0.5)
+    U, s, Vt = np.linalg.svd(J @ Q_inv_sqrt, full_matrices=False)
+    return Q_inv_sqrt @ ((Vt[:rank].T / s[:rank]) @ U[:, :rank].T)
+
+
+def chiacchio_joint_accelerations(
+    J: NDArray[np.float64],
+    B: NDArray[np.float64],
+    Q: NDArray[np.float64],
+    gravity_bias: NDArray[np.float64],
+    rank: int,
+    xdd: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """Eq. (33)/(40): ``qdd = J_Q^# xdd - (I - J_Q^# J) B^-1 (g - tau_c)``.
+
+    Parameters
+    ----------
+    J, B, Q : ndarray
+        Jacobian (m, n), inertia (n, n), weight (n, n).
+    gravity_bias : ndarray, shape (n,)
+        ``g - tau_c`` [N m].
+    rank : int
+        Rank of J.
+    xdd : ndarray, shape (..., m)
+        Task accelerations.
+
+    Returns
+    -------
+    qdd : ndarray, shape (..., n)
+    """
+    JQ = weighted_generalized_inverse(J, Q, rank)
+    free_fall = np.linalg.solve(B, gravity_bias)
+    null_term = free_fall - JQ @ (J @ free_fall)
+    return xdd @ JQ.T - null_term
+
+
+def normalized_torques(
+    B: NDArray[np.float64],
+    gravity_bias: NDArray[np.float64],
+    half_range: NDArray[np.float64],
+    qdd: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """``tau_n = L^-1 (B qdd + g - tau_c)``, shape (..., n); admissible iff ``|tau_n|_inf <= 1``."""
+    return (qdd @ B + gravity_bias) / half_range

@@ -1,0 +1,83 @@
+"""The dynamic quantities of a robot at rest in one configuration."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from polyell.errors import InputError
+from polyell.validation import check_array, check_spd
+
+__all__ = ["Dynamics"]
+
+
+@dataclass(frozen=True, init=False)
+class Dynamics:
+    r"""Jacobian, inertia and gravity torques of a manipulator at one configuration.
+
+    These are the inputs of the paper's eq. (4)-(8) for a robot at rest
+    (:math:`\dot q = 0`, no contact force): :math:`\ddot x = J \ddot q` and
+    :math:`\tau = B \ddot q + g`.
+
+    Parameters
+    ----------
+    J : array-like, shape (m, n)
+        Task Jacobian (rows all linear [m/rad] or all angular [1]), with ``1 <= m <= n``.
+    B : array-like, shape (n, n)
+        Joint-space inertia matrix [kg m^2], symmetric positive definite.
+    g : array-like, shape (n,)
+        Gravity torques [N m].
+
+    Raises
+    ------
+    InputError
+        On mismatched shapes, non-finite entries, more task rows than joints, or an
+        inertia matrix that is not symmetric positive definite.
+
+    Examples
+    --------
+    >>> import polyell as pe
+    >>> dyn = pe.Dynamics(J=[[1.0, 0.5]], B=[[2.0, 0.1], [0.1, 1.0]], g=[3.0, 1.0])
+    >>> dyn.m, dyn.n
+    (1, 2)
+    """
+
+    J: NDArray[np.float64]
+    B: NDArray[np.float64]
+    g: NDArray[np.float64]
+
+    def __init__(self, J: ArrayLike, B: ArrayLike, g: ArrayLike) -> None:
+        jacobian = np.asarray(J)
+        if jacobian.ndim != 2:
+            raise InputError(
+                "J",
+                "a 2-D Jacobian of shape (m, n)",
+                f"shape {jacobian.shape}",
+                "for a single task row pass [[...]].",
+            )
+        m, n = jacobian.shape
+        jacobian = check_array("J", J, (m, n))
+        if not 1 <= m <= n:
+            raise InputError(
+                "J",
+                "1 <= m <= n (no more task rows than joints)",
+                f"m = {m} rows and n = {n} joints",
+                "select a task space with at most as many rows as the robot has joints.",
+            )
+        object.__setattr__(self, "J", jacobian)
+        object.__setattr__(self, "B", check_spd("B", B, n))
+        object.__setattr__(self, "g", check_array("g", g, (n,)))
+        for array in (self.J, self.B, self.g):
+            array.flags.writeable = False
+
+    @property
+    def m(self) -> int:
+        """Task-space dimension."""
+        return int(self.J.shape[0])
+
+    @property
+    def n(self) -> int:
+        """Number of joints."""
+        return int(self.J.shape[1])

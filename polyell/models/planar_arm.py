@@ -1,0 +1,157 @@
+"""Closed-form kinematics and dynamics of a planar serial arm in a vertical plane."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from polyell.errors import InputError
+from polyell.models.dynamics import Dynamics
+from polyell.validation import check_array
+
+__all__ = ["PlanarArm"]
+
+
+def _positive(name: str, value: ArrayLike, n: int | None = None) -> NDArray[np.float64]:
+    array = check_array(name, value, (n,))
+    bad = np.flatnonzero(array <= 0)
+    if bad.size:
+        raise InputError(
+            name,
+            "strictly positive values",
+            f"{name}[{bad[0]}] = {array[bad[0]]:g}",
+            "lengths, masses and inertias of real links are positive.",
+        )
+    return array
+
+
+class PlanarArm:
+    r"""An n-link planar arm with revolute joints moving in a vertical plane.
+
+    Gravity acts along :math:`-y`; joint angles are relative (joint i turns link i
+    with respect to link i-1, the first from the :math:`x` axis); the task is the
+    end-effector position :math:`(x, y)`.  Link :math:`i` has its centre of mass on
+    its axis at distance ``com[i]`` from joint i.  With absolute angles
+    :math:`\theta_i = q_1 + \dots + q_i`, the centre of mass of link i is at
+    :math:`p_i = \sum_{j<i} l_j u(\theta_j) + l_{c,i} u(\theta_i)`,
+    :math:`u(\theta) = (\cos\theta, \sin\theta)`, and
+
+    .. math::
+
+        B = \sum_i m_i J_{p_i}^T J_{p_i} + I_i J_{o_i}^T J_{o_i}, \qquad
+        g = \sum_i m_i g_0 J_{p_i}^T e_y,
+
+    with :math:`J_{o_i} = (1, \dots, 1, 0, \dots, 0)` (i ones).
+
+    Parameters
+    ----------
+    lengths : array-like, shape (n,)
+        Link lengths [m].
+    masses : array-like, shape (n,)
+        Link masses [kg].
+    com : array-like, shape (n,), optional
+        Distance of each link's centre of mass from its joint [m]; default mid-link.
+    inertia : array-like, shape (n,), optional
+        Moment of inertia of each link about its centre of mass [kg m^2]; default
+        ``m l^2 / 12`` (a uniform rod, i.e. ``m l^2 / 3`` about the joint axis).
+    gravity : float, optional
+        Magnitude of the gravitational acceleration along :math:`-y` [m/s^2].
+
+    Examples
+    --------
+    The arm of Chiacchio (2000), section 6:
+
+    >>> import numpy as np, polyell as pe
+    >>> arm = pe.PlanarArm(lengths=[1.0, 0.8, 0.5], masses=[4.0, 2.0, 0.6])
+    >>> dyn = arm.dynamics([np.pi / 2, -np.pi / 2, -np.pi / 2])
+    >>> dyn.J.shape, dyn.B.shape
+    ((2, 3), (3, 3))
+    """
+
+    def __init__(
+        self,
+        lengths: Sequence[float] | ArrayLike,
+        masses: Sequence[float] | ArrayLike,
+        com: Sequence[float] | ArrayLike | None = None,
+        inertia: Sequence[float] | ArrayLike | None = None,
+        gravity: float = 9.81,
+    ) -> None:
+        self.lengths = _positive("lengths", lengths)
+        n = self.lengths.size
+        if n == 0:
+            raise InputError("lengths", "at least one link", "an empty sequence")
+        self.masses = _positive("masses", masses, n)
+        self.com = 0.5 * self.lengths if com is None else check_array("com", com, (n,))
+        self.inertia = (
+            self.masses * self.lengths**2 / 12.0
+            if inertia is None
+            else check_array("inertia", inertia, (n,))
+        )
+        if np.any(self.inertia < 0):
+            raise InputError("inertia", "non-negative inertias", f"{self.inertia}")
+        self.gravity = float(check_array("gravity", gravity, ()))
+        for array in (self.lengths, self.masses, self.com, self.inertia):
+            array.flags.writeable = False
+
+    @property
+    def n(self) -> int:
+        """Number of joints."""
+        return int(self.lengths.size)
+
+    def __repr__(self) -> str:
+        return (
+            f"PlanarArm(lengths={self.lengths.tolist()}, masses={self.masses.tolist()}, "
+            f"com={self.com.tolist()}, inertia={self.inertia.tolist()}, "
+            f"gravity={self.gravity})"
+        )
+
+    def _check_q(self, q: ArrayLike) -> NDArray[np.float64]:
+        return check_array("q", q, (self.n,), what="joint angles [rad]")
+
+    def forward_kinematics(self, q: ArrayLike) -> NDArray[np.float64]:
+        """End-effector position [m], shape (2,), at joint angles ``q`` [rad]."""
+        theta = np.cumsum(self._check_q(q))
+        return np.array([self.lengths @ np.cos(theta), self.lengths @ np.sin(theta)])
+
+    def jacobian(self, q: ArrayLike) -> NDArray[np.float64]:
+        """End-effector position Jacobian [m/rad], shape (2, n)."""
+        return self._point_jacobians(self._check_q(q))[0]
+
+    def _point_jacobians(
+        self, q: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Jacobians of the end effector (2, n) and of each centre of mass (n, 2, n)."""
+        theta = np.cumsum(q)
+        # d u(theta_j) / d q_k = u'(theta_j) for k <= j, with u' = (-sin, cos), so a point
+        # sum_j w_j u(theta_j) has Jacobian column k = sum_{j >= k} w_j u'(theta_j).
+        du = np.stack([-np.sin(theta), np.cos(theta)])  # (2, n), column j is u'(theta_j)
+        suffix_sum = np.tri(self.n)  # [j, k] = 1 where j >= k
+        tip = (du * self.lengths) @ suffix_sum
+        # Centre of mass i: weights l_j for j < i, com_i for j = i, 0 beyond.
+        weights = np.tril(np.broadcast_to(self.lengths, (self.n, self.n)), -1)
+        weights[np.diag_indices(self.n)] = self.com
+        com = np.einsum("aj,ij,jk->iak", du, weights, suffix_sum)
+        return tip, com
+
+    def dynamics(self, q: ArrayLike) -> Dynamics:
+        """Jacobian, inertia matrix and gravity torques at ``q``.
+
+        Parameters
+        ----------
+        q : array-like, shape (n,)
+            Relative joint angles [rad].
+
+        Returns
+        -------
+        Dynamics
+            ``J`` (2, n) [m/rad], ``B`` (n, n) [kg m^2], ``g`` (n,) [N m].
+        """
+        q = self._check_q(q)
+        tip, com = self._point_jacobians(q)
+        angular = np.tri(self.n)  # row i: ones for joints 1..i
+        B = np.einsum("i,iak,ial->kl", self.masses, com, com)
+        B += np.einsum("i,ik,il->kl", self.inertia, angular, angular)
+        g = self.gravity * np.einsum("i,ik->k", self.masses, com[:, 1, :])
+        return Dynamics(J=tip, B=B, g=g)

@@ -1,0 +1,243 @@
+"""Validators that convert, check and return clean float64 arrays.
+
+Each ``check_*`` function takes the argument's name (as the caller wrote it) so that
+the :class:`~polyell.errors.InputError` it raises can point at the right place.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from polyell.errors import InputError
+
+__all__ = [
+    "check_array",
+    "check_directions",
+    "check_points",
+    "check_spd",
+    "check_torque_limits",
+]
+
+#: Relative tolerance on the unit norm of a direction.
+DIRECTION_NORM_RTOL = 1e-6
+#: Relative tolerance on the symmetry of an inertia matrix.
+SYMMETRY_RTOL = 1e-9
+
+
+def _describe(value: object) -> str:
+    array = np.asarray(value) if not isinstance(value, np.ndarray) else value
+    if array.dtype == object:
+        return f"{type(value).__name__} {value!r}"[:120]
+    return f"an array of shape {array.shape}"
+
+
+def _as_finite_float(name: str, value: ArrayLike, expected: str) -> NDArray[np.float64]:
+    """Convert to a float64 array and reject NaN and infinity."""
+    try:
+        array = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError(name, expected, _describe(value)) from None
+    if not np.all(np.isfinite(array)):
+        bad = np.argwhere(~np.isfinite(array))[0]
+        raise InputError(
+            name,
+            "finite values",
+            f"{array[tuple(bad)]} at index {tuple(int(i) for i in bad)}",
+            "remove NaN and infinite entries.",
+        )
+    return array
+
+
+def check_array(
+    name: str, value: ArrayLike, shape: Sequence[int | None], *, what: str = "real numbers"
+) -> NDArray[np.float64]:
+    """Convert ``value`` to a finite float64 array of the given shape.
+
+    Parameters
+    ----------
+    name : str
+        Argument name used in error messages.
+    value : array-like
+        The value to check.
+    shape : sequence of int or None
+        Expected shape; ``None`` matches any length along that axis.
+    what : str, optional
+        Description of the entries, used in error messages.
+
+    Returns
+    -------
+    array : ndarray of float64, shape ``shape``
+        A fresh, contiguous copy.
+
+    Raises
+    ------
+    InputError
+        If ``value`` is not numeric, has the wrong shape or holds NaN or infinity.
+    """
+    dims = ["k" if s is None else str(s) for s in shape]
+    expected = f"an array of {what} with shape ({', '.join(dims)}{',' if len(dims) == 1 else ''})"
+    array = _as_finite_float(name, value, expected)
+    if array.ndim != len(shape) or any(
+        s is not None and s != a for s, a in zip(shape, array.shape, strict=True)
+    ):
+        raise InputError(
+            name, expected, f"shape {array.shape}", "check the number of joints and task rows."
+        )
+    return array
+
+
+def check_spd(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
+    """Check a symmetric positive-definite (n, n) matrix, such as an inertia matrix.
+
+    Parameters
+    ----------
+    name : str
+        Argument name used in error messages.
+    value : array-like, shape (n, n)
+        The matrix.
+    n : int
+        Expected size.
+
+    Returns
+    -------
+    matrix : ndarray of float64, shape (n, n)
+        The matrix, symmetrised exactly (``(B + B^T) / 2``) after the check.
+
+    Raises
+    ------
+    InputError
+        If the matrix is not square of size ``n``, not symmetric to a relative
+        tolerance of ``SYMMETRY_RTOL``, or not positive definite.
+    """
+    matrix = check_array(name, value, (n, n))
+    scale = np.max(np.abs(matrix)) if matrix.size else 0.0
+    asymmetry = np.max(np.abs(matrix - matrix.T)) if matrix.size else 0.0
+    if asymmetry > SYMMETRY_RTOL * scale:
+        raise InputError(
+            name,
+            "a symmetric matrix",
+            f"max |B - B^T| = {asymmetry:.3g} (max |B| = {scale:.3g})",
+            "pass the joint-space inertia matrix, which is symmetric.",
+        )
+    matrix = 0.5 * (matrix + matrix.T)
+    try:
+        np.linalg.cholesky(matrix)
+    except np.linalg.LinAlgError:
+        smallest = np.linalg.eigvalsh(matrix)[0] if n else 0.0
+        raise InputError(
+            name,
+            "a positive-definite matrix",
+            f"smallest eigenvalue {smallest:.6g}",
+            "an inertia matrix has strictly positive eigenvalues; check masses and inertias.",
+        ) from None
+    return matrix
+
+
+def check_torque_limits(
+    tau_max: ArrayLike, tau_min: ArrayLike | None, n: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Check joint torque limits and return ``(tau_max, tau_min)`` as float64 arrays.
+
+    Parameters
+    ----------
+    tau_max : array-like, shape (n,)
+        Upper torque bounds [N m].
+    tau_min : array-like, shape (n,), optional
+        Lower torque bounds [N m]; default ``-tau_max`` (then ``tau_max`` must be
+        positive).
+    n : int
+        Number of joints.
+
+    Raises
+    ------
+    InputError
+        If a shape is wrong, a value is not finite, or ``tau_min >= tau_max`` anywhere.
+    """
+    upper = check_array("tau_max", tau_max, (n,))
+    if tau_min is None:
+        bad = np.flatnonzero(upper <= 0)
+        if bad.size:
+            raise InputError(
+                "tau_max",
+                "strictly positive symmetric bounds when tau_min is not given",
+                f"tau_max[{bad[0]}] = {upper[bad[0]]:g}",
+                "give positive bounds, or pass tau_min explicitly for asymmetric limits.",
+            )
+        return upper, -upper
+    lower = check_array("tau_min", tau_min, (n,))
+    bad = np.flatnonzero(lower >= upper)
+    if bad.size:
+        i = bad[0]
+        raise InputError(
+            "tau_min",
+            "tau_min < tau_max for every joint",
+            f"tau_min[{i}] = {lower[i]:g} >= tau_max[{i}] = {upper[i]:g}",
+            "each joint needs a torque range of positive width.",
+        )
+    return upper, lower
+
+
+def check_points(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]:
+    """Check finite task-space points of shape ``(m,)`` or ``(..., m)``.
+
+    Returns
+    -------
+    points : ndarray of float64, shape ``(..., m)``
+    """
+    expected = f"points with {m} coordinates in the last axis, shape (m,) or (k, m)"
+    array = _as_finite_float(name, value, expected)
+    if array.ndim == 0 or array.shape[-1] != m:
+        raise InputError(
+            name, expected, f"shape {array.shape}", "give one entry per task-space row of J."
+        )
+    return array
+
+
+def check_directions(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]:
+    """Check unit direction vectors of shape ``(m,)`` or ``(k, m)``.
+
+    Parameters
+    ----------
+    name : str
+        Argument name used in error messages.
+    value : array-like, shape (m,) or (k, m)
+        Directions; each must have unit Euclidean norm to a relative tolerance of
+        ``DIRECTION_NORM_RTOL``.
+    m : int
+        Task-space dimension.
+
+    Returns
+    -------
+    directions : ndarray of float64, shape (m,) or (k, m)
+        The directions, renormalised exactly to unit length.
+
+    Raises
+    ------
+    InputError
+        On a wrong shape, a non-finite entry, a zero-length or a non-unit direction.
+    """
+    directions = check_points(name, value, m)
+    if directions.ndim > 2:
+        raise InputError(name, "shape (m,) or (k, m)", f"shape {directions.shape}")
+    norms = np.linalg.norm(directions, axis=-1)
+    if np.any(norms == 0):
+        i = int(np.flatnonzero(np.atleast_1d(norms) == 0)[0])
+        raise InputError(
+            name,
+            "non-zero unit direction vectors",
+            f"a zero-length direction at row {i}",
+            "every direction needs a non-zero length.",
+        )
+    off = np.abs(norms - 1.0) > DIRECTION_NORM_RTOL
+    if np.any(off):
+        i = int(np.flatnonzero(np.atleast_1d(off))[0])
+        raise InputError(
+            name,
+            "unit direction vectors (the limits are accelerations a along a * t)",
+            f"a direction of norm {np.atleast_1d(norms)[i]:.6g} at row {i}",
+            "normalise with T / np.linalg.norm(T, axis=-1, keepdims=True).",
+        )
+    return directions / norms[..., None]
