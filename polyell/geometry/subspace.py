@@ -188,6 +188,8 @@ class AffineSubspace:
         through_origin = np.linalg.norm(target) <= atol
         with np.errstate(invalid="ignore", divide="ignore"):
             a0 = np.where(parallel, np.nan, (off @ target) / off_norm2)
+        if through_origin:  # a line not parallel to a set through 0 crosses it at a = 0
+            a0 = np.where(parallel, np.nan, 0.0)
         residual = np.linalg.norm(a0[:, None] * off - target, axis=1)
         single = ~parallel & (residual <= atol)
         return LineMeeting(

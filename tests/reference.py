@@ -1,0 +1,89 @@
+"""Shared reference problems with known answers, and seeded random problems.
+
+Tolerances used across the suite:
+
+* ``PRINTED``: a paper value printed with d decimals must match to half a unit in the
+  last printed place.
+* ``RTOL_EXACT = 1e-9``: two closed forms of the same quantity.
+* ``RTOL_LP = 1e-8``: closed form against an interior-point LP (Clarabel at 1e-12).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+import polyell as pe
+
+RTOL_EXACT = 1e-9
+RTOL_LP = 1e-8
+
+#: The planar arm of Chiacchio (2000), section 6.
+PAPER_ARM = pe.PlanarArm(lengths=[1.0, 0.8, 0.5], masses=[4.0, 2.0, 0.6], com=[0.5, 0.4, 0.25])
+PAPER_TAU_MAX = np.array([100.0, 30.0, 4.0])
+PAPER_Q_REDUNDANT = np.array([np.pi / 2, -np.pi / 2, -np.pi / 2])
+PAPER_Q_SINGULAR = np.array([np.pi / 6, 0.0, 0.0])
+
+
+def paper_analysis(q: np.ndarray) -> pe.Analysis:
+    return pe.analyze(PAPER_ARM.dynamics(q), tau_max=PAPER_TAU_MAX)
+
+
+def assert_printed(actual, printed: str, scale: float = 1.0) -> None:
+    """Assert ``actual / scale`` matches the whitespace-separated numbers in ``printed``.
+
+    Each printed number with d decimals must agree to 0.5e-d (rounding of the last digit).
+    """
+    values = np.ravel(np.asarray(actual, dtype=float)) / scale
+    tokens = printed.split()
+    assert len(tokens) == values.size, f"{len(tokens)} printed numbers, {values.size} computed"
+    for token, value in zip(tokens, values, strict=True):
+        decimals = len(token.split(".")[1]) if "." in token else 0
+        tolerance = 0.5 * 10.0**-decimals + 1e-12
+        assert abs(value - float(token)) <= tolerance, f"computed {value!r}, printed {token}"
+
+
+def random_spd(rng: np.random.Generator, n: int, condition: float = 100.0) -> np.ndarray:
+    """A random symmetric positive-definite matrix with a given condition number."""
+    Q, _ = np.linalg.qr(rng.normal(size=(n, n)))
+    eigenvalues = np.geomspace(1.0, condition, n) * rng.uniform(0.1, 2.0)
+    return (Q * eigenvalues) @ Q.T
+
+
+def random_problem(
+    seed: int, m: int, n: int, rank: int | None = None, asymmetric: bool = False,
+    gravity: float = 1.0,
+) -> pe.Analysis:
+    """A random analysis: Jacobian of the given rank, SPD inertia, gravity, limits.
+
+    ``gravity`` scales the gravity torques relative to the torque limits; above about 1
+    the origin tends to leave the polytope, so that some lines miss it.
+    """
+    rng = np.random.default_rng(seed)
+    rank = m if rank is None else rank
+    J = rng.normal(size=(m, rank)) @ rng.normal(size=(rank, n))
+    B = random_spd(rng, n)
+    tau_max = rng.uniform(1.0, 10.0, n)
+    tau_min = tau_max - rng.uniform(0.5, 2.0, n) * tau_max if asymmetric else None
+    g = gravity * rng.normal(size=n) * tau_max
+    return pe.analyze(pe.Dynamics(J, B, g), tau_max=tau_max, tau_min=tau_min)
+
+
+def random_arm_analysis(seed: int, n: int, singular: bool = False) -> pe.Analysis:
+    """A random planar arm (real inertias) at a random, or a stretched singular, posture."""
+    rng = np.random.default_rng(seed)
+    lengths = rng.uniform(0.2, 1.5, n)
+    arm = pe.PlanarArm(
+        lengths=lengths,
+        masses=rng.uniform(0.5, 10.0, n),
+        com=lengths * rng.uniform(0.2, 0.8, n),
+        inertia=None,
+    )
+    q = rng.uniform(-np.pi, np.pi, n)
+    if singular:
+        q[1:] = rng.choice([0.0, np.pi], size=n - 1)
+    return pe.analyze(arm.dynamics(q), tau_max=rng.uniform(1.0, 100.0, n))
+
+
+def random_directions(seed: int, k: int, m: int) -> np.ndarray:
+    T = np.random.default_rng(seed).normal(size=(k, m))
+    return T / np.linalg.norm(T, axis=1, keepdims=True)
