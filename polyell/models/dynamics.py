@@ -24,7 +24,8 @@ class Dynamics:
     Parameters
     ----------
     J : array-like, shape (m, n)
-        Task Jacobian (rows all linear [m/rad] or all angular [1]), with ``1 <= m <= n``.
+        Task Jacobian (rows all linear [m/rad] or all angular [1]).  More rows than
+        joints (``m > n``) is allowed: the sets are then degenerate (rank at most n).
     B : array-like, shape (n, n)
         Joint-space inertia matrix [kg m^2], symmetric positive definite.
     g : array-like, shape (n,)
@@ -59,12 +60,9 @@ class Dynamics:
             )
         m, n = jacobian.shape
         jacobian = check_array("J", J, (m, n))
-        if not 1 <= m <= n:
+        if m == 0 or n == 0:
             raise InputError(
-                "J",
-                "1 <= m <= n (no more task rows than joints)",
-                f"m = {m} rows and n = {n} joints",
-                "select a task space with at most as many rows as the robot has joints.",
+                "J", "at least one task row and one joint", f"shape {jacobian.shape}"
             )
         object.__setattr__(self, "J", jacobian)
         object.__setattr__(self, "B", check_spd("B", B, n))
