@@ -1,0 +1,118 @@
+"""Ellipsoids: limits (eq. 23-24) against a second-order cone program, volume, membership."""
+
+from __future__ import annotations
+
+import cvxpy as cp
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from reference import RTOL_EXACT, RTOL_LP, random_directions, random_spd
+
+import polyell as pe
+
+
+def random_ellipsoid(seed: int, m: int, rank: int, offset: float = 1.0) -> pe.Ellipsoid:
+    rng = np.random.default_rng(seed)
+    axes = np.linalg.qr(rng.normal(size=(m, m)))[0][:, :rank]
+    semi_axes = rng.uniform(0.5, 5.0, rank)
+    center = offset * axes @ rng.normal(size=rank) * 3.0  # centre inside its own affine set
+    return pe.Ellipsoid(center, axes, semi_axes)
+
+
+def limits_by_socp(E: pe.Ellipsoid, t: np.ndarray) -> tuple[float, float]:
+    """min and max a with a t = c + U diag(s) u, |u| <= 1 (NaN if infeasible)."""
+    a, u = cp.Variable(), cp.Variable(E.rank)
+    constraints = [a * t == E.center + (E.axes * E.semi_axes) @ u, cp.norm(u) <= 1]
+    ends = []
+    for sense in (cp.Minimize, cp.Maximize):
+        problem = cp.Problem(sense(a), constraints)
+        problem.solve(solver=cp.CLARABEL)
+        assert problem.status in (cp.OPTIMAL, cp.INFEASIBLE), problem.status
+        ends.append(a.value if problem.status == cp.OPTIMAL else np.nan)
+    return ends[0], ends[1]
+
+
+@pytest.mark.parametrize("seed", range(10))
+@pytest.mark.parametrize(("m", "rank"), [(2, 2), (3, 3), (2, 1), (3, 2), (3, 1)])
+def test_limits_equal_a_cone_program(seed, m, rank):
+    E = random_ellipsoid(seed, m, rank)
+    T = np.vstack([E.axes.T, random_directions(seed + 99, 4, m)])
+    lo, hi = E.limits(T)
+    for k, t in enumerate(T):
+        expected = limits_by_socp(E, t)
+        if np.isnan(expected[0]):
+            assert np.isnan(lo[k]) and np.isnan(hi[k])
+        else:
+            np.testing.assert_allclose([lo[k], hi[k]], expected, rtol=1e-6, atol=1e-6 * E.semi_axes[0])
+
+
+def test_far_centre_leaves_lines_that_miss():
+    E = pe.Ellipsoid([10.0, 0.0], np.eye(2), [1.0, 1.0])
+    lo, hi = E.limits([[0.0, 1.0], [1.0, 0.0]])
+    assert np.isnan(lo[0]) and np.isnan(hi[0])
+    np.testing.assert_allclose([lo[1], hi[1]], [9.0, 11.0])
+
+
+def test_eq23_alone_is_wrong_for_a_degenerate_ellipsoid():
+    # A segment along y through (1, 0): the x axis meets it only at (1, 0).
+    E = pe.Ellipsoid([1.0, 0.0], [[0.0], [1.0]], [2.0])
+    lo, hi = E.limits([[1.0, 0.0], [0.0, 1.0]])
+    np.testing.assert_allclose([lo[0], hi[0]], [1.0, 1.0])
+    assert np.isnan(lo[1]) and np.isnan(hi[1])  # the y axis is parallel to it and misses it
+
+
+@given(seed=st.integers(0, 2**32 - 1), m=st.integers(1, 4))
+def test_volume_from_core_determinant(seed, m):
+    N = random_spd(np.random.default_rng(seed), m)
+    E = pe.Ellipsoid.from_core(np.zeros(m), N)
+    unit_ball = {1: 2.0, 2: np.pi, 3: 4.0 / 3.0 * np.pi, 4: np.pi**2 / 2.0}[m]
+    assert E.volume == pytest.approx(unit_ball / np.sqrt(np.linalg.det(N)), rel=RTOL_EXACT)
+    np.testing.assert_allclose(E.core, N, rtol=RTOL_EXACT, atol=RTOL_EXACT * np.abs(N).max())
+
+
+@given(seed=st.integers(0, 2**32 - 1))
+def test_contains_boundary_and_rejects_points_just_outside(seed):
+    E = random_ellipsoid(seed, 3, 2)
+    u = random_directions(seed, 20, 2)
+    boundary = E.center + (u * E.semi_axes) @ E.axes.T
+    assert np.all(E.contains(boundary))
+    assert not np.any(E.contains(E.center + 1.001 * (boundary - E.center)))
+    normal = np.cross(E.axes[:, 0], E.axes[:, 1])
+    assert not E.contains(E.center + 1e-6 * normal)
+
+
+def test_support_function_is_attained_on_the_boundary():
+    E = random_ellipsoid(4, 3, 3)
+    a = random_directions(5, 10, 3)
+    u = random_directions(6, 20000, 3)
+    boundary = E.center + (u * E.semi_axes) @ E.axes.T
+    assert np.all(E.support(a) >= (boundary @ a.T).max(axis=0) - 1e-12)
+    assert np.all(E.support(a) <= (boundary @ a.T).max(axis=0) + 0.05 * E.semi_axes[0])
+
+
+def test_axes_are_sorted_and_sign_canonical():
+    E = pe.Ellipsoid([0.0, 0.0], [[0.0, -1.0], [1.0, 0.0]], [1.0, 3.0])
+    np.testing.assert_array_equal(E.semi_axes, [3.0, 1.0])
+    np.testing.assert_array_equal(E.axes, [[1.0, 0.0], [0.0, 1.0]])
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "fragment"),
+    [
+        ({"semi_axes": [1.0, 0.0]}, "semi_axes: expected strictly positive"),
+        ({"axes": [[1.0, 1.0], [0.0, 1.0]]}, "axes: expected orthonormal columns"),
+        ({"center": [0.0, np.nan]}, "center: expected finite values"),
+        ({"axes": np.eye(3)}, "axes: expected an array of real numbers with shape (2, k)"),
+    ],
+)
+def test_bad_ellipsoids(kwargs, fragment):
+    args = {"center": [0.0, 0.0], "axes": np.eye(2), "semi_axes": [2.0, 1.0]} | kwargs
+    with pytest.raises(pe.InputError) as info:
+        pe.Ellipsoid(**args)
+    assert fragment in str(info.value)
+
+
+def test_rtol_lp_constant_is_what_the_polytope_tests_use():
+    assert RTOL_LP == 1e-8
