@@ -177,8 +177,11 @@ class Analysis:
             if kind == "chiacchio":
                 ellipsoid = Ellipsoid(self.xg, self.svd.U1, self.svd.sigma, kind=kind)
             else:
-                J_pinv = self._yoshikawa_pseudoinverse()
-                ellipsoid = Ellipsoid.from_core(self.xg, J_pinv.T @ self.Q @ J_pinv, kind=kind)
+                # N = J^+T Q J^+ = F^T F with F = L^-1 B J^+: the SVD of F gives the axes
+                # without squaring the condition number, as an eigendecomposition of N would.
+                F = (self.dynamics.B @ self._yoshikawa_pseudoinverse()) / self.half_range[:, None]
+                _, s, Vt = np.linalg.svd(F, full_matrices=False)
+                ellipsoid = Ellipsoid(self.xg, Vt.T, 1.0 / s, kind=kind)
             self._ellipsoids[kind] = ellipsoid
         return self._ellipsoids[kind]
 
