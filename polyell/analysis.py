@@ -76,7 +76,7 @@ def _check_kind(kind: object) -> EllipsoidKind:
             repr(kind),
             "'chiacchio' is the new definition (eq. 32/38), 'yoshikawa' the classic (eq. 27).",
         )
-    return kind  # type: ignore[return-value]
+    return kind
 
 
 class Analysis:
@@ -238,7 +238,9 @@ class Analysis:
             qdd = chiacchio_joint_accelerations(
                 dyn.J, dyn.B, self.Q, self._gravity_bias, self.rank, x
             )
-        return InverseSolution(qdd, normalized_torques(dyn.B, self._gravity_bias, self.half_range, qdd))
+        return InverseSolution(
+            qdd, normalized_torques(dyn.B, self._gravity_bias, self.half_range, qdd)
+        )
 
 
 def analyze(

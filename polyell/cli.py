@@ -18,7 +18,7 @@ from polyell.report import format_analysis
 __all__ = ["main"]
 
 #: The arm and torque limits of Chiacchio (2000), section 6.
-PAPER_ARM = {"lengths": [1.0, 0.8, 0.5], "masses": [4.0, 2.0, 0.6], "com": [0.5, 0.4, 0.25]}
+PAPER_LENGTHS, PAPER_MASSES, PAPER_COM = [1.0, 0.8, 0.5], [4.0, 2.0, 0.6], [0.5, 0.4, 0.25]
 PAPER_TAU_MAX = [100.0, 30.0, 4.0]
 PAPER_Q = [np.pi / 2, -np.pi / 2, -np.pi / 2]
 
@@ -80,7 +80,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
     args = _parser().parse_args(argv)
     try:
-        arm = PlanarArm(**PAPER_ARM)
+        arm = PlanarArm(PAPER_LENGTHS, PAPER_MASSES, com=PAPER_COM)
         analysis = analyze(arm.dynamics(args.q), tau_max=args.tau_max, tau_min=args.tau_min)
         label = "x" if args.direction == [1.0, 0.0] else "t"
         print(f"Planar arm of Chiacchio (2000) at q = {np.round(args.q, 6).tolist()} rad")

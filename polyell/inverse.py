@@ -29,7 +29,8 @@ __all__ = [
 
 def jacobian_pseudoinverse(J: NDArray[np.float64]) -> NDArray[np.float64]:
     """``J^+ = J^T (J J^T)^-1`` (eq. 26), shape (n, m); J must have full row rank."""
-    return np.linalg.solve(J @ J.T, J).T
+    pinv: NDArray[np.float64] = np.linalg.solve(J @ J.T, J).T
+    return pinv
 
 
 def _symmetric_power(Q: NDArray[np.float64], power: float) -> NDArray[np.float64]:

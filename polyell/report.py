@@ -71,5 +71,7 @@ def format_analysis(analysis: Analysis, direction: NDArray[np.float64], label: s
             _matrix(E.axes),
         ]
     lines += ["", f"Achievable accelerations along {label} = {np.round(direction, 6).tolist()}:"]
-    lines += [f"  {name:<10} {_interval(lo, hi)}" for name, (lo, hi) in limits.items()]
+    lines += [
+        f"  {name:<10} {_interval(float(lo), float(hi))}" for name, (lo, hi) in limits.items()
+    ]
     return "\n".join(lines)

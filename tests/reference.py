@@ -50,7 +50,11 @@ def random_spd(rng: np.random.Generator, n: int, condition: float = 100.0) -> np
 
 
 def random_problem(
-    seed: int, m: int, n: int, rank: int | None = None, asymmetric: bool = False,
+    seed: int,
+    m: int,
+    n: int,
+    rank: int | None = None,
+    asymmetric: bool = False,
     gravity: float = 1.0,
 ) -> pe.Analysis:
     """A random analysis: Jacobian of the given rank, SPD inertia, gravity, limits.
@@ -59,8 +63,12 @@ def random_problem(
     the origin tends to leave the polytope, so that some lines miss it.
     """
     rng = np.random.default_rng(seed)
-    rank = m if rank is None else rank
-    J = rng.normal(size=(m, rank)) @ rng.normal(size=(rank, n))
+    rank = min(m, n) if rank is None else rank
+    # Singular values in [0.3, 3]: generic directions, a condition number of at most 10, so
+    # that exactness tests compare formulas rather than rounding (issue: ill-conditioning).
+    U = np.linalg.qr(rng.normal(size=(m, m)))[0][:, :rank]
+    V = np.linalg.qr(rng.normal(size=(n, n)))[0][:, :rank]
+    J = (U * rng.uniform(0.3, 3.0, rank)) @ V.T
     B = random_spd(rng, n)
     tau_max = rng.uniform(1.0, 10.0, n)
     tau_min = tau_max - rng.uniform(0.5, 2.0, n) * tau_max if asymmetric else None

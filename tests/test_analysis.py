@@ -10,10 +10,9 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy.spatial import ConvexHull
 
-from reference import RTOL_EXACT, random_arm_analysis, random_directions, random_problem
-
 import polyell as pe
 from polyell.inverse import jacobian_pseudoinverse, weighted_generalized_inverse
+from reference import RTOL_EXACT, random_arm_analysis, random_directions, random_problem
 
 seeds = st.integers(0, 2**32 - 1)
 full_rank = st.sampled_from([(2, 2), (2, 3), (2, 6), (3, 3), (3, 7), (4, 6)])
@@ -57,7 +56,9 @@ def test_classic_ellipsoid_is_inside_the_new_one(seed, shape, asym):
 def test_both_ellipsoids_coincide_for_a_square_nonsingular_jacobian(seed, m, asym):
     analysis = random_problem(seed, m, m, asymmetric=asym)
     classic, new = analysis.ellipsoid("yoshikawa"), analysis.ellipsoid("chiacchio")
-    np.testing.assert_allclose(classic.core, new.core, rtol=1e-8, atol=1e-10 * np.abs(new.core).max())
+    np.testing.assert_allclose(
+        classic.core, new.core, rtol=1e-8, atol=1e-10 * np.abs(new.core).max()
+    )
     np.testing.assert_allclose(classic.semi_axes, new.semi_axes, rtol=1e-8)
 
 
@@ -73,7 +74,12 @@ def test_new_core_three_ways_eq29_30_32(seed, shape):
     core = analysis.ellipsoid("chiacchio").core
     for other in (eq29, eq30, eq32):
         np.testing.assert_allclose(core, other, rtol=1e-7, atol=1e-9 * np.abs(core).max())
-    np.testing.assert_allclose(weighted_generalized_inverse(J, Q, analysis.rank), JQ, rtol=1e-7, atol=1e-9 * np.abs(JQ).max())
+    np.testing.assert_allclose(
+        weighted_generalized_inverse(J, Q, analysis.rank),
+        JQ,
+        rtol=1e-7,
+        atol=1e-9 * np.abs(JQ).max(),
+    )
 
 
 @given(seed=seeds, shape=any_rank, asym=asymmetric)
@@ -82,7 +88,9 @@ def test_new_inverse_maps_the_boundary_to_unit_torques(seed, shape, asym):
     xdd = boundary_points(analysis.ellipsoid("chiacchio"), 20, seed)
     solution = analysis.inverse(xdd, kind="chiacchio")
     np.testing.assert_allclose(solution.torque_norm, 1.0, rtol=1e-8)
-    np.testing.assert_allclose(solution.qdd @ analysis.dynamics.J.T, xdd, atol=1e-8 * np.abs(xdd).max())
+    np.testing.assert_allclose(
+        solution.qdd @ analysis.dynamics.J.T, xdd, atol=1e-8 * np.abs(xdd).max()
+    )
 
 
 @given(seed=seeds, shape=any_rank, asym=asymmetric)
@@ -108,7 +116,9 @@ def test_singular_inverse_eq40_equals_the_minimum_norm_torque_eq36(seed, shape):
     dyn = analysis.dynamics
     x = boundary_points(analysis.ellipsoid("chiacchio"), 5, seed)
     tau_n = (x - analysis.xg) @ analysis.svd.pinv().T  # eq. 36-37
-    expected = np.linalg.solve(dyn.B, (analysis.half_range * tau_n - (dyn.g - analysis.tau_center)).T).T  # eq. 12
+    expected = np.linalg.solve(
+        dyn.B, (analysis.half_range * tau_n - (dyn.g - analysis.tau_center)).T
+    ).T  # eq. 12
     qdd, tau = analysis.inverse(x, kind="chiacchio")
     np.testing.assert_allclose(qdd, expected, rtol=1e-7, atol=1e-9 * np.abs(expected).max())
     np.testing.assert_allclose(tau, tau_n, atol=1e-9)
@@ -119,10 +129,16 @@ def test_classic_inverse_is_the_minimum_norm_joint_acceleration_eq26(seed, shape
     analysis = random_problem(seed, *shape)
     x = random_directions(seed, 4, shape[0]) * 10
     qdd, tau_n = analysis.inverse(x, kind="yoshikawa")
-    np.testing.assert_allclose(qdd, np.linalg.lstsq(analysis.dynamics.J, x.T, rcond=None)[0].T, rtol=1e-8, atol=1e-10)
+    np.testing.assert_allclose(
+        qdd, np.linalg.lstsq(analysis.dynamics.J, x.T, rcond=None)[0].T, rtol=1e-8, atol=1e-10
+    )
     dyn = analysis.dynamics
-    np.testing.assert_allclose(tau_n, (qdd @ dyn.B + dyn.g - analysis.tau_center) / analysis.half_range)
-    np.testing.assert_allclose(jacobian_pseudoinverse(dyn.J), np.linalg.pinv(dyn.J), rtol=1e-8, atol=1e-12)
+    np.testing.assert_allclose(
+        tau_n, (qdd @ dyn.B + dyn.g - analysis.tau_center) / analysis.half_range
+    )
+    np.testing.assert_allclose(
+        jacobian_pseudoinverse(dyn.J), np.linalg.pinv(dyn.J), rtol=1e-8, atol=1e-12
+    )
 
 
 @given(seed=seeds, shape=st.sampled_from([(2, 3), (3, 4), (2, 5)]))
@@ -130,7 +146,9 @@ def test_asymmetric_limits_give_the_image_of_the_torque_box(seed, shape):
     """The shift tau = tau_c + L tau_n against mapping the raw torque box directly."""
     analysis = random_problem(seed, *shape, asymmetric=True)
     dyn = analysis.dynamics
-    corners = np.array(list(itertools.product(*zip(analysis.tau_min, analysis.tau_max, strict=True))))
+    corners = np.array(
+        list(itertools.product(*zip(analysis.tau_min, analysis.tau_max, strict=True)))
+    )
     images = np.linalg.solve(dyn.B, (corners - dyn.g).T).T @ dyn.J.T  # J B^-1 (tau - g), eq. 7
     hull = ConvexHull(images)
     assert analysis.polytope.volume == pytest.approx(hull.volume, rel=RTOL_EXACT)
@@ -188,7 +206,7 @@ def test_bad_torque_limits(tau_max, tau_min, fragment):
 
 
 def test_analyze_wants_a_dynamics_object():
-    with pytest.raises(pe.InputError, match="pe.Dynamics"):
+    with pytest.raises(pe.InputError, match=r"pe\.Dynamics"):
         pe.analyze({"J": np.eye(2)}, tau_max=[1.0, 1.0])
 
 

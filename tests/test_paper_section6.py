@@ -14,14 +14,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import polyell as pe
 from reference import (
     PAPER_Q_REDUNDANT,
     PAPER_Q_SINGULAR,
     assert_printed,
     paper_analysis,
 )
-
-import polyell as pe
 
 X_DIRECTION = np.array([1.0, 0.0])
 #: Orthogonal to the stretched arm at q1 = pi/6: the direction U_1 of the paper's SVD.

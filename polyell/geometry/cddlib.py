@@ -32,7 +32,7 @@ def halfspaces_from_vertices(
         Offsets.
     """
     generators = np.hstack([np.ones((vertices.shape[0], 1)), vertices])
-    matrix = cdd.matrix_from_array(generators, rep_type=cdd.RepType.GENERATOR)
+    matrix = cdd.matrix_from_array(generators.tolist(), rep_type=cdd.RepType.GENERATOR)
     inequalities = cdd.copy_inequalities(cdd.polyhedron_from_matrix(matrix))
     rows = np.array(inequalities.array, dtype=float).reshape(-1, vertices.shape[1] + 1)
     # cdd writes b - A y >= 0 as the row [b, -A].

@@ -148,7 +148,7 @@ class AffineSubspace:
 
     @property
     def equalities(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """``(A_eq, b_eq)`` with the set equal to ``{x : A_eq x = b_eq}``; shapes (m-r, m), (m-r,)."""
+        """``(A_eq, b_eq)``, shapes (m - r, m) and (m - r,): the set is ``{x : A_eq x = b_eq}``."""
         return self.normals.T.copy(), self.normals.T @ self.point
 
     def coordinates(self, x: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -61,9 +61,7 @@ class Dynamics:
         m, n = jacobian.shape
         jacobian = check_array("J", J, (m, n))
         if m == 0 or n == 0:
-            raise InputError(
-                "J", "at least one task row and one joint", f"shape {jacobian.shape}"
-            )
+            raise InputError("J", "at least one task row and one joint", f"shape {jacobian.shape}")
         object.__setattr__(self, "J", jacobian)
         object.__setattr__(self, "B", check_spd("B", B, n))
         object.__setattr__(self, "g", check_array("g", g, (n,)))

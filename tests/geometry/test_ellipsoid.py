@@ -8,9 +8,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from reference import RTOL_EXACT, RTOL_LP, random_directions, random_spd
-
 import polyell as pe
+from reference import RTOL_EXACT, RTOL_LP, random_directions, random_spd
 
 
 def random_ellipsoid(seed: int, m: int, rank: int, offset: float = 1.0) -> pe.Ellipsoid:
@@ -45,7 +44,9 @@ def test_limits_equal_a_cone_program(seed, m, rank):
         if np.isnan(expected[0]):
             assert np.isnan(lo[k]) and np.isnan(hi[k])
         else:
-            np.testing.assert_allclose([lo[k], hi[k]], expected, rtol=1e-6, atol=1e-6 * E.semi_axes[0])
+            np.testing.assert_allclose(
+                [lo[k], hi[k]], expected, rtol=1e-6, atol=1e-6 * E.semi_axes[0]
+            )
 
 
 def test_far_centre_leaves_lines_that_miss():

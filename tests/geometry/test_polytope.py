@@ -17,16 +17,26 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy.spatial import ConvexHull
 
-from reference import RTOL_EXACT, RTOL_LP, random_arm_analysis, random_directions, random_problem
-
 import polyell as pe
 from polyell.geometry.zonotope import MAX_CORNER_JOINTS, corner_vertices
+from reference import RTOL_EXACT, RTOL_LP, random_arm_analysis, random_directions, random_problem
 
 seeds = st.integers(0, 2**32 - 1)
 # (m, n, rank): full-dimensional, redundant, square, and degenerate (rank < m).
 shapes = st.sampled_from(
-    [(2, 2, 2), (2, 3, 2), (2, 5, 2), (3, 3, 3), (3, 4, 3), (3, 7, 3),
-     (2, 3, 1), (3, 5, 2), (3, 6, 1), (4, 6, 4), (4, 5, 3)]
+    [
+        (2, 2, 2),
+        (2, 3, 2),
+        (2, 5, 2),
+        (3, 3, 3),
+        (3, 4, 3),
+        (3, 7, 3),
+        (2, 3, 1),
+        (3, 5, 2),
+        (3, 6, 1),
+        (4, 6, 4),
+        (4, 5, 3),
+    ]
 )
 
 
@@ -69,7 +79,11 @@ def test_every_vertex_lies_on_dim_facets_and_every_facet_on_dim_vertices(seed, s
     tight = slack <= 1e-7 * np.abs(P.b).max()
     assert np.all(tight.sum(axis=0) >= P.dim)  # vertices are extreme
     assert np.all(tight.sum(axis=1) >= P.dim)  # facets are facets
-    np.testing.assert_allclose(P.vertices @ P.A_eq.T, np.broadcast_to(P.b_eq, (len(P.vertices), P.A_eq.shape[0])), atol=P.atol)
+    np.testing.assert_allclose(
+        P.vertices @ P.A_eq.T,
+        np.broadcast_to(P.b_eq, (len(P.vertices), P.A_eq.shape[0])),
+        atol=P.atol,
+    )
 
 
 @given(seed=seeds, shape=shapes)
@@ -85,7 +99,9 @@ def test_flat_zonotope_in_space_has_its_planar_area():
     plane = np.linalg.qr(rng.normal(size=(3, 2)))[0]
     M = plane @ rng.normal(size=(2, 5))
     P = pe.Polytope(M, center=plane @ [0.3, -0.2])
-    cross = [np.linalg.norm(np.cross(M[:, i], M[:, j])) for i, j in itertools.combinations(range(5), 2)]
+    cross = [
+        np.linalg.norm(np.cross(M[:, i], M[:, j])) for i, j in itertools.combinations(range(5), 2)
+    ]
     assert P.dim == 2
     assert P.volume == pytest.approx(4 * sum(cross), rel=RTOL_EXACT)
     # Shoelace in 3-D on the ordered vertices.
@@ -147,13 +163,13 @@ def test_strong_gravity_makes_some_lines_miss_the_polytope():
 @pytest.mark.parametrize("seed", range(6))
 def test_degenerate_limits_equal_linear_programs(seed):
     m, n, rank = [(2, 3, 1), (3, 5, 2), (3, 4, 1)][seed % 3]
-    analysis = random_problem(seed, m, n, rank=rank)
+    analysis = random_problem(seed, m, n, rank=rank, gravity=0.1)  # 0 inside P
     P = analysis.polytope
     inside = analysis.svd.U1.T  # lines lying in the affine set
     T = np.vstack([inside, -inside, random_directions(seed + 1000, 8, m)])
     closed, lp = P.limits(T), P.limits(T, method="lp")
     assert_limits_agree(closed, lp, np.abs(P.b).max())
-    assert np.all(closed.hi[: rank] > closed.lo[: rank])  # a real interval along the set
+    assert np.all(closed.hi[:rank] > closed.lo[:rank])  # a real interval along the set
     # Lines that leave the affine set meet it only at a = 0 (xg lies in Im M).
     np.testing.assert_allclose(closed.lo[2 * rank :], 0.0, atol=P.atol)
     np.testing.assert_allclose(closed.hi[2 * rank :], 0.0, atol=P.atol)

@@ -88,4 +88,6 @@ def test_default_centre_of_mass_and_inertia_are_a_uniform_rod():
     np.testing.assert_allclose(arm.com, [0.5, 0.4])
     np.testing.assert_allclose(arm.inertia, [4.0 / 12, 2.0 * 0.64 / 12])
     # m l^2 / 12 about the centre of mass is m l^2 / 3 about the joint axis.
-    np.testing.assert_allclose(arm.inertia + arm.masses * arm.com**2, arm.masses * arm.lengths**2 / 3)
+    np.testing.assert_allclose(
+        arm.inertia + arm.masses * arm.com**2, arm.masses * arm.lengths**2 / 3
+    )
