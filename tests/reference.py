@@ -76,17 +76,22 @@ def random_problem(
     return pe.analyze(pe.Dynamics(J, B, g), tau_max=tau_max, tau_min=tau_min)
 
 
-def random_arm_analysis(seed: int, n: int, singular: bool = False) -> pe.Analysis:
-    """A random planar arm (real inertias) at a random, or a stretched singular, posture."""
+def random_arm(seed: int, n: int) -> tuple[pe.PlanarArm, np.ndarray, np.random.Generator]:
+    """A random planar arm (real, positive inertias), a random posture, and the generator."""
     rng = np.random.default_rng(seed)
     lengths = rng.uniform(0.2, 1.5, n)
     arm = pe.PlanarArm(
         lengths=lengths,
         masses=rng.uniform(0.5, 10.0, n),
-        com=lengths * rng.uniform(0.2, 0.8, n),
-        inertia=None,
+        com=lengths * rng.uniform(0.1, 0.9, n),
+        inertia=rng.uniform(0.01, 1.0, n),
     )
-    q = rng.uniform(-np.pi, np.pi, n)
+    return arm, rng.uniform(-np.pi, np.pi, n), rng
+
+
+def random_arm_analysis(seed: int, n: int, singular: bool = False) -> pe.Analysis:
+    """A random planar arm at a random, or a stretched singular, posture."""
+    arm, q, rng = random_arm(seed, n)
     if singular:
         q[1:] = rng.choice([0.0, np.pi], size=n - 1)
     return pe.analyze(arm.dynamics(q), tau_max=rng.uniform(1.0, 100.0, n))

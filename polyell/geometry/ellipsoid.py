@@ -10,14 +10,12 @@ from scipy.linalg import null_space
 from scipy.special import gammaln
 
 from polyell.errors import InputError
-from polyell.geometry.limits import DirectionalLimits, limits_through_affine_set
+from polyell.geometry.convex_set import ConvexSet
+from polyell.geometry.limits import DirectionalLimits
 from polyell.geometry.subspace import AffineSubspace
-from polyell.validation import check_array, check_directions, check_points
+from polyell.validation import check_array, check_points
 
 __all__ = ["Ellipsoid", "unit_ball_volume"]
-
-#: Distance tolerance of membership tests, relative to the ellipsoid's size.
-_ATOL_RELATIVE = 1e-9
 
 
 def _canonical_signs(axes: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -33,7 +31,7 @@ def unit_ball_volume(r: int) -> float:
     return float(np.exp(0.5 * r * np.log(np.pi) - gammaln(0.5 * r + 1)))
 
 
-class Ellipsoid:
+class Ellipsoid(ConvexSet):
     r"""The ellipsoid :math:`\{ c + U \operatorname{diag}(s)\, u : \|u\| \le 1 \}`.
 
     Equivalently :math:`(\ddot x - c)^T N (\ddot x - c) \le 1` with the core
@@ -88,9 +86,7 @@ class Ellipsoid:
             basis = self.axes
             normals = null_space(self.axes.T) if self.rank else np.eye(m)
         self.affine_set = AffineSubspace(point=self.center, basis=basis, normals=normals)
-        self.atol = _ATOL_RELATIVE * max(
-            float(self.semi_axes.sum()), float(np.linalg.norm(self.center)), np.finfo(float).tiny
-        )
+        self._set_atol(float(self.semi_axes.sum()))
 
     @classmethod
     def from_core(cls, center: ArrayLike, core: ArrayLike, *, kind: str = "custom") -> Ellipsoid:
@@ -117,11 +113,6 @@ class Ellipsoid:
             f"Ellipsoid(kind={self.kind!r}, center={np.round(self.center, 6).tolist()}, "
             f"semi_axes={np.round(self.semi_axes, 6).tolist()}, rank={self.rank})"
         )
-
-    @property
-    def ambient_dim(self) -> int:
-        """Task-space dimension m."""
-        return int(self.center.size)
 
     @property
     def rank(self) -> int:
@@ -152,50 +143,43 @@ class Ellipsoid:
         a = check_points("normals", normals, self.ambient_dim)
         return a @ self.center + np.linalg.norm((a @ self.axes) * self.semi_axes, axis=-1)
 
-    def contains(self, points: ArrayLike) -> NDArray[np.bool_]:
-        """Whether points lie in the ellipsoid (to the tolerance :attr:`atol`).
-
-        Parameters
-        ----------
-        points : array-like, shape (m,) or (k, m)
-
-        Returns
-        -------
-        inside : ndarray of bool, shape () or (k,)
-        """
-        x = check_points("points", points, self.ambient_dim)
+    def _inside_hull(self, x: NDArray[np.float64]) -> NDArray[np.bool_]:
         u = ((x - self.center) @ self.axes) / self.semi_axes
         radius = np.linalg.norm(u, axis=-1)
         slack = self.atol / self.semi_axes[-1] if self.rank else 0.0
-        return (self.affine_set.distance(x) <= self.atol) & (radius <= 1.0 + slack)
+        return radius <= 1.0 + slack
 
     def limits(self, directions: ArrayLike) -> DirectionalLimits:
-        r"""Achievable accelerations along unit directions, eq. (23)-(24).
+        """Achievable accelerations along unit directions, eq. (23)-(24).
 
-        For a line :math:`\{a t\}` in the ellipsoid's affine set, :math:`a` solves
-        :math:`\alpha a^2 + 2 \beta a + \gamma \le 0` with :math:`\alpha = t^T N t`,
-        :math:`\beta = -t^T N c`, :math:`\gamma = c^T N c - 1`, giving the interval (24),
-        empty when :math:`\beta^2 - \alpha\gamma < 0`.  For a degenerate ellipsoid a line
-        that leaves the affine set meets it in at most one point, tested directly: eq. (23)
-        alone would be wrong there because N is only semidefinite.
+        On lines in the ellipsoid's affine set, the roots of eq. (23) give the interval
+        (24); a degenerate ellipsoid meets any other line in at most one point, tested
+        directly (see :meth:`ConvexSet.limits`).
 
         Parameters
         ----------
         directions : array-like, shape (m,) or (k, m)
+            Unit directions ``t``.
 
         Returns
         -------
         DirectionalLimits
             NaN where the line misses the ellipsoid.
         """
-        T = check_directions("directions", directions, self.ambient_dim)
-        return limits_through_affine_set(
-            self.affine_set, T, self.atol, self._interval_eq24, self.contains
-        )
+        return super().limits(directions)
 
-    def _interval_eq24(
+    def _interval_on_lines(
         self, lines: NDArray[np.float64]
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        r"""Eq. (23)-(24) on lines in the affine set.
+
+        :math:`a` solves :math:`\alpha a^2 + 2 \beta a + \gamma \le 0` with
+        :math:`\alpha = t^T N t`, :math:`\beta = -t^T N c`, :math:`\gamma = c^T N c - 1`,
+        giving the interval (24), empty when :math:`\beta^2 - \alpha\gamma < 0`.  For a
+        degenerate ellipsoid, lines that leave the affine set are handled by
+        :meth:`limits` directly: eq. (23) alone would be wrong there because N is only
+        semidefinite.
+        """
         Nt = lines @ self.core
         alpha = np.einsum("ij,ij->i", Nt, lines)
         beta = -Nt @ self.center

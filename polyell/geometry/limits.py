@@ -2,19 +2,12 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
-from polyell.geometry.subspace import AffineSubspace
-
-__all__ = [
-    "DirectionalLimits",
-    "limits_through_affine_set",
-    "line_interval_in_halfspaces",
-]
+__all__ = ["DirectionalLimits", "line_interval_in_halfspaces"]
 
 
 def line_interval_in_halfspaces(
@@ -76,52 +69,3 @@ class DirectionalLimits(NamedTuple):
     def feasible(self) -> NDArray[np.bool_]:
         """True where the interval is non-empty."""
         return ~np.isnan(self.lo)
-
-
-def limits_through_affine_set(
-    affine_set: AffineSubspace,
-    directions: NDArray[np.float64],
-    atol: float,
-    interval_on_lines: Callable[
-        [NDArray[np.float64]], tuple[NDArray[np.float64], NDArray[np.float64]]
-    ],
-    contains: Callable[[NDArray[np.float64]], NDArray[np.bool_]],
-) -> DirectionalLimits:
-    """Directional limits of a set that lies in ``affine_set``, for any of its dimensions.
-
-    A line ``{a t}`` lying in the affine set gets the interval from
-    ``interval_on_lines``; a line crossing the set in one point ``a0 t`` gets
-    ``[a0, a0]`` if that point belongs to the set; any other line gets an empty interval.
-    For a full-dimensional set every line is of the first kind.
-
-    Parameters
-    ----------
-    affine_set : AffineSubspace
-        The affine hull of the set.
-    directions : ndarray, shape (m,) or (k, m)
-        Unit directions, already validated.
-    atol : float
-        Distance tolerance for "on the affine set".
-    interval_on_lines : callable
-        ``(k', m) -> (lo, hi)`` for lines that lie in the affine set.
-    contains : callable
-        ``(k', m) -> bool`` membership test for single points.
-
-    Returns
-    -------
-    DirectionalLimits
-        With the leading shape of ``directions``.
-    """
-    T = np.atleast_2d(directions)
-    lo = np.full(T.shape[0], np.nan)
-    hi = np.full(T.shape[0], np.nan)
-    meeting = affine_set.meet_lines(T, atol)
-    if meeting.inside.any():
-        lo[meeting.inside], hi[meeting.inside] = interval_on_lines(T[meeting.inside])
-    if meeting.single.any():
-        a0 = meeting.a0[meeting.single]
-        member = contains(a0[:, None] * T[meeting.single])
-        lo[meeting.single] = np.where(member, a0, np.nan)
-        hi[meeting.single] = np.where(member, a0, np.nan)
-    shape = directions.shape[:-1]
-    return DirectionalLimits(lo.reshape(shape), hi.reshape(shape))

@@ -10,11 +10,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from polyell.errors import InputError
 from polyell.geometry.cddlib import halfspaces_from_vertices
-from polyell.geometry.limits import (
-    DirectionalLimits,
-    limits_through_affine_set,
-    line_interval_in_halfspaces,
-)
+from polyell.geometry.convex_set import ConvexSet
+from polyell.geometry.limits import DirectionalLimits, line_interval_in_halfspaces
 from polyell.geometry.linprog import polytope_limits_lp
 from polyell.geometry.subspace import (
     RANK_RTOL,
@@ -23,15 +20,12 @@ from polyell.geometry.subspace import (
     rank_revealing_svd,
 )
 from polyell.geometry.zonotope import zonotope_facets, zonotope_vertices, zonotope_volume
-from polyell.validation import check_array, check_directions, check_points
+from polyell.validation import check_array, check_directions
 
-__all__ = ["ATOL_RELATIVE", "Polytope"]
-
-#: Distance tolerance of membership tests, relative to the polytope's size.
-ATOL_RELATIVE = 1e-9
+__all__ = ["Polytope"]
 
 
-class Polytope:
+class Polytope(ConvexSet):
     r"""The zonotope :math:`P = \{ M \tilde\tau + \ddot x_g : \|\tilde\tau\|_\infty \le 1 \}`.
 
     Eq. (15) of the paper: every end-effector acceleration the arm can produce at rest,
@@ -75,27 +69,13 @@ class Polytope:
         self.center = check_array("center", center, (shape[0],))
         self._svd = svd if svd is not None else rank_revealing_svd(self.generators, rank_rtol)
         self.affine_set = AffineSubspace.from_svd(self.center, self._svd)
-        self.atol = ATOL_RELATIVE * max(
-            float(np.linalg.norm(self.generators, axis=0).sum()),
-            float(np.linalg.norm(self.center)),
-            np.finfo(float).tiny,
-        )
+        self._set_atol(float(np.linalg.norm(self.generators, axis=0).sum()))
 
     def __repr__(self) -> str:
         return (
             f"Polytope(m={self.ambient_dim}, n={self.generators.shape[1]}, dim={self.dim}, "
             f"facets={self.A.shape[0]}, volume={self.volume:.6g})"
         )
-
-    @property
-    def ambient_dim(self) -> int:
-        """Task-space dimension m."""
-        return int(self.center.size)
-
-    @property
-    def dim(self) -> int:
-        """Dimension r of the polytope (``rank M``)."""
-        return self.affine_set.dim
 
     @cached_property
     def _reduced(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
@@ -167,20 +147,8 @@ class Polytope:
         A = A_red @ self.affine_set.basis.T
         return A, b_red + A @ self.center
 
-    def contains(self, points: ArrayLike) -> NDArray[np.bool_]:
-        """Whether points are achievable accelerations (to the tolerance :attr:`atol`).
-
-        Parameters
-        ----------
-        points : array-like, shape (m,) or (k, m)
-
-        Returns
-        -------
-        inside : ndarray of bool, shape () or (k,)
-        """
-        x = check_points("points", points, self.ambient_dim)
-        on_set = self.affine_set.distance(x) <= self.atol
-        return on_set & np.all(x @ self.A.T <= self.b + self.atol, axis=-1)
+    def _inside_hull(self, x: NDArray[np.float64]) -> NDArray[np.bool_]:
+        return np.all(x @ self.A.T <= self.b + self.atol, axis=-1)
 
     def limits(
         self, directions: ArrayLike, method: Literal["closed_form", "lp"] = "closed_form"
@@ -202,16 +170,15 @@ class Polytope:
             ``(lo, hi)`` of the leading shape of ``directions``; NaN where the line
             misses P.
         """
-        T = check_directions("directions", directions, self.ambient_dim)
-        if method == "lp":
-            lo, hi = polytope_limits_lp(self.generators, self.center, np.atleast_2d(T))
-            return DirectionalLimits(lo.reshape(T.shape[:-1]), hi.reshape(T.shape[:-1]))
-        if method != "closed_form":
+        if method == "closed_form":
+            return super().limits(directions)
+        if method != "lp":
             raise InputError("method", "'closed_form' or 'lp'", repr(method))
-        return limits_through_affine_set(
-            self.affine_set,
-            T,
-            self.atol,
-            lambda lines: line_interval_in_halfspaces(self.A, self.b, lines, self.atol),
-            self.contains,
-        )
+        T = check_directions("directions", directions, self.ambient_dim)
+        lo, hi = polytope_limits_lp(self.generators, self.center, np.atleast_2d(T))
+        return DirectionalLimits(lo.reshape(T.shape[:-1]), hi.reshape(T.shape[:-1]))
+
+    def _interval_on_lines(
+        self, lines: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        return line_interval_in_halfspaces(self.A, self.b, lines, self.atol)

@@ -8,19 +8,12 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import polyell as pe
+from reference import random_arm
 
 
-def random_arm(seed: int, n: int) -> tuple[pe.PlanarArm, np.ndarray]:
-    rng = np.random.default_rng(seed)
-    lengths = rng.uniform(0.2, 1.5, n)
-    arm = pe.PlanarArm(
-        lengths=lengths,
-        masses=rng.uniform(0.5, 10.0, n),
-        com=lengths * rng.uniform(0.1, 0.9, n),
-        inertia=rng.uniform(0.01, 1.0, n),
-        gravity=9.81,
-    )
-    return arm, rng.uniform(-np.pi, np.pi, n)
+def arm_and_posture(seed: int, n: int) -> tuple[pe.PlanarArm, np.ndarray]:
+    arm, q, _ = random_arm(seed, n)
+    return arm, q
 
 
 def com_positions(arm: pe.PlanarArm, q: np.ndarray) -> np.ndarray:
@@ -53,7 +46,7 @@ def numerical_gradient(f, q: np.ndarray, h: float = 1e-6) -> np.ndarray:
 
 @given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 6))
 def test_jacobian_is_the_derivative_of_forward_kinematics(seed, n):
-    arm, q = random_arm(seed, n)
+    arm, q = arm_and_posture(seed, n)
     numerical = numerical_gradient(arm.forward_kinematics, q).T
     np.testing.assert_allclose(arm.jacobian(q), numerical, atol=1e-7)
     np.testing.assert_array_equal(arm.dynamics(q).J, arm.jacobian(q))
@@ -61,14 +54,14 @@ def test_jacobian_is_the_derivative_of_forward_kinematics(seed, n):
 
 @given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 6))
 def test_gravity_torques_are_the_gradient_of_potential_energy(seed, n):
-    arm, q = random_arm(seed, n)
+    arm, q = arm_and_posture(seed, n)
     expected = numerical_gradient(lambda x: potential_energy(arm, x), q)
     np.testing.assert_allclose(arm.dynamics(q).g, expected, atol=1e-6)
 
 
 @given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 6))
 def test_inertia_matrix_gives_the_kinetic_energy(seed, n):
-    arm, q = random_arm(seed, n)
+    arm, q = arm_and_posture(seed, n)
     qd = np.random.default_rng(seed + 1).normal(size=n)
     B = arm.dynamics(q).B
     assert 0.5 * qd @ B @ qd == pytest.approx(kinetic_energy(arm, q, qd), rel=1e-7)
