@@ -28,14 +28,15 @@ SYMMETRY_RTOL = 1e-9
 
 
 def _describe(value: object) -> str:
-    array = np.asarray(value) if not isinstance(value, np.ndarray) else value
-    if array.dtype == object:
-        return f"{type(value).__name__} {value!r}"[:120]
-    return f"an array of shape {array.shape}"
+    """Say briefly what arrived (a value that is not an array of numbers)."""
+    text = f"{type(value).__name__} {value!r}"
+    return text if len(text) <= 120 else text[:117] + "..."
 
 
 def _as_finite_float(name: str, value: ArrayLike, expected: str) -> NDArray[np.float64]:
     """Convert to a float64 array and reject NaN and infinity."""
+    if value is None:  # np.array(None, dtype=float) would be a silent NaN
+        raise InputError(name, expected, "None")
     try:
         array = np.array(value, dtype=np.float64)
     except (TypeError, ValueError):

@@ -38,3 +38,8 @@ def test_bad_dynamics_raise_input_errors(kwargs, fragment):
     with pytest.raises(pe.InputError) as info:
         pe.Dynamics(**args)
     assert fragment in str(info.value)
+
+
+def test_none_is_reported_as_none_not_as_nan():
+    with pytest.raises(pe.InputError, match="g: expected an array .* got None"):
+        pe.Dynamics(J=[[1.0, 0.5]], B=np.eye(2), g=None)
