@@ -53,7 +53,7 @@ def _as_finite_float(name: str, value: ArrayLike, expected: str) -> NDArray[np.f
 
 
 def check_array(
-    name: str, value: ArrayLike, shape: Sequence[int | None], *, what: str = "real numbers"
+    name: str, value: ArrayLike, shape: Sequence[int | str | None], *, what: str = "real numbers"
 ) -> NDArray[np.float64]:
     """Convert ``value`` to a finite float64 array of the given shape.
 
@@ -63,8 +63,9 @@ def check_array(
         Argument name used in error messages.
     value : array-like
         The value to check.
-    shape : sequence of int or None
-        Expected shape; ``None`` matches any length along that axis.
+    shape : sequence of int, str or None
+        Expected shape; a str (a label such as ``"m"``, shown in messages) or ``None``
+        (shown as ``k``) matches any length along that axis.
     what : str, optional
         Description of the entries, used in error messages.
 
@@ -79,10 +80,11 @@ def check_array(
         If ``value`` is not numeric, has the wrong shape or holds NaN or infinity.
     """
     dims = ["k" if s is None else str(s) for s in shape]
+    sizes = [s if isinstance(s, int) else None for s in shape]
     expected = f"an array of {what} with shape ({', '.join(dims)}{',' if len(dims) == 1 else ''})"
     array = _as_finite_float(name, value, expected)
     if array.ndim != len(shape) or any(
-        s is not None and s != a for s, a in zip(shape, array.shape, strict=True)
+        s is not None and s != a for s, a in zip(sizes, array.shape, strict=True)
     ):
         raise InputError(
             name, expected, f"shape {array.shape}", "check the number of joints and task rows."

@@ -62,11 +62,8 @@ class Polytope(ConvexSet):
         rank_rtol: float = RANK_RTOL,
         svd: RankRevealingSVD | None = None,
     ) -> None:
-        shape = np.shape(generators)
-        if len(shape) != 2:
-            raise InputError("generators", "a matrix of shape (m, n)", f"shape {shape}")
-        self.generators = check_array("generators", generators, shape)
-        self.center = check_array("center", center, (shape[0],))
+        self.generators = check_array("generators", generators, ("m", "n"))
+        self.center = check_array("center", center, (self.generators.shape[0],))
         self._svd = svd if svd is not None else rank_revealing_svd(self.generators, rank_rtol)
         self.affine_set = AffineSubspace.from_svd(self.center, self._svd)
         self._set_atol(float(np.linalg.norm(self.generators, axis=0).sum()))

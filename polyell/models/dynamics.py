@@ -50,16 +50,8 @@ class Dynamics:
     g: NDArray[np.float64]
 
     def __init__(self, J: ArrayLike, B: ArrayLike, g: ArrayLike) -> None:
-        jacobian = np.asarray(J)
-        if jacobian.ndim != 2:
-            raise InputError(
-                "J",
-                "a 2-D Jacobian of shape (m, n)",
-                f"shape {jacobian.shape}",
-                "for a single task row pass [[...]].",
-            )
+        jacobian = check_array("J", J, ("m", "n"), what="Jacobian entries")
         m, n = jacobian.shape
-        jacobian = check_array("J", J, (m, n))
         if m == 0 or n == 0:
             raise InputError("J", "at least one task row and one joint", f"shape {jacobian.shape}")
         object.__setattr__(self, "J", jacobian)
