@@ -225,3 +225,17 @@ def test_bad_directions(directions, fragment):
         with pytest.raises(pe.InputError) as info:
             limits(directions)
         assert fragment in str(info.value)
+
+
+@pytest.mark.parametrize("rtol", [-1e-3, 1.0, float("nan")])
+def test_bad_rank_tolerance(rtol):
+    dyn = pe.Dynamics(np.ones((2, 3)), np.eye(3), np.zeros(3))
+    with pytest.raises(pe.InputError, match="rank_rtol: expected a relative tolerance"):
+        pe.analyze(dyn, tau_max=[1.0, 1.0, 1.0], rank_rtol=rtol)
+
+
+def test_rank_tolerance_decides_near_singular_configurations():
+    dyn = pe.Dynamics([[1.0, 0.0], [0.0, 1e-8]], np.eye(2), np.zeros(2))
+    assert pe.analyze(dyn, tau_max=[1.0, 1.0]).rank == 2
+    coarse = pe.analyze(dyn, tau_max=[1.0, 1.0], rank_rtol=1e-6)
+    assert coarse.rank == 1 == coarse.polytope.dim == coarse.ellipsoid().rank

@@ -14,6 +14,8 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from polyell.errors import InputError
+
 __all__ = [
     "PARALLEL_TOL",
     "RANK_RTOL",
@@ -79,7 +81,19 @@ def rank_revealing_svd(M: NDArray[np.float64], rtol: float = RANK_RTOL) -> RankR
     Returns
     -------
     RankRevealingSVD
+
+    Raises
+    ------
+    InputError
+        If ``rtol`` is not in ``[0, 1)``.
     """
+    if not 0.0 <= rtol < 1.0:
+        raise InputError(
+            "rank_rtol",
+            "a relative tolerance in [0, 1)",
+            repr(rtol),
+            f"keep the default {RANK_RTOL:g} unless you know the data's precision.",
+        )
     U, s, Vt = np.linalg.svd(M, full_matrices=True)
     rank = int(np.count_nonzero(s > rtol * s[0])) if s.size and s[0] > 0 else 0
     return RankRevealingSVD(
