@@ -25,11 +25,7 @@ from polyell.errors import InputError, UndefinedEllipsoidError, UnreachableAccel
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.polytope import Polytope
 from polyell.geometry.subspace import RANK_RTOL, RankRevealingSVD, rank_revealing_svd
-from polyell.inverse import (
-    chiacchio_joint_accelerations,
-    jacobian_pseudoinverse,
-    normalized_torques,
-)
+from polyell.inverse import AffineMap, chiacchio_joint_map, classic_joint_map, torque_map
 from polyell.models.dynamics import Dynamics
 from polyell.validation import check_points, check_torque_limits
 
@@ -132,6 +128,7 @@ class Analysis:
         self.Q: NDArray[np.float64] = B @ np.diag(self.half_range**-2) @ B
         self.svd: RankRevealingSVD = rank_revealing_svd(self.M, rank_rtol)
         self._ellipsoids: dict[str, Ellipsoid] = {}
+        self._joint_maps: dict[str, AffineMap] = {}
 
     def __repr__(self) -> str:
         return (
@@ -179,13 +176,13 @@ class Analysis:
             else:
                 # N = J^+T Q J^+ = F^T F with F = L^-1 B J^+: the SVD of F gives the axes
                 # without squaring the condition number, as an eigendecomposition of N would.
-                F = (self.dynamics.B @ self._yoshikawa_pseudoinverse()) / self.half_range[:, None]
+                F = self.torque_map(kind).matrix
                 _, s, Vt = np.linalg.svd(F, full_matrices=False)
                 ellipsoid = Ellipsoid(self.xg, Vt.T, 1.0 / s, kind=kind)
             self._ellipsoids[kind] = ellipsoid
         return self._ellipsoids[kind]
 
-    def _yoshikawa_pseudoinverse(self) -> NDArray[np.float64]:
+    def _require_classic(self) -> None:
         if self.is_singular:
             raise UndefinedEllipsoidError(
                 f"The classic (Yoshikawa) ellipsoid, eq. (27), needs J J^T invertible, but "
@@ -193,7 +190,32 @@ class Analysis:
                 "configuration, so J^+ = J^T (J J^T)^-1 does not exist. Use "
                 "kind='chiacchio', which is defined here (eq. 38)."
             )
-        return jacobian_pseudoinverse(self.dynamics.J)
+
+    def joint_map(self, kind: EllipsoidKind = "chiacchio") -> AffineMap:
+        """The affine inverse map ``xdd -> qdd`` of a definition (eq. 26 or 33/40).
+
+        Raises
+        ------
+        UndefinedEllipsoidError
+            For ``"yoshikawa"`` at a singular configuration.
+        """
+        kind = _check_kind(kind)
+        if kind not in self._joint_maps:
+            dyn = self.dynamics
+            if kind == "yoshikawa":
+                self._require_classic()
+                self._joint_maps[kind] = classic_joint_map(dyn.J)
+            else:
+                self._joint_maps[kind] = chiacchio_joint_map(
+                    dyn.J, dyn.B, self.Q, self._gravity_bias, self.rank
+                )
+        return self._joint_maps[kind]
+
+    def torque_map(self, kind: EllipsoidKind = "chiacchio") -> AffineMap:
+        """The affine map ``xdd -> tau_n`` of a definition's inverse (eq. 26 or 33/40, then 10)."""
+        return torque_map(
+            self.joint_map(kind), self.dynamics.B, self._gravity_bias, self.half_range
+        )
 
     def inverse(self, xdd: ArrayLike, kind: EllipsoidKind = "chiacchio") -> InverseSolution:
         """Joint accelerations and normalized torques that produce ``xdd``.
@@ -220,14 +242,9 @@ class Analysis:
         UndefinedEllipsoidError
             For ``"yoshikawa"`` at a singular configuration.
         """
-        kind = _check_kind(kind)
         x = check_points("xdd", xdd, self.dynamics.m)
-        dyn = self.dynamics
-        if kind == "yoshikawa":
-            qdd = x @ self._yoshikawa_pseudoinverse().T
-        else:
-            affine_set = self.polytope.affine_set
-            distance = affine_set.distance(x)
+        if _check_kind(kind) == "chiacchio":
+            distance = self.polytope.affine_set.distance(x)
             if np.any(distance > self.polytope.atol):
                 raise UnreachableAccelerationError(
                     f"xdd: expected accelerations in the affine set xg + Im(M) of dimension "
@@ -235,12 +252,7 @@ class Analysis:
                     "acceleration produces it at this singular configuration. Fix: project it "
                     "with analysis.polytope.affine_set.project(xdd)."
                 )
-            qdd = chiacchio_joint_accelerations(
-                dyn.J, dyn.B, self.Q, self._gravity_bias, self.rank, x
-            )
-        return InverseSolution(
-            qdd, normalized_torques(dyn.B, self._gravity_bias, self.half_range, qdd)
-        )
+        return InverseSolution(self.joint_map(kind)(x), self.torque_map(kind)(x))
 
 
 def analyze(

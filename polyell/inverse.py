@@ -16,15 +16,30 @@ The normalized torque is :math:`\tilde\tau = L^{-1} (B \ddot q + g - \tau_c)` (e
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
-    "chiacchio_joint_accelerations",
+    "AffineMap",
+    "chiacchio_joint_map",
+    "classic_joint_map",
     "jacobian_pseudoinverse",
-    "normalized_torques",
+    "torque_map",
     "weighted_generalized_inverse",
 ]
+
+
+class AffineMap(NamedTuple):
+    """The map ``x -> matrix @ x + offset``, applied to points of shape (..., m)."""
+
+    matrix: NDArray[np.float64]
+    offset: NDArray[np.float64]
+
+    def __call__(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Apply the map to points ``x`` of shape (..., m)."""
+        return x @ self.matrix.T + self.offset
 
 
 def jacobian_pseudoinverse(J: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -58,14 +73,18 @@ def weighted_generalized_inverse(
     return Q_inv_sqrt @ ((Vt[:rank].T / s[:rank]) @ U[:, :rank].T)
 
 
-def chiacchio_joint_accelerations(
+def classic_joint_map(J: NDArray[np.float64]) -> AffineMap:
+    """Eq. (26): ``qdd = J^+ xdd``; J must have full row rank."""
+    return AffineMap(jacobian_pseudoinverse(J), np.zeros(J.shape[1]))
+
+
+def chiacchio_joint_map(
     J: NDArray[np.float64],
     B: NDArray[np.float64],
     Q: NDArray[np.float64],
     gravity_bias: NDArray[np.float64],
     rank: int,
-    xdd: NDArray[np.float64],
-) -> NDArray[np.float64]:
+) -> AffineMap:
     """Eq. (33)/(40): ``qdd = J_Q^# xdd - (I - J_Q^# J) B^-1 (g - tau_c)``.
 
     Parameters
@@ -76,24 +95,23 @@ def chiacchio_joint_accelerations(
         ``g - tau_c`` [N m].
     rank : int
         Rank of J.
-    xdd : ndarray, shape (..., m)
-        Task accelerations.
-
-    Returns
-    -------
-    qdd : ndarray, shape (..., n)
     """
     JQ = weighted_generalized_inverse(J, Q, rank)
     free_fall = np.linalg.solve(B, gravity_bias)
-    null_term = free_fall - JQ @ (J @ free_fall)
-    return xdd @ JQ.T - null_term
+    return AffineMap(JQ, JQ @ (J @ free_fall) - free_fall)
 
 
-def normalized_torques(
+def torque_map(
+    joint_map: AffineMap,
     B: NDArray[np.float64],
     gravity_bias: NDArray[np.float64],
     half_range: NDArray[np.float64],
-    qdd: NDArray[np.float64],
-) -> NDArray[np.float64]:
-    """``tau_n = L^-1 (B qdd + g - tau_c)``, shape (..., n); admissible iff ``|tau_n|_inf <= 1``."""
-    return (qdd @ B + gravity_bias) / half_range
+) -> AffineMap:
+    """Compose a joint map with ``tau_n = L^-1 (B qdd + g - tau_c)`` (eq. 10, 12).
+
+    The torque limits hold iff ``|tau_n|_inf <= 1``.
+    """
+    return AffineMap(
+        (B @ joint_map.matrix) / half_range[:, None],
+        (B @ joint_map.offset + gravity_bias) / half_range,
+    )
