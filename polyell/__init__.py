@@ -6,6 +6,7 @@ exact task-space acceleration polytope.
 """
 
 from polyell.analysis import ELLIPSOID_KINDS, Analysis, InverseSolution, analyze
+from polyell.comparison import COMPARED_KINDS, SCORE_NAMES, Comparison, Scores, compare
 from polyell.errors import (
     InputError,
     PolyellError,
@@ -25,10 +26,13 @@ from polyell.models import Dynamics, PlanarArm
 __version__ = "0.1.0"
 
 __all__ = [
+    "COMPARED_KINDS",
     "ELLIPSOID_KINDS",
     "RANK_RTOL",
+    "SCORE_NAMES",
     "AffineSubspace",
     "Analysis",
+    "Comparison",
     "DirectionalLimits",
     "Dynamics",
     "Ellipsoid",
@@ -37,9 +41,11 @@ __all__ = [
     "PlanarArm",
     "PolyellError",
     "Polytope",
+    "Scores",
     "SolverError",
     "UndefinedEllipsoidError",
     "UnreachableAccelerationError",
     "__version__",
     "analyze",
+    "compare",
 ]

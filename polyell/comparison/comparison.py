@@ -1,0 +1,258 @@
+"""``compare``: every score of every ellipsoid against the exact polytope, as a table."""
+
+from __future__ import annotations
+
+import dataclasses
+import io
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike, NDArray
+
+from polyell.analysis import ELLIPSOID_KINDS, Analysis, EllipsoidKind
+from polyell.comparison.metrics import (
+    check_same_affine_set,
+    direction_errors,
+    inscribed_scale,
+    overlap,
+    witness_torque_max,
+)
+from polyell.comparison.tables import format_scores_table
+from polyell.errors import InputError, UndefinedEllipsoidError
+from polyell.geometry.directions import directions_in
+from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
+from polyell.validation import check_directions
+
+__all__ = ["COMPARED_KINDS", "SCORE_NAMES", "Comparison", "Scores", "compare"]
+
+#: The ellipsoids a comparison scores: both definitions and the maximum-volume inscribed one.
+COMPARED_KINDS = (*ELLIPSOID_KINDS, "mvie")
+
+
+@dataclass(frozen=True)
+class Scores:
+    r"""How well one ellipsoid describes the exact polytope (DESIGN.md section 2).
+
+    Attributes
+    ----------
+    kind : str
+        ``"chiacchio"``, ``"yoshikawa"`` or ``"mvie"``.
+    defined : bool
+        False where the definition does not exist at this configuration (then every
+        score is NaN and ``reason`` says why).
+    reason : str
+        Why the ellipsoid is undefined; empty otherwise.
+    volume : float
+        Volume of the ellipsoid in its affine set [(m/s^2)^r].
+    inscribed_scale : float
+        Largest k with ``c + k (E - c)`` inside P; >= 1 iff E is inside P.
+    coverage, overreach : float
+        ``vol(E & P) / vol(P)`` and ``vol(E \ P) / vol(E)``.
+    coverage_stderr, overreach_stderr : float
+        Standard errors of those two (0 when exact).
+    mvie_ratio : float
+        ``vol(E) / vol(E*)`` with E* the maximum-volume inscribed ellipsoid.
+    direction_error_mean, direction_error_max, direction_error_rms : float
+        Mean, max and RMS of ``|hi_E - hi_P| / |hi_P|`` over the directions.
+    direction_bias : float
+        Mean of ``(hi_E - hi_P) / |hi_P|`` (> 0: E promises too much).
+    feasibility_mismatch : int
+        Directions where exactly one of E and P has an empty interval.
+    directions_used : int
+        Directions that entered the directional statistics.
+    witness_torque_max : float
+        Max ``|tau_n|_inf`` over E's boundary mapped by the definition's own inverse
+        (eq. 26 for yoshikawa, eq. 33/40 for chiacchio and the MVIE); > 1 means that
+        inverse breaks the torque limits somewhere on E.
+    """
+
+    kind: str
+    defined: bool = True
+    reason: str = ""
+    volume: float = np.nan
+    inscribed_scale: float = np.nan
+    coverage: float = np.nan
+    coverage_stderr: float = np.nan
+    overreach: float = np.nan
+    overreach_stderr: float = np.nan
+    mvie_ratio: float = np.nan
+    direction_error_mean: float = np.nan
+    direction_error_max: float = np.nan
+    direction_error_rms: float = np.nan
+    direction_bias: float = np.nan
+    feasibility_mismatch: int = 0
+    directions_used: int = 0
+    witness_torque_max: float = np.nan
+
+    def as_dict(self) -> dict[str, Any]:
+        """The record as a plain dictionary (JSON-friendly except for NaN)."""
+        return dataclasses.asdict(self)
+
+
+#: The score attributes, in table order.
+SCORE_NAMES = tuple(
+    f.name for f in dataclasses.fields(Scores) if f.name not in ("kind", "defined", "reason")
+)
+
+
+class Comparison:
+    """Scores of both ellipsoid definitions and of the MVIE against the polytope.
+
+    Build it with :func:`compare`.  ``cmp["chiacchio"]`` is a :class:`Scores`.
+
+    Attributes
+    ----------
+    analysis : Analysis
+    directions : ndarray, shape (k, m)
+        The unit directions of the directional statistics.
+    mvie : Ellipsoid
+        The maximum-volume ellipsoid inscribed in the polytope.
+    """
+
+    def __init__(
+        self,
+        analysis: Analysis,
+        directions: NDArray[np.float64],
+        *,
+        samples: int = 2**13,
+        seed: int = 0,
+        mvie: bool = True,
+    ) -> None:
+        self.analysis = analysis
+        self.directions = directions
+        self._samples = samples
+        self._seed = seed
+        self._with_mvie = mvie
+        self.records: dict[str, Scores] = {kind: self._score(kind) for kind in COMPARED_KINDS}
+
+    def __getitem__(self, kind: str) -> Scores:
+        if kind not in self.records:
+            raise InputError("kind", f"one of {list(self.records)}", repr(kind))
+        return self.records[kind]
+
+    def __repr__(self) -> str:
+        return f"Comparison({self.analysis!r}, directions={len(self.directions)})"
+
+    @cached_property
+    def mvie(self) -> Ellipsoid:
+        """The maximum-volume inscribed ellipsoid (the ceiling for inscribed ellipsoids)."""
+        return max_volume_inscribed_ellipsoid(self.analysis.polytope)
+
+    @cached_property
+    def polytope_limits(self) -> Any:
+        """Directional limits of the polytope on :attr:`directions`."""
+        return self.analysis.polytope.limits(self.directions)
+
+    def ellipsoid(self, kind: str) -> Ellipsoid:
+        """The ellipsoid scored under ``kind`` (raises where it is undefined)."""
+        return self.mvie if kind == "mvie" else self.analysis.ellipsoid(kind)  # type: ignore[arg-type]
+
+    def _score(self, kind: str) -> Scores:
+        if kind == "mvie" and not self._with_mvie:
+            return Scores(kind=kind, defined=False, reason="not computed (mvie=False)")
+        try:
+            E = self.ellipsoid(kind)
+        except UndefinedEllipsoidError as exn:
+            return Scores(kind=kind, defined=False, reason=str(exn))
+        P = self.analysis.polytope
+        check_same_affine_set(E, P)
+        shares = overlap(E, P, samples=self._samples, seed=self._seed)
+        errors = direction_errors(E.limits(self.directions), self.polytope_limits)
+        inverse: EllipsoidKind = "yoshikawa" if kind == "yoshikawa" else "chiacchio"
+        return Scores(
+            kind=kind,
+            volume=E.volume,
+            inscribed_scale=inscribed_scale(E, P),
+            coverage=shares.coverage,
+            coverage_stderr=shares.coverage_stderr,
+            overreach=shares.overreach,
+            overreach_stderr=shares.overreach_stderr,
+            mvie_ratio=E.volume / self.mvie.volume if self._with_mvie else np.nan,
+            direction_error_mean=errors.mean,
+            direction_error_max=errors.max,
+            direction_error_rms=errors.rms,
+            direction_bias=errors.bias,
+            feasibility_mismatch=errors.mismatch,
+            directions_used=errors.used,
+            witness_torque_max=witness_torque_max(E, self.analysis.torque_map(inverse)),
+        )
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per ellipsoid, one column per score (full precision)."""
+        return pd.DataFrame([r.as_dict() for r in self.records.values()]).set_index("kind")
+
+    def to_markdown(self) -> str:
+        """The comparison table in Markdown (rounded, units in the headers)."""
+        return format_scores_table(self.to_frame(), self.analysis.polytope.dim, "markdown")
+
+    def to_latex(self, caption: str | None = None, label: str | None = None) -> str:
+        """The comparison table in LaTeX (booktabs), with an optional caption and label."""
+        return format_scores_table(
+            self.to_frame(), self.analysis.polytope.dim, "latex", caption=caption, label=label
+        )
+
+    def to_csv(self, path: str | None = None) -> str:
+        """The scores at full precision as CSV; also written to ``path`` if given."""
+        buffer = io.StringIO()
+        self.to_frame().to_csv(buffer)
+        text = buffer.getvalue()
+        if path is not None:
+            with open(path, "w", encoding="utf-8") as handle:
+                handle.write(text)
+        return text
+
+
+def compare(
+    analysis: Analysis,
+    directions: ArrayLike | int | None = None,
+    *,
+    samples: int = 2**13,
+    seed: int = 0,
+    mvie: bool = True,
+) -> Comparison:
+    """Score both ellipsoid definitions and the MVIE against the exact polytope.
+
+    Parameters
+    ----------
+    analysis : Analysis
+        From :func:`analyze`.
+    directions : array-like of shape (k, m), int, or None
+        Unit directions for the directional statistics, or how many of the default
+        deterministic near-uniform set to use.  The default set lies in the polytope's
+        affine set (at a singular configuration every other line meets it in one point);
+        its default size is 360 in 2-D, 1000 in 3-D.
+    samples : int, optional
+        Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the polytope.
+    seed : int, optional
+        Seed of those estimates.
+    mvie : bool, optional
+        Whether to compute the maximum-volume inscribed ellipsoid (a log-det program, the
+        slowest part); without it the ``"mvie"`` record and every ``mvie_ratio`` are NaN.
+
+    Returns
+    -------
+    Comparison
+
+    Examples
+    --------
+    >>> import numpy as np, polyell as pe
+    >>> arm = pe.PlanarArm(lengths=[1.0, 0.8, 0.5], masses=[4.0, 2.0, 0.6])
+    >>> an = pe.analyze(arm.dynamics([np.pi / 2, -np.pi / 2, -np.pi / 2]), tau_max=[100, 30, 4])
+    >>> cmp = pe.compare(an)
+    >>> cmp["chiacchio"].inscribed_scale >= 1.0, cmp["yoshikawa"].witness_torque_max > 1.0
+    (True, True)
+    """
+    if not isinstance(analysis, Analysis):
+        raise InputError(
+            "analysis", "a polyell.Analysis", type(analysis).__name__, "call pe.analyze first."
+        )
+    affine_set = analysis.polytope.affine_set
+    if directions is None or isinstance(directions, int | np.integer):
+        T = directions_in(affine_set, None if directions is None else int(directions))
+    else:
+        T = np.atleast_2d(check_directions("directions", directions, affine_set.ambient_dim))
+    return Comparison(analysis, T, samples=samples, seed=seed, mvie=mvie)

@@ -1,0 +1,182 @@
+"""The comparison metrics of an ellipsoid against the exact polytope (DESIGN.md section 2).
+
+Each function takes an ellipsoid ``E`` lying in the affine set of the polytope ``P`` (as
+both ellipsoid definitions and the MVIE do) and returns plain numbers.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.stats import norm, qmc
+
+from polyell.errors import InputError
+from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.limits import DirectionalLimits, line_interval_in_halfspaces
+from polyell.geometry.polytope import Polytope
+from polyell.inverse import AffineMap
+
+__all__ = [
+    "DirectionErrors",
+    "Overlap",
+    "check_same_affine_set",
+    "direction_errors",
+    "inscribed_scale",
+    "overlap",
+    "witness_torque_max",
+]
+
+
+def check_same_affine_set(E: Ellipsoid, P: Polytope) -> None:
+    """Raise unless ``E`` spans exactly the affine set of ``P``."""
+    off = P.affine_set.distance(E.center + (E.axes * E.semi_axes).T)
+    if E.rank != P.dim or P.affine_set.distance(E.center) > P.atol or np.any(off > P.atol):
+        raise InputError(
+            "ellipsoid",
+            f"an ellipsoid spanning the polytope's {P.dim}-dimensional affine set",
+            f"one of rank {E.rank} at distance {P.affine_set.distance(E.center):.3g}",
+            "compare ellipsoids built from the same analysis as the polytope.",
+        )
+
+
+def inscribed_scale(E: Ellipsoid, P: Polytope) -> float:
+    """Largest ``k`` with ``c + k (E - c)`` inside ``P``.
+
+    ``min_i (b_i - a_i . c) / |diag(s) U^T a_i|`` over the facets; at least 1 iff ``E`` is
+    inside ``P``, negative if even its centre is outside.  A point ellipsoid gives
+    ``inf`` (if its centre is in P) or ``-inf``.
+    """
+    reach = np.linalg.norm((P.A @ E.axes) * E.semi_axes, axis=1)
+    slack = P.b - P.A @ E.center
+    if E.rank == 0:
+        return float("inf") if np.all(slack >= -P.atol) else float("-inf")
+    return float(np.min(slack / reach))
+
+
+class Overlap(NamedTuple):
+    r"""Volume shares of ``E`` and ``P``, exact or estimated.
+
+    Attributes
+    ----------
+    coverage : float
+        ``vol(E & P) / vol(P)``.
+    overreach : float
+        ``vol(E \ P) / vol(E)``.
+    coverage_stderr, overreach_stderr : float
+        Standard errors of the quasi-Monte-Carlo estimates; 0 when exact.
+    """
+
+    coverage: float
+    overreach: float
+    coverage_stderr: float
+    overreach_stderr: float
+
+
+def _uniform_in_ball(points: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Map points of (0, 1)^(r+1) to uniform points of the unit r-ball."""
+    r = points.shape[1] - 1
+    gaussian = norm.ppf(np.clip(points[:, :r], 1e-12, 1 - 1e-12))
+    directions = gaussian / np.linalg.norm(gaussian, axis=1, keepdims=True)
+    return directions * points[:, r:] ** (1.0 / r)
+
+
+def overlap(
+    E: Ellipsoid, P: Polytope, *, samples: int = 2**13, replicates: int = 8, seed: int = 0
+) -> Overlap:
+    """Coverage and overreach of ``E`` with respect to ``P``.
+
+    Exact when ``E`` is inside ``P`` (``inscribed_scale >= 1``: coverage is
+    ``vol(E) / vol(P)``, overreach 0) and in one dimension (intervals).  Otherwise the share
+    of ``E`` inside ``P`` is estimated by randomized quasi-Monte Carlo: ``replicates``
+    independently scrambled Sobol' sets of ``samples`` points each, mapped uniformly into
+    ``E``; the standard error is that of the replicate means.
+
+    Parameters
+    ----------
+    E : Ellipsoid
+    P : Polytope
+    samples : int, optional
+        Points per replicate (a power of two keeps the Sobol' balance).
+    replicates : int, optional
+        Independent scramblings (at least 2, for the standard error).
+    seed : int, optional
+        Seed of the scramblings: the estimate is reproducible.
+    """
+    if E.rank == 0:
+        inside = float(P.contains(E.center))
+        return Overlap(inside, 1.0 - inside, 0.0, 0.0)
+    if inscribed_scale(E, P) >= 1.0:
+        return Overlap(E.volume / P.volume, 0.0, 0.0, 0.0)
+    if E.rank == 1:
+        axis = E.axes[:, 0]
+        lo, hi = line_interval_in_halfspaces(P.A, P.b - P.A @ E.center, axis[None], P.atol)
+        s = E.semi_axes[0]
+        length = 0.0 if np.isnan(lo[0]) else max(0.0, min(hi[0], s) - max(lo[0], -s))
+        return Overlap(length / P.volume, 1.0 - length / (2.0 * s), 0.0, 0.0)
+    rng = np.random.default_rng(seed)
+    shares = np.empty(replicates)
+    for k in range(replicates):
+        unit = qmc.Sobol(d=E.rank + 1, scramble=True, seed=rng).random(samples)
+        points = E.center + (_uniform_in_ball(unit) * E.semi_axes) @ E.axes.T
+        shares[k] = np.mean(np.all(points @ P.A.T <= P.b, axis=1))
+    share = float(shares.mean())
+    stderr = float(shares.std(ddof=1) / np.sqrt(replicates))
+    ratio = E.volume / P.volume
+    return Overlap(share * ratio, 1.0 - share, stderr * ratio, stderr)
+
+
+class DirectionErrors(NamedTuple):
+    """Relative errors ``(hi_E - hi_P) / |hi_P|`` of an ellipsoid's directional limits.
+
+    Over directions where both intervals are non-empty and ``hi_P != 0``.
+
+    Attributes
+    ----------
+    mean, max, rms : float
+        Mean, maximum and root-mean-square of the absolute relative error.
+    bias : float
+        Mean signed relative error (> 0: the ellipsoid promises too much).
+    mismatch : int
+        Directions where exactly one of the two intervals is empty.
+    used : int
+        Directions that entered the statistics.
+    """
+
+    mean: float
+    max: float
+    rms: float
+    bias: float
+    mismatch: int
+    used: int
+
+
+def direction_errors(ellipsoid: DirectionalLimits, polytope: DirectionalLimits) -> DirectionErrors:
+    """Statistics of the upper directional limits of an ellipsoid against the polytope's."""
+    feasible_e, feasible_p = ellipsoid.feasible, polytope.feasible
+    mismatch = int(np.count_nonzero(feasible_e != feasible_p))
+    used = feasible_e & feasible_p & (polytope.hi != 0)
+    if not used.any():
+        return DirectionErrors(np.nan, np.nan, np.nan, np.nan, mismatch, 0)
+    error = (ellipsoid.hi[used] - polytope.hi[used]) / np.abs(polytope.hi[used])
+    return DirectionErrors(
+        float(np.mean(np.abs(error))),
+        float(np.max(np.abs(error))),
+        float(np.sqrt(np.mean(error**2))),
+        float(np.mean(error)),
+        mismatch,
+        int(used.sum()),
+    )
+
+
+def witness_torque_max(E: Ellipsoid, torques: AffineMap) -> float:
+    """Largest ``|tau_n|_inf`` over the boundary of ``E`` under an affine inverse map.
+
+    With ``tau_n = W x + w`` and boundary points ``x = c + U diag(s) u``, ``|u| = 1``, the
+    maximum of ``|tau_n,i|`` is ``|W c + w|_i + |(W U diag(s))_i|`` (Cauchy-Schwarz, attained),
+    so the value is exact, not sampled.
+    """
+    centre = torques(E.center)
+    spread = np.linalg.norm(torques.matrix @ (E.axes * E.semi_axes), axis=1)
+    return float(np.max(np.abs(centre) + spread))

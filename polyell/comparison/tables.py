@@ -1,0 +1,124 @@
+"""Paper-ready tables of scores: Markdown and LaTeX (booktabs), rounded, with units."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Literal
+
+import numpy as np
+import pandas as pd
+
+__all__ = ["ELLIPSOID_LABELS", "SCORE_ROWS", "format_scores_table"]
+
+#: Column headers of the ellipsoids.
+ELLIPSOID_LABELS = {
+    "chiacchio": "new (eq. 32/38)",
+    "yoshikawa": "classic (eq. 27)",
+    "mvie": "MVIE",
+}
+
+
+def _significant(value: float) -> str:
+    return f"{value:.4g}"
+
+
+def _percent(value: float) -> str:
+    return f"{100.0 * value:.2f}"
+
+
+def _count(value: float) -> str:
+    return f"{int(value)}"
+
+
+#: (score, Markdown label, LaTeX label, formatter, standard-error column or None).
+SCORE_ROWS: tuple[tuple[str, str, str, Callable[[float], str], str | None], ...] = (
+    ("volume", "volume [{u}]", r"volume [${u}$]", _significant, None),
+    ("inscribed_scale", "inscribed scale", "inscribed scale", _significant, None),
+    ("coverage", "coverage [%]", r"coverage [\%]", _percent, "coverage_stderr"),
+    ("overreach", "overreach [%]", r"overreach [\%]", _percent, "overreach_stderr"),
+    ("mvie_ratio", "volume / MVIE volume", "volume / MVIE volume", _significant, None),
+    (
+        "direction_error_mean",
+        "direction error, mean [%]",
+        r"dir.\ error, mean [\%]",
+        _percent,
+        None,
+    ),
+    ("direction_error_max", "direction error, max [%]", r"dir.\ error, max [\%]", _percent, None),
+    ("direction_error_rms", "direction error, RMS [%]", r"dir.\ error, RMS [\%]", _percent, None),
+    ("direction_bias", "direction bias [%]", r"dir.\ bias [\%]", _percent, None),
+    ("feasibility_mismatch", "feasibility mismatches", "feasibility mismatches", _count, None),
+    (
+        "witness_torque_max",
+        "witness max abs(tau_n)",
+        r"witness $\max \|\tilde\tau\|_\infty$",
+        _significant,
+        None,
+    ),
+)
+
+
+def _cell(
+    row: pd.Series, score: str, fmt: Callable[[float], str], stderr: str | None, pm: str
+) -> str:
+    if not row["defined"]:
+        return "n/a"
+    value = row[score]
+    if isinstance(value, float) and np.isnan(value):
+        return "n/a"
+    text = fmt(value)
+    if stderr is not None and row[stderr] > 0:
+        text += f" {pm} {fmt(row[stderr])}"
+    return text
+
+
+def format_scores_table(
+    frame: pd.DataFrame,
+    dimension: int,
+    style: Literal["markdown", "latex"],
+    *,
+    unit: str = "m/s^2",
+    caption: str | None = None,
+    label: str | None = None,
+) -> str:
+    """Render scores with one column per ellipsoid and one row per score.
+
+    Parameters
+    ----------
+    frame : DataFrame
+        Scores, indexed by ellipsoid kind, as from ``Comparison.to_frame``.
+    dimension : int
+        Dimension r of the polytope (the power of the volume unit).
+    style : {"markdown", "latex"}
+    unit : str, optional
+        The acceleration unit.
+    caption, label : str, optional
+        LaTeX caption and label.
+    """
+    latex = style == "latex"
+    pm = r"$\pm$" if latex else "±"
+    base = rf"\mathrm{{{unit}}}" if latex else unit
+    volume_unit = base
+    if dimension != 1:
+        volume_unit = f"({base})^{{{dimension}}}" if latex else f"({base})^{dimension}"
+    rows = {}
+    for score, md_label, tex_label, fmt, stderr in SCORE_ROWS:
+        name = (tex_label if latex else md_label).format(u=volume_unit)
+        rows[name] = {
+            ELLIPSOID_LABELS.get(kind, kind): _cell(row, score, fmt, stderr, pm)
+            for kind, row in frame.iterrows()
+        }
+    table = pd.DataFrame.from_dict(rows, orient="index")
+    if not latex:
+        table.index.name = "score"
+        return (
+            table.to_markdown(colalign=["left"] + ["right"] * table.shape[1], disable_numparse=True)
+            + "\n"
+        )
+    return table.style.to_latex(
+        hrules=True,
+        caption=caption,
+        label=label,
+        position_float="centering",
+        column_format="l" + "r" * table.shape[1],
+    )

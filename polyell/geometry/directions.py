@@ -1,0 +1,83 @@
+"""Deterministic, near-uniform sets of unit directions."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.stats import norm, qmc
+
+from polyell.errors import InputError
+from polyell.geometry.subspace import AffineSubspace
+
+__all__ = ["default_direction_count", "directions_in", "sphere_directions"]
+
+_GOLDEN_ANGLE = np.pi * (3.0 - np.sqrt(5.0))
+
+
+def default_direction_count(r: int) -> int:
+    """Default size of a direction set on the unit sphere of R^r (2, 360, 1000, 2000)."""
+    return {0: 0, 1: 2, 2: 360, 3: 1000}.get(r, 2000)
+
+
+def sphere_directions(k: int, r: int) -> NDArray[np.float64]:
+    """``k`` unit vectors spread near-uniformly on the unit sphere of R^r.
+
+    Evenly spaced angles in 2-D (starting at +x), a Fibonacci lattice in 3-D, a
+    fixed-seed scrambled Sobol' set pushed to the sphere in higher dimensions.  In 1-D the
+    only directions are +1 and -1, whatever ``k``.
+
+    Parameters
+    ----------
+    k : int
+        Number of directions (at least 1).
+    r : int
+        Dimension.
+
+    Returns
+    -------
+    ndarray, shape (k, r)
+        Identical on every call.
+    """
+    if not isinstance(k, int | np.integer) or k < 1:
+        raise InputError("directions", "a positive number of directions", repr(k))
+    if r == 0:
+        return np.zeros((0, 0))
+    if r == 1:
+        return np.array([[1.0], [-1.0]])
+    if r == 2:
+        angles = 2.0 * np.pi * np.arange(k) / k
+        return np.column_stack([np.cos(angles), np.sin(angles)])
+    if r == 3:
+        i = np.arange(k)
+        z = 1.0 - (2.0 * i + 1.0) / k
+        radius = np.sqrt(1.0 - z**2)
+        return np.column_stack(
+            [radius * np.cos(i * _GOLDEN_ANGLE), radius * np.sin(i * _GOLDEN_ANGLE), z]
+        )
+    points = qmc.Sobol(d=r, scramble=True, seed=0).random(k)
+    gaussian = norm.ppf(np.clip(points, 1e-12, 1 - 1e-12))
+    return gaussian / np.linalg.norm(gaussian, axis=1, keepdims=True)
+
+
+def directions_in(affine_set: AffineSubspace, k: int | None = None) -> NDArray[np.float64]:
+    """Near-uniform unit directions of the task space that lie in an affine set.
+
+    At a singular configuration only these directions see a non-trivial interval; any
+    other line crosses the set in one point.
+
+    Parameters
+    ----------
+    affine_set : AffineSubspace
+        The set (its dimension r decides the sphere).
+    k : int, optional
+        Number of directions; default :func:`default_direction_count` of r.
+
+    Returns
+    -------
+    ndarray, shape (k, m)
+    """
+    r = affine_set.dim
+    count = default_direction_count(r) if k is None else k
+    if r == 0:
+        return np.zeros((0, affine_set.ambient_dim))
+    return sphere_directions(count, r) @ affine_set.basis.T
