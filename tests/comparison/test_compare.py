@@ -216,7 +216,7 @@ def test_direction_arguments(paper):
         pe.compare(analysis, [[1.0, 1.0]])
     with pytest.raises(pe.InputError, match="positive number of directions"):
         pe.compare(analysis, 0)
-    with pytest.raises(pe.InputError, match="pe.analyze"):
+    with pytest.raises(pe.InputError, match=r"pe\.analyze"):
         pe.compare("not an analysis")
 
 
