@@ -1,0 +1,273 @@
+"""Figures with matplotlib: sets, directional limits, and score maps, readable in greyscale.
+
+The style follows Figures 1 and 2 of the paper: the polytope dashed, the new ellipsoid
+solid, the classic one dotted; the centre ``xdd_g`` and the origin are marked.  Every
+function draws on a :class:`matplotlib.figure.Figure` built without pyplot, so it works on
+machines without a display.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+from numpy.typing import NDArray
+from scipy.spatial import ConvexHull
+
+from polyell.analysis import Analysis
+from polyell.comparison.tables import ELLIPSOID_LABELS
+from polyell.errors import InputError, UndefinedEllipsoidError
+from polyell.geometry.directions import sphere_directions
+from polyell.geometry.ellipsoid import Ellipsoid
+
+__all__ = [
+    "STYLES",
+    "plot_directional_limits",
+    "plot_score_map",
+    "plot_sets",
+    "plot_sets_3d",
+    "save_figure",
+]
+
+#: Line styles per set: distinct in greyscale (dash pattern, width and grey level).
+STYLES = {
+    "polytope": {"color": "0.35", "linestyle": "--", "linewidth": 2.2, "label": "polytope (15)"},
+    "chiacchio": {"color": "black", "linestyle": "-", "linewidth": 1.4},
+    "yoshikawa": {"color": "black", "linestyle": ":", "linewidth": 1.6},
+    "mvie": {"color": "0.55", "linestyle": "-.", "linewidth": 1.2},
+}
+
+
+def _style(kind: str) -> dict[str, object]:
+    style = dict(STYLES[kind])
+    style.setdefault("label", ELLIPSOID_LABELS.get(kind, kind))
+    return style
+
+
+def _ellipsoids(
+    analysis: Analysis, kinds: Sequence[str], mvie: Ellipsoid | None
+) -> dict[str, Ellipsoid]:
+    found: dict[str, Ellipsoid] = {}
+    for kind in kinds:
+        if kind == "mvie":
+            if mvie is None:
+                raise InputError("kinds", "an 'mvie' ellipsoid passed as mvie=", "None")
+            found[kind] = mvie
+            continue
+        try:
+            found[kind] = analysis.ellipsoid(kind)  # type: ignore[arg-type]
+        except UndefinedEllipsoidError:
+            continue  # undefined here (singular configuration): nothing to draw
+    return found
+
+
+def _ellipse_points(E: Ellipsoid, k: int = 721) -> NDArray[np.float64]:
+    if E.rank == 1:
+        return E.center + np.outer([-1.0, 1.0], E.semi_axes[0] * E.axes[:, 0])
+    u = sphere_directions(k - 1, 2)
+    u = np.vstack([u, u[:1]])
+    return E.center + (u * E.semi_axes) @ E.axes.T
+
+
+def plot_sets(
+    analysis: Analysis,
+    ax: Axes | None = None,
+    *,
+    kinds: Sequence[str] = ("chiacchio", "yoshikawa"),
+    mvie: Ellipsoid | None = None,
+    unit: str = "m/s$^2$",
+    title: str | None = None,
+) -> Figure:
+    """The polytope and the ellipsoids of a 2-D task space (paper Figures 1 and 2).
+
+    Degenerate sets (a singular configuration) are drawn as the segments they are.
+
+    Parameters
+    ----------
+    analysis : Analysis
+        With a 2-D task space.
+    ax : Axes, optional
+        Where to draw; a new figure otherwise.
+    kinds : sequence of str
+        Ellipsoids to draw, among ``"chiacchio"``, ``"yoshikawa"``, ``"mvie"``; an
+        undefined one is skipped.
+    mvie : Ellipsoid, optional
+        The maximum-volume inscribed ellipsoid, when ``"mvie"`` is in ``kinds``.
+    unit : str
+        Axis unit.
+    title : str, optional
+
+    Returns
+    -------
+    Figure
+    """
+    if analysis.dynamics.m != 2:
+        raise InputError(
+            "analysis", "a 2-D task space", f"m = {analysis.dynamics.m}", "use plot_sets_3d."
+        )
+    if ax is None:
+        ax = Figure(figsize=(4.8, 5.2), layout="constrained").add_subplot()
+    P = analysis.polytope
+    vertices = P.vertices if P.dim < 2 else np.vstack([P.vertices, P.vertices[:1]])
+    # Segments (a singular configuration) lie on one line: the polytope is drawn wide and
+    # light underneath, and every set marks its end points so that each stays readable.
+    segment = {"color": "0.75", "linewidth": 7.0, "marker": "s"} if P.dim < 2 else {}
+    ax.plot(*vertices.T, **(_style("polytope") | segment))  # type: ignore[arg-type]
+    for kind, E in _ellipsoids(analysis, kinds, mvie).items():
+        ends = {"marker": "|", "markersize": 14} if E.rank < 2 else {}
+        ax.plot(*_ellipse_points(E).T, **(_style(kind) | ends))  # type: ignore[arg-type]
+    ax.plot(*analysis.xg, marker="+", color="black", markersize=9, linestyle="none",
+            label=r"centre $\ddot x_g$")
+    ax.plot(0.0, 0.0, marker="o", color="black", markerfacecolor="white", linestyle="none",
+            label="origin")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel(rf"$\ddot x$ [{unit}]")
+    ax.set_ylabel(rf"$\ddot y$ [{unit}]")
+    ax.grid(True, color="0.9", linewidth=0.6)
+    ax.legend(fontsize="small", loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=3)
+    if title:
+        ax.set_title(title)
+    figure = ax.get_figure()
+    assert isinstance(figure, Figure)
+    return figure
+
+
+def _ellipsoid_surface(E: Ellipsoid, k: int = 40) -> tuple[NDArray[np.float64], ...]:
+    theta, phi = np.meshgrid(np.linspace(0, np.pi, k), np.linspace(0, 2 * np.pi, 2 * k))
+    unit = np.stack([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)])
+    radii = np.zeros(3)
+    radii[: E.rank] = E.semi_axes
+    axes = np.zeros((3, 3))
+    axes[:, : E.rank] = E.axes
+    points = np.einsum("ij,j,jkl->ikl", axes, radii, unit) + E.center[:, None, None]
+    return points[0], points[1], points[2]
+
+
+def plot_sets_3d(
+    analysis: Analysis,
+    *,
+    kinds: Sequence[str] = ("chiacchio", "yoshikawa"),
+    mvie: Ellipsoid | None = None,
+    unit: str = "m/s$^2$",
+    title: str | None = None,
+    view: tuple[float, float] = (25.0, -60.0),
+) -> Figure:
+    """The polytope (translucent faces) and ellipsoids (wireframes) of a 3-D task space."""
+    if analysis.dynamics.m != 3:
+        raise InputError(
+            "analysis", "a 3-D task space", f"m = {analysis.dynamics.m}", "use plot_sets."
+        )
+    figure = Figure(figsize=(5.5, 5.0), layout="constrained")
+    ax = figure.add_subplot(projection="3d")
+    P = analysis.polytope
+    if P.dim == 3:
+        hull = ConvexHull(P.vertices)
+        faces = Poly3DCollection(P.vertices[hull.simplices], facecolor="0.8", alpha=0.25,
+                                 edgecolor="0.5", linewidth=0.2)
+        ax.add_collection3d(faces)
+    else:
+        ax.plot(*P.vertices.T, "o", color="0.35", label="polytope vertices (15)")
+    for kind, E in _ellipsoids(analysis, kinds, mvie).items():
+        style = _style(kind)
+        ax.plot_wireframe(*_ellipsoid_surface(E), rstride=4, cstride=4,
+                          color=style["color"], linestyle=style["linestyle"], linewidth=0.5,
+                          label=style["label"])
+    ax.plot(*analysis.xg, "+", color="black", markersize=9, label=r"centre $\ddot x_g$")
+    ax.plot(0.0, 0.0, 0.0, "o", color="black", markerfacecolor="white", label="origin")
+    bounds = np.vstack([P.vertices, np.zeros((1, 3))])
+    ax.auto_scale_xyz(*[(b.min(), b.max()) for b in bounds.T])
+    ax.set_box_aspect(np.ptp(bounds, axis=0) + 1e-12)
+    ax.view_init(*view)
+    ax.set_xlabel(f"x [{unit}]")
+    ax.set_ylabel(f"y [{unit}]")
+    ax.set_zlabel(f"z [{unit}]")
+    ax.legend(fontsize="small")
+    if title:
+        ax.set_title(title)
+    return figure
+
+
+def plot_directional_limits(
+    analysis: Analysis,
+    *,
+    kinds: Sequence[str] = ("chiacchio", "yoshikawa"),
+    mvie: Ellipsoid | None = None,
+    directions: int = 720,
+    unit: str = "m/s$^2$",
+    title: str | None = None,
+) -> Figure:
+    """Polar plot of the upper directional limit ``hi(t)`` of P and of each ellipsoid (2-D).
+
+    Only directions with a positive upper limit are drawn (the radius of a polar plot
+    cannot be negative); the others are gaps.
+    """
+    if analysis.dynamics.m != 2:
+        raise InputError("analysis", "a 2-D task space", f"m = {analysis.dynamics.m}")
+    T = sphere_directions(directions, 2)
+    angles = np.arctan2(T[:, 1], T[:, 0])
+    order = np.argsort(angles)
+    figure = Figure(figsize=(4.5, 4.5), layout="constrained")
+    ax = figure.add_subplot(projection="polar")
+    sets = {"polytope": analysis.polytope, **_ellipsoids(analysis, kinds, mvie)}
+    for name, S in sets.items():
+        hi = S.limits(T).hi[order]
+        ax.plot(angles[order], np.where(hi > 0, hi, np.nan), **_style(name))  # type: ignore[arg-type]
+    ax.set_title(title or f"upper limit along each direction [{unit}]", fontsize="medium")
+    ax.legend(fontsize="small", loc="lower left", bbox_to_anchor=(-0.1, -0.12))
+    return figure
+
+
+def plot_score_map(
+    values: NDArray[np.float64],
+    x: NDArray[np.float64],
+    y: NDArray[np.float64],
+    *,
+    xlabel: str,
+    ylabel: str,
+    label: str,
+    title: str | None = None,
+) -> Figure:
+    """Heat map of a score over a 2-D grid of configurations.
+
+    Parameters
+    ----------
+    values : ndarray, shape (len(y), len(x))
+        The score; NaN (undefined, e.g. the classic ellipsoid at a singularity) is drawn
+        white.
+    x, y : ndarray
+        Grid coordinates.
+    xlabel, ylabel, label : str
+        Axis and colour-bar labels.
+    """
+    figure = Figure(figsize=(5.0, 4.0), layout="constrained")
+    ax = figure.add_subplot()
+    mesh = ax.pcolormesh(x, y, np.ma.masked_invalid(values), cmap="cividis", shading="nearest")
+    figure.colorbar(mesh, ax=ax, label=label)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_aspect("equal")
+    if title:
+        ax.set_title(title, fontsize="medium")
+    return figure
+
+
+def save_figure(
+    figure: Figure, stem: str | Path, formats: Sequence[str] = ("pdf", "png"), dpi: int = 300
+) -> list[Path]:
+    """Save ``figure`` as ``stem.<format>`` for each format, at print resolution.
+
+    Returns
+    -------
+    list of Path
+        The files written.
+    """
+    paths = []
+    for fmt in formats:
+        path = Path(f"{stem}.{fmt}")
+        figure.savefig(path, dpi=dpi, metadata={"CreationDate": None} if fmt == "pdf" else None)
+        paths.append(path)
+    return paths
