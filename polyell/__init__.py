@@ -5,6 +5,7 @@ manipulators", Robotica 18 (2000), and compares both ellipsoid definitions with 
 exact task-space acceleration polytope.
 """
 
+from polyell import robots
 from polyell.analysis import ELLIPSOID_KINDS, Analysis, InverseSolution, analyze
 from polyell.comparison import COMPARED_KINDS, SCORE_NAMES, Comparison, Scores, compare
 from polyell.errors import (
@@ -48,4 +49,5 @@ __all__ = [
     "__version__",
     "analyze",
     "compare",
+    "robots",
 ]

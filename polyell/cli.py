@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import ast
-import operator
 import sys
 from collections.abc import Sequence
 
@@ -12,6 +10,7 @@ import numpy as np
 
 from polyell.analysis import analyze
 from polyell.errors import PolyellError
+from polyell.expressions import evaluate_list
 from polyell.models.planar_arm import PlanarArm
 from polyell.report import format_analysis
 
@@ -23,36 +22,12 @@ PAPER_TAU_MAX = [100.0, 30.0, 4.0]
 PAPER_Q = [np.pi / 2, -np.pi / 2, -np.pi / 2]
 
 
-_OPERATORS = {
-    ast.Add: operator.add,
-    ast.Sub: operator.sub,
-    ast.Mult: operator.mul,
-    ast.Div: operator.truediv,
-}
-
-
-def _number(node: ast.AST) -> float:
-    """Evaluate a number, ``pi``, or + - * / of them; nothing else."""
-    if isinstance(node, ast.Constant) and isinstance(node.value, int | float):
-        return float(node.value)
-    if isinstance(node, ast.Name) and node.id == "pi":
-        return float(np.pi)
-    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub | ast.UAdd):
-        value = _number(node.operand)
-        return -value if isinstance(node.op, ast.USub) else value
-    if isinstance(node, ast.BinOp) and type(node.op) in _OPERATORS:
-        return float(_OPERATORS[type(node.op)](_number(node.left), _number(node.right)))
-    raise ValueError(ast.dump(node))
-
-
 def _floats(text: str) -> list[float]:
     """Parse a comma-separated list of numbers, where ``pi`` may appear (``pi/2,-pi/2,0``)."""
     try:
-        return [_number(ast.parse(item.strip(), mode="eval").body) for item in text.split(",")]
-    except (SyntaxError, ValueError, ZeroDivisionError):
-        raise argparse.ArgumentTypeError(
-            f"expected comma-separated numbers (pi allowed, e.g. 'pi/2,-pi/2,0'), got {text!r}"
-        ) from None
+        return evaluate_list("value", text)
+    except PolyellError as exn:
+        raise argparse.ArgumentTypeError(str(exn)) from None
 
 
 def _parser() -> argparse.ArgumentParser:

@@ -120,10 +120,23 @@ def plot_sets(
     for kind, E in _ellipsoids(analysis, kinds, mvie).items():
         ends = {"marker": "|", "markersize": 14} if E.rank < 2 else {}
         ax.plot(*_ellipse_points(E).T, **(_style(kind) | ends))  # type: ignore[arg-type]
-    ax.plot(*analysis.xg, marker="+", color="black", markersize=9, linestyle="none",
-            label=r"centre $\ddot x_g$")
-    ax.plot(0.0, 0.0, marker="o", color="black", markerfacecolor="white", linestyle="none",
-            label="origin")
+    ax.plot(
+        *analysis.xg,
+        marker="+",
+        color="black",
+        markersize=9,
+        linestyle="none",
+        label=r"centre $\ddot x_g$",
+    )
+    ax.plot(
+        0.0,
+        0.0,
+        marker="o",
+        color="black",
+        markerfacecolor="white",
+        linestyle="none",
+        label="origin",
+    )
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel(rf"$\ddot x$ [{unit}]")
     ax.set_ylabel(rf"$\ddot y$ [{unit}]")
@@ -166,16 +179,23 @@ def plot_sets_3d(
     P = analysis.polytope
     if P.dim == 3:
         hull = ConvexHull(P.vertices)
-        faces = Poly3DCollection(P.vertices[hull.simplices], facecolor="0.8", alpha=0.25,
-                                 edgecolor="0.5", linewidth=0.2)
+        faces = Poly3DCollection(
+            P.vertices[hull.simplices], facecolor="0.8", alpha=0.25, edgecolor="0.5", linewidth=0.2
+        )
         ax.add_collection3d(faces)
     else:
         ax.plot(*P.vertices.T, "o", color="0.35", label="polytope vertices (15)")
     for kind, E in _ellipsoids(analysis, kinds, mvie).items():
         style = _style(kind)
-        ax.plot_wireframe(*_ellipsoid_surface(E), rstride=4, cstride=4,
-                          color=style["color"], linestyle=style["linestyle"], linewidth=0.5,
-                          label=style["label"])
+        ax.plot_wireframe(
+            *_ellipsoid_surface(E),
+            rstride=4,
+            cstride=4,
+            color=style["color"],
+            linestyle=style["linestyle"],
+            linewidth=0.5,
+            label=style["label"],
+        )
     ax.plot(*analysis.xg, "+", color="black", markersize=9, label=r"centre $\ddot x_g$")
     ax.plot(0.0, 0.0, 0.0, "o", color="black", markerfacecolor="white", label="origin")
     bounds = np.vstack([P.vertices, np.zeros((1, 3))])

@@ -44,7 +44,7 @@ def test_unparsable_numbers_are_an_argparse_error(capsys):
     with pytest.raises(SystemExit) as info:
         main(["analyze", "--q", "__import__('os')"])
     assert info.value.code == 2
-    assert "comma-separated numbers" in capsys.readouterr().err
+    assert "expression of numbers, pi" in capsys.readouterr().err
 
 
 def test_module_entry_point_runs():

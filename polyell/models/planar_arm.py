@@ -9,7 +9,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from polyell.errors import InputError
 from polyell.models.dynamics import Dynamics
-from polyell.validation import check_array
+from polyell.validation import check_array, check_torque_limits
 
 __all__ = ["PlanarArm"]
 
@@ -58,6 +58,9 @@ class PlanarArm:
         ``m l^2 / 12`` (a uniform rod, i.e. ``m l^2 / 3`` about the joint axis).
     gravity : float, optional
         Magnitude of the gravitational acceleration along :math:`-y` [m/s^2].
+    tau_max, tau_min : array-like, shape (n,), optional
+        The joint torque limits [N m] the robot carries with it (used by studies and
+        the command line when no limits are given); ``tau_min`` defaults to ``-tau_max``.
 
     Examples
     --------
@@ -77,6 +80,8 @@ class PlanarArm:
         com: Sequence[float] | ArrayLike | None = None,
         inertia: Sequence[float] | ArrayLike | None = None,
         gravity: float = 9.81,
+        tau_max: ArrayLike | None = None,
+        tau_min: ArrayLike | None = None,
     ) -> None:
         self.lengths = _positive("lengths", lengths)
         n = self.lengths.size
@@ -92,6 +97,10 @@ class PlanarArm:
         if np.any(self.inertia < 0):
             raise InputError("inertia", "non-negative inertias", f"{self.inertia}")
         self.gravity = float(check_array("gravity", gravity, ()))
+        self.tau_max: NDArray[np.float64] | None = None
+        self.tau_min: NDArray[np.float64] | None = None
+        if tau_max is not None:
+            self.tau_max, self.tau_min = check_torque_limits(tau_max, tau_min, n)
         for array in (self.lengths, self.masses, self.com, self.inertia):
             array.flags.writeable = False
 
@@ -101,10 +110,11 @@ class PlanarArm:
         return int(self.lengths.size)
 
     def __repr__(self) -> str:
+        limits = None if self.tau_max is None else self.tau_max.tolist()
         return (
             f"PlanarArm(lengths={self.lengths.tolist()}, masses={self.masses.tolist()}, "
             f"com={self.com.tolist()}, inertia={self.inertia.tolist()}, "
-            f"gravity={self.gravity})"
+            f"gravity={self.gravity}, tau_max={limits})"
         )
 
     def _check_q(self, q: ArrayLike) -> NDArray[np.float64]:

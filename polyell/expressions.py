@@ -1,0 +1,76 @@
+"""Safe evaluation of the small numeric expressions users write for angles and limits.
+
+``"pi/2"``, ``"-pi/6"``, ``"2*pi/3"``, ``"sqrt(3)/2"``, ``"1e-3"``: numbers, ``pi``,
+``sqrt(...)``, ``+ - * /`` and ``**``; nothing else is evaluated.
+"""
+
+from __future__ import annotations
+
+import ast
+import math
+import operator
+from collections.abc import Callable, Sequence
+
+from polyell.errors import InputError
+
+__all__ = ["evaluate", "evaluate_list"]
+
+_BINARY: dict[type, Callable[[float, float], float]] = {
+    ast.Add: operator.add,
+    ast.Sub: operator.sub,
+    ast.Mult: operator.mul,
+    ast.Div: operator.truediv,
+    ast.Pow: operator.pow,
+}
+_FUNCTIONS: dict[str, Callable[[float], float]] = {"sqrt": math.sqrt}
+_NAMES = {"pi": math.pi}
+
+
+def _value(node: ast.AST) -> float:
+    if isinstance(node, ast.Constant) and isinstance(node.value, int | float):
+        return float(node.value)
+    if isinstance(node, ast.Name) and node.id in _NAMES:
+        return _NAMES[node.id]
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub | ast.UAdd):
+        value = _value(node.operand)
+        return -value if isinstance(node.op, ast.USub) else value
+    if isinstance(node, ast.BinOp) and type(node.op) in _BINARY:
+        return float(_BINARY[type(node.op)](_value(node.left), _value(node.right)))
+    if (
+        isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Name)
+        and node.func.id in _FUNCTIONS
+        and len(node.args) == 1
+        and not node.keywords
+    ):
+        return _FUNCTIONS[node.func.id](_value(node.args[0]))
+    raise ValueError(ast.dump(node))
+
+
+def evaluate(name: str, text: str | float | int) -> float:
+    """Evaluate a number or a numeric expression such as ``"-pi/2"``.
+
+    Raises
+    ------
+    InputError
+        If ``text`` is not a number or an expression of numbers, ``pi``, ``sqrt``,
+        ``+ - * / **``.
+    """
+    if isinstance(text, bool):
+        raise InputError(name, "a number or an expression like 'pi/2'", repr(text))
+    if isinstance(text, int | float):
+        return float(text)
+    try:
+        return _value(ast.parse(str(text).strip(), mode="eval").body)
+    except (SyntaxError, ValueError, ZeroDivisionError, OverflowError):
+        raise InputError(
+            name,
+            "a number or an expression of numbers, pi, sqrt(), + - * / ** (e.g. '-pi/2')",
+            repr(text),
+        ) from None
+
+
+def evaluate_list(name: str, values: str | Sequence[str | float | int]) -> list[float]:
+    """Evaluate a list of numbers/expressions, or one comma-separated string of them."""
+    items = values.split(",") if isinstance(values, str) else list(values)
+    return [evaluate(f"{name}[{i}]", item) for i, item in enumerate(items)]
