@@ -1,14 +1,18 @@
-"""Plain-text reports of an analysis (what the command line prints)."""
+"""Reports of one analysis: plain text (what the command line prints) and JSON."""
 
 from __future__ import annotations
+
+import math
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
 from polyell.analysis import ELLIPSOID_KINDS, Analysis
+from polyell.comparison import Comparison
 from polyell.errors import UndefinedEllipsoidError
 
-__all__ = ["format_analysis"]
+__all__ = ["analysis_to_json", "format_analysis"]
 
 
 def _matrix(a: NDArray[np.float64], indent: str = "    ") -> str:
@@ -22,8 +26,17 @@ def _interval(lo: float, hi: float) -> str:
     return "empty" if np.isnan(lo) else f"[{lo:.5g}, {hi:.5g}]"
 
 
-def format_analysis(analysis: Analysis, direction: NDArray[np.float64], label: str) -> str:
-    """Describe the polytope, both ellipsoids and the limits along one direction.
+def format_analysis(
+    analysis: Analysis,
+    direction: NDArray[np.float64],
+    label: str,
+    inverse_at: Literal["lo", "hi"] = "hi",
+) -> str:
+    """Every quantity of the paper's section 6 at one configuration, as text.
+
+    ``xdd_g``, ``M`` and its SVD (eq. 35), the polytope, both ellipsoids (core, semi-axes,
+    axes), the limits along ``direction``, and both inverse maps (eq. 26 and 33/40) at the
+    ``inverse_at`` end of the new ellipsoid's interval.
 
     Parameters
     ----------
@@ -32,12 +45,14 @@ def format_analysis(analysis: Analysis, direction: NDArray[np.float64], label: s
         Unit direction for the directional limits.
     label : str
         Name of the direction (e.g. ``"x"``).
+    inverse_at : {"lo", "hi"}
+        Which end of the new ellipsoid's interval the inverse maps are applied to.
 
     Returns
     -------
     str
     """
-    P = analysis.polytope
+    P, svd = analysis.polytope, analysis.svd
     lines = [
         f"rank M = {analysis.rank} of m = {analysis.dynamics.m}"
         + (" (singular configuration)" if analysis.is_singular else ""),
@@ -45,6 +60,11 @@ def format_analysis(analysis: Analysis, direction: NDArray[np.float64], label: s
         _matrix(analysis.xg),
         "M (eq. 14):",
         _matrix(analysis.M),
+        "SVD of M (eq. 35): singular values " + ", ".join(f"{s:.5g}" for s in svd.singular_values),
+        "  U = [U1 U2]:",
+        _matrix(np.hstack([svd.U1, svd.U2])),
+        "  V1^T:",
+        _matrix(svd.V1.T),
         "",
         f"Polytope (eq. 15): dimension {P.dim}, {len(P.vertices)} vertices, "
         f"{len(P.A)} facets, volume {P.volume:.6g}",
@@ -74,4 +94,82 @@ def format_analysis(analysis: Analysis, direction: NDArray[np.float64], label: s
     lines += [
         f"  {name:<10} {_interval(float(lo), float(hi))}" for name, (lo, hi) in limits.items()
     ]
+    end = float(getattr(limits["chiacchio"], inverse_at))
+    if math.isnan(end):
+        return "\n".join(lines)
+    xdd = end * direction
+    lines += ["", f"Inverse maps at xdd = {np.round(xdd, 5).tolist()} ({inverse_at} end, new):"]
+    for kind, equation in (("chiacchio", "33/40"), ("yoshikawa", "26")):
+        try:
+            solution = analysis.inverse(xdd, kind=kind)
+        except UndefinedEllipsoidError:
+            continue
+        lines += [
+            f"  {kind} (eq. {equation}): qdd = {np.round(solution.qdd, 5).tolist()}",
+            f"    tau_n = {np.round(solution.tau_n, 5).tolist()}, "
+            f"|tau_n| = {float(solution.torque_norm):.5g}, "
+            f"max |tau_n_i| = {float(np.max(np.abs(solution.tau_n))):.5g}",
+        ]
     return "\n".join(lines)
+
+
+def _plain(value: Any) -> Any:
+    """Numpy to JSON-ready Python, with NaN and infinity as None."""
+    if isinstance(value, dict):
+        return {key: _plain(item) for key, item in value.items()}
+    if isinstance(value, list | tuple):
+        return [_plain(item) for item in value]
+    if isinstance(value, np.ndarray):
+        return _plain(value.tolist())
+    if isinstance(value, np.generic):
+        return _plain(value.item())
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def analysis_to_json(
+    analysis: Analysis, direction: NDArray[np.float64], comparison: Comparison | None = None
+) -> dict[str, Any]:
+    """The analysis (and, if given, its scores) as a JSON-ready dictionary."""
+    P = analysis.polytope
+    ellipsoids: dict[str, Any] = {}
+    for kind in ELLIPSOID_KINDS:
+        try:
+            E = analysis.ellipsoid(kind)
+        except UndefinedEllipsoidError as exn:
+            ellipsoids[kind] = {"defined": False, "reason": str(exn)}
+            continue
+        lo, hi = E.limits(direction)
+        ellipsoids[kind] = {
+            "defined": True,
+            "center": E.center,
+            "core": E.core,
+            "semi_axes": E.semi_axes,
+            "axes": E.axes,
+            "rank": E.rank,
+            "volume": E.volume,
+            "limits": [lo, hi],
+        }
+    lo, hi = P.limits(direction)
+    result: dict[str, Any] = {
+        "xg": analysis.xg,
+        "M": analysis.M,
+        "rank": analysis.rank,
+        "singular_values": analysis.svd.singular_values,
+        "direction": direction,
+        "polytope": {
+            "dim": P.dim,
+            "volume": P.volume,
+            "vertices": P.vertices,
+            "A": P.A,
+            "b": P.b,
+            "A_eq": P.A_eq,
+            "b_eq": P.b_eq,
+            "limits": [lo, hi],
+        },
+        "ellipsoids": ellipsoids,
+    }
+    if comparison is not None:
+        result["scores"] = {kind: r.as_dict() for kind, r in comparison.records.items()}
+    return _plain(result)

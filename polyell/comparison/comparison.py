@@ -46,6 +46,8 @@ class Scores:
         score is NaN and ``reason`` says why).
     reason : str
         Why the ellipsoid is undefined; empty otherwise.
+    dimension : float
+        Its dimension r (rank), equal to the polytope's.
     volume : float
         Volume of the ellipsoid in its affine set [(m/s^2)^r].
     inscribed_scale : float
@@ -73,6 +75,7 @@ class Scores:
     kind: str
     defined: bool = True
     reason: str = ""
+    dimension: float = np.nan
     volume: float = np.nan
     inscribed_scale: float = np.nan
     coverage: float = np.nan
@@ -165,6 +168,7 @@ class Comparison:
         inverse: EllipsoidKind = "yoshikawa" if kind == "yoshikawa" else "chiacchio"
         return Scores(
             kind=kind,
+            dimension=float(E.rank),
             volume=E.volume,
             inscribed_scale=inscribed_scale(E, P),
             coverage=shares.coverage,
@@ -180,6 +184,19 @@ class Comparison:
             directions_used=errors.used,
             witness_torque_max=witness_torque_max(E, self.analysis.torque_map(inverse)),
         )
+
+    def to_row(self) -> dict[str, float]:
+        """One flat record: ``polytope_dim``, ``polytope_volume`` and ``<kind>_<score>``.
+
+        The column naming of study results (e.g. ``chiacchio_coverage``).
+        """
+        row: dict[str, float] = {
+            "polytope_dim": float(self.analysis.polytope.dim),
+            "polytope_volume": self.analysis.polytope.volume,
+        }
+        for kind, record in self.records.items():
+            row.update({f"{kind}_{name}": float(getattr(record, name)) for name in SCORE_NAMES})
+        return row
 
     def to_frame(self) -> pd.DataFrame:
         """One row per ellipsoid, one column per score (full precision)."""

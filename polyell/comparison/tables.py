@@ -32,6 +32,7 @@ def _count(value: float) -> str:
 
 #: (score, Markdown label, LaTeX label, formatter, standard-error column or None).
 SCORE_ROWS: tuple[tuple[str, str, str, Callable[[float], str], str | None], ...] = (
+    ("dimension", "dimension r", "dimension $r$", _count, None),
     ("volume", "volume [{u}]", r"volume [${u}$]", _significant, None),
     ("inscribed_scale", "inscribed scale", "inscribed scale", _significant, None),
     ("coverage", "coverage [%]", r"coverage [\%]", _percent, "coverage_stderr"),
@@ -74,7 +75,7 @@ def _cell(
 
 def format_scores_table(
     frame: pd.DataFrame,
-    dimension: int,
+    dimension: int | None,
     style: Literal["markdown", "latex"],
     *,
     unit: str = "m/s^2",
@@ -87,8 +88,9 @@ def format_scores_table(
     ----------
     frame : DataFrame
         Scores, indexed by ellipsoid kind, as from ``Comparison.to_frame``.
-    dimension : int
-        Dimension r of the polytope (the power of the volume unit).
+    dimension : int or None
+        Dimension r of the polytope (the power of the volume unit); None for a table
+        mixing dimensions (the unit is then written with the power ``r``).
     style : {"markdown", "latex"}
     unit : str, optional
         The acceleration unit.
@@ -98,14 +100,15 @@ def format_scores_table(
     latex = style == "latex"
     pm = r"$\pm$" if latex else "±"
     base = rf"\mathrm{{{unit}}}" if latex else unit
+    power = "r" if dimension is None else str(dimension)
     volume_unit = base
-    if dimension != 1:
-        volume_unit = f"({base})^{{{dimension}}}" if latex else f"({base})^{dimension}"
+    if power != "1":
+        volume_unit = f"({base})^{{{power}}}" if latex else f"({base})^{power}"
     rows = {}
     for score, md_label, tex_label, fmt, stderr in SCORE_ROWS:
         name = (tex_label if latex else md_label).format(u=volume_unit)
         rows[name] = {
-            ELLIPSOID_LABELS.get(kind, kind): _cell(row, score, fmt, stderr, pm)
+            ELLIPSOID_LABELS.get(str(kind), str(kind)): _cell(row, score, fmt, stderr, pm)
             for kind, row in frame.iterrows()
         }
     table = pd.DataFrame.from_dict(rows, orient="index")

@@ -1,0 +1,92 @@
+"""Summary statistics of scores over many configurations (a study), and their tables."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import pandas as pd
+
+from polyell.comparison.comparison import COMPARED_KINDS
+from polyell.comparison.tables import ELLIPSOID_LABELS
+
+__all__ = ["SUMMARY_SCORES", "format_summary_table", "summarize"]
+
+#: Scores summarised over a study by default.
+SUMMARY_SCORES = (
+    "inscribed_scale",
+    "coverage",
+    "overreach",
+    "mvie_ratio",
+    "direction_error_mean",
+    "direction_error_max",
+    "direction_bias",
+    "witness_torque_max",
+)
+_STATISTICS = ("defined", "mean", "std", "min", "median", "max")
+
+
+def summarize(results: pd.DataFrame, scores: tuple[str, ...] = SUMMARY_SCORES) -> pd.DataFrame:
+    """Statistics per ellipsoid and score over the rows (configurations) of ``results``.
+
+    Parameters
+    ----------
+    results : DataFrame
+        One row per configuration with ``<kind>_<score>`` columns (``Comparison.to_row``).
+    scores : tuple of str
+        Scores to summarise; those without a column are skipped.
+
+    Returns
+    -------
+    DataFrame
+        Indexed by ``(ellipsoid, score)``, with the columns ``defined`` (how many
+        configurations have a finite value), ``mean``, ``std``, ``min``, ``median``,
+        ``max``; NaN values (undefined ellipsoids) are left out of the statistics.
+    """
+    rows = {}
+    for kind in COMPARED_KINDS:
+        for score in scores:
+            column = f"{kind}_{score}"
+            if column not in results:
+                continue
+            values = results[column].astype(float)
+            finite = values[values.notna() & (values.abs() != float("inf"))]
+            if finite.empty:
+                continue
+            rows[(kind, score)] = {
+                "defined": int(finite.size),
+                "mean": finite.mean(),
+                "std": finite.std(ddof=1) if finite.size > 1 else 0.0,
+                "min": finite.min(),
+                "median": finite.median(),
+                "max": finite.max(),
+            }
+    summary = pd.DataFrame.from_dict(rows, orient="index", columns=list(_STATISTICS))
+    summary.index = pd.MultiIndex.from_tuples(summary.index, names=["ellipsoid", "score"])
+    return summary
+
+
+def format_summary_table(
+    summary: pd.DataFrame,
+    style: Literal["markdown", "latex"],
+    *,
+    caption: str | None = None,
+    label: str | None = None,
+) -> str:
+    """Render :func:`summarize` output with 4 significant digits."""
+    table = summary.copy()
+    table.index = [
+        f"{ELLIPSOID_LABELS.get(kind, kind)}: {score.replace('_', ' ')}"
+        for kind, score in table.index
+    ]
+    for column in table.columns:
+        table[column] = [f"{int(v)}" if column == "defined" else f"{v:.4g}" for v in table[column]]
+    if style == "markdown":
+        table.index.name = "score"
+        return table.to_markdown(disable_numparse=True, colalign=["left"] + ["right"] * 6) + "\n"
+    return table.style.to_latex(
+        hrules=True,
+        caption=caption,
+        label=label,
+        position_float="centering",
+        column_format="l" + "r" * table.shape[1],
+    )

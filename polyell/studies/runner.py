@@ -1,0 +1,194 @@
+"""Run a study: every configuration analysed and compared, tables and figures written."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pandas as pd
+from tqdm import tqdm
+
+from polyell.analysis import analyze
+from polyell.comparison.comparison import compare
+from polyell.comparison.summary import format_summary_table, summarize
+from polyell.comparison.tables import ELLIPSOID_LABELS, format_scores_table
+from polyell.errors import InputError
+from polyell.figures import (
+    plot_directional_limits,
+    plot_score_map,
+    plot_sets,
+    plot_sets_3d,
+    save_figure,
+)
+from polyell.report import format_analysis
+from polyell.studies.spec import StudySpec
+
+__all__ = ["run_study"]
+
+
+def _prepare(out: str | Path) -> Path:
+    folder = Path(out)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        probe = folder / ".polyell-write-test"
+        probe.write_text("")
+        probe.unlink()
+    except OSError as exn:
+        raise InputError(
+            "out", "a folder polyell can write to", f"{folder} ({exn.strerror})"
+        ) from None
+    return folder
+
+
+def _write(path: Path, text: str) -> Path:
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
+    written: list[Path] = []
+    numbers = [f"# {spec.title}: the numbers", ""]
+    frames = []
+    for point in spec.points:
+        analysis = analyze(
+            spec.robot.model.dynamics(point.q), spec.robot.tau_max, spec.robot.tau_min
+        )
+        cmp = compare(
+            analysis, spec.directions, samples=spec.samples, seed=spec.seed, mvie=spec.mvie
+        )
+        q_text = ", ".join(f"{v:.6g}" for v in point.q)
+        numbers += [
+            f"## {point.name}{': ' + point.title if point.title else ''}",
+            "",
+            f"q = ({q_text}) rad",
+            "",
+            "```text",
+            format_analysis(analysis, point.direction, "t", point.inverse_at),
+            "```",
+            "",
+            "Scores (`pe.compare`):",
+            "",
+            cmp.to_markdown(),
+        ]
+        frame = cmp.to_frame()
+        frame.index = [f"{point.name}: {ELLIPSOID_LABELS[k]}" for k in frame.index]
+        frames.append(frame)
+        stem = folder / f"sets_{point.name}"
+        mvie = cmp.mvie if spec.mvie else None
+        kinds = ("chiacchio", "yoshikawa", "mvie") if spec.mvie else ("chiacchio", "yoshikawa")
+        if analysis.dynamics.m == 2:
+            figure = plot_sets(analysis, kinds=kinds, mvie=mvie, title=point.title or point.name)
+            written += save_figure(figure, stem, spec.formats, spec.dpi)
+            if analysis.polytope.dim == 2:
+                figure = plot_directional_limits(analysis, kinds=kinds, mvie=mvie)
+                written += save_figure(
+                    figure, folder / f"limits_{point.name}", spec.formats, spec.dpi
+                )
+        elif analysis.dynamics.m == 3:
+            figure = plot_sets_3d(analysis, kinds=kinds, mvie=mvie, title=point.title or point.name)
+            written += save_figure(figure, stem, spec.formats, spec.dpi)
+    written.append(_write(folder / "numbers.md", "\n".join(numbers)))
+    table = pd.concat(frames)
+    dimension_note = "the volume is r-dimensional, r the polytope's dimension"
+    written.append(_write(folder / "comparison.csv", table.to_csv(index_label="ellipsoid")))
+    written.append(
+        _write(
+            folder / "comparison.md",
+            f"# {spec.title}: comparison\n\nVolumes in (m/s^2)^r: {dimension_note}.\n\n"
+            + format_scores_table(table, None, "markdown"),
+        )
+    )
+    written.append(
+        _write(
+            folder / "comparison.tex",
+            format_scores_table(
+                table,
+                None,
+                "latex",
+                caption=f"{spec.title}: scores of each ellipsoid "
+                f"against the exact polytope ({dimension_note}).",
+                label="tab:comparison",
+            ),
+        )
+    )
+    return written
+
+
+def _run_grid(spec: StudySpec, folder: Path, progress: bool) -> list[Path]:
+    configurations = spec.grid_configurations()
+    rows = []
+    for q in tqdm(configurations, desc=spec.title, unit="config", disable=not progress):
+        analysis = analyze(spec.robot.model.dynamics(q), spec.robot.tau_max, spec.robot.tau_min)
+        cmp = compare(
+            analysis, spec.directions, samples=spec.samples, seed=spec.seed, mvie=spec.mvie
+        )
+        rows.append({f"q{i + 1}": v for i, v in enumerate(q)} | cmp.to_row())
+    results = pd.DataFrame(rows)
+    written = [_write(folder / "results.csv", results.to_csv(index=False))]
+    summary = summarize(results)
+    caption = f"{spec.title}: scores over {len(results)} configurations."
+    written.append(_write(folder / "summary.csv", summary.to_csv()))
+    written.append(
+        _write(
+            folder / "summary.md",
+            f"# {spec.title}: summary over {len(results)} configurations\n\n"
+            + format_summary_table(summary, "markdown"),
+        )
+    )
+    written.append(
+        _write(
+            folder / "summary.tex",
+            format_summary_table(summary, "latex", caption=caption, label="tab:summary"),
+        )
+    )
+    varying = [axis for axis in spec.grid if axis.values.size > 1]
+    for name in spec.maps:
+        if len(varying) != 2:
+            break
+        x_axis, y_axis = varying[1], varying[0]  # the last joint varies fastest: columns
+        values = results[name].to_numpy().reshape(y_axis.values.size, x_axis.values.size)
+        kind, score = name.split("_", 1)
+        figure = plot_score_map(
+            values,
+            x_axis.values,
+            y_axis.values,
+            xlabel=f"${x_axis.name[0]}_{x_axis.name[1:]}$ [rad]",
+            ylabel=f"${y_axis.name[0]}_{y_axis.name[1:]}$ [rad]",
+            label=f"{score.replace('_', ' ')}",
+            title=f"{ELLIPSOID_LABELS[kind]}: {score.replace('_', ' ')}",
+        )
+        written += save_figure(figure, folder / f"map_{name}", spec.formats, spec.dpi)
+    return written
+
+
+def run_study(spec: StudySpec, out: str | Path, *, progress: bool = False) -> list[Path]:
+    """Run a study and write its tables and figures to ``out``.
+
+    Parameters
+    ----------
+    spec : StudySpec
+        From :func:`~polyell.studies.load_study`.
+    out : str or Path
+        Output folder (created if needed).
+    progress : bool, optional
+        Show a progress bar on standard error (grid studies).
+
+    Returns
+    -------
+    list of Path
+        The files written, also listed in ``out/manifest.json``.
+
+    Raises
+    ------
+    InputError
+        If ``out`` cannot be written.
+    """
+    folder = _prepare(out)
+    written = _run_grid(spec, folder, progress) if spec.is_grid else _run_points(spec, folder)
+    manifest = {
+        "study": spec.title,
+        "spec": spec.path.name,
+        "files": sorted(p.name for p in written),
+    }
+    written.append(_write(folder / "manifest.json", json.dumps(manifest, indent=2) + "\n"))
+    return written

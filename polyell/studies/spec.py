@@ -1,0 +1,307 @@
+"""Study and robot descriptions in TOML: parsed strictly, with errors that list the valid keys.
+
+A study file::
+
+    title = "Chiacchio (2000), section 6"
+
+    [robot]                      # a robot file has these keys at its top level
+    library = "chiacchio2000"    # or: planar = { lengths = [...], masses = [...], ... }
+    tau_max = [100, 30, 4]       # optional when the robot carries limits
+
+    [[points]]                   # named configurations ...
+    name = "redundant"
+    q = ["pi/2", "-pi/2", "-pi/2"]
+    direction = [1, 0]           # limits and inverse maps reported along it (default: x)
+    inverse_at = "hi"            # the end of the new ellipsoid's interval for the inverses
+
+    [grid]                       # ... or a grid: fixed values and ranges per joint
+    q1 = "pi/2"
+    q2 = { start = "-pi", stop = "pi", num = 41 }
+
+    [compare]
+    directions = 360             # the default set's size
+    mvie = true
+    samples = 8192
+    seed = 0
+
+    [output]
+    formats = ["pdf", "png"]
+    dpi = 300
+    maps = ["chiacchio_coverage"]    # heat maps of a grid study (<ellipsoid>_<score>)
+
+Numbers may be written as expressions: ``"pi/2"``, ``"sqrt(3)/2"``.
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from polyell import robots
+from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES
+from polyell.errors import InputError
+from polyell.expressions import evaluate, evaluate_list
+from polyell.models.planar_arm import PlanarArm
+from polyell.validation import check_torque_limits
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+__all__ = [
+    "GridAxis",
+    "Point",
+    "Robot",
+    "StudySpec",
+    "load_robot_file",
+    "load_study",
+    "robot_from_table",
+]
+
+_TOP_KEYS = ("title", "description", "robot", "points", "grid", "compare", "output")
+_ROBOT_KEYS = ("library", "planar", "tau_max", "tau_min")
+_PLANAR_KEYS = ("lengths", "masses", "com", "inertia", "gravity")
+_POINT_KEYS = ("name", "q", "direction", "inverse_at", "title")
+_RANGE_KEYS = ("start", "stop", "num")
+_COMPARE_KEYS = ("directions", "mvie", "samples", "seed")
+_OUTPUT_KEYS = ("formats", "dpi", "maps")
+_FORMATS = ("pdf", "png", "svg")
+
+
+def _check_keys(where: str, table: object, valid: tuple[str, ...]) -> dict[str, Any]:
+    if not isinstance(table, dict):
+        raise InputError(where, f"a table with keys among {list(valid)}", repr(table))
+    unknown = sorted(set(table) - set(valid))
+    if unknown:
+        raise InputError(
+            where,
+            f"keys among {list(valid)}",
+            f"unknown key(s) {unknown}",
+            "check the spelling against the valid keys.",
+        )
+    return table
+
+
+@dataclass(frozen=True)
+class Robot:
+    """A robot model with its torque limits, as described in a file."""
+
+    model: PlanarArm
+    tau_max: NDArray[np.float64]
+    tau_min: NDArray[np.float64]
+
+
+def robot_from_table(table: object, where: str = "robot") -> Robot:
+    """Build a robot from a ``[robot]`` table (keys: library | planar, tau_max, tau_min)."""
+    table = _check_keys(where, table, _ROBOT_KEYS)
+    if ("library" in table) == ("planar" in table):
+        raise InputError(
+            where,
+            "exactly one of 'library' (a name) and 'planar' (a link table)",
+            f"keys {sorted(table)}",
+            f'e.g. library = "chiacchio2000"; names: {robots.names()}.',
+        )
+    if "library" in table:
+        model = robots.load(table["library"])
+    else:
+        planar = _check_keys(f"{where}.planar", table["planar"], _PLANAR_KEYS)
+        for key in ("lengths", "masses"):
+            if key not in planar:
+                raise InputError(f"{where}.planar", f"a '{key}' list", "no such key")
+        lists = {
+            key: evaluate_list(f"{where}.planar.{key}", planar[key])
+            for key in ("com", "inertia")
+            if key in planar
+        }
+        model = PlanarArm(
+            evaluate_list(f"{where}.planar.lengths", planar["lengths"]),
+            evaluate_list(f"{where}.planar.masses", planar["masses"]),
+            com=lists.get("com"),
+            inertia=lists.get("inertia"),
+            gravity=evaluate(f"{where}.planar.gravity", planar.get("gravity", 9.81)),
+        )
+    if "tau_max" in table:
+        upper = evaluate_list(f"{where}.tau_max", table["tau_max"])
+        lower = evaluate_list(f"{where}.tau_min", table["tau_min"]) if "tau_min" in table else None
+        tau_max, tau_min = check_torque_limits(upper, lower, model.n)
+    elif model.tau_max is not None and model.tau_min is not None:
+        tau_max, tau_min = model.tau_max, model.tau_min
+    else:
+        raise InputError(
+            f"{where}.tau_max", "torque limits for a robot without its own", "no tau_max key"
+        )
+    return Robot(model, tau_max, tau_min)
+
+
+def _read_toml(path: str | Path) -> dict[str, Any]:
+    try:
+        with open(path, "rb") as handle:
+            return tomllib.load(handle)
+    except FileNotFoundError:
+        raise InputError("path", "an existing TOML file", repr(str(path))) from None
+    except tomllib.TOMLDecodeError as exn:
+        raise InputError("path", "valid TOML", f"{path}: {exn}") from None
+
+
+def load_robot_file(path: str | Path) -> Robot:
+    """A robot file: TOML with the keys of a study's ``[robot]`` table at the top level."""
+    return robot_from_table(_read_toml(path), where=Path(path).name)
+
+
+@dataclass(frozen=True)
+class Point:
+    """A named configuration with the direction its numbers are reported along."""
+
+    name: str
+    q: NDArray[np.float64]
+    direction: NDArray[np.float64]
+    inverse_at: Literal["lo", "hi"] = "hi"
+    title: str = ""
+
+
+@dataclass(frozen=True)
+class GridAxis:
+    """Values of one joint angle over a grid (a single value when it is fixed)."""
+
+    name: str
+    values: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class StudySpec:
+    """A parsed study: a robot, configurations (points or a grid), options and outputs."""
+
+    path: Path
+    title: str
+    description: str
+    robot: Robot
+    points: tuple[Point, ...] = ()
+    grid: tuple[GridAxis, ...] = ()
+    directions: int | None = None
+    mvie: bool = True
+    samples: int = 2**13
+    seed: int = 0
+    formats: tuple[str, ...] = ("pdf", "png")
+    dpi: int = 300
+    maps: tuple[str, ...] = field(default_factory=tuple)
+
+    @property
+    def is_grid(self) -> bool:
+        """True for a grid study, False for a study of named points."""
+        return bool(self.grid)
+
+    def grid_configurations(self) -> NDArray[np.float64]:
+        """All grid configurations, shape (K, n), the last joint varying fastest."""
+        mesh = np.meshgrid(*[axis.values for axis in self.grid], indexing="ij")
+        return np.stack([m.ravel() for m in mesh], axis=1)
+
+
+def _point(table: object, index: int, n: int) -> Point:
+    where = f"points[{index}]"
+    table = _check_keys(where, table, _POINT_KEYS)
+    for key in ("name", "q"):
+        if key not in table:
+            raise InputError(where, f"a '{key}' key", f"keys {sorted(table)}")
+    q = np.array(evaluate_list(f"{where}.q", table["q"]))
+    if q.size != n:
+        raise InputError(f"{where}.q", f"{n} joint angles", f"{q.size}")
+    direction = np.array(evaluate_list(f"{where}.direction", table.get("direction", [1, 0])))
+    if abs(np.linalg.norm(direction) - 1.0) > 1e-6:
+        raise InputError(
+            f"{where}.direction", "a unit vector", f"norm {np.linalg.norm(direction):.6g}"
+        )
+    inverse_at = table.get("inverse_at", "hi")
+    if inverse_at not in ("lo", "hi"):
+        raise InputError(f"{where}.inverse_at", "'lo' or 'hi'", repr(inverse_at))
+    end: Literal["lo", "hi"] = "lo" if inverse_at == "lo" else "hi"
+    return Point(str(table["name"]), q, direction, end, str(table.get("title", "")))
+
+
+def _grid(table: object, n: int) -> tuple[GridAxis, ...]:
+    names = tuple(f"q{i + 1}" for i in range(n))
+    table = _check_keys("grid", table, names)
+    axes = []
+    for name in names:
+        if name not in table:
+            raise InputError(
+                "grid", f"a value or range for every joint {list(names)}", f"no {name}"
+            )
+        value = table[name]
+        if isinstance(value, dict):
+            spec = _check_keys(f"grid.{name}", value, _RANGE_KEYS)
+            num = spec.get("num")
+            if not isinstance(num, int) or num < 1 or set(spec) != set(_RANGE_KEYS):
+                raise InputError(
+                    f"grid.{name}", "{ start, stop, num } with an integer num >= 1", repr(value)
+                )
+            values = np.linspace(
+                evaluate(f"grid.{name}.start", spec["start"]),
+                evaluate(f"grid.{name}.stop", spec["stop"]),
+                num,
+            )
+        else:
+            values = np.array([evaluate(f"grid.{name}", value)])
+        axes.append(GridAxis(name, values))
+    return tuple(axes)
+
+
+def load_study(path: str | Path) -> StudySpec:
+    """Parse and check a study file.
+
+    Raises
+    ------
+    InputError
+        On a missing file, invalid TOML, an unknown key (the message lists the valid
+        ones), or any bad value.
+    """
+    data = _check_keys(Path(path).name, _read_toml(path), _TOP_KEYS)
+    if "robot" not in data:
+        raise InputError(Path(path).name, "a [robot] table", "none")
+    robot = robot_from_table(data["robot"])
+    n = robot.model.n
+    if ("points" in data) == ("grid" in data):
+        raise InputError(
+            Path(path).name, "exactly one of [[points]] and [grid]", f"keys {sorted(data)}"
+        )
+    points = tuple(_point(t, i, n) for i, t in enumerate(data.get("points", [])))
+    grid = _grid(data["grid"], n) if "grid" in data else ()
+    compare = _check_keys("compare", data.get("compare", {}), _COMPARE_KEYS)
+    output = _check_keys("output", data.get("output", {}), _OUTPUT_KEYS)
+    formats = tuple(output.get("formats", ("pdf", "png")))
+    if not formats or any(f not in _FORMATS for f in formats):
+        raise InputError("output.formats", f"a list among {list(_FORMATS)}", repr(formats))
+    valid_maps = [f"{kind}_{score}" for kind in COMPARED_KINDS for score in SCORE_NAMES]
+    maps = tuple(output.get("maps", ()))
+    for name in maps:
+        if name not in valid_maps:
+            raise InputError(
+                "output.maps",
+                "names <ellipsoid>_<score>",
+                repr(name),
+                f"for example 'chiacchio_coverage'; valid: {valid_maps}",
+            )
+    if maps and sum(axis.values.size > 1 for axis in grid) != 2:
+        raise InputError(
+            "output.maps", "a grid with exactly two varying joints", f"{len(grid)} grid axes"
+        )
+    return StudySpec(
+        path=Path(path),
+        title=str(data.get("title", Path(path).stem)),
+        description=str(data.get("description", "")),
+        robot=robot,
+        points=points,
+        grid=grid,
+        directions=compare.get("directions"),
+        mvie=bool(compare.get("mvie", True)),
+        samples=int(compare.get("samples", 2**13)),
+        seed=int(compare.get("seed", 0)),
+        formats=formats,
+        dpi=int(output.get("dpi", 300)),
+        maps=maps,
+    )
