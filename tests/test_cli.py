@@ -1,5 +1,6 @@
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 
@@ -52,3 +53,62 @@ def test_module_entry_point_runs():
         [sys.executable, "-m", "polyell", "analyze"], capture_output=True, text=True, check=True
     )
     assert "[-57.305, 53.7]" in result.stdout
+
+
+def test_json_output_is_valid_and_complete(capsys):
+    assert main(["analyze", "--json", "--no-mvie"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["rank"] == 2
+    assert round(data["ellipsoids"]["chiacchio"]["limits"][1], 3) == 35.284
+    assert data["scores"]["mvie"]["defined"] is False
+    assert data["scores"]["chiacchio"]["inscribed_scale"] > 1
+
+
+def test_json_at_a_singularity_writes_null_not_nan(capsys):
+    assert main(["analyze", "--json", "--q", "pi/6,0,0"]) == 0
+    text = capsys.readouterr().out
+    assert "NaN" not in text
+    data = json.loads(text)
+    assert data["ellipsoids"]["yoshikawa"]["defined"] is False
+    assert data["scores"]["yoshikawa"]["coverage"] is None
+
+
+def test_robot_file_and_limits_override(tmp_path, capsys):
+    robot = tmp_path / "arm.toml"
+    robot.write_text("planar = { lengths = [1, 1], masses = [1, 1] }\ntau_max = [5, 5]\n")
+    assert main(["analyze", "--robot", str(robot), "--q", "0.3,0.4", "--no-mvie"]) == 0
+    assert "rank M = 2 of m = 2" in capsys.readouterr().out
+    assert main(["analyze", "--robot", "chiacchio2000", "--tau-max", "1,1,1", "--no-mvie"]) == 0
+
+
+@pytest.mark.parametrize(
+    ("argv", "fragment"),
+    [
+        (["analyze", "--robot", "panda"], "name: expected one of ['chiacchio2000']"),
+        (["analyze", "--robot", "missing.toml"], "expected an existing TOML file"),
+        (["study", "missing.toml", "--out", "x"], "expected an existing TOML file"),
+    ],
+)
+def test_bad_robot_or_study(capsys, argv, fragment):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert fragment in err and len(err.strip().splitlines()) == 1
+
+
+def test_study_command(tmp_path, capsys):
+    spec = tmp_path / "s.toml"
+    spec.write_text(
+        '[robot]\nlibrary = "chiacchio2000"\n[[points]]\nname = "p"\nq = [0.3, 0.5, 0.7]\n'
+        '[compare]\nmvie = false\n[output]\nformats = ["png"]\ndpi = 40\n'
+    )
+    assert main(["study", str(spec), "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    assert "wrote" in capsys.readouterr().out
+    assert (tmp_path / "out" / "sets_p.png").exists()
+
+
+def test_help_everywhere(capsys):
+    for argv in (["--help"], ["analyze", "--help"], ["study", "--help"]):
+        with pytest.raises(SystemExit) as info:
+            main(argv)
+        assert info.value.code == 0
+    assert "--out" in capsys.readouterr().out

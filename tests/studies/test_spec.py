@@ -1,0 +1,93 @@
+from __future__ import annotations
+
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import polyell as pe
+from polyell.studies import load_robot_file, load_study
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def write(tmp_path: Path, text: str, name: str = "study.toml") -> Path:
+    path = tmp_path / name
+    path.write_text(textwrap.dedent(text))
+    return path
+
+
+POINTS = """
+    title = "t"
+    [robot]
+    library = "chiacchio2000"
+    [[points]]
+    name = "a"
+    q = ["pi/2", "-pi/2", "-pi/2"]
+"""
+
+
+def test_the_shipped_studies_parse():
+    paper = load_study(REPO / "studies" / "chiacchio2000.toml")
+    assert [p.name for p in paper.points] == ["redundant", "singular"]
+    np.testing.assert_allclose(paper.points[1].direction, [-0.5, np.sqrt(3) / 2])
+    np.testing.assert_allclose(paper.robot.tau_max, [100, 30, 4])
+    sweep = load_study(REPO / "studies" / "planar3r_sweep.toml")
+    assert sweep.is_grid and sweep.grid_configurations().shape == (61 * 61, 3)
+    assert not sweep.mvie
+
+
+def test_planar_robot_table_and_expressions(tmp_path):
+    path = write(
+        tmp_path,
+        """
+        [robot]
+        planar = { lengths = [1, 1], masses = [1, 1], gravity = 0 }
+        tau_max = [2, "sqrt(4)"]
+        tau_min = [-1, -3]
+        [grid]
+        q1 = 0
+        q2 = { start = 0, stop = "pi/2", num = 3 }
+        """,
+    )
+    spec = load_study(path)
+    assert spec.robot.model.gravity == 0.0
+    np.testing.assert_allclose(spec.robot.tau_min, [-1, -3])
+    np.testing.assert_allclose(spec.grid_configurations()[:, 1], [0, np.pi / 4, np.pi / 2])
+
+
+def test_robot_file(tmp_path):
+    path = write(tmp_path, 'library = "chiacchio2000"\ntau_max = [10, 10, 10]\n', "r.toml")
+    robot = load_robot_file(path)
+    np.testing.assert_allclose(robot.tau_max, 10.0)
+
+
+@pytest.mark.parametrize(
+    ("text", "fragment"),
+    [
+        (POINTS + "[outputs]\n", "keys among ['title', 'description', 'robot'"),
+        (POINTS.replace("library", "libary"), "unknown key(s) ['libary']"),
+        (POINTS.replace('"chiacchio2000"', '"panda"'), "name: expected one of ['chiacchio2000']"),
+        (POINTS.replace('"-pi/2"]', '"-pi/2", 0]'), "points[0].q: expected 3 joint angles"),
+        (POINTS.replace('"pi/2",', '"pi/two",'), "points[0].q[0]: expected a number"),
+        (POINTS + "[compare]\ndirection = 3\n", "unknown key(s) ['direction']"),
+        (POINTS + "[output]\nformats = ['jpg']\n", "output.formats: expected a list among"),
+        (POINTS + "[output]\nmaps = ['chiacchio_coverage']\n", "output.maps: expected a grid"),
+        (POINTS + "[output]\nmaps = ['coverage']\n", "output.maps: expected names"),
+        (POINTS + "[grid]\nq1 = 0\n", "exactly one of [[points]] and [grid]"),
+        ("[robot]\nplanar = { lengths = [1] }\n[grid]\nq1 = 0\n", "a 'masses' list"),
+        ("[robot]\nplanar = { lengths = [1], masses = [1] }\n[grid]\nq1 = 0\n", "torque limits"),
+        ("[robot]\nlibrary = 'chiacchio2000'\n[grid]\nq1 = 0\nq2 = 0\n", "for every joint"),
+        ("title = ", "valid TOML"),
+    ],
+)
+def test_bad_study_files(tmp_path, text, fragment):
+    with pytest.raises(pe.InputError) as info:
+        load_study(write(tmp_path, text))
+    assert fragment in str(info.value)
+
+
+def test_missing_file():
+    with pytest.raises(pe.InputError, match="existing TOML file"):
+        load_study("no/such/study.toml")
