@@ -16,8 +16,12 @@ __all__ = ["analysis_to_json", "format_analysis"]
 
 
 def _matrix(a: NDArray[np.float64], indent: str = "    ") -> str:
+    """Five significant digits; entries below 1e-12 of the largest print as 0 (rounding)."""
+    a = np.atleast_2d(a)
+    scale = np.max(np.abs(a)) if a.size else 0.0
+    shown = np.where(np.abs(a) <= 1e-12 * scale, 0.0, a)
     text = np.array2string(
-        np.atleast_2d(a), max_line_width=100, formatter={"float_kind": lambda v: f"{v:11.5g}"}
+        shown, max_line_width=100, formatter={"float_kind": lambda v: f"{v:11.5g}"}
     )
     return "\n".join(indent + line for line in text.splitlines())
 
