@@ -7,7 +7,7 @@ from typing import Literal
 import pandas as pd
 
 from polyell.comparison.comparison import COMPARED_KINDS
-from polyell.comparison.tables import ELLIPSOID_LABELS
+from polyell.comparison.tables import ELLIPSOID_LABELS, render_table
 
 __all__ = ["SUMMARY_SCORES", "format_summary_table", "summarize"]
 
@@ -80,13 +80,4 @@ def format_summary_table(
     ]
     for column in table.columns:
         table[column] = [f"{int(v)}" if column == "defined" else f"{v:.4g}" for v in table[column]]
-    if style == "markdown":
-        table.index.name = "score"
-        return table.to_markdown(disable_numparse=True, colalign=["left"] + ["right"] * 6) + "\n"
-    return table.style.to_latex(
-        hrules=True,
-        caption=caption,
-        label=label,
-        position_float="centering",
-        column_format="l" + "r" * table.shape[1],
-    )
+    return render_table(table, style, caption, label)

@@ -8,7 +8,7 @@ from typing import Literal
 import numpy as np
 import pandas as pd
 
-__all__ = ["ELLIPSOID_LABELS", "SCORE_ROWS", "format_scores_table"]
+__all__ = ["ELLIPSOID_LABELS", "SCORE_ROWS", "format_scores_table", "render_table"]
 
 #: Column headers of the ellipsoids.
 ELLIPSOID_LABELS = {
@@ -111,13 +111,23 @@ def format_scores_table(
             ELLIPSOID_LABELS.get(str(kind), str(kind)): _cell(row, score, fmt, stderr, pm)
             for kind, row in frame.iterrows()
         }
-    table = pd.DataFrame.from_dict(rows, orient="index")
-    if not latex:
-        table.index.name = "score"
-        return (
-            table.to_markdown(colalign=["left"] + ["right"] * table.shape[1], disable_numparse=True)
-            + "\n"
-        )
+    return render_table(pd.DataFrame.from_dict(rows, orient="index"), style, caption, label)
+
+
+def render_table(
+    table: pd.DataFrame,
+    style: Literal["markdown", "latex"],
+    caption: str | None = None,
+    label: str | None = None,
+) -> str:
+    """Render a table of preformatted strings: Markdown, or LaTeX with booktabs rules.
+
+    The index is the first (left-aligned) column, every other column is right-aligned.
+    """
+    if style == "markdown":
+        table = table.rename_axis("score")
+        align = ["left"] + ["right"] * table.shape[1]
+        return table.to_markdown(colalign=align, disable_numparse=True) + "\n"
     return table.style.to_latex(
         hrules=True,
         caption=caption,
