@@ -93,8 +93,8 @@ class Analysis:
     M : ndarray, shape (m, n)
         Eq. (14), ``J B^-1 L`` [m/s^2 per unit normalized torque].
     xg : ndarray, shape (m,)
-        Eq. (8) with the shift, ``-J B^-1 (g - tau_c)`` [m/s^2]: the common centre of
-        the polytope and the ellipsoids.
+        Eq. (8) with the shift, ``-J B^-1 (g - tau_c)`` [m/s^2], plus ``Jdot qdot`` for a
+        moving robot: the common centre of the polytope and the ellipsoids.
     Q : ndarray, shape (n, n)
         Eq. (20), ``B L^-2 B``.
     svd : RankRevealingSVD
@@ -124,7 +124,9 @@ class Analysis:
         J, B = dynamics.J, dynamics.B
         self._gravity_bias = dynamics.g - self.tau_center
         self.M: NDArray[np.float64] = J @ np.linalg.solve(B, np.diag(self.half_range))
-        self.xg: NDArray[np.float64] = -J @ np.linalg.solve(B, self._gravity_bias)
+        self.xg: NDArray[np.float64] = (
+            -J @ np.linalg.solve(B, self._gravity_bias) + dynamics.xdd_bias
+        )
         self.Q: NDArray[np.float64] = B @ np.diag(self.half_range**-2) @ B
         self.svd: RankRevealingSVD = rank_revealing_svd(self.M, rank_rtol)
         self._ellipsoids: dict[str, Ellipsoid] = {}
@@ -204,11 +206,11 @@ class Analysis:
             dyn = self.dynamics
             if kind == "yoshikawa":
                 self._require_classic()
-                self._joint_maps[kind] = classic_joint_map(dyn.J)
+                at_rest = classic_joint_map(dyn.J)
             else:
-                self._joint_maps[kind] = chiacchio_joint_map(
-                    dyn.J, dyn.B, self.Q, self._gravity_bias, self.rank
-                )
+                at_rest = chiacchio_joint_map(dyn.J, dyn.B, self.Q, self._gravity_bias, self.rank)
+            # J qdd = xdd - Jdot qdot: the maps act on the acceleration less its bias.
+            self._joint_maps[kind] = at_rest.after_shift(dyn.xdd_bias)
         return self._joint_maps[kind]
 
     def torque_map(self, kind: EllipsoidKind = "chiacchio") -> AffineMap:

@@ -41,6 +41,10 @@ class AffineMap(NamedTuple):
         """Apply the map to points ``x`` of shape (..., m)."""
         return x @ self.matrix.T + self.offset
 
+    def after_shift(self, shift: NDArray[np.float64]) -> AffineMap:
+        """The map ``x -> self(x - shift)``."""
+        return AffineMap(self.matrix, self.offset - self.matrix @ shift)
+
 
 def jacobian_pseudoinverse(J: NDArray[np.float64]) -> NDArray[np.float64]:
     """``J^+ = J^T (J J^T)^-1`` (eq. 26), shape (n, m); J must have full row rank."""

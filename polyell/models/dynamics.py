@@ -1,4 +1,4 @@
-"""The dynamic quantities of a robot at rest in one configuration."""
+"""The dynamic quantities of a robot at one configuration (at rest, or moving)."""
 
 from __future__ import annotations
 
@@ -19,7 +19,9 @@ class Dynamics:
 
     These are the inputs of the paper's eq. (4)-(8) for a robot at rest
     (:math:`\dot q = 0`, no contact force): :math:`\ddot x = J \ddot q` and
-    :math:`\tau = B \ddot q + g`.
+    :math:`\tau = B \ddot q + g`.  For a robot in motion (beyond the paper, eq. 2-3),
+    :math:`\ddot x = J \ddot q + \dot J \dot q` and :math:`\tau = B \ddot q + c + g`:
+    pass :math:`c + g` as ``g`` and :math:`\dot J \dot q` as ``xdd_bias``.
 
     Parameters
     ----------
@@ -29,7 +31,9 @@ class Dynamics:
     B : array-like, shape (n, n)
         Joint-space inertia matrix [kg m^2], symmetric positive definite.
     g : array-like, shape (n,)
-        Gravity torques [N m].
+        Gravity torques [N m] (plus Coriolis and centrifugal torques for a moving robot).
+    xdd_bias : array-like, shape (m,), optional
+        Velocity-product acceleration ``Jdot qdot`` [m/s^2]; zero (default) at rest.
 
     Raises
     ------
@@ -48,8 +52,11 @@ class Dynamics:
     J: NDArray[np.float64]
     B: NDArray[np.float64]
     g: NDArray[np.float64]
+    xdd_bias: NDArray[np.float64]
 
-    def __init__(self, J: ArrayLike, B: ArrayLike, g: ArrayLike) -> None:
+    def __init__(
+        self, J: ArrayLike, B: ArrayLike, g: ArrayLike, xdd_bias: ArrayLike | None = None
+    ) -> None:
         jacobian = check_array("J", J, ("m", "n"), what="Jacobian entries")
         m, n = jacobian.shape
         if m == 0 or n == 0:
@@ -57,7 +64,9 @@ class Dynamics:
         object.__setattr__(self, "J", jacobian)
         object.__setattr__(self, "B", check_spd("B", B, n))
         object.__setattr__(self, "g", check_array("g", g, (n,)))
-        for array in (self.J, self.B, self.g):
+        bias = np.zeros(m) if xdd_bias is None else check_array("xdd_bias", xdd_bias, (m,))
+        object.__setattr__(self, "xdd_bias", bias)
+        for array in (self.J, self.B, self.g, self.xdd_bias):
             array.flags.writeable = False
 
     @property
