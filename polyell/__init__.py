@@ -10,6 +10,7 @@ from polyell.analysis import ELLIPSOID_KINDS, Analysis, InverseSolution, analyze
 from polyell.comparison import COMPARED_KINDS, SCORE_NAMES, Comparison, Scores, compare
 from polyell.errors import (
     InputError,
+    MissingDependencyError,
     PolyellError,
     SolverError,
     UndefinedEllipsoidError,
@@ -22,7 +23,7 @@ from polyell.geometry import (
     Ellipsoid,
     Polytope,
 )
-from polyell.models import Dynamics, PlanarArm
+from polyell.models import Dynamics, Payload, PlanarArm, UrdfRobot
 
 __version__ = "0.1.0"
 
@@ -39,6 +40,8 @@ __all__ = [
     "Ellipsoid",
     "InputError",
     "InverseSolution",
+    "MissingDependencyError",
+    "Payload",
     "PlanarArm",
     "PolyellError",
     "Polytope",
@@ -46,6 +49,7 @@ __all__ = [
     "SolverError",
     "UndefinedEllipsoidError",
     "UnreachableAccelerationError",
+    "UrdfRobot",
     "__version__",
     "analyze",
     "compare",

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 __all__ = [
     "InputError",
+    "MissingDependencyError",
     "PolyellError",
     "SolverError",
     "UndefinedEllipsoidError",
@@ -64,3 +65,7 @@ class UnreachableAccelerationError(PolyellError, ValueError):
 
 class SolverError(PolyellError):
     """A numerical solver (linear program, log-det program) failed to return a solution."""
+
+
+class MissingDependencyError(PolyellError, ImportError):
+    """An optional dependency is not installed; the message names the extra to install."""

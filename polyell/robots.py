@@ -1,43 +1,85 @@
 """A library of robots by name.
 
-``"chiacchio2000"``: the 3-link planar arm of Chiacchio (2000), section 6, with its torque
-limits (100, 30, 4) N m.
+* ``"chiacchio2000"``: the 3-link planar arm of Chiacchio (2000), section 6, with its torque
+  limits (100, 30, 4) N m.  No extra needed.
+* Arms shipped by ``example-robot-data``, with Pinocchio (extra ``polyell[robots]``):
+  ``"panda"`` (fingers locked), ``"ur3"``, ``"ur5"``, ``"ur10"``, ``"kinova"`` (Jaco 2,
+  6 joints), ``"xarm7"``, ``"z1"`` (gripper locked).  Their torque limits are the URDFs'
+  effort limits; the tip is the tool frame.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import importlib.metadata
+from pathlib import Path
+from typing import Any, NamedTuple
 
-from polyell.errors import InputError
+from polyell.errors import InputError, MissingDependencyError
 from polyell.models.planar_arm import PlanarArm
+from polyell.models.urdf import UrdfRobot
 
-__all__ = ["load", "names"]
-
-
-def _chiacchio2000() -> PlanarArm:
-    return PlanarArm(
-        lengths=[1.0, 0.8, 0.5],
-        masses=[4.0, 2.0, 0.6],
-        com=[0.5, 0.4, 0.25],
-        tau_max=[100.0, 30.0, 4.0],
-    )
+__all__ = ["URDF_ARMS", "load", "names", "urdf_path"]
 
 
-_LIBRARY: dict[str, Callable[[], PlanarArm]] = {"chiacchio2000": _chiacchio2000}
+class _Arm(NamedTuple):
+    urdf: str  # relative to example-robot-data's robots/ folder
+    tip: str
+    locked_joints: tuple[str, ...] = ()
+
+
+#: The arms of example-robot-data that :func:`load` knows.
+URDF_ARMS = {
+    "panda": _Arm(
+        "panda_description/urdf/panda.urdf",
+        "panda_hand_tcp",
+        ("panda_finger_joint1", "panda_finger_joint2"),
+    ),
+    "ur3": _Arm("ur_description/urdf/ur3_robot.urdf", "tool0"),
+    "ur5": _Arm("ur_description/urdf/ur5_robot.urdf", "tool0"),
+    "ur10": _Arm("ur_description/urdf/ur10_robot.urdf", "tool0"),
+    "kinova": _Arm("kinova_description/robots/kinova.urdf", "j2s6s200_end_effector"),
+    "xarm7": _Arm("xarm_description/urdf/xarm7.urdf", "link_eef"),
+    "z1": _Arm("z1_description/urdf/z1.urdf", "gripperStator", ("jointGripper",)),
+}
 
 
 def names() -> list[str]:
     """The names :func:`load` accepts."""
-    return sorted(_LIBRARY)
+    return ["chiacchio2000", *sorted(URDF_ARMS)]
 
 
-def load(name: str) -> PlanarArm:
+def urdf_path(name: str) -> Path:
+    """The URDF file of a library arm inside the installed ``example-robot-data``."""
+    if name not in URDF_ARMS:
+        raise InputError("name", f"one of {sorted(URDF_ARMS)}", repr(name))
+    try:
+        distribution = importlib.metadata.distribution("example-robot-data")
+    except importlib.metadata.PackageNotFoundError as exn:
+        raise MissingDependencyError(
+            f"The robot {name!r} comes from example-robot-data, which is not installed. "
+            "Fix: pip install 'polyell[robots]'."
+        ) from exn
+    root = Path(str(distribution.locate_file("cmeel.prefix/share/example-robot-data/robots")))
+    path = root / URDF_ARMS[name].urdf
+    if not path.is_file():
+        raise MissingDependencyError(
+            f"example-robot-data {distribution.version} has no {URDF_ARMS[name].urdf}. "
+            "Fix: pip install --upgrade 'polyell[robots]'."
+        )
+    return path
+
+
+def load(name: str, **options: Any) -> PlanarArm | UrdfRobot:
     """A robot of the library, with its torque limits.
 
     Parameters
     ----------
     name : str
         One of :func:`names`.
+    **options
+        For the URDF arms, keyword arguments of :class:`~polyell.UrdfRobot` that
+        replace the library's defaults (``task``, ``tip``, ``locked_joints``,
+        ``gravity``, ``tau_max``, ``tau_min``, ``weights``, ``payload``).
 
     Examples
     --------
@@ -45,6 +87,17 @@ def load(name: str) -> PlanarArm:
     >>> pe.robots.load("chiacchio2000").tau_max.tolist()
     [100.0, 30.0, 4.0]
     """
-    if name not in _LIBRARY:
+    if name == "chiacchio2000":
+        if options:
+            raise InputError("options", "none for the planar arm", f"{sorted(options)}")
+        return PlanarArm(
+            lengths=[1.0, 0.8, 0.5],
+            masses=[4.0, 2.0, 0.6],
+            com=[0.5, 0.4, 0.25],
+            tau_max=[100.0, 30.0, 4.0],
+        )
+    if name not in URDF_ARMS:
         raise InputError("name", f"one of {names()}", repr(name))
-    return _LIBRARY[name]()
+    arm = URDF_ARMS[name]
+    settings: dict[str, Any] = {"tip": arm.tip, "locked_joints": arm.locked_joints} | options
+    return UrdfRobot(urdf_path(name), **settings)

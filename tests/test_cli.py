@@ -84,7 +84,7 @@ def test_robot_file_and_limits_override(tmp_path, capsys):
 @pytest.mark.parametrize(
     ("argv", "fragment"),
     [
-        (["analyze", "--robot", "panda"], "name: expected one of ['chiacchio2000']"),
+        (["analyze", "--robot", "kuka"], "name: expected one of ['chiacchio2000', 'kinova'"),
         (["analyze", "--robot", "missing.toml"], "expected an existing TOML file"),
         (["study", "missing.toml", "--out", "x"], "expected an existing TOML file"),
     ],

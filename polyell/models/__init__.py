@@ -2,5 +2,6 @@
 
 from polyell.models.dynamics import Dynamics
 from polyell.models.planar_arm import PlanarArm
+from polyell.models.urdf import Payload, UrdfRobot
 
-__all__ = ["Dynamics", "PlanarArm"]
+__all__ = ["Dynamics", "Payload", "PlanarArm", "UrdfRobot"]

@@ -47,6 +47,7 @@ from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES
 from polyell.errors import InputError
 from polyell.expressions import evaluate, evaluate_list
 from polyell.models.planar_arm import PlanarArm
+from polyell.models.urdf import Payload, UrdfRobot
 from polyell.validation import check_torque_limits
 
 if sys.version_info >= (3, 11):
@@ -65,7 +66,20 @@ __all__ = [
 ]
 
 _TOP_KEYS = ("title", "description", "robot", "points", "grid", "compare", "output")
-_ROBOT_KEYS = ("library", "planar", "tau_max", "tau_min")
+_ROBOT_KEYS = (
+    "library",
+    "planar",
+    "urdf",
+    "tip",
+    "task",
+    "locked_joints",
+    "gravity",
+    "weights",
+    "payload",
+    "tau_max",
+    "tau_min",
+)
+_PAYLOAD_KEYS = ("mass", "com", "inertia")
 _PLANAR_KEYS = ("lengths", "masses", "com", "inertia", "gravity")
 _POINT_KEYS = ("name", "q", "direction", "inverse_at", "title")
 _RANGE_KEYS = ("start", "stop", "num")
@@ -92,40 +106,90 @@ def _check_keys(where: str, table: object, valid: tuple[str, ...]) -> dict[str, 
 class Robot:
     """A robot model with its torque limits, as described in a file."""
 
-    model: PlanarArm
+    model: PlanarArm | UrdfRobot
     tau_max: NDArray[np.float64]
     tau_min: NDArray[np.float64]
 
 
-def robot_from_table(table: object, where: str = "robot") -> Robot:
-    """Build a robot from a ``[robot]`` table (keys: library | planar, tau_max, tau_min)."""
+def _planar(table: object, where: str) -> PlanarArm:
+    planar = _check_keys(where, table, _PLANAR_KEYS)
+    for key in ("lengths", "masses"):
+        if key not in planar:
+            raise InputError(where, f"a '{key}' list", "no such key")
+    lists = {
+        key: evaluate_list(f"{where}.{key}", planar[key])
+        for key in ("com", "inertia")
+        if key in planar
+    }
+    return PlanarArm(
+        evaluate_list(f"{where}.lengths", planar["lengths"]),
+        evaluate_list(f"{where}.masses", planar["masses"]),
+        com=lists.get("com"),
+        inertia=lists.get("inertia"),
+        gravity=evaluate(f"{where}.gravity", planar.get("gravity", 9.81)),
+    )
+
+
+def _urdf_options(table: dict[str, Any], where: str) -> dict[str, Any]:
+    """Keyword arguments of UrdfRobot from the optional keys of a robot table."""
+    options: dict[str, Any] = {}
+    if "tip" in table:
+        options["tip"] = str(table["tip"])
+    if "task" in table:
+        options["task"] = table["task"]
+    if "locked_joints" in table:
+        options["locked_joints"] = tuple(table["locked_joints"])
+    if "gravity" in table:
+        options["gravity"] = evaluate_list(f"{where}.gravity", table["gravity"])
+    if "weights" in table:
+        options["weights"] = evaluate_list(f"{where}.weights", table["weights"])
+    if "payload" in table:
+        payload = _check_keys(f"{where}.payload", table["payload"], _PAYLOAD_KEYS)
+        if "mass" not in payload:
+            raise InputError(f"{where}.payload", "a 'mass' [kg]", "no such key")
+        options["payload"] = Payload(
+            evaluate(f"{where}.payload.mass", payload["mass"]),
+            tuple(evaluate_list(f"{where}.payload.com", payload.get("com", [0, 0, 0]))),
+            tuple(
+                tuple(evaluate_list(f"{where}.payload.inertia[{i}]", row))
+                for i, row in enumerate(payload.get("inertia", [[0, 0, 0]] * 3))
+            ),
+        )
+    return options
+
+
+def robot_from_table(table: object, where: str = "robot", folder: Path | None = None) -> Robot:
+    """Build a robot from a ``[robot]`` table.
+
+    Exactly one of ``library`` (a name of :func:`polyell.robots.names`), ``planar`` (a
+    link table) or ``urdf`` (a file, relative to ``folder``, with ``tip``); URDF robots
+    also take ``task``, ``locked_joints``, ``gravity``, ``weights`` and ``payload``
+    (``{ mass, com, inertia }``); every robot takes ``tau_max`` and ``tau_min``.
+    """
     table = _check_keys(where, table, _ROBOT_KEYS)
-    if ("library" in table) == ("planar" in table):
+    sources = [key for key in ("library", "planar", "urdf") if key in table]
+    if len(sources) != 1:
         raise InputError(
             where,
-            "exactly one of 'library' (a name) and 'planar' (a link table)",
+            "exactly one of 'library' (a name), 'planar' (a link table), 'urdf' (a file)",
             f"keys {sorted(table)}",
             f'e.g. library = "chiacchio2000"; names: {robots.names()}.',
         )
-    if "library" in table:
-        model = robots.load(table["library"])
+    options = _urdf_options(table, where)
+    model: PlanarArm | UrdfRobot
+    if "planar" in table:
+        if options:
+            raise InputError(where, "no URDF options for a planar arm", f"{sorted(options)}")
+        model = _planar(table["planar"], f"{where}.planar")
+    elif "library" in table:
+        model = robots.load(str(table["library"]), **options)
     else:
-        planar = _check_keys(f"{where}.planar", table["planar"], _PLANAR_KEYS)
-        for key in ("lengths", "masses"):
-            if key not in planar:
-                raise InputError(f"{where}.planar", f"a '{key}' list", "no such key")
-        lists = {
-            key: evaluate_list(f"{where}.planar.{key}", planar[key])
-            for key in ("com", "inertia")
-            if key in planar
-        }
-        model = PlanarArm(
-            evaluate_list(f"{where}.planar.lengths", planar["lengths"]),
-            evaluate_list(f"{where}.planar.masses", planar["masses"]),
-            com=lists.get("com"),
-            inertia=lists.get("inertia"),
-            gravity=evaluate(f"{where}.planar.gravity", planar.get("gravity", 9.81)),
-        )
+        if "tip" not in options:
+            raise InputError(where, "a 'tip' frame name for a URDF robot", "no tip key")
+        path = Path(str(table["urdf"]))
+        if folder is not None and not path.is_absolute():
+            path = folder / path
+        model = UrdfRobot(path, **options)
     if "tau_max" in table:
         upper = evaluate_list(f"{where}.tau_max", table["tau_max"])
         lower = evaluate_list(f"{where}.tau_min", table["tau_min"]) if "tau_min" in table else None
@@ -151,7 +215,7 @@ def _read_toml(path: str | Path) -> dict[str, Any]:
 
 def load_robot_file(path: str | Path) -> Robot:
     """A robot file: TOML with the keys of a study's ``[robot]`` table at the top level."""
-    return robot_from_table(_read_toml(path), where=Path(path).name)
+    return robot_from_table(_read_toml(path), where=Path(path).name, folder=Path(path).parent)
 
 
 @dataclass(frozen=True)
@@ -263,7 +327,7 @@ def load_study(path: str | Path) -> StudySpec:
     data = _check_keys(Path(path).name, _read_toml(path), _TOP_KEYS)
     if "robot" not in data:
         raise InputError(Path(path).name, "a [robot] table", "none")
-    robot = robot_from_table(data["robot"])
+    robot = robot_from_table(data["robot"], folder=Path(path).parent)
     n = robot.model.n
     if ("points" in data) == ("grid" in data):
         raise InputError(

@@ -1,0 +1,296 @@
+r"""Real robots from URDF, with the rigid-body dynamics of Pinocchio.
+
+Needs the optional extra ``polyell[robots]`` (the ``pin`` distribution).  At a
+configuration :math:`q` (and joint velocity :math:`\dot q`, zero by default):
+
+* ``J``: rows of the 6-D frame Jacobian of the tip, in the world-aligned frame at the tip
+  (``LOCAL_WORLD_ALIGNED``: linear rows x, y, z, then angular rows wx, wy, wz);
+* ``B``: the joint-space inertia matrix (CRBA);
+* ``g``: the gravity torques; for :math:`\dot q \ne 0` the nonlinear effects
+  :math:`c(q, \dot q) + g(q)`, and ``xdd_bias`` :math:`= \dot J \dot q`, the classical
+  acceleration of the tip at zero joint acceleration (eq. 2-3 of the paper).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from polyell.errors import InputError, MissingDependencyError
+from polyell.models.dynamics import Dynamics
+from polyell.validation import check_array, check_spd, check_torque_limits
+
+__all__ = ["TASKS", "TASK_ROWS", "Payload", "UrdfRobot", "import_pinocchio"]
+
+#: Rows of the 6-D frame Jacobian by name.
+TASK_ROWS = {"x": 0, "y": 1, "z": 2, "wx": 3, "wy": 4, "wz": 5}
+#: Named task spaces.
+TASKS = {"linear": ("x", "y", "z"), "angular": ("wx", "wy", "wz"), "planar": ("x", "y")}
+
+
+def import_pinocchio() -> ModuleType:
+    """Import Pinocchio, or explain which extra provides it."""
+    try:
+        import pinocchio
+    except ImportError as exn:
+        raise MissingDependencyError(
+            "Real robots need Pinocchio, which is not installed. Fix: pip install "
+            "'polyell[robots]' (the 'pin' distribution on PyPI)."
+        ) from exn
+    return pinocchio
+
+
+@dataclass(frozen=True)
+class Payload:
+    """A rigid payload carried at the tip frame.
+
+    Parameters
+    ----------
+    mass : float
+        [kg], positive.
+    com : array-like, shape (3,)
+        Centre of mass in the tip frame [m].
+    inertia : array-like, shape (3, 3)
+        Rotational inertia about the centre of mass, in the tip frame [kg m^2]
+        (symmetric positive semidefinite; default zero: a point mass).
+    """
+
+    mass: float
+    com: Sequence[float] = (0.0, 0.0, 0.0)
+    inertia: Sequence[Sequence[float]] = ((0.0,) * 3,) * 3
+
+
+def _task_rows(task: str | Sequence[str | int]) -> list[int]:
+    if isinstance(task, str):
+        if task not in TASKS:
+            raise InputError(
+                "task",
+                f"one of {list(TASKS)} or a list of rows among {list(TASK_ROWS)}",
+                repr(task),
+            )
+        return [TASK_ROWS[name] for name in TASKS[task]]
+    rows = []
+    for item in task:
+        if isinstance(item, str) and item in TASK_ROWS:
+            rows.append(TASK_ROWS[item])
+        elif isinstance(item, int | np.integer) and 0 <= item < 6:
+            rows.append(int(item))
+        else:
+            raise InputError(
+                "task", f"rows among {list(TASK_ROWS)} or indices 0..5", f"row {item!r}"
+            )
+    if not rows or len(set(rows)) != len(rows):
+        raise InputError("task", "a non-empty list of distinct rows", repr(list(task)))
+    return rows
+
+
+class UrdfRobot:
+    """A fixed-base arm described by URDF, with dynamics from Pinocchio.
+
+    Parameters
+    ----------
+    urdf : str or Path
+        A URDF file (or a URDF document as a string starting with ``<``).
+    tip : str
+        Name of the frame (link or joint) whose acceleration is the task.
+    task : str or sequence, optional
+        ``"linear"`` (x, y, z), ``"angular"`` (wx, wy, wz), ``"planar"`` (x, y), or a list
+        of rows among ``x y z wx wy wz``.  Mixing linear and angular rows needs
+        ``weights`` (the paper's Euclidean metric is otherwise meaningless, section 1).
+    locked_joints : sequence of str, optional
+        Joints held at their neutral position (e.g. gripper fingers), removed with
+        Pinocchio's reduced model.
+    gravity : array-like, shape (3,), optional
+        Gravity in the world frame [m/s^2].
+    tau_max, tau_min : array-like, shape (n,), optional
+        Torque limits [N m]; default the URDF's effort limits (``tau_min = -tau_max``).
+    weights : array-like, optional
+        One positive scale per task row (its unit becomes weight x native unit); required
+        to mix linear and angular rows.
+    payload : Payload, optional
+        Mass carried at the tip frame.
+
+    Examples
+    --------
+    >>> import polyell as pe
+    >>> robot = pe.robots.load("panda")  # doctest: +SKIP
+    >>> robot.nq, robot.joint_names[0]  # doctest: +SKIP
+    (7, 'panda_joint1')
+    """
+
+    def __init__(
+        self,
+        urdf: str | os.PathLike[str],
+        tip: str,
+        task: str | Sequence[str | int] = "linear",
+        locked_joints: Sequence[str] = (),
+        gravity: ArrayLike = (0.0, 0.0, -9.81),
+        *,
+        tau_max: ArrayLike | None = None,
+        tau_min: ArrayLike | None = None,
+        weights: ArrayLike | None = None,
+        payload: Payload | None = None,
+    ) -> None:
+        pin = import_pinocchio()
+        self._pin = pin
+        full = self._build(pin, urdf)
+        locked = []
+        for name in locked_joints:
+            if not full.existJointName(name):
+                raise InputError(
+                    "locked_joints", f"joint names among {list(full.names)[1:]}", repr(name)
+                )
+            locked.append(full.getJointId(name))
+        model = pin.buildReducedModel(full, locked, pin.neutral(full)) if locked else full
+        for joint in list(model.joints)[1:]:
+            if joint.nv != 1 or joint.nq not in (1, 2):
+                raise InputError(
+                    "urdf",
+                    "a fixed-base arm of revolute or prismatic joints",
+                    f"a joint of type {joint.shortname()}",
+                    "lock it, or describe the arm without a floating base.",
+                )
+        if not model.existFrame(tip):
+            frames = [f.name for f in model.frames]
+            raise InputError("tip", f"a frame of the robot, e.g. {frames[-3:]}", repr(tip))
+        self.tip = tip
+        self._frame = model.getFrameId(tip)
+        self.rows = _task_rows(task)
+        self.task = task
+        linear = any(r < 3 for r in self.rows)
+        angular = any(r >= 3 for r in self.rows)
+        if weights is None:
+            if linear and angular:
+                raise InputError(
+                    "task",
+                    "rows that are all linear or all angular (the Euclidean metric of the "
+                    "ellipsoids is meaningless across units)",
+                    f"mixed rows {[k for k, v in TASK_ROWS.items() if v in self.rows]}",
+                    "pass weights=[...], one positive scale per row, to make the metric explicit.",
+                )
+            self.weights = np.ones(len(self.rows))
+        else:
+            self.weights = check_array("weights", weights, (len(self.rows),))
+            if np.any(self.weights <= 0):
+                raise InputError("weights", "positive scales", f"{self.weights}")
+        model.gravity.linear = check_array("gravity", gravity, (3,))
+        if payload is not None:
+            self._attach(pin, model, payload)
+        self.model = model
+        self._data = model.createData()
+        self.joint_names: list[str] = list(model.names)[1:]
+        if tau_max is None:
+            effort = np.array(model.effortLimit, dtype=float)
+            missing = [n for n, e in zip(self.joint_names, effort, strict=True) if e <= 0]
+            if missing:
+                raise InputError(
+                    "tau_max",
+                    "effort limits in the URDF for every joint",
+                    f"none for {missing}",
+                    "pass tau_max=[...] explicitly.",
+                )
+            tau_max = effort
+        self.tau_max, self.tau_min = check_torque_limits(tau_max, tau_min, self.nq)
+
+    @staticmethod
+    def _build(pin: ModuleType, urdf: str | os.PathLike[str]) -> Any:
+        text = str(urdf)
+        try:
+            if text.lstrip().startswith("<"):
+                return pin.buildModelFromXML(text)
+            if not Path(text).is_file():
+                raise InputError("urdf", "an existing URDF file", repr(text))
+            return pin.buildModelFromUrdf(text)
+        except (ValueError, RuntimeError) as exn:
+            raise InputError("urdf", "a valid URDF description", f"{exn}"[:200]) from None
+
+    def _attach(self, pin: ModuleType, model: Any, payload: Payload) -> None:
+        mass = float(check_array("payload.mass", payload.mass, ()))
+        if mass <= 0:
+            raise InputError("payload.mass", "a positive mass [kg]", f"{mass}")
+        com = check_array("payload.com", payload.com, (3,))
+        inertia = np.asarray(check_array("payload.inertia", payload.inertia, (3, 3)))
+        if np.any(inertia):
+            inertia = check_spd("payload.inertia", inertia + 0.0, 3)
+        frame = model.frames[model.getFrameId(self.tip)]
+        body = pin.Inertia(mass, com, inertia)
+        joint = frame.parentJoint
+        model.inertias[joint] = model.inertias[joint] + frame.placement.act(body)
+
+    @property
+    def nq(self) -> int:
+        """Number of joints (one angle or displacement each)."""
+        return int(self.model.nv)
+
+    @property
+    def n(self) -> int:
+        """Number of joints (alias of :attr:`nq`)."""
+        return self.nq
+
+    @property
+    def m(self) -> int:
+        """Task-space dimension."""
+        return len(self.rows)
+
+    def __repr__(self) -> str:
+        return (
+            f"UrdfRobot(model={self.model.name!r}, nq={self.nq}, tip={self.tip!r}, "
+            f"task={self.task!r})"
+        )
+
+    def configuration(self, q: ArrayLike) -> NDArray[np.float64]:
+        """Pinocchio's configuration vector for joint angles ``q`` (shape (nq,)).
+
+        Unbounded (continuous) revolute joints are stored by Pinocchio as (cos, sin).
+        """
+        angles = check_array("q", q, (self.nq,), what="joint positions [rad or m]")
+        config = np.array(self._pin.neutral(self.model), dtype=float)
+        for joint in list(self.model.joints)[1:]:
+            value = angles[joint.idx_v]
+            if joint.nq == 1:
+                config[joint.idx_q] = value
+            else:
+                config[joint.idx_q : joint.idx_q + 2] = np.cos(value), np.sin(value)
+        return config
+
+    def dynamics(self, q: ArrayLike, qd: ArrayLike | None = None) -> Dynamics:
+        """Jacobian, inertia and gravity (or nonlinear) torques at ``q``.
+
+        Parameters
+        ----------
+        q : array-like, shape (nq,)
+            Joint positions [rad or m].
+        qd : array-like, shape (nq,), optional
+            Joint velocities [rad/s or m/s]; nonzero adds the Coriolis and centrifugal
+            torques to ``g`` and ``Jdot qdot`` as ``xdd_bias``.
+
+        Returns
+        -------
+        Dynamics
+        """
+        pin, model, data = self._pin, self.model, self._data
+        config = self.configuration(q)
+        pin.computeJointJacobians(model, data, config)
+        pin.updateFramePlacements(model, data)
+        jacobian = pin.getFrameJacobian(model, data, self._frame, pin.LOCAL_WORLD_ALIGNED)
+        B = np.array(pin.crba(model, data, config))
+        B = np.triu(B) + np.triu(B, 1).T  # Pinocchio fills the upper triangle
+        J = jacobian[self.rows] * self.weights[:, None]
+        velocity = None if qd is None else check_array("qd", qd, (self.nq,))
+        if velocity is None or not np.any(velocity):
+            g = np.array(pin.computeGeneralizedGravity(model, data, config))
+            return Dynamics(J, B, g)
+        g = np.array(pin.nonLinearEffects(model, data, config, velocity))
+        pin.forwardKinematics(model, data, config, velocity, np.zeros(self.nq))
+        acceleration = pin.getFrameClassicalAcceleration(
+            model, data, self._frame, pin.LOCAL_WORLD_ALIGNED
+        )
+        bias = np.concatenate([acceleration.linear, acceleration.angular])
+        return Dynamics(J, B, g, bias[self.rows] * self.weights)
