@@ -157,11 +157,14 @@ class UrdfRobot:
                     f"a joint of type {joint.shortname()}",
                     "lock it, or describe the arm without a floating base.",
                 )
-        if not model.existFrame(tip):
+        matches = [i for i, frame in enumerate(model.frames) if frame.name == tip]
+        if not matches:
             frames = [f.name for f in model.frames]
             raise InputError("tip", f"a frame of the robot, e.g. {frames[-3:]}", repr(tip))
+        # A link and its parent joint may share a name: the link (body) frame is the tip.
+        bodies = [i for i in matches if model.frames[i].type == pin.FrameType.BODY]
         self.tip = tip
-        self._frame = model.getFrameId(tip)
+        self._frame = (bodies or matches)[0]
         self.rows = _task_rows(task)
         self.task = task
         linear = any(r < 3 for r in self.rows)
@@ -219,7 +222,7 @@ class UrdfRobot:
         inertia = np.asarray(check_array("payload.inertia", payload.inertia, (3, 3)))
         if np.any(inertia):
             inertia = check_spd("payload.inertia", inertia + 0.0, 3)
-        frame = model.frames[model.getFrameId(self.tip)]
+        frame = model.frames[self._frame]
         body = pin.Inertia(mass, com, inertia)
         joint = frame.parentJoint
         model.inertias[joint] = model.inertias[joint] + frame.placement.act(body)
