@@ -12,6 +12,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
@@ -27,6 +28,7 @@ from polyell.geometry.ellipsoid import Ellipsoid
 __all__ = [
     "STYLES",
     "plot_directional_limits",
+    "plot_score_histogram",
     "plot_score_map",
     "plot_sets",
     "plot_sets_3d",
@@ -270,6 +272,55 @@ def plot_score_map(
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.set_aspect("equal")
+    if title:
+        ax.set_title(title, fontsize="medium")
+    return figure
+
+
+def plot_score_histogram(
+    results: pd.DataFrame,
+    score: str,
+    *,
+    kinds: Sequence[str] = ("chiacchio", "yoshikawa"),
+    bins: int = 30,
+    title: str | None = None,
+) -> Figure:
+    """Histograms of one score over the configurations of a study, one per ellipsoid.
+
+    Parameters
+    ----------
+    results : DataFrame
+        One row per configuration with ``<kind>_<score>`` columns.
+    score : str
+        A score name, e.g. ``"coverage"``.
+    kinds : sequence of str
+        Ellipsoids to overlay (step outlines in the line styles of :data:`STYLES`);
+        configurations where one is undefined are left out of its histogram.
+    """
+    present = [kind for kind in kinds if f"{kind}_{score}" in results]
+    if not present:
+        raise InputError(
+            "score", f"a score with columns in the results, e.g. {list(results)[:4]}", repr(score)
+        )
+    values = [results[f"{kind}_{score}"].to_numpy(dtype=float) for kind in present]
+    finite = [v[np.isfinite(v)] for v in values]
+    edges = np.histogram_bin_edges(np.concatenate(finite), bins=bins).tolist()
+    figure = Figure(figsize=(5.0, 3.6), layout="constrained")
+    ax = figure.add_subplot()
+    for kind, data in zip(present, finite, strict=True):
+        style = _style(kind)
+        ax.hist(
+            data,
+            bins=edges,
+            histtype="step",
+            color=str(style["color"]),
+            linestyle=style["linestyle"],
+            linewidth=1.6,
+            label=f"{style['label']} (median {np.median(data):.3g})",
+        )
+    ax.set_xlabel(score.replace("_", " "))
+    ax.set_ylabel("configurations")
+    ax.legend(fontsize="small")
     if title:
         ax.set_title(title, fontsize="medium")
     return figure

@@ -100,3 +100,29 @@ def random_arm_analysis(seed: int, n: int, singular: bool = False) -> pe.Analysi
 def random_directions(seed: int, k: int, m: int) -> np.ndarray:
     T = np.random.default_rng(seed).normal(size=(k, m))
     return T / np.linalg.norm(T, axis=1, keepdims=True)
+
+
+def planar_urdf(arm: pe.PlanarArm, joint_type: str = "revolute") -> str:
+    """A URDF of a planar arm: links along x, joints about z, a 'tip' frame at the end."""
+    parts = ['<robot name="planar">', '<link name="base"/>']
+    parent = "base"
+    offset = 0.0
+    for i, (length, mass, com, inertia) in enumerate(
+        zip(arm.lengths, arm.masses, arm.com, arm.inertia, strict=True)
+    ):
+        parts += [
+            f'<link name="link{i}"><inertial><origin xyz="{com} 0 0"/><mass value="{mass}"/>'
+            f'<inertia ixx="1e-3" iyy="1e-3" izz="{inertia}" ixy="0" ixz="0" iyz="0"/>'
+            "</inertial></link>",
+            f'<joint name="joint{i}" type="{joint_type}"><parent link="{parent}"/>'
+            f'<child link="link{i}"/><origin xyz="{offset} 0 0"/><axis xyz="0 0 1"/>'
+            '<limit effort="50" velocity="1" lower="-10" upper="10"/></joint>',
+        ]
+        parent, offset = f"link{i}", length
+    parts += [
+        '<link name="tip"/>',
+        f'<joint name="tip_joint" type="fixed"><parent link="{parent}"/><child link="tip"/>'
+        f'<origin xyz="{offset} 0 0"/></joint>',
+        "</robot>",
+    ]
+    return "\n".join(parts)

@@ -242,6 +242,19 @@ class UrdfRobot:
         """Task-space dimension."""
         return len(self.rows)
 
+    @property
+    def position_limits(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Lower and upper joint positions from the URDF, shape (nq,) each.
+
+        Unbounded (continuous) joints get ``[-pi, pi]``.
+        """
+        low, high = np.full(self.nq, -np.pi), np.full(self.nq, np.pi)
+        for joint in list(self.model.joints)[1:]:
+            if joint.nq == 1:
+                low[joint.idx_v] = self.model.lowerPositionLimit[joint.idx_q]
+                high[joint.idx_v] = self.model.upperPositionLimit[joint.idx_q]
+        return low, high
+
     def __repr__(self) -> str:
         return (
             f"UrdfRobot(model={self.model.name!r}, nq={self.nq}, tip={self.tip!r}, "

@@ -15,6 +15,7 @@ from polyell.comparison.tables import ELLIPSOID_LABELS, format_scores_table
 from polyell.errors import InputError
 from polyell.figures import (
     plot_directional_limits,
+    plot_score_histogram,
     plot_score_map,
     plot_sets,
     plot_sets_3d,
@@ -114,8 +115,8 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
     return written
 
 
-def _run_grid(spec: StudySpec, folder: Path, progress: bool) -> list[Path]:
-    configurations = spec.grid_configurations()
+def _run_many(spec: StudySpec, folder: Path, progress: bool) -> list[Path]:
+    configurations = spec.configurations()
     rows = []
     for q in tqdm(configurations, desc=spec.title, unit="config", disable=not progress):
         analysis = analyze(spec.robot.model.dynamics(q), spec.robot.tau_max, spec.robot.tau_min)
@@ -158,6 +159,9 @@ def _run_grid(spec: StudySpec, folder: Path, progress: bool) -> list[Path]:
             title=f"{ELLIPSOID_LABELS[kind]}: {score.replace('_', ' ')}",
         )
         written += save_figure(figure, folder / f"map_{name}", spec.formats, spec.dpi)
+    for score in spec.histograms:
+        figure = plot_score_histogram(results, score, title=f"{spec.title}")
+        written += save_figure(figure, folder / f"histogram_{score}", spec.formats, spec.dpi)
     return written
 
 
@@ -184,7 +188,7 @@ def run_study(spec: StudySpec, out: str | Path, *, progress: bool = False) -> li
         If ``out`` cannot be written.
     """
     folder = _prepare(out)
-    written = _run_grid(spec, folder, progress) if spec.is_grid else _run_points(spec, folder)
+    written = _run_many(spec, folder, progress) if spec.is_batch else _run_points(spec, folder)
     manifest = {
         "study": spec.title,
         "spec": spec.path.name,

@@ -18,6 +18,12 @@ A study file::
     q1 = "pi/2"
     q2 = { start = "-pi", stop = "pi", num = 41 }
 
+    [random]                     # ... or seeded uniform samples within the joint limits
+    count = 300
+    seed = 1
+    low = [...]                  # optional, default the URDF's limits (else -pi)
+    high = [...]                 # optional, default the URDF's limits (else pi)
+
     [compare]
     directions = 360             # the default set's size
     mvie = true
@@ -28,6 +34,7 @@ A study file::
     formats = ["pdf", "png"]
     dpi = 300
     maps = ["chiacchio_coverage"]    # heat maps of a grid study (<ellipsoid>_<score>)
+    histograms = ["coverage"]        # per score, both ellipsoids (grid or random study)
 
 Numbers may be written as expressions: ``"pi/2"``, ``"sqrt(3)/2"``.
 """
@@ -65,7 +72,8 @@ __all__ = [
     "robot_from_table",
 ]
 
-_TOP_KEYS = ("title", "description", "robot", "points", "grid", "compare", "output")
+_TOP_KEYS = ("title", "description", "robot", "points", "grid", "random", "compare", "output")
+_RANDOM_KEYS = ("count", "seed", "low", "high")
 _ROBOT_KEYS = (
     "library",
     "planar",
@@ -84,7 +92,7 @@ _PLANAR_KEYS = ("lengths", "masses", "com", "inertia", "gravity")
 _POINT_KEYS = ("name", "q", "direction", "inverse_at", "title")
 _RANGE_KEYS = ("start", "stop", "num")
 _COMPARE_KEYS = ("directions", "mvie", "samples", "seed")
-_OUTPUT_KEYS = ("formats", "dpi", "maps")
+_OUTPUT_KEYS = ("formats", "dpi", "maps", "histograms")
 _FORMATS = ("pdf", "png", "svg")
 
 
@@ -247,6 +255,7 @@ class StudySpec:
     robot: Robot
     points: tuple[Point, ...] = ()
     grid: tuple[GridAxis, ...] = ()
+    samples_q: NDArray[np.float64] | None = None
     directions: int | None = None
     mvie: bool = True
     samples: int = 2**13
@@ -254,14 +263,22 @@ class StudySpec:
     formats: tuple[str, ...] = ("pdf", "png")
     dpi: int = 300
     maps: tuple[str, ...] = field(default_factory=tuple)
+    histograms: tuple[str, ...] = field(default_factory=tuple)
 
     @property
     def is_grid(self) -> bool:
-        """True for a grid study, False for a study of named points."""
+        """True for a grid study."""
         return bool(self.grid)
 
-    def grid_configurations(self) -> NDArray[np.float64]:
-        """All grid configurations, shape (K, n), the last joint varying fastest."""
+    @property
+    def is_batch(self) -> bool:
+        """True for many configurations (a grid or random samples), False for points."""
+        return bool(self.grid) or self.samples_q is not None
+
+    def configurations(self) -> NDArray[np.float64]:
+        """All configurations of a grid (the last joint varying fastest) or random study."""
+        if self.samples_q is not None:
+            return self.samples_q
         mesh = np.meshgrid(*[axis.values for axis in self.grid], indexing="ij")
         return np.stack([m.ravel() for m in mesh], axis=1)
 
@@ -315,6 +332,28 @@ def _grid(table: object, n: int) -> tuple[GridAxis, ...]:
     return tuple(axes)
 
 
+def _random(table: object, robot: Robot) -> NDArray[np.float64]:
+    table = _check_keys("random", table, _RANDOM_KEYS)
+    count = table.get("count")
+    if not isinstance(count, int) or count < 1:
+        raise InputError("random.count", "a positive integer", repr(count))
+    model = robot.model
+    limits = getattr(model, "position_limits", None)
+    low, high = (
+        limits if limits is not None else (np.full(model.n, -np.pi), np.full(model.n, np.pi))
+    )
+    if "low" in table:
+        low = np.array(evaluate_list("random.low", table["low"]))
+    if "high" in table:
+        high = np.array(evaluate_list("random.high", table["high"]))
+    if low.size != model.n or high.size != model.n or np.any(low > high):
+        raise InputError(
+            "random", f"low <= high with {model.n} entries each", f"low={low}, high={high}"
+        )
+    rng = np.random.default_rng(int(table.get("seed", 0)))
+    return rng.uniform(low, high, size=(count, model.n))
+
+
 def load_study(path: str | Path) -> StudySpec:
     """Parse and check a study file.
 
@@ -329,12 +368,15 @@ def load_study(path: str | Path) -> StudySpec:
         raise InputError(Path(path).name, "a [robot] table", "none")
     robot = robot_from_table(data["robot"], folder=Path(path).parent)
     n = robot.model.n
-    if ("points" in data) == ("grid" in data):
+    if sum(key in data for key in ("points", "grid", "random")) != 1:
         raise InputError(
-            Path(path).name, "exactly one of [[points]] and [grid]", f"keys {sorted(data)}"
+            Path(path).name,
+            "exactly one of [[points]], [grid] and [random]",
+            f"keys {sorted(data)}",
         )
     points = tuple(_point(t, i, n) for i, t in enumerate(data.get("points", [])))
     grid = _grid(data["grid"], n) if "grid" in data else ()
+    samples_q = _random(data["random"], robot) if "random" in data else None
     compare = _check_keys("compare", data.get("compare", {}), _COMPARE_KEYS)
     output = _check_keys("output", data.get("output", {}), _OUTPUT_KEYS)
     formats = tuple(output.get("formats", ("pdf", "png")))
@@ -354,6 +396,14 @@ def load_study(path: str | Path) -> StudySpec:
         raise InputError(
             "output.maps", "a grid with exactly two varying joints", f"{len(grid)} grid axes"
         )
+    histograms = tuple(output.get("histograms", ()))
+    for name in histograms:
+        if name not in SCORE_NAMES:
+            raise InputError(
+                "output.histograms", f"score names among {list(SCORE_NAMES)}", repr(name)
+            )
+    if histograms and "points" in data:
+        raise InputError("output.histograms", "a grid or random study", "a study of points")
     return StudySpec(
         path=Path(path),
         title=str(data.get("title", Path(path).stem)),
@@ -361,6 +411,7 @@ def load_study(path: str | Path) -> StudySpec:
         robot=robot,
         points=points,
         grid=grid,
+        samples_q=samples_q,
         directions=compare.get("directions"),
         mvie=bool(compare.get("mvie", True)),
         samples=int(compare.get("samples", 2**13)),
@@ -368,4 +419,5 @@ def load_study(path: str | Path) -> StudySpec:
         formats=formats,
         dpi=int(output.get("dpi", 300)),
         maps=maps,
+        histograms=histograms,
     )

@@ -92,3 +92,44 @@ def test_unwritable_output_folder(tmp_path):
     blocker.write_text("")
     with pytest.raises(pe.InputError, match="out: expected a folder polyell can write to"):
         run_study(load_study(REPO / "studies" / "chiacchio2000.toml"), blocker / "sub")
+
+
+RANDOM_PANDA = """
+    title = "panda"
+    [robot]
+    library = "panda"
+    [random]
+    count = 6
+    seed = 3
+    [compare]
+    directions = 50
+    mvie = false
+    [output]
+    formats = ["png"]
+    dpi = 40
+    histograms = ["coverage", "witness_torque_max"]
+"""
+
+
+def test_random_study_of_a_real_robot(tmp_path):
+    spec_path = tmp_path / "panda.toml"
+    spec_path.write_text(textwrap.dedent(RANDOM_PANDA))
+    spec = load_study(spec_path)
+    q = spec.configurations()
+    low, high = spec.robot.model.position_limits
+    assert q.shape == (6, 7) and np.all((q >= low) & (q <= high))
+    np.testing.assert_array_equal(q, load_study(spec_path).configurations())  # seeded
+    out = tmp_path / "out"
+    run_study(spec, out)
+    results = pd.read_csv(out / "results.csv")
+    robot = pe.robots.load("panda")
+    expected = pe.compare(pe.analyze(robot.dynamics(q[2]), robot.tau_max), 50, mvie=False)
+    assert results.loc[2, "yoshikawa_coverage"] == pytest.approx(expected["yoshikawa"].coverage)
+    assert (out / "histogram_coverage.png").exists()
+    assert (out / "histogram_witness_torque_max.png").exists()
+
+
+def test_the_shipped_panda_study_parses():
+    spec = load_study(REPO / "studies" / "panda_random.toml")
+    assert spec.configurations().shape == (300, 7)
+    assert spec.robot.model.joint_names[-1] == "panda_joint7"

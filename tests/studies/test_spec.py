@@ -8,6 +8,7 @@ import pytest
 
 import polyell as pe
 from polyell.studies import load_robot_file, load_study
+from reference import PAPER_ARM, planar_urdf
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -34,7 +35,7 @@ def test_the_shipped_studies_parse():
     np.testing.assert_allclose(paper.points[1].direction, [-0.5, np.sqrt(3) / 2])
     np.testing.assert_allclose(paper.robot.tau_max, [100, 30, 4])
     sweep = load_study(REPO / "studies" / "planar3r_sweep.toml")
-    assert sweep.is_grid and sweep.grid_configurations().shape == (61 * 61, 3)
+    assert sweep.is_grid and sweep.configurations().shape == (61 * 61, 3)
     assert not sweep.mvie
 
 
@@ -54,7 +55,7 @@ def test_planar_robot_table_and_expressions(tmp_path):
     spec = load_study(path)
     assert spec.robot.model.gravity == 0.0
     np.testing.assert_allclose(spec.robot.tau_min, [-1, -3])
-    np.testing.assert_allclose(spec.grid_configurations()[:, 1], [0, np.pi / 4, np.pi / 2])
+    np.testing.assert_allclose(spec.configurations()[:, 1], [0, np.pi / 4, np.pi / 2])
 
 
 def test_robot_file(tmp_path):
@@ -75,7 +76,7 @@ def test_robot_file(tmp_path):
         (POINTS + "[output]\nformats = ['jpg']\n", "output.formats: expected a list among"),
         (POINTS + "[output]\nmaps = ['chiacchio_coverage']\n", "output.maps: expected a grid"),
         (POINTS + "[output]\nmaps = ['coverage']\n", "output.maps: expected names"),
-        (POINTS + "[grid]\nq1 = 0\n", "exactly one of [[points]] and [grid]"),
+        (POINTS + "[grid]\nq1 = 0\n", "exactly one of [[points]], [grid] and [random]"),
         ("[robot]\nplanar = { lengths = [1] }\n[grid]\nq1 = 0\n", "a 'masses' list"),
         ("[robot]\nplanar = { lengths = [1], masses = [1] }\n[grid]\nq1 = 0\n", "torque limits"),
         ("[robot]\nlibrary = 'chiacchio2000'\n[grid]\nq1 = 0\nq2 = 0\n", "for every joint"),
@@ -91,3 +92,49 @@ def test_bad_study_files(tmp_path, text, fragment):
 def test_missing_file():
     with pytest.raises(pe.InputError, match="existing TOML file"):
         load_study("no/such/study.toml")
+
+
+def test_urdf_robot_table_relative_to_the_study(tmp_path):
+    (tmp_path / "arm.urdf").write_text(planar_urdf(PAPER_ARM))
+    path = write(
+        tmp_path,
+        """
+        [robot]
+        urdf = "arm.urdf"
+        tip = "tip"
+        task = "planar"
+        gravity = [0, -9.81, 0]
+        payload = { mass = 0.5 }
+        tau_max = [100, 30, 4]
+        [random]
+        count = 4
+        low = [0, 0, 0]
+        high = [1, 1, 1]
+        """,
+    )
+    spec = load_study(path)
+    assert spec.robot.model.m == 2 and spec.configurations().max() <= 1
+
+
+@pytest.mark.parametrize(
+    ("extra", "fragment"),
+    [
+        ("[random]\ncount = 0\n", "random.count: expected a positive integer"),
+        ("[random]\ncount = 3\nlow = [0, 0]\n", "low <= high with 3 entries"),
+        ('[random]\ncount = 3\n[output]\nhistograms = ["cover"]\n', "output.histograms"),
+    ],
+)
+def test_bad_random_studies(tmp_path, extra, fragment):
+    text = '[robot]\nlibrary = "chiacchio2000"\n' + extra
+    with pytest.raises(pe.InputError) as info:
+        load_study(write(tmp_path, text))
+    assert fragment in str(info.value)
+
+
+def test_urdf_options_are_refused_for_a_planar_arm(tmp_path):
+    text = (
+        '[robot]\nplanar = { lengths = [1], masses = [1] }\ntip = "x"\ntau_max = [1]\n'
+        "[random]\ncount = 1\n"
+    )
+    with pytest.raises(pe.InputError, match="no URDF options for a planar arm"):
+        load_study(write(tmp_path, text))
