@@ -53,7 +53,8 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--robot",
         default="chiacchio2000",
-        help=f"a library name ({', '.join(robots.names())}) or a robot TOML file",
+        help=f"a library name ({', '.join(robots.names())}; all but the first need "
+        "polyell[robots]) or a robot TOML file",
     )
     run.add_argument("--q", type=_floats, default=_floats(PAPER_Q), help="joint angles [rad]")
     run.add_argument("--tau-max", type=_floats, help="[N m], default: the robot's own")
@@ -61,8 +62,9 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--direction",
         type=_floats,
-        default=[1.0, 0.0],
-        help="unit task direction, default x (write --direction=-0.5,0.866 for a leading '-')",
+        default=None,
+        help="unit task direction, default the first task axis (x); write "
+        "--direction=-0.5,0.866 for a leading '-'",
     )
     run.add_argument(
         "--inverse-at", choices=("lo", "hi"), default="hi", help="end of the new interval"
@@ -98,14 +100,15 @@ def _robot(name: str, tau_max: list[float] | None, tau_min: list[float] | None) 
 def _analyze(args: argparse.Namespace) -> None:
     robot = _robot(args.robot, args.tau_max, args.tau_min)
     analysis = analyze(robot.model.dynamics(args.q), robot.tau_max, robot.tau_min)
-    direction = np.asarray(args.direction)
+    m = analysis.dynamics.m
+    direction = np.eye(m)[0] if args.direction is None else np.asarray(args.direction)
     comparison = compare(analysis, mvie=not args.no_mvie)
     if args.json:
         result = {"robot": args.robot, "q": list(args.q)}
         result |= analysis_to_json(analysis, direction, comparison)
         print(json.dumps(result, indent=2))
         return
-    label = "x" if args.direction == [1.0, 0.0] else "t"
+    label = "x" if args.direction is None else "t"
     print(f"{args.robot} at q = {np.round(args.q, 6).tolist()} rad")
     print(format_analysis(analysis, direction, label, args.inverse_at))
     print("\nScores against the polytope (pe.compare):\n")
