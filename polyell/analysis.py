@@ -117,6 +117,13 @@ class Analysis:
                 type(dynamics).__name__,
                 "build one with pe.Dynamics(J, B, g) or arm.dynamics(q).",
             )
+        if dynamics.batch_size is not None:
+            raise InputError(
+                "dyn",
+                "the dynamics of one configuration",
+                f"a batch of {dynamics.batch_size}",
+                "analyze dyn[k] for one of them, or call pe.sweep for the whole batch.",
+            )
         self.dynamics = dynamics
         self.tau_max, self.tau_min = check_torque_limits(tau_max, tau_min, dynamics.n)
         self.tau_center = 0.5 * (self.tau_max + self.tau_min)

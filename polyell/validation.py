@@ -92,32 +92,37 @@ def check_array(
     return array
 
 
-def check_spd(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
-    """Check a symmetric positive-definite (n, n) matrix, such as an inertia matrix.
+def check_spd(
+    name: str, value: ArrayLike, n: int, batch: tuple[int, ...] = ()
+) -> NDArray[np.float64]:
+    """Check symmetric positive-definite (n, n) matrices, such as inertia matrices.
 
     Parameters
     ----------
     name : str
         Argument name used in error messages.
-    value : array-like, shape (n, n)
-        The matrix.
+    value : array-like, shape batch + (n, n)
+        The matrix, or a stack of them.
     n : int
         Expected size.
+    batch : tuple of int, optional
+        Leading (batch) shape.
 
     Returns
     -------
-    matrix : ndarray of float64, shape (n, n)
-        The matrix, symmetrised exactly (``(B + B^T) / 2``) after the check.
+    matrix : ndarray of float64, shape batch + (n, n)
+        The matrices, symmetrised exactly (``(B + B^T) / 2``) after the check.
 
     Raises
     ------
     InputError
-        If the matrix is not square of size ``n``, not symmetric to a relative
-        tolerance of ``SYMMETRY_RTOL``, or not positive definite.
+        If a matrix is not square of size ``n``, not symmetric to a relative tolerance of
+        ``SYMMETRY_RTOL``, or not positive definite.
     """
-    matrix = check_array(name, value, (n, n))
+    matrix = check_array(name, value, (*batch, n, n))
+    transposed = np.swapaxes(matrix, -1, -2)
     scale = np.max(np.abs(matrix)) if matrix.size else 0.0
-    asymmetry = np.max(np.abs(matrix - matrix.T)) if matrix.size else 0.0
+    asymmetry = np.max(np.abs(matrix - transposed)) if matrix.size else 0.0
     if asymmetry > SYMMETRY_RTOL * scale:
         raise InputError(
             name,
@@ -125,15 +130,17 @@ def check_spd(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
             f"max |B - B^T| = {asymmetry:.3g} (max |B| = {scale:.3g})",
             "pass the joint-space inertia matrix, which is symmetric.",
         )
-    matrix = 0.5 * (matrix + matrix.T)
+    matrix = 0.5 * (matrix + transposed)
     try:
         np.linalg.cholesky(matrix)
     except np.linalg.LinAlgError:
-        smallest = np.linalg.eigvalsh(matrix)[0] if n else 0.0
+        smallest = np.linalg.eigvalsh(matrix)[..., 0]
+        where = np.unravel_index(np.argmin(smallest), smallest.shape) if batch else ()
+        at = f" (matrix {tuple(int(i) for i in where)})" if batch else ""
         raise InputError(
             name,
             "a positive-definite matrix",
-            f"smallest eigenvalue {smallest:.6g}",
+            f"smallest eigenvalue {np.min(smallest):.6g}{at}",
             "an inertia matrix has strictly positive eigenvalues; check masses and inertias.",
         ) from None
     return matrix

@@ -35,11 +35,14 @@ class Dynamics:
     xdd_bias : array-like, shape (m,), optional
         Velocity-product acceleration ``Jdot qdot`` [m/s^2]; zero (default) at rest.
 
+    A batch of configurations (for :func:`polyell.sweep`) stacks the arrays along a first
+    axis: ``J`` (K, m, n), ``B`` (K, n, n), ``g`` (K, n), ``xdd_bias`` (K, m).
+
     Raises
     ------
     InputError
-        On mismatched shapes, non-finite entries, more task rows than joints, or an
-        inertia matrix that is not symmetric positive definite.
+        On mismatched shapes, non-finite entries, or an inertia matrix that is not
+        symmetric positive definite.
 
     Examples
     --------
@@ -57,14 +60,19 @@ class Dynamics:
     def __init__(
         self, J: ArrayLike, B: ArrayLike, g: ArrayLike, xdd_bias: ArrayLike | None = None
     ) -> None:
-        jacobian = check_array("J", J, ("m", "n"), what="Jacobian entries")
-        m, n = jacobian.shape
+        shape = ("K", "m", "n") if np.ndim(J) == 3 else ("m", "n")
+        jacobian = check_array("J", J, shape, what="Jacobian entries")
+        *batch, m, n = jacobian.shape
         if m == 0 or n == 0:
             raise InputError("J", "at least one task row and one joint", f"shape {jacobian.shape}")
         object.__setattr__(self, "J", jacobian)
-        object.__setattr__(self, "B", check_spd("B", B, n))
-        object.__setattr__(self, "g", check_array("g", g, (n,)))
-        bias = np.zeros(m) if xdd_bias is None else check_array("xdd_bias", xdd_bias, (m,))
+        object.__setattr__(self, "B", check_spd("B", B, n, tuple(batch)))
+        object.__setattr__(self, "g", check_array("g", g, (*batch, n)))
+        bias = (
+            np.zeros((*batch, m))
+            if xdd_bias is None
+            else check_array("xdd_bias", xdd_bias, (*batch, m))
+        )
         object.__setattr__(self, "xdd_bias", bias)
         for array in (self.J, self.B, self.g, self.xdd_bias):
             array.flags.writeable = False
@@ -72,9 +80,25 @@ class Dynamics:
     @property
     def m(self) -> int:
         """Task-space dimension."""
-        return int(self.J.shape[0])
+        return int(self.J.shape[-2])
 
     @property
     def n(self) -> int:
         """Number of joints."""
-        return int(self.J.shape[1])
+        return int(self.J.shape[-1])
+
+    @property
+    def batch_size(self) -> int | None:
+        """Number K of configurations in a batch, None for a single configuration."""
+        return int(self.J.shape[0]) if self.J.ndim == 3 else None
+
+    def __len__(self) -> int:
+        if self.batch_size is None:
+            raise TypeError("a single-configuration Dynamics has no length")
+        return self.batch_size
+
+    def __getitem__(self, index: int | slice) -> Dynamics:
+        """One configuration (an int) or a sub-batch (a slice) of a batch."""
+        if self.batch_size is None:
+            raise InputError("index", "a batched Dynamics (J of shape (K, m, n))", "a single one")
+        return Dynamics(self.J[index], self.B[index], self.g[index], self.xdd_bias[index])

@@ -117,8 +117,9 @@ class PlanarArm:
             f"gravity={self.gravity}, tau_max={limits})"
         )
 
-    def _check_q(self, q: ArrayLike) -> NDArray[np.float64]:
-        return check_array("q", q, (self.n,), what="joint angles [rad]")
+    def _check_q(self, q: ArrayLike, batch: bool = False) -> NDArray[np.float64]:
+        shape = ("K", self.n) if batch and np.ndim(q) == 2 else (self.n,)
+        return check_array("q", q, shape, what="joint angles [rad]")
 
     def forward_kinematics(self, q: ArrayLike) -> NDArray[np.float64]:
         """End-effector position [m], shape (2,), at joint angles ``q`` [rad]."""
@@ -132,17 +133,17 @@ class PlanarArm:
     def _point_jacobians(
         self, q: NDArray[np.float64]
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """Jacobians of the end effector (2, n) and of each centre of mass (n, 2, n)."""
-        theta = np.cumsum(q)
+        """Jacobians of the end effector (..., 2, n) and of each centre of mass (..., n, 2, n)."""
+        theta = np.cumsum(q, axis=-1)
         # d u(theta_j) / d q_k = u'(theta_j) for k <= j, with u' = (-sin, cos), so a point
         # sum_j w_j u(theta_j) has Jacobian column k = sum_{j >= k} w_j u'(theta_j).
-        du = np.stack([-np.sin(theta), np.cos(theta)])  # (2, n), column j is u'(theta_j)
+        du = np.stack([-np.sin(theta), np.cos(theta)], axis=-2)  # column j is u'(theta_j)
         suffix_sum = np.tri(self.n)  # [j, k] = 1 where j >= k
         tip = (du * self.lengths) @ suffix_sum
         # Centre of mass i: weights l_j for j < i, com_i for j = i, 0 beyond.
         weights = np.tril(np.broadcast_to(self.lengths, (self.n, self.n)), -1)
         weights[np.diag_indices(self.n)] = self.com
-        com = np.einsum("aj,ij,jk->iak", du, weights, suffix_sum)
+        com = np.einsum("...aj,ij,jk->...iak", du, weights, suffix_sum)
         return tip, com
 
     def dynamics(self, q: ArrayLike) -> Dynamics:
@@ -150,18 +151,19 @@ class PlanarArm:
 
         Parameters
         ----------
-        q : array-like, shape (n,)
-            Relative joint angles [rad].
+        q : array-like, shape (n,) or (K, n)
+            Relative joint angles [rad]; a 2-D array gives a batched :class:`Dynamics`.
 
         Returns
         -------
         Dynamics
-            ``J`` (2, n) [m/rad], ``B`` (n, n) [kg m^2], ``g`` (n,) [N m].
+            ``J`` (2, n) [m/rad], ``B`` (n, n) [kg m^2], ``g`` (n,) [N m] (with a leading
+            K for a batch).
         """
-        q = self._check_q(q)
+        q = self._check_q(q, batch=True)
         tip, com = self._point_jacobians(q)
         angular = np.tri(self.n)  # row i: ones for joints 1..i
-        B = np.einsum("i,iak,ial->kl", self.masses, com, com)
+        B = np.einsum("i,...iak,...ial->...kl", self.masses, com, com)
         B += np.einsum("i,ik,il->kl", self.inertia, angular, angular)
-        g = self.gravity * np.einsum("i,ik->k", self.masses, com[:, 1, :])
+        g = self.gravity * np.einsum("i,...ik->...k", self.masses, com[..., 1, :])
         return Dynamics(J=tip, B=B, g=g)

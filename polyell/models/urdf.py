@@ -281,9 +281,9 @@ class UrdfRobot:
 
         Parameters
         ----------
-        q : array-like, shape (nq,)
-            Joint positions [rad or m].
-        qd : array-like, shape (nq,), optional
+        q : array-like, shape (nq,) or (K, nq)
+            Joint positions [rad or m]; a 2-D array gives a batched :class:`Dynamics`.
+        qd : array-like, same shape as ``q``, optional
             Joint velocities [rad/s or m/s]; nonzero adds the Coriolis and centrifugal
             torques to ``g`` and ``Jdot qdot`` as ``xdd_bias``.
 
@@ -291,6 +291,21 @@ class UrdfRobot:
         -------
         Dynamics
         """
+        if np.ndim(q) == 2:
+            positions = check_array("q", q, ("K", self.nq), what="joint positions")
+            velocities = (
+                np.zeros_like(positions)
+                if qd is None
+                else check_array("qd", qd, positions.shape, what="joint velocities")
+            )
+            terms = [self._terms(p, v) for p, v in zip(positions, velocities, strict=True)]
+            return Dynamics(*(np.array(parts) for parts in zip(*terms, strict=True)))
+        return Dynamics(*self._terms(q, None if qd is None else check_array("qd", qd, (self.nq,))))
+
+    def _terms(
+        self, q: ArrayLike, velocity: NDArray[np.float64] | None
+    ) -> tuple[NDArray[np.float64], ...]:
+        """``(J, B, g, xdd_bias)`` at one configuration."""
         pin, model, data = self._pin, self.model, self._data
         config = self.configuration(q)
         pin.computeJointJacobians(model, data, config)
@@ -299,14 +314,13 @@ class UrdfRobot:
         B = np.array(pin.crba(model, data, config))
         B = np.triu(B) + np.triu(B, 1).T  # Pinocchio fills the upper triangle
         J = jacobian[self.rows] * self.weights[:, None]
-        velocity = None if qd is None else check_array("qd", qd, (self.nq,))
         if velocity is None or not np.any(velocity):
             g = np.array(pin.computeGeneralizedGravity(model, data, config))
-            return Dynamics(J, B, g)
+            return J, B, g, np.zeros(len(self.rows))
         g = np.array(pin.nonLinearEffects(model, data, config, velocity))
         pin.forwardKinematics(model, data, config, velocity, np.zeros(self.nq))
         acceleration = pin.getFrameClassicalAcceleration(
             model, data, self._frame, pin.LOCAL_WORLD_ALIGNED
         )
         bias = np.concatenate([acceleration.linear, acceleration.angular])
-        return Dynamics(J, B, g, bias[self.rows] * self.weights)
+        return J, B, g, bias[self.rows] * self.weights
