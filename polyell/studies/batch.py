@@ -1,0 +1,279 @@
+r"""Scores of many configurations at once: the vectorised path behind :func:`polyell.sweep`.
+
+For K configurations sharing (m, n) every step of :func:`polyell.compare` is done with
+batched linear algebra: M and x_g (eq. 8, 14), the SVD of M (eq. 35), the closed-form
+zonotope facets and volume, both ellipsoids (from the SVDs of M and of
+F = L^-1 B J^+), inscribed scales, directional limits (rays against facets, eq. 24), the
+directional statistics and the exact torque witnesses.  Both definitions always lie inside
+the polytope (E_yoshikawa within E_chiacchio within P), so coverage is the exact volume
+ratio.  Configurations this path does not cover -- a rank below m (singular), an
+ellipsoid not inside P to rounding -- are returned as a mask for the scalar path, so every
+row equals ``compare(analyze(...)).to_row()``.
+"""
+
+from __future__ import annotations
+
+from itertools import combinations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES
+from polyell.geometry.convex_set import ATOL_RELATIVE
+from polyell.geometry.ellipsoid import unit_ball_volume
+from polyell.geometry.subspace import RANK_RTOL
+from polyell.geometry.zonotope import _DEPENDENT_RTOL
+from polyell.models.dynamics import Dynamics
+
+__all__ = ["batch_rows", "score_columns"]
+
+Array = NDArray[np.float64]
+
+
+def score_columns() -> list[str]:
+    """The score columns of a results row, in order (``Comparison.to_row``)."""
+    columns = ["polytope_dim", "polytope_volume"]
+    return columns + [f"{kind}_{name}" for kind in COMPARED_KINDS for name in SCORE_NAMES]
+
+
+def _facets(M: Array) -> tuple[Array, Array]:
+    """Unit facet normals a (K, C, m), one of each +-pair, and offsets h = sum |a . g_i|."""
+    K, m, n = M.shape
+    if m == 1:
+        normals = np.ones((K, 1, 1))
+    else:
+        subsets = np.array(list(combinations(range(n), m - 1)), dtype=int)
+        blocks = np.transpose(M[:, :, subsets], (0, 2, 1, 3))  # (K, C, m, m-1)
+        normals = _cross(blocks)
+        size = np.linalg.norm(normals, axis=-1)
+        scale = np.prod(np.linalg.norm(blocks, axis=2), axis=-1)
+        dependent = size <= _DEPENDENT_RTOL * scale
+        normals = np.where(
+            dependent[..., None], 0.0, normals / np.where(dependent, 1.0, size)[..., None]
+        )
+    offsets = np.abs(normals @ M).sum(axis=-1)
+    if m > 1:
+        offsets = np.where(np.linalg.norm(normals, axis=-1) == 0, np.inf, offsets)
+    return normals, offsets
+
+
+def _cross(blocks: Array) -> Array:
+    """Generalised cross product of the m-1 columns of (..., m, m-1): the cofactor vector."""
+    m = blocks.shape[-2]
+    if m == 2:
+        return np.stack([-blocks[..., 1, 0], blocks[..., 0, 0]], axis=-1)
+    if m == 3:
+        return np.cross(blocks[..., 0], blocks[..., 1])
+    return np.stack(
+        [(-1) ** k * np.linalg.det(np.delete(blocks, k, axis=-2)) for k in range(m)], axis=-1
+    )
+
+
+def _zonotope_volume(M: Array) -> Array:
+    """``2^m sum_{|S| = m} |det M_S|`` for every configuration (K,)."""
+    _, m, n = M.shape
+    subsets = np.array(list(combinations(range(n), m)), dtype=int)
+    blocks = np.transpose(M[:, :, subsets], (0, 2, 1, 3))  # (K, C, m, m)
+    if m in (2, 3):  # det = last column . cofactors of the others
+        dets = np.einsum("...i,...i->...", _cross(blocks[..., :-1]), blocks[..., -1])
+    else:
+        dets = np.linalg.det(blocks)
+    return 2.0**m * np.abs(dets).sum(axis=-1)
+
+
+def _polytope_limits(
+    normals: Array, half_widths: Array, center: Array, T: Array, atol: Array
+) -> tuple[Array, Array]:
+    """Rays against facet pairs for every configuration: (K, k) ends, NaN where empty.
+
+    The pair ``+-a`` bounds ``a . (lambda t)`` to ``[a . c - h, a . c + h]``, so with
+    ``s = a . t`` it gives ``lambda`` between ``(a.c - h)/s`` and ``(a.c + h)/s``.
+    """
+    slopes = normals @ T.T  # (K, C, k)
+    offsets = np.einsum("kcm,km->kc", normals, center)[..., None]
+    reach = np.copysign(half_widths[..., None], slopes)  # +-h, the sign of the slope
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # s = 0 gives -inf/+inf (no bound) when |a.c| <= h, and an empty line otherwise.
+        lower = ((offsets - reach) / slopes).max(axis=1)
+        upper = ((offsets + reach) / slopes).min(axis=1)
+    grazing = (lower > upper) & (lower - upper <= atol[:, None])
+    mid = 0.5 * (lower + upper)
+    lower = np.where(grazing, mid, lower)
+    upper = np.where(grazing, mid, upper)
+    empty = ~(lower <= upper)  # also NaN: 0/0, a line on a facet's boundary
+    return np.where(empty, np.nan, lower), np.where(empty, np.nan, upper)
+
+
+def _ellipsoid_limits(center: Array, axes: Array, semi: Array, T: Array) -> tuple[Array, Array]:
+    """Eq. (23)-(24) for every configuration: (K, k) ends, NaN where empty."""
+    N = (axes / semi[:, None, :] ** 2) @ np.swapaxes(axes, -1, -2)
+    Nt = N @ T.T  # (K, m, k)
+    alpha = (Nt * T.T).sum(axis=1)
+    beta = -np.einsum("kit,ki->kt", Nt, center)
+    gamma = np.einsum("ki,kij,kj->k", center, N, center)[:, None] - 1.0
+    discriminant = beta**2 - alpha * gamma
+    root = np.sqrt(np.where(discriminant >= 0, discriminant, np.nan))
+    return (-beta - root) / alpha, (-beta + root) / alpha
+
+
+def _direction_statistics(
+    hi_e: Array, feasible_e: NDArray[np.bool_], hi_p: Array, feasible_p: NDArray[np.bool_]
+) -> dict[str, Array]:
+    """``direction_errors`` for every configuration at once."""
+    used = feasible_e & feasible_p & (hi_p != 0)
+    count = used.sum(axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        error = np.where(used, (hi_e - hi_p) / np.abs(hi_p), 0.0)
+        absolute = np.abs(error)
+        stats = {
+            "direction_error_mean": absolute.sum(axis=1) / count,
+            "direction_error_max": absolute.max(axis=1),
+            "direction_error_rms": np.sqrt((error**2).sum(axis=1) / count),
+            "direction_bias": error.sum(axis=1) / count,
+        }
+    stats = {key: np.where(count == 0, np.nan, value) for key, value in stats.items()}
+    stats["feasibility_mismatch"] = np.count_nonzero(feasible_e != feasible_p, axis=1).astype(float)
+    stats["directions_used"] = count.astype(float)
+    return stats
+
+
+#: Configurations processed together: large enough to amortise numpy's per-call cost,
+#: small enough for the (block, facets, directions) arrays to stay in cache.
+BLOCK = 512
+
+
+def batch_rows(
+    dyn: Dynamics,
+    tau_max: Array,
+    tau_min: Array,
+    directions: Array,
+    *,
+    rank_rtol: float = RANK_RTOL,
+) -> tuple[dict[str, Array], NDArray[np.bool_]]:
+    """Score columns of a batch, and which rows need the scalar path.
+
+    Parameters
+    ----------
+    dyn : Dynamics
+        A batch: J (K, m, n), B (K, n, n), g (K, n), xdd_bias (K, m).
+    tau_max, tau_min : ndarray, shape (n,)
+        Torque limits [N m].
+    directions : ndarray, shape (k, m)
+        Unit directions of the directional statistics.
+    rank_rtol : float
+        Rank tolerance, as in :func:`polyell.analyze`.
+
+    Returns
+    -------
+    columns : dict of str to ndarray (K,)
+        :func:`score_columns`; rows flagged in ``scalar`` hold NaN.
+    scalar : ndarray of bool, shape (K,)
+        Rows to compute with ``compare(analyze(dyn[k]))``.
+    """
+    K = len(dyn)
+    columns = {name: np.empty(K) for name in score_columns()}
+    scalar = np.empty(K, dtype=bool)
+    for start in range(0, K, BLOCK):
+        block = slice(start, start + BLOCK)
+        values, scalar[block] = _block_rows(
+            dyn.J[block],
+            dyn.B[block],
+            dyn.g[block],
+            dyn.xdd_bias[block],
+            tau_max,
+            tau_min,
+            directions,
+            rank_rtol,
+        )
+        for name, column in values.items():
+            columns[name][block] = column
+    return columns, scalar
+
+
+def _block_rows(
+    J: Array,
+    B: Array,
+    g: Array,
+    xdd_bias: Array,
+    tau_max: Array,
+    tau_min: Array,
+    directions: Array,
+    rank_rtol: float,
+) -> tuple[dict[str, Array], NDArray[np.bool_]]:
+    """:func:`batch_rows` for one block of configurations, on validated arrays."""
+    K, m, n = J.shape
+    center_torque = 0.5 * (tau_max + tau_min)
+    half = 0.5 * (tau_max - tau_min)
+    bias = g - center_torque
+    M = J @ np.linalg.solve(B, np.broadcast_to(np.diag(half), (K, n, n)))
+    xg = -(J @ np.linalg.solve(B, bias[..., None]))[..., 0] + xdd_bias
+    U, s, Vt = np.linalg.svd(M, full_matrices=False)
+    columns = {name: np.full(K, np.nan) for name in score_columns()}
+    for kind in COMPARED_KINDS:
+        columns[f"{kind}_feasibility_mismatch"][:] = 0.0
+        columns[f"{kind}_directions_used"][:] = 0.0
+    if m > n:
+        return columns, np.ones(K, dtype=bool)
+    scalar = ~(s[:, -1] > rank_rtol * s[:, 0])
+    ok = ~scalar
+    if not ok.any():
+        return columns, scalar
+    J, B, M, xg, U, s, Vt = J[ok], B[ok], M[ok], xg[ok], U[ok], s[ok], Vt[ok]
+    bias_ok, xdd_bias = bias[ok], xdd_bias[ok]
+
+    normals, h = _facets(M)
+    volume_p = _zonotope_volume(M)
+    atol = ATOL_RELATIVE * np.maximum(
+        np.linalg.norm(M, axis=1).sum(axis=-1), np.linalg.norm(xg, axis=-1)
+    )
+    lo_p, hi_p = _polytope_limits(normals, h, xg, directions, atol)
+    feasible_p = ~np.isnan(lo_p)
+
+    # Classic ellipsoid from F = L^-1 B J^+ (its core is F^T F), as in Analysis.ellipsoid.
+    J_pinv = np.swapaxes(np.linalg.solve(J @ np.swapaxes(J, -1, -2), J), -1, -2)
+    F = (B @ J_pinv) / half[:, None]
+    _, s_f, Vt_f = np.linalg.svd(F, full_matrices=False)
+    ellipsoids = {
+        "chiacchio": (U, s, None),
+        "yoshikawa": (np.swapaxes(Vt_f, -1, -2)[:, :, ::-1], (1.0 / s_f)[:, ::-1], F),
+    }
+    rows: dict[str, Array] = {
+        "polytope_dim": np.full(len(M), float(m)),
+        "polytope_volume": volume_p,
+    }
+    unit_ball = unit_ball_volume(m)
+    inside = np.ones(len(M), dtype=bool)
+    for kind, (axes, semi, torque_matrix) in ellipsoids.items():
+        # The ellipsoid is centred like P, so a facet pair +-a has slack h for both.
+        reach = np.linalg.norm((normals @ axes) * semi[:, None, :], axis=-1)
+        with np.errstate(divide="ignore"):
+            scale = np.min(h / reach, axis=-1)
+        inside &= scale >= 1.0
+        volume = unit_ball * np.prod(semi, axis=-1)
+        lo_e, hi_e = _ellipsoid_limits(xg, axes, semi, directions)
+        stats = _direction_statistics(hi_e, ~np.isnan(lo_e), hi_p, feasible_p)
+        if torque_matrix is None:  # eq. 33/36: tau_n = M^+ (x - xg), zero at the centre
+            witness = np.max(np.linalg.norm(Vt, axis=1), axis=-1)
+        else:  # eq. 26: tau_n = L^-1 (B J^+ (x - Jdot qdot) + g - tau_c)
+            offset = bias_ok / half - np.einsum("knm,km->kn", torque_matrix, xdd_bias)
+            at_center = np.einsum("knm,km->kn", torque_matrix, xg) + offset
+            spread = np.linalg.norm(torque_matrix @ (axes * semi[:, None, :]), axis=-1)
+            witness = np.max(np.abs(at_center) + spread, axis=-1)
+        rows |= {
+            f"{kind}_dimension": np.full(len(M), float(m)),
+            f"{kind}_volume": volume,
+            f"{kind}_inscribed_scale": scale,
+            f"{kind}_coverage": volume / volume_p,
+            f"{kind}_coverage_stderr": np.zeros(len(M)),
+            f"{kind}_overreach": np.zeros(len(M)),
+            f"{kind}_overreach_stderr": np.zeros(len(M)),
+            f"{kind}_witness_torque_max": witness,
+        } | {f"{kind}_{key}": value for key, value in stats.items()}
+    indices = np.flatnonzero(ok)
+    for name, values in rows.items():
+        columns[name][indices] = values
+    scalar[indices[~inside]] = True  # an ellipsoid not inside P to rounding: exact path
+    for name in columns:
+        if name not in ("polytope_dim",):
+            columns[name][indices[~inside]] = np.nan
+    return columns, scalar
