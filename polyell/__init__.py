@@ -24,6 +24,7 @@ from polyell.geometry import (
     Polytope,
 )
 from polyell.models import Dynamics, Payload, PlanarArm, UrdfRobot
+from polyell.studies import grid, random_configurations, sweep
 
 __version__ = "0.1.0"
 
@@ -53,5 +54,8 @@ __all__ = [
     "__version__",
     "analyze",
     "compare",
+    "grid",
+    "random_configurations",
     "robots",
+    "sweep",
 ]

@@ -140,6 +140,17 @@ class UrdfRobot:
     ) -> None:
         pin = import_pinocchio()
         self._pin = pin
+        self._arguments = {
+            "urdf": urdf if str(urdf).lstrip().startswith("<") else str(urdf),
+            "tip": tip,
+            "task": task,
+            "locked_joints": tuple(locked_joints),
+            "gravity": gravity,
+            "tau_max": tau_max,
+            "tau_min": tau_min,
+            "weights": weights,
+            "payload": payload,
+        }
         full = self._build(pin, urdf)
         locked = []
         for name in locked_joints:
@@ -201,6 +212,10 @@ class UrdfRobot:
                 )
             tau_max = effort
         self.tau_max, self.tau_min = check_torque_limits(tau_max, tau_min, self.nq)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        """Pickle by the constructor's arguments (Pinocchio's objects are rebuilt)."""
+        return (_rebuild, (self._arguments,))
 
     @staticmethod
     def _build(pin: ModuleType, urdf: str | os.PathLike[str]) -> Any:
@@ -324,3 +339,8 @@ class UrdfRobot:
         )
         bias = np.concatenate([acceleration.linear, acceleration.angular])
         return J, B, g, bias[self.rows] * self.weights
+
+
+def _rebuild(arguments: dict[str, Any]) -> UrdfRobot:
+    """Unpickle a :class:`UrdfRobot`."""
+    return UrdfRobot(**arguments)

@@ -1,6 +1,16 @@
 """Scripted studies: TOML descriptions of robots and configurations, run to tables and figures."""
 
+from polyell.studies.configurations import grid, random_configurations
 from polyell.studies.runner import run_study
 from polyell.studies.spec import StudySpec, load_robot_file, load_study
+from polyell.studies.sweep import sweep
 
-__all__ = ["StudySpec", "load_robot_file", "load_study", "run_study"]
+__all__ = [
+    "StudySpec",
+    "grid",
+    "load_robot_file",
+    "load_study",
+    "random_configurations",
+    "run_study",
+    "sweep",
+]

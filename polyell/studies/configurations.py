@@ -1,0 +1,134 @@
+"""Lazy sets of configurations: grids and seeded random samples of any size.
+
+Both produce any range of their rows on demand, so a sweep over millions of
+configurations never holds them all in memory, and the rows do not depend on how the
+sweep is chunked.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from polyell.errors import InputError
+from polyell.validation import check_array
+
+__all__ = ["ConfigurationSet", "Grid", "RandomConfigurations", "grid", "random_configurations"]
+
+
+class ConfigurationSet:
+    """A sequence of joint configurations, produced by ranges of rows."""
+
+    n: int
+
+    def __len__(self) -> int:
+        raise NotImplementedError
+
+    def rows(self, start: int, stop: int) -> NDArray[np.float64]:
+        """Configurations ``start`` to ``stop - 1``, shape (stop - start, n)."""
+        raise NotImplementedError
+
+
+class Grid(ConfigurationSet):
+    """The Cartesian product of per-joint values, the last joint varying fastest.
+
+    Parameters
+    ----------
+    axes : sequence of array-like
+        The values of each joint (a single value for a fixed joint).
+    """
+
+    def __init__(self, axes: Sequence[ArrayLike]) -> None:
+        self.axes = [
+            np.atleast_1d(
+                check_array(f"q{i + 1}", a, (None,)) if np.ndim(a) else np.array([a], float)
+            )
+            for i, a in enumerate(axes)
+        ]
+        self.n = len(self.axes)
+        self.shape = tuple(a.size for a in self.axes)
+
+    def __len__(self) -> int:
+        return int(np.prod(self.shape))
+
+    def rows(self, start: int, stop: int) -> NDArray[np.float64]:
+        """Configurations ``start`` to ``stop - 1`` of the grid."""
+        index = np.unravel_index(np.arange(start, min(stop, len(self))), self.shape)
+        return np.stack([axis[i] for axis, i in zip(self.axes, index, strict=True)], axis=1)
+
+    def __repr__(self) -> str:
+        return f"Grid(shape={self.shape})"
+
+
+def grid(*axes: float | tuple[float, float, int] | ArrayLike) -> Grid:
+    """A grid of configurations, one argument per joint.
+
+    Each argument is a fixed value, a ``(start, stop, num)`` range (inclusive, like
+    ``numpy.linspace``) or an explicit array of values.
+
+    Examples
+    --------
+    >>> import numpy as np, polyell as pe
+    >>> g = pe.grid(np.pi / 2, (-np.pi, np.pi, 3), (0.0, 1.0, 2))
+    >>> len(g), g.rows(0, 2).tolist()[1]
+    (6, [1.5707963267948966, -3.141592653589793, 1.0])
+    """
+    values = []
+    for i, axis in enumerate(axes):
+        if isinstance(axis, tuple) and len(axis) == 3 and isinstance(axis[2], int):
+            start, stop, num = axis
+            if num < 1:
+                raise InputError(
+                    f"q{i + 1}", "a (start, stop, num) range with num >= 1", repr(axis)
+                )
+            values.append(np.linspace(float(start), float(stop), num))
+        else:
+            values.append(np.atleast_1d(np.asarray(axis, dtype=float)))
+    return Grid(values)
+
+
+class RandomConfigurations(ConfigurationSet):
+    """Seeded uniform samples in a box, generated in fixed blocks of rows.
+
+    Row ``i`` is the same whatever range it is asked in: rows are drawn in blocks of
+    ``BLOCK`` from a generator seeded with ``(seed, block)``.
+    """
+
+    BLOCK = 4096
+
+    def __init__(self, count: int, low: ArrayLike, high: ArrayLike, seed: int = 0) -> None:
+        self.low = check_array("low", low, (None,))
+        self.high = check_array("high", high, (self.low.size,))
+        if np.any(self.low > self.high):
+            raise InputError(
+                "low", "low <= high for every joint", f"low={self.low}, high={self.high}"
+            )
+        if not isinstance(count, int | np.integer) or count < 1:
+            raise InputError("count", "a positive number of configurations", repr(count))
+        self.count, self.seed, self.n = int(count), int(seed), self.low.size
+
+    def __len__(self) -> int:
+        return self.count
+
+    def rows(self, start: int, stop: int) -> NDArray[np.float64]:
+        """Configurations ``start`` to ``stop - 1``."""
+        stop = min(stop, self.count)
+        first, last = start // self.BLOCK, (stop - 1) // self.BLOCK
+        blocks = [
+            np.random.default_rng([self.seed, b]).uniform(self.low, self.high, (self.BLOCK, self.n))
+            for b in range(first, last + 1)
+        ]
+        rows = np.concatenate(blocks)
+        return rows[start - first * self.BLOCK : stop - first * self.BLOCK]
+
+    def __repr__(self) -> str:
+        return f"RandomConfigurations(count={self.count}, seed={self.seed})"
+
+
+def random_configurations(
+    count: int, low: ArrayLike, high: ArrayLike, seed: int = 0
+) -> RandomConfigurations:
+    """``count`` seeded uniform configurations in the box ``[low, high]`` (lazy)."""
+    return RandomConfigurations(count, low, high, seed)

@@ -1,0 +1,320 @@
+"""``sweep``: scores over thousands to millions of configurations, chunked, resumable, on Dask.
+
+Each chunk of configurations is computed by the vectorised path
+(:mod:`polyell.studies.batch`), singular configurations by the scalar one, so every row
+equals ``compare(analyze(...)).to_row()``.  With ``out=`` every chunk becomes one Parquet
+file, written atomically (a temporary file renamed into place): a run stopped at any point
+and started again with the same arguments computes only the missing chunks.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import pickle
+import tempfile
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Protocol
+
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike, NDArray
+
+from polyell.analysis import analyze
+from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES, compare
+from polyell.errors import InputError, MissingDependencyError
+from polyell.geometry.directions import sphere_directions
+from polyell.geometry.subspace import RANK_RTOL
+from polyell.models.dynamics import Dynamics
+from polyell.studies.batch import batch_rows
+from polyell.studies.configurations import ConfigurationSet
+from polyell.validation import check_array, check_directions, check_torque_limits
+
+__all__ = ["DEFAULT_SCORES", "sweep"]
+
+#: Scores a sweep computes by default: everything but the MVIE's (see ``mvie=True``).
+DEFAULT_SCORES = tuple(name for name in SCORE_NAMES if name != "mvie_ratio")
+
+
+class Robot(Protocol):
+    """What a sweep needs of a robot."""
+
+    n: int
+
+    def dynamics(self, q: ArrayLike) -> Dynamics: ...
+
+
+@dataclass(frozen=True)
+class _Job:
+    """Everything a worker needs to compute chunks (pickled once per task)."""
+
+    source: Any  # a robot or a batched Dynamics
+    configurations: Any  # ConfigurationSet, ndarray (K, n), or None for Dynamics
+    tau_max: NDArray[np.float64]
+    tau_min: NDArray[np.float64]
+    directions: NDArray[np.float64]
+    columns: tuple[str, ...]
+    mvie: bool
+    rank_rtol: float
+
+    def size(self) -> int:
+        if self.configurations is None:
+            return len(self.source)
+        return len(self.configurations)
+
+    def chunk(self, start: int, stop: int) -> pd.DataFrame:
+        """The results of configurations ``start`` to ``stop - 1``."""
+        if self.configurations is None:
+            dyn, q = self.source[start:stop], None
+        else:
+            q = (
+                self.configurations.rows(start, stop)
+                if isinstance(self.configurations, ConfigurationSet)
+                else self.configurations[start:stop]
+            )
+            dyn = self.source.dynamics(q)
+        if self.mvie:
+            values = _scalar_rows(dyn, np.ones(len(dyn), bool), self)
+            scalar = np.ones(len(dyn), bool)
+        else:
+            values, scalar = batch_rows(
+                dyn, self.tau_max, self.tau_min, self.directions, rank_rtol=self.rank_rtol
+            )
+            if scalar.any():
+                for name, column in _scalar_rows(dyn, scalar, self).items():
+                    values[name][scalar] = column[scalar]
+        frame = pd.DataFrame({"configuration": np.arange(start, start + len(dyn))})
+        if q is not None:
+            frame = frame.join(pd.DataFrame(q, columns=[f"q{i + 1}" for i in range(q.shape[1])]))
+        return frame.join(pd.DataFrame({name: values[name] for name in self.columns}))
+
+
+def _scalar_rows(
+    dyn: Dynamics, rows: NDArray[np.bool_], job: _Job
+) -> dict[str, NDArray[np.float64]]:
+    """``compare(analyze(...)).to_row()`` for the flagged rows (NaN elsewhere)."""
+    values = {name: np.full(len(dyn), np.nan) for name in job.columns}
+    for k in np.flatnonzero(rows):
+        analysis = analyze(dyn[int(k)], job.tau_max, job.tau_min, rank_rtol=job.rank_rtol)
+        row = compare(analysis, job.directions, mvie=job.mvie).to_row()
+        for name in job.columns:
+            values[name][k] = row[name]
+    return values
+
+
+def _write_atomically(frame: pd.DataFrame, path: Path) -> Path:
+    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=".part-", suffix=".tmp")
+    os.close(handle)
+    try:
+        frame.to_parquet(temporary, index=False)
+        os.replace(temporary, path)
+    finally:
+        if os.path.exists(temporary):
+            os.unlink(temporary)
+    return path
+
+
+def _run_chunk(job: _Job, index: int, chunk: int, out: str | None) -> Any:
+    """Compute one chunk; write it (returning its path) or return the frame."""
+    frame = job.chunk(index * chunk, min((index + 1) * chunk, job.size()))
+    if out is None:
+        return frame
+    return str(_write_atomically(frame, Path(out) / f"part-{index:06d}.parquet"))
+
+
+def _fingerprint(job: _Job, chunk: int) -> str:
+    digest = hashlib.sha256(pickle.dumps((job, chunk), protocol=4))
+    return digest.hexdigest()
+
+
+def _client(scheduler: str) -> Any:
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError as exn:
+        raise MissingDependencyError(
+            "Distributed sweeps need Dask. Fix: pip install 'polyell[studies]'."
+        ) from exn
+    if scheduler == "processes":
+        cluster = LocalCluster(
+            n_workers=os.cpu_count() or 1,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address=None,
+        )
+        return Client(cluster)
+    if scheduler.startswith(("tcp://", "tls://", "inproc://")):
+        return Client(scheduler)
+    raise InputError(
+        "scheduler",
+        "None, 'processes' or a Dask scheduler address (tcp://host:port)",
+        repr(scheduler),
+    )
+
+
+def _job(
+    source: Any,
+    configurations: Any,
+    tau_max: ArrayLike | None,
+    tau_min: ArrayLike | None,
+    scores: Sequence[str],
+    directions: int | ArrayLike,
+    mvie: bool,
+    rank_rtol: float,
+) -> _Job:
+    if isinstance(source, Dynamics):
+        if source.batch_size is None:
+            raise InputError("source", "a batched Dynamics (J of shape (K, m, n))", "a single one")
+        if configurations is not None:
+            raise InputError("configurations", "None with a batched Dynamics", "configurations")
+        n, m = source.n, source.m
+    else:
+        if not hasattr(source, "dynamics"):
+            raise InputError("source", "a robot or a batched pe.Dynamics", type(source).__name__)
+        n = source.n
+        if configurations is None:
+            raise InputError("configurations", "a (K, n) array or pe.grid(...)", "None")
+        if not isinstance(configurations, ConfigurationSet):
+            configurations = check_array("configurations", configurations, ("K", n))
+        elif configurations.n != n:
+            raise InputError("configurations", f"{n} joints", f"{configurations.n}")
+        m = source.dynamics(
+            configurations.rows(0, 1)[0]
+            if isinstance(configurations, ConfigurationSet)
+            else configurations[0]
+        ).m
+    if tau_max is None:
+        tau_max, tau_min = getattr(source, "tau_max", None), getattr(source, "tau_min", None)
+        if tau_max is None:
+            raise InputError("tau_max", "torque limits (the source has none of its own)", "None")
+    upper, lower = check_torque_limits(tau_max, tau_min, n)
+    unknown = sorted(set(scores) - set(SCORE_NAMES))
+    if unknown:
+        raise InputError("scores", f"names among {list(SCORE_NAMES)}", f"unknown {unknown}")
+    if "mvie_ratio" in scores and not mvie:
+        raise InputError(
+            "scores", "no 'mvie_ratio' without mvie=True", "'mvie_ratio'", "pass mvie=True (slow)."
+        )
+    T = (
+        sphere_directions(int(directions), m)
+        if isinstance(directions, int | np.integer)
+        else np.atleast_2d(check_directions("directions", directions, m))
+    )
+    kinds = COMPARED_KINDS if mvie else COMPARED_KINDS[:2]
+    columns = ("polytope_dim", "polytope_volume", *(f"{k}_{s}" for k in kinds for s in scores))
+    return _Job(source, configurations, upper, lower, T, columns, mvie, rank_rtol)
+
+
+def sweep(
+    source: Any,
+    configurations: ArrayLike | ConfigurationSet | None = None,
+    tau_max: ArrayLike | None = None,
+    tau_min: ArrayLike | None = None,
+    *,
+    scores: Sequence[str] = DEFAULT_SCORES,
+    directions: int | ArrayLike = 64,
+    out: str | os.PathLike[str] | None = None,
+    scheduler: str | None = None,
+    chunk: int = 20_000,
+    mvie: bool = False,
+    rank_rtol: float = RANK_RTOL,
+) -> pd.DataFrame | Path:
+    """Score both ellipsoids at many configurations.
+
+    Parameters
+    ----------
+    source : robot or Dynamics
+        A robot (``PlanarArm``, ``UrdfRobot``) with ``configurations``, or a batched
+        :class:`Dynamics` (J of shape (K, m, n)).
+    configurations : array-like (K, n) or ConfigurationSet, optional
+        Joint configurations, e.g. :func:`polyell.grid` or
+        :func:`polyell.random_configurations` (lazy: never all in memory).
+    tau_max, tau_min : array-like, shape (n,), optional
+        Torque limits; default the robot's own.
+    scores : sequence of str
+        Score names (:data:`polyell.SCORE_NAMES`); columns ``<kind>_<score>``.
+    directions : int or array-like (k, m)
+        The directional-statistics set: a count of the default near-uniform set, or unit
+        vectors.  The same set is used at every configuration (at a singular one, lines
+        off its affine set get the single-point intervals of ``compare``).
+    out : path, optional
+        A folder for a Parquet dataset, one ``part-NNNNNN.parquet`` per chunk; the
+        function then returns the folder.  Restarting with the same arguments resumes.
+    scheduler : None, "processes" or str
+        None: in this process.  ``"processes"``: a local Dask cluster, one worker per
+        core.  ``"tcp://host:port"``: an existing Dask cluster.
+    chunk : int
+        Configurations per task (and per Parquet file).
+    mvie : bool
+        Also compute the maximum-volume inscribed ellipsoid at every configuration (a
+        log-det program each: about 1000 times slower; parallelise with ``scheduler``).
+    rank_rtol : float
+        Rank tolerance, as in :func:`polyell.analyze`.
+
+    Returns
+    -------
+    DataFrame or Path
+        One row per configuration: ``configuration`` (its index), ``q1``..``qn`` (for a
+        robot), ``polytope_dim``, ``polytope_volume`` and the score columns; or the
+        dataset folder with ``out=``.
+    """
+    if not isinstance(chunk, int | np.integer) or chunk < 1:
+        raise InputError("chunk", "a positive number of configurations per chunk", repr(chunk))
+    job = _job(source, configurations, tau_max, tau_min, scores, directions, mvie, rank_rtol)
+    count = -(-job.size() // chunk)
+    todo = list(range(count))
+    folder = None
+    if out is not None:
+        try:
+            import pyarrow  # noqa: F401
+        except ImportError as exn:
+            raise MissingDependencyError(
+                "Writing Parquet needs pyarrow. Fix: pip install 'polyell[studies]'."
+            ) from exn
+        folder = Path(out)
+        folder.mkdir(parents=True, exist_ok=True)
+        meta = folder / "_sweep.json"  # "_" and "." files are not part of the dataset
+        fingerprint = _fingerprint(job, chunk)
+        if meta.exists():
+            recorded = json.loads(meta.read_text()).get("fingerprint")
+            if recorded != fingerprint:
+                raise InputError(
+                    "out",
+                    "an empty folder, or one holding a sweep with the same arguments",
+                    f"{folder} holds a different sweep",
+                    "choose another folder, or delete it to start over.",
+                )
+        else:
+            meta.write_text(
+                json.dumps(
+                    {"fingerprint": fingerprint, "chunks": count, "configurations": job.size()},
+                    indent=2,
+                )
+                + "\n"
+            )
+        todo = [i for i in todo if not (folder / f"part-{i:06d}.parquet").exists()]
+    target = None if folder is None else str(folder)
+    if scheduler is None:
+        results = [_run_chunk(job, i, chunk, target) for i in todo]
+    else:
+        client = _client(scheduler)
+        try:
+            from dask.distributed import as_completed
+
+            scattered = client.scatter(job, broadcast=True)
+            futures = [
+                client.submit(_run_chunk, scattered, i, chunk, target, pure=False) for i in todo
+            ]
+            results = [future.result() for future in as_completed(futures)]
+        finally:
+            cluster = client.cluster
+            client.close()
+            if scheduler == "processes" and cluster is not None:
+                cluster.close()
+    if folder is not None:
+        return folder
+    frames = [r for r in results if isinstance(r, pd.DataFrame)]
+    return pd.concat(frames).sort_values("configuration").reset_index(drop=True)

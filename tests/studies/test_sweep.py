@@ -1,0 +1,175 @@
+"""pe.sweep: equal to pe.compare row by row, Parquet datasets, resuming, Dask."""
+
+from __future__ import annotations
+
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import polyell as pe
+from reference import random_spd
+
+ARM = pe.robots.load("chiacchio2000")
+
+
+def assert_rows_equal_compare(frame: pd.DataFrame, dynamics, tau_max, tau_min, directions):
+    for _, row in frame.iterrows():
+        k = int(row["configuration"])
+        expected = pe.compare(
+            pe.analyze(dynamics(k), tau_max, tau_min), directions, mvie=False
+        ).to_row()
+        for name in frame.columns.intersection(list(expected)):
+            np.testing.assert_allclose(
+                row[name], expected[name], rtol=1e-9, atol=1e-12, err_msg=f"{name} at {k}"
+            )
+
+
+def test_grid_sweep_of_the_paper_arm_equals_compare_including_singularities():
+    g = pe.grid(np.pi / 2, (-np.pi, np.pi, 9), (-np.pi, np.pi, 9))
+    frame = pe.sweep(ARM, g, chunk=17)
+    assert list(frame["configuration"]) == list(range(81))
+    q = frame[["q1", "q2", "q3"]].to_numpy()
+    np.testing.assert_allclose(q, g.rows(0, 81))
+    assert (frame["polytope_dim"] == 1).sum() == 9  # the stretched and folded postures
+    assert frame.loc[frame["polytope_dim"] == 1, "yoshikawa_coverage"].isna().all()
+    assert_rows_equal_compare(frame, lambda k: ARM.dynamics(q[k]), ARM.tau_max, None, 64)
+
+
+def test_random_panda_sweep_equals_compare():
+    panda = pe.robots.load("panda")
+    low, high = panda.position_limits
+    configurations = pe.random_configurations(40, low, high, seed=5)
+    frame = pe.sweep(panda, configurations, directions=32, chunk=15)
+    q = configurations.rows(0, 40)
+    assert_rows_equal_compare(frame, lambda k: panda.dynamics(q[k]), panda.tau_max, None, 32)
+
+
+def test_batched_dynamics_with_asymmetric_limits_and_motion_bias():
+    rng = np.random.default_rng(4)
+    K, m, n = 30, 3, 5
+    J = rng.normal(size=(K, m, n))
+    J[3] = np.outer(rng.normal(size=m), rng.normal(size=n))  # rank 1: singular
+    B = np.array([random_spd(rng, n) for _ in range(K)])
+    g = rng.normal(size=(K, n)) * 3
+    bias = rng.normal(size=(K, m))
+    dyn = pe.Dynamics(J, B, g, xdd_bias=bias)
+    tau_max, tau_min = np.full(n, 5.0), np.array([-2.0, -5.0, -1.0, -4.0, -3.0])
+    T = rng.normal(size=(20, m))
+    T /= np.linalg.norm(T, axis=1, keepdims=True)
+    frame = pe.sweep(dyn, tau_max=tau_max, tau_min=tau_min, directions=T, chunk=7)
+    assert frame.loc[3, "polytope_dim"] == 1  # a rank-1 Jacobian: the scalar path
+    assert_rows_equal_compare(frame, lambda k: dyn[k], tau_max, tau_min, T)
+
+
+def test_chunking_does_not_change_the_rows():
+    configurations = pe.random_configurations(50, [-1, -1, -1], [1, 1, 1], seed=2)
+    np.testing.assert_array_equal(
+        configurations.rows(10, 50),
+        np.vstack([configurations.rows(10, 20), configurations.rows(20, 50)]),
+    )
+    a = pe.sweep(ARM, configurations, chunk=7)
+    b = pe.sweep(ARM, configurations, chunk=50)
+    pd.testing.assert_frame_equal(a, b)
+
+
+def test_parquet_dataset_resumes_and_refuses_other_arguments(tmp_path):
+    g = pe.grid(0.3, (-2, 2, 6), (-2, 2, 5))
+    out = tmp_path / "sweep"
+    assert pe.sweep(ARM, g, out=out, chunk=4) == out
+    parts = sorted(out.glob("part-*.parquet"))
+    assert len(parts) == 8
+    expected = pe.sweep(ARM, g, chunk=4)
+    pd.testing.assert_frame_equal(
+        pd.read_parquet(out).sort_values("configuration").reset_index(drop=True), expected
+    )
+    kept = {p: p.stat().st_mtime_ns for p in parts[:5]}
+    for p in parts[5:]:
+        p.unlink()
+    pe.sweep(ARM, g, out=out, chunk=4)
+    assert {p: p.stat().st_mtime_ns for p in parts[:5]} == kept  # not recomputed
+    assert len(list(out.glob("part-*.parquet"))) == 8
+    with pytest.raises(pe.InputError, match="holds a different sweep"):
+        pe.sweep(ARM, g, out=out, chunk=5)
+
+
+KILLED_RUN = """
+import sys
+import numpy as np
+import polyell as pe
+arm = pe.robots.load("chiacchio2000")
+grid = pe.grid(0.3, (-2.5, 2.5, 12), (-2.5, 2.5, 10))
+pe.sweep(arm, grid, out=sys.argv[1], chunk=4, mvie=True, scores=("coverage", "mvie_ratio"))
+"""
+
+
+def test_a_killed_run_resumes_to_every_configuration_exactly_once(tmp_path):
+    out = tmp_path / "killed"
+    script = tmp_path / "run.py"
+    script.write_text(textwrap.dedent(KILLED_RUN))
+    process = subprocess.Popen([sys.executable, str(script), str(out)])
+    deadline = time.monotonic() + 120
+    while len(list(out.glob("part-*.parquet"))) < 3 and time.monotonic() < deadline:
+        time.sleep(0.05)
+    process.send_signal(signal.SIGKILL)
+    process.wait()
+    done = len(list(out.glob("part-*.parquet")))
+    assert 3 <= done < 30, "the run was not interrupted midway"
+    grid = pe.grid(0.3, (-2.5, 2.5, 12), (-2.5, 2.5, 10))
+    pe.sweep(ARM, grid, out=out, chunk=4, mvie=True, scores=("coverage", "mvie_ratio"))
+    frame = pd.read_parquet(out)
+    assert sorted(frame["configuration"]) == list(range(120))
+    assert not list(out.glob(".part-*"))  # no temporary file left visible as a part
+    row = frame.set_index("configuration").loc[77]
+    q = grid.rows(77, 78)[0]
+    expected = pe.compare(pe.analyze(ARM.dynamics(q), ARM.tau_max), 64).to_row()
+    assert row["chiacchio_mvie_ratio"] == pytest.approx(expected["chiacchio_mvie_ratio"], rel=1e-9)
+
+
+def test_dask_local_cluster_on_loopback_gives_the_same_rows(tmp_path):
+    distributed = pytest.importorskip("dask.distributed")
+    g = pe.grid(np.pi / 2, (-2, 2, 8), (-2, 2, 8))
+    expected = pe.sweep(ARM, g, chunk=10)
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None
+    ) as cluster:
+        frame = pe.sweep(ARM, g, chunk=10, scheduler=cluster.scheduler_address)
+        pd.testing.assert_frame_equal(frame, expected)
+        panda = pe.robots.load("panda")  # pickled to the workers by its arguments
+        q = np.random.default_rng(1).uniform(-1, 1, (12, 7))
+        out = pe.sweep(panda, q, chunk=5, scheduler=cluster.scheduler_address, out=tmp_path / "p")
+        pd.testing.assert_frame_equal(
+            pd.read_parquet(out).sort_values("configuration").reset_index(drop=True),
+            pe.sweep(panda, q, chunk=5),
+        )
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "fragment"),
+    [
+        ({"configurations": None}, "configurations: expected a (K, n) array"),
+        ({"scheduler": "threads"}, "scheduler: expected None, 'processes'"),
+        ({"chunk": 0}, "chunk: expected a positive number"),
+        ({"scores": ("coverage", "beauty")}, "scores: expected names among"),
+        ({"scores": ("mvie_ratio",)}, "no 'mvie_ratio' without mvie=True"),
+        ({"configurations": np.zeros((3, 2))}, "configurations: expected an array"),
+        ({"directions": [[1.0, 1.0]]}, "unit direction vectors"),
+    ],
+)
+def test_bad_sweeps(kwargs, fragment):
+    arguments = {"configurations": np.zeros((2, 3))} | kwargs
+    with pytest.raises(pe.InputError) as info:
+        pe.sweep(ARM, **arguments)
+    assert fragment in str(info.value)
+
+
+def test_a_single_dynamics_is_not_a_batch():
+    with pytest.raises(pe.InputError, match="a batched Dynamics"):
+        pe.sweep(ARM.dynamics([0.1, 0.2, 0.3]), tau_max=ARM.tau_max)
+    with pytest.raises(pe.InputError, match=r"call pe\.sweep for the whole batch"):
+        pe.analyze(ARM.dynamics(np.zeros((2, 3))), ARM.tau_max)
