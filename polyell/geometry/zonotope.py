@@ -13,6 +13,7 @@ coordinates of its affine set).  Here ``G`` has shape (r, n) and full row rank `
 
 from __future__ import annotations
 
+from functools import lru_cache
 from itertools import combinations, product
 
 import numpy as np
@@ -41,6 +42,38 @@ _SAME_NORMAL_TOL = 1e-10
 _IN_FACET_RTOL = 1e-10
 
 
+@lru_cache(maxsize=64)
+def subsets(n: int, k: int) -> NDArray[np.int_]:
+    """All k-subsets of range(n) as rows, shape (C(n, k), k) (cached, read-only)."""
+    rows = np.array(list(combinations(range(n), k)), dtype=int).reshape(-1, k)
+    rows.flags.writeable = False
+    return rows
+
+
+def cross(blocks: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Generalised cross product of the m-1 columns of (..., m, m-1): the cofactor vector.
+
+    Component k is ``(-1)^k det(blocks without row k)``; orthogonal to every column, of
+    length the (m-1)-volume they span.
+    """
+    m = blocks.shape[-2]
+    if m == 2:
+        return np.stack([-blocks[..., 1, 0], blocks[..., 0, 0]], axis=-1)
+    if m == 3:
+        a, b = blocks[..., 0], blocks[..., 1]
+        return np.stack(
+            [
+                a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
+                a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+                a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
+            ],
+            axis=-1,
+        )
+    return np.stack(
+        [(-1) ** k * np.linalg.det(np.delete(blocks, k, axis=-2)) for k in range(m)], axis=-1
+    )
+
+
 def _nonzero_generators(G: NDArray[np.float64]) -> NDArray[np.float64]:
     lengths = np.linalg.norm(G, axis=0)
     if lengths.size == 0 or lengths.max() == 0:
@@ -50,10 +83,17 @@ def _nonzero_generators(G: NDArray[np.float64]) -> NDArray[np.float64]:
 
 def _unique_directions(normals: NDArray[np.float64]) -> NDArray[np.float64]:
     """Drop unit vectors equal, up to sign, to an earlier one."""
-    minus = np.linalg.norm(normals[:, None, :] - normals[None, :, :], axis=2)
-    plus = np.linalg.norm(normals[:, None, :] + normals[None, :, :], axis=2)
-    same = np.triu(np.minimum(minus, plus) < _SAME_NORMAL_TOL, k=1)
-    return normals[~same.any(axis=0)]
+    cosines = np.triu(np.abs(normals @ normals.T), k=1)
+    near = np.argwhere(cosines > 1.0 - 1e-6)  # candidates; decided by distance below
+    if near.size == 0:
+        return normals
+    first, second = normals[near[:, 0]], normals[near[:, 1]]
+    distance = np.minimum(
+        np.linalg.norm(first - second, axis=1), np.linalg.norm(first + second, axis=1)
+    )
+    duplicate = np.zeros(len(normals), dtype=bool)
+    duplicate[near[distance < _SAME_NORMAL_TOL, 1]] = True
+    return normals[~duplicate]
 
 
 def zonotope_facets(G: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -76,13 +116,8 @@ def zonotope_facets(G: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArra
     if r == 1:
         normals = np.array([[1.0]])
     else:
-        subsets = np.array(list(combinations(range(gens.shape[1]), r - 1)), dtype=int)
-        blocks = np.transpose(gens[:, subsets], (1, 0, 2))  # (C, r, r-1)
-        # Generalised cross product: component k is (-1)^k det(block without row k).
-        cofactors = np.stack(
-            [(-1) ** k * np.linalg.det(np.delete(blocks, k, axis=1)) for k in range(r)],
-            axis=1,
-        )
+        blocks = np.transpose(gens[:, subsets(gens.shape[1], r - 1)], (1, 0, 2))  # (C, r, r-1)
+        cofactors = cross(blocks)
         size = np.linalg.norm(cofactors, axis=1)
         scale = np.prod(np.linalg.norm(blocks, axis=1), axis=1)
         independent = size > _DEPENDENT_RTOL * scale
@@ -127,6 +162,44 @@ def zonotope_vertices(
     r = G.shape[0]
     gens = _nonzero_generators(G)
     lengths = np.linalg.norm(gens, axis=0)
+    dots = normals @ gens
+    in_facet = np.abs(dots) <= _IN_FACET_RTOL * lengths
+    if np.all(in_facet.sum(axis=1) == r - 1):
+        vertices = _vertices_in_general_position(gens, dots, in_facet)
+    else:
+        vertices = _vertices_by_active_facets(gens, normals, offsets)
+    return _order_polygon(vertices) if r == 2 else vertices
+
+
+def _vertices_in_general_position(
+    gens: NDArray[np.float64], dots: NDArray[np.float64], in_facet: NDArray[np.bool_]
+) -> NDArray[np.float64]:
+    """Every facet is a parallelotope of r - 1 generators: all its corners are vertices.
+
+    A vertex has a unique sign vector (no generator is zero), so the candidates are
+    deduplicated exactly on their signs.
+    """
+    F, n = dots.shape
+    free = np.nonzero(in_facet)[1].reshape(F, -1)  # (F, r-1)
+    corners = np.array(list(product((-1, 1), repeat=free.shape[1])), dtype=np.int8)
+    signs = np.repeat(np.sign(dots).astype(np.int8)[:, None, :], len(corners), axis=1)
+    facet = np.arange(F)[:, None, None]
+    signs[facet, np.arange(len(corners))[None, :, None], free[:, None, :]] = corners[None]
+    signs = signs.reshape(-1, n)
+    keys = (signs > 0) @ (1 << np.arange(n, dtype=np.int64)) if n < 63 else None
+    if keys is None:
+        unique = np.unique(signs, axis=0)
+    else:
+        unique = signs[np.unique(keys, return_index=True)[1]]
+    return unique.astype(float) @ gens.T
+
+
+def _vertices_by_active_facets(
+    gens: NDArray[np.float64], normals: NDArray[np.float64], offsets: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Any arrangement: candidates from each facet, kept if the active facets span R^r."""
+    r = gens.shape[0]
+    lengths = np.linalg.norm(gens, axis=0)
     atol = 1e-9 * max(lengths.sum(), 1e-300)
     candidates = []
     for a in normals:
@@ -142,8 +215,7 @@ def zonotope_vertices(
         [np.linalg.matrix_rank(normals[row]) == r if row.sum() >= r else False for row in active],
         dtype=bool,
     )
-    vertices = _unique_points(points[extreme], atol)
-    return _order_polygon(vertices) if r == 2 else vertices
+    return _unique_points(points[extreme], atol)
 
 
 def zonotope_volume(G: NDArray[np.float64]) -> float:
@@ -158,10 +230,10 @@ def zonotope_volume(G: NDArray[np.float64]) -> float:
     if r == 0:
         return 1.0
     gens = _nonzero_generators(G)
-    subsets = np.array(list(combinations(range(gens.shape[1]), r)), dtype=int)
-    if subsets.size == 0:
+    chosen = subsets(gens.shape[1], r)
+    if chosen.size == 0:
         return 0.0
-    dets = np.linalg.det(np.transpose(gens[:, subsets], (1, 0, 2)))
+    dets = np.linalg.det(np.transpose(gens[:, chosen], (1, 0, 2)))
     return float(2.0**r * np.abs(dets).sum())
 
 

@@ -13,8 +13,6 @@ row equals ``compare(analyze(...)).to_row()``.
 
 from __future__ import annotations
 
-from itertools import combinations
-
 import numpy as np
 from numpy.typing import NDArray
 
@@ -22,7 +20,7 @@ from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES
 from polyell.geometry.convex_set import ATOL_RELATIVE
 from polyell.geometry.ellipsoid import unit_ball_volume
 from polyell.geometry.subspace import RANK_RTOL
-from polyell.geometry.zonotope import _DEPENDENT_RTOL
+from polyell.geometry.zonotope import _DEPENDENT_RTOL, cross, subsets
 from polyell.models.dynamics import Dynamics
 
 __all__ = ["batch_rows", "score_columns"]
@@ -42,9 +40,8 @@ def _facets(M: Array) -> tuple[Array, Array]:
     if m == 1:
         normals = np.ones((K, 1, 1))
     else:
-        subsets = np.array(list(combinations(range(n), m - 1)), dtype=int)
-        blocks = np.transpose(M[:, :, subsets], (0, 2, 1, 3))  # (K, C, m, m-1)
-        normals = _cross(blocks)
+        blocks = np.transpose(M[:, :, subsets(n, m - 1)], (0, 2, 1, 3))  # (K, C, m, m-1)
+        normals = cross(blocks)
         size = np.linalg.norm(normals, axis=-1)
         scale = np.prod(np.linalg.norm(blocks, axis=2), axis=-1)
         dependent = size <= _DEPENDENT_RTOL * scale
@@ -57,25 +54,12 @@ def _facets(M: Array) -> tuple[Array, Array]:
     return normals, offsets
 
 
-def _cross(blocks: Array) -> Array:
-    """Generalised cross product of the m-1 columns of (..., m, m-1): the cofactor vector."""
-    m = blocks.shape[-2]
-    if m == 2:
-        return np.stack([-blocks[..., 1, 0], blocks[..., 0, 0]], axis=-1)
-    if m == 3:
-        return np.cross(blocks[..., 0], blocks[..., 1])
-    return np.stack(
-        [(-1) ** k * np.linalg.det(np.delete(blocks, k, axis=-2)) for k in range(m)], axis=-1
-    )
-
-
 def _zonotope_volume(M: Array) -> Array:
     """``2^m sum_{|S| = m} |det M_S|`` for every configuration (K,)."""
     _, m, n = M.shape
-    subsets = np.array(list(combinations(range(n), m)), dtype=int)
-    blocks = np.transpose(M[:, :, subsets], (0, 2, 1, 3))  # (K, C, m, m)
+    blocks = np.transpose(M[:, :, subsets(n, m)], (0, 2, 1, 3))  # (K, C, m, m)
     if m in (2, 3):  # det = last column . cofactors of the others
-        dets = np.einsum("...i,...i->...", _cross(blocks[..., :-1]), blocks[..., -1])
+        dets = np.einsum("...i,...i->...", cross(blocks[..., :-1]), blocks[..., -1])
     else:
         dets = np.linalg.det(blocks)
     return 2.0**m * np.abs(dets).sum(axis=-1)
