@@ -95,8 +95,6 @@ class Analysis:
     xg : ndarray, shape (m,)
         Eq. (8) with the shift, ``-J B^-1 (g - tau_c)`` [m/s^2], plus ``Jdot qdot`` for a
         moving robot: the common centre of the polytope and the ellipsoids.
-    Q : ndarray, shape (n, n)
-        Eq. (20), ``B L^-2 B``.
     svd : RankRevealingSVD
         Eq. (35); its rank decision is shared by the polytope, the ellipsoids and the
         inverse maps.
@@ -134,7 +132,6 @@ class Analysis:
         self.xg: NDArray[np.float64] = (
             -J @ np.linalg.solve(B, self._gravity_bias) + dynamics.xdd_bias
         )
-        self.Q: NDArray[np.float64] = B @ np.diag(self.half_range**-2) @ B
         self.svd: RankRevealingSVD = rank_revealing_svd(self.M, rank_rtol)
         self._ellipsoids: dict[str, Ellipsoid] = {}
         self._joint_maps: dict[str, AffineMap] = {}
@@ -144,6 +141,12 @@ class Analysis:
             f"Analysis(m={self.dynamics.m}, n={self.dynamics.n}, rank={self.rank}, "
             f"xg={np.round(self.xg, 6).tolist()})"
         )
+
+    @cached_property
+    def Q(self) -> NDArray[np.float64]:
+        """Eq. (20), ``B L^-2 B``, shape (n, n)."""
+        B = self.dynamics.B
+        return (B / self.half_range**2) @ B
 
     @property
     def rank(self) -> int:

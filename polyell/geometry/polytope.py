@@ -62,8 +62,11 @@ class Polytope(ConvexSet):
         rank_rtol: float = RANK_RTOL,
         svd: RankRevealingSVD | None = None,
     ) -> None:
-        self.generators = check_array("generators", generators, ("m", "n"))
-        self.center = check_array("center", center, (self.generators.shape[0],))
+        if svd is None:  # a user's input; an Analysis passes its own clean arrays
+            generators = check_array("generators", generators, ("m", "n"))
+            center = check_array("center", center, (np.shape(generators)[0],))
+        self.generators = np.asarray(generators, dtype=float)
+        self.center = np.asarray(center, dtype=float)
         self._svd = svd if svd is not None else rank_revealing_svd(self.generators, rank_rtol)
         self.affine_set = AffineSubspace.from_svd(self.center, self._svd)
         self._set_atol(float(np.linalg.norm(self.generators, axis=0).sum()))
