@@ -80,6 +80,12 @@ def _parser() -> argparse.ArgumentParser:
     study.add_argument("spec", help="the study TOML file")
     study.add_argument("--out", required=True, help="output folder (created if needed)")
     study.add_argument("--quiet", action="store_true", help="no progress bar")
+    study.add_argument(
+        "--scheduler",
+        default=None,
+        help="grid and random studies: 'processes' (a local Dask cluster) or a scheduler "
+        "address tcp://host:port; default in this process",
+    )
     return parser
 
 
@@ -117,7 +123,7 @@ def _analyze(args: argparse.Namespace) -> None:
 
 def _study(args: argparse.Namespace) -> None:
     spec = load_study(args.spec)
-    written = run_study(spec, args.out, progress=not args.quiet)
+    written = run_study(spec, args.out, progress=not args.quiet, scheduler=args.scheduler)
     print(f"{spec.title}: wrote {len(written)} files to {args.out}")
 
 

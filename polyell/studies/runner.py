@@ -6,10 +6,9 @@ import json
 from pathlib import Path
 
 import pandas as pd
-from tqdm import tqdm
 
 from polyell.analysis import analyze
-from polyell.comparison.comparison import compare
+from polyell.comparison.comparison import SCORE_NAMES, compare
 from polyell.comparison.summary import format_summary_table, summarize
 from polyell.comparison.tables import ELLIPSOID_LABELS, format_scores_table
 from polyell.errors import InputError
@@ -21,8 +20,10 @@ from polyell.figures import (
     plot_sets_3d,
     save_figure,
 )
+from polyell.geometry.directions import default_direction_count
 from polyell.report import format_analysis
 from polyell.studies.spec import StudySpec
+from polyell.studies.sweep import DEFAULT_SCORES, sweep
 
 __all__ = ["run_study"]
 
@@ -115,16 +116,22 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
     return written
 
 
-def _run_many(spec: StudySpec, folder: Path, progress: bool) -> list[Path]:
-    configurations = spec.configurations()
-    rows = []
-    for q in tqdm(configurations, desc=spec.title, unit="config", disable=not progress):
-        analysis = analyze(spec.robot.model.dynamics(q), spec.robot.tau_max, spec.robot.tau_min)
-        cmp = compare(
-            analysis, spec.directions, samples=spec.samples, seed=spec.seed, mvie=spec.mvie
-        )
-        rows.append({f"q{i + 1}": v for i, v in enumerate(q)} | cmp.to_row())
-    results = pd.DataFrame(rows)
+def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | None) -> list[Path]:
+    model = spec.robot.model
+    m = model.dynamics(spec.configurations()[0]).m
+    results = sweep(  # returns a frame without out=
+        model,
+        spec.configurations(),
+        spec.robot.tau_max,
+        spec.robot.tau_min,
+        scores=SCORE_NAMES if spec.mvie else DEFAULT_SCORES,
+        directions=spec.directions or default_direction_count(m),
+        mvie=spec.mvie,
+        scheduler=scheduler,
+        chunk=spec.chunk,
+        progress=progress,
+    )
+    assert isinstance(results, pd.DataFrame)
     written = [_write(folder / "results.csv", results.to_csv(index=False))]
     summary = summarize(results)
     caption = f"{spec.title}: scores over {len(results)} configurations."
@@ -165,7 +172,9 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool) -> list[Path]:
     return written
 
 
-def run_study(spec: StudySpec, out: str | Path, *, progress: bool = False) -> list[Path]:
+def run_study(
+    spec: StudySpec, out: str | Path, *, progress: bool = False, scheduler: str | None = None
+) -> list[Path]:
     """Run a study and write its tables and figures to ``out``.
 
     Parameters
@@ -175,7 +184,9 @@ def run_study(spec: StudySpec, out: str | Path, *, progress: bool = False) -> li
     out : str or Path
         Output folder (created if needed).
     progress : bool, optional
-        Show a progress bar on standard error (grid studies).
+        Show a progress bar on standard error (grid and random studies).
+    scheduler : None, "processes" or str, optional
+        Where grid and random studies run, as in :func:`polyell.sweep`.
 
     Returns
     -------
@@ -188,7 +199,10 @@ def run_study(spec: StudySpec, out: str | Path, *, progress: bool = False) -> li
         If ``out`` cannot be written.
     """
     folder = _prepare(out)
-    written = _run_many(spec, folder, progress) if spec.is_batch else _run_points(spec, folder)
+    if spec.is_batch:
+        written = _run_many(spec, folder, progress, scheduler)
+    else:
+        written = _run_points(spec, folder)
     manifest = {
         "study": spec.title,
         "spec": spec.path.name,

@@ -29,6 +29,7 @@ A study file::
     mvie = true
     samples = 8192
     seed = 0
+    chunk = 20000                # configurations per task of a grid or random study
 
     [output]
     formats = ["pdf", "png"]
@@ -91,7 +92,7 @@ _PAYLOAD_KEYS = ("mass", "com", "inertia")
 _PLANAR_KEYS = ("lengths", "masses", "com", "inertia", "gravity")
 _POINT_KEYS = ("name", "q", "direction", "inverse_at", "title")
 _RANGE_KEYS = ("start", "stop", "num")
-_COMPARE_KEYS = ("directions", "mvie", "samples", "seed")
+_COMPARE_KEYS = ("directions", "mvie", "samples", "seed", "chunk")
 _OUTPUT_KEYS = ("formats", "dpi", "maps", "histograms")
 _FORMATS = ("pdf", "png", "svg")
 
@@ -260,6 +261,7 @@ class StudySpec:
     mvie: bool = True
     samples: int = 2**13
     seed: int = 0
+    chunk: int = 20_000
     formats: tuple[str, ...] = ("pdf", "png")
     dpi: int = 300
     maps: tuple[str, ...] = field(default_factory=tuple)
@@ -416,6 +418,7 @@ def load_study(path: str | Path) -> StudySpec:
         mvie=bool(compare.get("mvie", True)),
         samples=int(compare.get("samples", 2**13)),
         seed=int(compare.get("seed", 0)),
+        chunk=int(compare.get("chunk", 20_000)),
         formats=formats,
         dpi=int(output.get("dpi", 300)),
         maps=maps,

@@ -22,6 +22,7 @@ from typing import Any, Protocol
 import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
+from tqdm import tqdm
 
 from polyell.analysis import analyze
 from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES, compare
@@ -56,6 +57,7 @@ class _Job:
     tau_max: NDArray[np.float64]
     tau_min: NDArray[np.float64]
     directions: NDArray[np.float64]
+    direction_count: int | None  # the user's count, for the scalar path; None for vectors
     columns: tuple[str, ...]
     mvie: bool
     rank_rtol: float
@@ -99,7 +101,8 @@ def _scalar_rows(
     values = {name: np.full(len(dyn), np.nan) for name in job.columns}
     for k in np.flatnonzero(rows):
         analysis = analyze(dyn[int(k)], job.tau_max, job.tau_min, rank_rtol=job.rank_rtol)
-        row = compare(analysis, job.directions, mvie=job.mvie).to_row()
+        directions = job.directions if job.direction_count is None else job.direction_count
+        row = compare(analysis, directions, mvie=job.mvie).to_row()
         for name in job.columns:
             values[name][k] = row[name]
     return values
@@ -198,14 +201,15 @@ def _job(
         raise InputError(
             "scores", "no 'mvie_ratio' without mvie=True", "'mvie_ratio'", "pass mvie=True (slow)."
         )
+    count = int(directions) if isinstance(directions, int | np.integer) else None
     T = (
-        sphere_directions(int(directions), m)
-        if isinstance(directions, int | np.integer)
+        sphere_directions(count, m)
+        if count is not None
         else np.atleast_2d(check_directions("directions", directions, m))
     )
     kinds = COMPARED_KINDS if mvie else COMPARED_KINDS[:2]
     columns = ("polytope_dim", "polytope_volume", *(f"{k}_{s}" for k in kinds for s in scores))
-    return _Job(source, configurations, upper, lower, T, columns, mvie, rank_rtol)
+    return _Job(source, configurations, upper, lower, T, count, columns, mvie, rank_rtol)
 
 
 def sweep(
@@ -221,6 +225,7 @@ def sweep(
     chunk: int = 20_000,
     mvie: bool = False,
     rank_rtol: float = RANK_RTOL,
+    progress: bool = False,
 ) -> pd.DataFrame | Path:
     """Score both ellipsoids at many configurations.
 
@@ -237,9 +242,9 @@ def sweep(
     scores : sequence of str
         Score names (:data:`polyell.SCORE_NAMES`); columns ``<kind>_<score>``.
     directions : int or array-like (k, m)
-        The directional-statistics set: a count of the default near-uniform set, or unit
-        vectors.  The same set is used at every configuration (at a singular one, lines
-        off its affine set get the single-point intervals of ``compare``).
+        The directional-statistics set, exactly as :func:`polyell.compare` takes it: a count
+        of the default near-uniform set (at a singular configuration, drawn in its affine
+        set), or unit vectors used at every configuration.
     out : path, optional
         A folder for a Parquet dataset, one ``part-NNNNNN.parquet`` per chunk; the
         function then returns the folder.  Restarting with the same arguments resumes.
@@ -253,6 +258,8 @@ def sweep(
         log-det program each: about 1000 times slower; parallelise with ``scheduler``).
     rank_rtol : float
         Rank tolerance, as in :func:`polyell.analyze`.
+    progress : bool
+        A progress bar over the chunks on standard error.
 
     Returns
     -------
@@ -297,8 +304,12 @@ def sweep(
             )
         todo = [i for i in todo if not (folder / f"part-{i:06d}.parquet").exists()]
     target = None if folder is None else str(folder)
+    bar = tqdm(total=len(todo), unit="chunk", disable=not progress)
     if scheduler is None:
-        results = [_run_chunk(job, i, chunk, target) for i in todo]
+        results = []
+        for i in todo:
+            results.append(_run_chunk(job, i, chunk, target))
+            bar.update()
     else:
         client = _client(scheduler)
         try:
@@ -308,12 +319,16 @@ def sweep(
             futures = [
                 client.submit(_run_chunk, scattered, i, chunk, target, pure=False) for i in todo
             ]
-            results = [future.result() for future in as_completed(futures)]
+            results = []
+            for future in as_completed(futures):
+                results.append(future.result())
+                bar.update()
         finally:
             cluster = client.cluster
             client.close()
             if scheduler == "processes" and cluster is not None:
                 cluster.close()
+    bar.close()
     if folder is not None:
         return folder
     frames = [r for r in results if isinstance(r, pd.DataFrame)]
