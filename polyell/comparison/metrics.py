@@ -19,6 +19,7 @@ from polyell.geometry.polytope import Polytope
 from polyell.inverse import AffineMap
 
 __all__ = [
+    "INSIDE_RTOL",
     "DirectionErrors",
     "Overlap",
     "check_same_affine_set",
@@ -27,6 +28,12 @@ __all__ = [
     "overlap",
     "witness_torque_max",
 ]
+
+
+#: An ellipsoid whose inscribed scale is at least ``1 - INSIDE_RTOL`` is inside the polytope:
+#: one that touches a facet (scale exactly 1, as the new ellipsoid can) must not be sent to
+#: a Monte Carlo estimate by a rounding error of 1e-16.
+INSIDE_RTOL = 1e-9
 
 
 def check_same_affine_set(E: Ellipsoid, P: Polytope) -> None:
@@ -87,7 +94,7 @@ def overlap(
 ) -> Overlap:
     """Coverage and overreach of ``E`` with respect to ``P``.
 
-    Exact when ``E`` is inside ``P`` (``inscribed_scale >= 1``: coverage is
+    Exact when ``E`` is inside ``P`` (``inscribed_scale >= 1 - INSIDE_RTOL``: coverage is
     ``vol(E) / vol(P)``, overreach 0) and in one dimension (intervals).  Otherwise the share
     of ``E`` inside ``P`` is estimated by randomized quasi-Monte Carlo: ``replicates``
     independently scrambled Sobol' sets of ``samples`` points each, mapped uniformly into
@@ -107,7 +114,7 @@ def overlap(
     if E.rank == 0:
         inside = float(P.contains(E.center))
         return Overlap(inside, 1.0 - inside, 0.0, 0.0)
-    if inscribed_scale(E, P) >= 1.0:
+    if inscribed_scale(E, P) >= 1.0 - INSIDE_RTOL:
         return Overlap(E.volume / P.volume, 0.0, 0.0, 0.0)
     if E.rank == 1:
         axis = E.axes[:, 0]

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES
+from polyell.comparison.metrics import INSIDE_RTOL
 from polyell.geometry.convex_set import ATOL_RELATIVE
 from polyell.geometry.ellipsoid import unit_ball_volume
 from polyell.geometry.subspace import RANK_RTOL
@@ -232,7 +233,7 @@ def _block_rows(
         reach = np.linalg.norm((normals @ axes) * semi[:, None, :], axis=-1)
         with np.errstate(divide="ignore"):
             scale = np.min(h / reach, axis=-1)
-        inside &= scale >= 1.0
+        inside &= scale >= 1.0 - INSIDE_RTOL
         volume = unit_ball * np.prod(semi, axis=-1)
         lo_e, hi_e = _ellipsoid_limits(xg, axes, semi, directions)
         stats = _direction_statistics(hi_e, ~np.isnan(lo_e), hi_p, feasible_p)

@@ -250,3 +250,14 @@ def test_compare_without_mvie_is_explicit(paper):
     assert not cmp["mvie"].defined and "mvie=False" in cmp["mvie"].reason
     assert np.isnan(cmp["chiacchio"].mvie_ratio)
     assert cmp["chiacchio"].coverage == paper["chiacchio"].coverage
+
+
+def test_an_ellipsoid_touching_a_facet_is_inside_despite_rounding():
+    # Regression: at a configuration where the new ellipsoid touches P, rounding gave an
+    # inscribed scale of 1 - 6e-16 and sent coverage to a Monte Carlo estimate.
+    P = pe.Polytope(np.eye(2), center=[0.0, 0.0])  # the square [-1, 1]^2
+    E = pe.Ellipsoid([0.0, 0.0], np.eye(2), [1.0 + 4e-16, 1.0])
+    assert inscribed_scale(E, P) < 1.0
+    result = overlap(E, P)
+    assert result.coverage == pytest.approx(np.pi / 4) and result.coverage_stderr == 0.0
+    assert result.overreach == 0.0

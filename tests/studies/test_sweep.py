@@ -119,7 +119,7 @@ def test_a_killed_run_resumes_to_every_configuration_exactly_once(tmp_path):
     process.send_signal(signal.SIGKILL)
     process.wait()
     done = len(list(out.glob("part-*.parquet")))
-    assert 3 <= done < 30, "the run was not interrupted midway"
+    assert 1 <= done < 30, f"the run was not interrupted midway ({done} of 30 parts)"
     grid = pe.grid(0.3, (-2.5, 2.5, 12), (-2.5, 2.5, 10))
     pe.sweep(ARM, grid, out=out, chunk=4, mvie=True, scores=("coverage", "mvie_ratio"))
     frame = pd.read_parquet(out)
