@@ -17,7 +17,7 @@ import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -38,14 +38,6 @@ __all__ = ["DEFAULT_SCORES", "sweep"]
 
 #: Scores a sweep computes by default: everything but the MVIE's (see ``mvie=True``).
 DEFAULT_SCORES = tuple(name for name in SCORE_NAMES if name != "mvie_ratio")
-
-
-class Robot(Protocol):
-    """What a sweep needs of a robot."""
-
-    n: int
-
-    def dynamics(self, q: ArrayLike) -> Dynamics: ...
 
 
 @dataclass(frozen=True)
@@ -78,16 +70,16 @@ class _Job:
                 else self.configurations[start:stop]
             )
             dyn = self.source.dynamics(q)
-        if self.mvie:
-            values = _scalar_rows(dyn, np.ones(len(dyn), bool), self)
-            scalar = np.ones(len(dyn), bool)
+        if self.mvie:  # a log-det program per row: every row takes the scalar path
+            values = {name: np.full(len(dyn), np.nan) for name in self.columns}
+            scalar = np.ones(len(dyn), dtype=bool)
         else:
             values, scalar = batch_rows(
                 dyn, self.tau_max, self.tau_min, self.directions, rank_rtol=self.rank_rtol
             )
-            if scalar.any():
-                for name, column in _scalar_rows(dyn, scalar, self).items():
-                    values[name][scalar] = column[scalar]
+        if scalar.any():
+            for name, column in _scalar_rows(dyn, scalar, self).items():
+                values[name][scalar] = column[scalar]
         frame = pd.DataFrame({"configuration": np.arange(start, start + len(dyn))})
         if q is not None:
             frame = frame.join(pd.DataFrame(q, columns=[f"q{i + 1}" for i in range(q.shape[1])]))
