@@ -117,11 +117,11 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
 
 
 def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | None) -> list[Path]:
-    model = spec.robot.model
-    m = model.dynamics(spec.configurations()[0]).m
+    model, configurations = spec.robot.model, spec.configurations()
+    m = model.dynamics(configurations[0]).m
     results = sweep(  # returns a frame without out=
         model,
-        spec.configurations(),
+        configurations,
         spec.robot.tau_max,
         spec.robot.tau_min,
         scores=SCORE_NAMES if spec.mvie else DEFAULT_SCORES,
