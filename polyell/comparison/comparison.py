@@ -112,8 +112,6 @@ class Comparison:
     analysis : Analysis
     directions : ndarray, shape (k, m)
         The unit directions of the directional statistics.
-    mvie : Ellipsoid
-        The maximum-volume ellipsoid inscribed in the polytope.
     """
 
     def __init__(

@@ -23,6 +23,9 @@ class Dynamics:
     :math:`\ddot x = J \ddot q + \dot J \dot q` and :math:`\tau = B \ddot q + c + g`:
     pass :math:`c + g` as ``g`` and :math:`\dot J \dot q` as ``xdd_bias``.
 
+    A batch of configurations (for :func:`polyell.sweep`) stacks the arrays along a first
+    axis: ``J`` (K, m, n), ``B`` (K, n, n), ``g`` (K, n), ``xdd_bias`` (K, m).
+
     Parameters
     ----------
     J : array-like, shape (m, n)
@@ -34,9 +37,6 @@ class Dynamics:
         Gravity torques [N m] (plus Coriolis and centrifugal torques for a moving robot).
     xdd_bias : array-like, shape (m,), optional
         Velocity-product acceleration ``Jdot qdot`` [m/s^2]; zero (default) at rest.
-
-    A batch of configurations (for :func:`polyell.sweep`) stacks the arrays along a first
-    axis: ``J`` (K, m, n), ``B`` (K, n, n), ``g`` (K, n), ``xdd_bias`` (K, m).
 
     Raises
     ------

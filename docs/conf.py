@@ -1,0 +1,37 @@
+"""Sphinx configuration of the polyell documentation (built with warnings as errors)."""
+
+from __future__ import annotations
+
+import polyell
+
+project = "polyell"
+author = "polyell developers"
+copyright = "2026, polyell developers"  # noqa: A001
+release = polyell.__version__
+
+extensions = [
+    "myst_parser",
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.napoleon",
+    "sphinx.ext.mathjax",
+    "sphinx.ext.viewcode",
+]
+source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
+myst_enable_extensions = ["dollarmath", "amsmath"]
+myst_heading_anchors = 3
+exclude_patterns = ["_build", "tutorials/*.py"]
+# numpy-style types such as "array-like, shape (m, n)" would otherwise be resolved as
+# references to every attribute called m or n.
+suppress_warnings = ["ref.python"]
+
+napoleon_numpy_docstring = True
+napoleon_google_docstring = False
+napoleon_use_rtype = False
+autodoc_member_order = "bysource"
+autodoc_typehints = "none"  # the numpy docstrings state the types and shapes
+autosummary_generate = False
+
+html_theme = "alabaster"
+html_title = f"polyell {release}"
+# No intersphinx: builds run offline (CI reaches only the package registries).
