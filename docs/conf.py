@@ -6,7 +6,7 @@ import polyell
 
 project = "polyell"
 author = "polyell developers"
-copyright = "2026, polyell developers"  # noqa: A001
+copyright = "2026, polyell developers"
 release = polyell.__version__
 
 extensions = [

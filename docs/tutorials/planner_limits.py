@@ -1,4 +1,4 @@
-"""Directional limits for a motion planner: how hard can the tool accelerate along a path?"""
+"""Directional limits for a motion planner: how hard can the tool accelerate on a path."""
 
 import numpy as np
 
