@@ -1,0 +1,346 @@
+"""The bad-input matrix: every row must fail with the package's exception and a message that
+names the problem.  API, TOML robot/study files and the command line."""
+
+from __future__ import annotations
+
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import polyell as pe
+from polyell.cli import main
+from polyell.studies import load_robot_file, load_study, run_study
+
+ARM = pe.robots.load("chiacchio2000")
+DYN = ARM.dynamics([0.3, 0.4, 0.5])
+AN = pe.analyze(DYN, ARM.tau_max)
+SINGULAR = pe.analyze(ARM.dynamics([0.3, 0.0, 0.0]), ARM.tau_max)
+EYE3 = np.eye(3)
+
+
+def toml(tmp: Path, text: str) -> Path:
+    path = tmp / "file.toml"
+    path.write_text(textwrap.dedent(text))
+    return path
+
+
+STUDY = '[robot]\nlibrary = "chiacchio2000"\n[[points]]\nname = "a"\nq = [0.1, 0.2, 0.3]\n'
+
+# (identifier, function of a temporary folder, exception class, message fragment)
+API = [
+    ("J not 2-D", lambda t: pe.Dynamics([1, 2, 3], EYE3, [0, 0, 0]), pe.InputError, "J: expected"),
+    (
+        "J with NaN",
+        lambda t: pe.Dynamics([[np.nan, 0, 0]], EYE3, [0, 0, 0]),
+        pe.InputError,
+        "finite values",
+    ),
+    (
+        "J with inf",
+        lambda t: pe.Dynamics([[np.inf, 0, 0]], EYE3, [0, 0, 0]),
+        pe.InputError,
+        "finite values",
+    ),
+    (
+        "B wrong shape",
+        lambda t: pe.Dynamics([[1, 0, 0]], np.eye(2), [0, 0, 0]),
+        pe.InputError,
+        "B: expected an array of real numbers with shape (3, 3)",
+    ),
+    (
+        "B asymmetric",
+        lambda t: pe.Dynamics([[1, 0, 0]], EYE3 + np.diag([0.5, 0.5], k=1), [0, 0, 0]),
+        pe.InputError,
+        "B: expected a symmetric matrix",
+    ),
+    (
+        "B indefinite",
+        lambda t: pe.Dynamics([[1, 0, 0]], np.diag([1, -1, 1]), [0, 0, 0]),
+        pe.InputError,
+        "positive-definite",
+    ),
+    (
+        "B singular",
+        lambda t: pe.Dynamics([[1, 0, 0]], np.diag([1, 0, 1]), [0, 0, 0]),
+        pe.InputError,
+        "positive-definite",
+    ),
+    (
+        "g wrong length",
+        lambda t: pe.Dynamics([[1, 0, 0]], EYE3, [0, 0]),
+        pe.InputError,
+        "g: expected",
+    ),
+    ("g is None", lambda t: pe.Dynamics([[1, 0, 0]], EYE3, None), pe.InputError, "got None"),
+    (
+        "g not numbers",
+        lambda t: pe.Dynamics([[1, 0, 0]], EYE3, ["a", "b", "c"]),
+        pe.InputError,
+        "g: expected",
+    ),
+    (
+        "tau_max zero",
+        lambda t: pe.analyze(DYN, [1, 0, 1]),
+        pe.InputError,
+        "tau_max: expected strictly positive",
+    ),
+    (
+        "tau_max negative",
+        lambda t: pe.analyze(DYN, [1, -2, 1]),
+        pe.InputError,
+        "tau_max: expected strictly positive",
+    ),
+    (
+        "tau_min = tau_max",
+        lambda t: pe.analyze(DYN, [1, 1, 1], [0, 1, 0]),
+        pe.InputError,
+        "tau_min[1] = 1 >= tau_max[1] = 1",
+    ),
+    (
+        "tau_min > tau_max",
+        lambda t: pe.analyze(DYN, [1, 1, 1], [2, 0, 0]),
+        pe.InputError,
+        "tau_min[0] = 2 >= tau_max[0] = 1",
+    ),
+    (
+        "tau_max wrong length",
+        lambda t: pe.analyze(DYN, [1, 1]),
+        pe.InputError,
+        "tau_max: expected an array of real numbers with shape (3,)",
+    ),
+    ("not a Dynamics", lambda t: pe.analyze("dyn", [1, 1, 1]), pe.InputError, "pe.Dynamics"),
+    (
+        "a batch to analyze",
+        lambda t: pe.analyze(ARM.dynamics(np.zeros((2, 3))), ARM.tau_max),
+        pe.InputError,
+        "pe.sweep",
+    ),
+    (
+        "bad rank tolerance",
+        lambda t: pe.analyze(DYN, ARM.tau_max, rank_rtol=2.0),
+        pe.InputError,
+        "rank_rtol",
+    ),
+    (
+        "unknown ellipsoid kind",
+        lambda t: AN.ellipsoid("new"),
+        pe.InputError,
+        "kind: expected one of 'chiacchio', 'yoshikawa'",
+    ),
+    (
+        "classic at a singularity",
+        lambda t: SINGULAR.ellipsoid("yoshikawa"),
+        pe.UndefinedEllipsoidError,
+        "J J^T",
+    ),
+    (
+        "classic inverse at a singularity",
+        lambda t: SINGULAR.inverse(SINGULAR.xg, "yoshikawa"),
+        pe.UndefinedEllipsoidError,
+        "rank J = 1",
+    ),
+    (
+        "unreachable acceleration",
+        lambda t: SINGULAR.inverse(SINGULAR.xg + SINGULAR.svd.U2[:, 0]),
+        pe.UnreachableAccelerationError,
+        "project it",
+    ),
+    (
+        "zero direction",
+        lambda t: AN.polytope.limits([0, 0]),
+        pe.InputError,
+        "zero-length direction",
+    ),
+    (
+        "non-unit direction",
+        lambda t: AN.ellipsoid().limits([[1, 1]]),
+        pe.InputError,
+        "unit direction vectors",
+    ),
+    (
+        "direction of wrong size",
+        lambda t: AN.polytope.limits([1, 0, 0]),
+        pe.InputError,
+        "2 coordinates",
+    ),
+    (
+        "unknown limits method",
+        lambda t: AN.polytope.limits([1, 0], method="simplex"),
+        pe.InputError,
+        "'closed_form' or 'lp'",
+    ),
+    (
+        "unknown halfspace method",
+        lambda t: AN.polytope.halfspaces("qhull"),
+        pe.InputError,
+        "'zonotope' or 'cdd'",
+    ),
+    (
+        "non-orthonormal axes",
+        lambda t: pe.Ellipsoid([0, 0], [[1, 1], [0, 1]], [1, 1]),
+        pe.InputError,
+        "orthonormal",
+    ),
+    (
+        "zero semi-axis",
+        lambda t: pe.Ellipsoid([0, 0], np.eye(2), [1, 0]),
+        pe.InputError,
+        "strictly positive",
+    ),
+    (
+        "unknown comparison kind",
+        lambda t: pe.compare(AN, 8, mvie=False)["best"],
+        pe.InputError,
+        "kind: expected one of",
+    ),
+    ("compare without analysis", lambda t: pe.compare(DYN), pe.InputError, "pe.analyze"),
+    (
+        "negative link length",
+        lambda t: pe.PlanarArm([1, -1], [1, 1]),
+        pe.InputError,
+        "lengths: expected strictly positive",
+    ),
+    ("wrong number of angles", lambda t: ARM.dynamics([0.1, 0.2]), pe.InputError, "q: expected"),
+    ("unknown robot", lambda t: pe.robots.load("kuka"), pe.InputError, "name: expected one of"),
+    (
+        "mixed task rows",
+        lambda t: pe.robots.load("panda", task=["x", "wz"]),
+        pe.InputError,
+        "all linear or all angular",
+    ),
+    (
+        "missing URDF",
+        lambda t: pe.UrdfRobot(t / "none.urdf", "tip"),
+        pe.InputError,
+        "an existing URDF file",
+    ),
+    (
+        "missing tip frame",
+        lambda t: pe.robots.load("ur5", tip="nose"),
+        pe.InputError,
+        "tip: expected a frame",
+    ),
+    (
+        "unknown locked joint",
+        lambda t: pe.robots.load("ur5", locked_joints=["finger"]),
+        pe.InputError,
+        "locked_joints",
+    ),
+    (
+        "sweep scheduler",
+        lambda t: pe.sweep(ARM, np.zeros((2, 3)), scheduler="gpu"),
+        pe.InputError,
+        "scheduler",
+    ),
+    (
+        "sweep unknown score",
+        lambda t: pe.sweep(ARM, np.zeros((2, 3)), scores=("beauty",)),
+        pe.InputError,
+        "scores",
+    ),
+    ("grid with no points", lambda t: pe.grid(0.0, (0.0, 1.0, 0), 0.0), pe.InputError, "num >= 1"),
+    (
+        "random box upside down",
+        lambda t: pe.random_configurations(3, [1.0], [0.0]),
+        pe.InputError,
+        "low <= high",
+    ),
+]
+
+FILES = [
+    (
+        "unknown top-level key",
+        lambda t: load_study(toml(t, STUDY + "[outputs]\n")),
+        pe.InputError,
+        "keys among ['title', 'description', 'robot'",
+    ),
+    (
+        "unknown robot key",
+        lambda t: load_study(toml(t, STUDY.replace("library", "librar"))),
+        pe.InputError,
+        "unknown key(s) ['librar']",
+    ),
+    (
+        "unknown compare key",
+        lambda t: load_study(toml(t, STUDY + "[compare]\nsample = 3\n")),
+        pe.InputError,
+        "keys among ['directions', 'mvie', 'samples', 'seed', 'chunk']",
+    ),
+    (
+        "unknown output key",
+        lambda t: load_study(toml(t, STUDY + "[output]\nformat = 'png'\n")),
+        pe.InputError,
+        "keys among ['formats', 'dpi', 'maps', 'histograms']",
+    ),
+    ("invalid TOML", lambda t: load_study(toml(t, "robot = [")), pe.InputError, "valid TOML"),
+    (
+        "missing study",
+        lambda t: load_study(t / "none.toml"),
+        pe.InputError,
+        "an existing TOML file",
+    ),
+    (
+        "bad angle expression",
+        lambda t: load_study(toml(t, STUDY.replace("0.1,", "'pi/x',"))),
+        pe.InputError,
+        "points[0].q[0]",
+    ),
+    (
+        "robot file without limits",
+        lambda t: load_robot_file(toml(t, "planar = { lengths = [1], masses = [1] }\n")),
+        pe.InputError,
+        "torque limits",
+    ),
+    (
+        "URDF robot without tip",
+        lambda t: load_robot_file(toml(t, 'urdf = "arm.urdf"\ntau_max = [1]\n')),
+        pe.InputError,
+        "a 'tip' frame",
+    ),
+    (
+        "unwritable output folder",
+        lambda t: run_study(load_study(toml(t, STUDY)), _blocked(t) / "out"),
+        pe.InputError,
+        "a folder polyell can write to",
+    ),
+]
+
+
+def _blocked(tmp: Path) -> Path:
+    blocker = tmp / "blocker"
+    blocker.write_text("")
+    return blocker
+
+
+@pytest.mark.parametrize(
+    ("name", "call", "error", "fragment"), API + FILES, ids=[r[0] for r in API + FILES]
+)
+def test_bad_input(tmp_path, name, call, error, fragment):
+    with pytest.raises(error) as info:
+        call(tmp_path)
+    assert isinstance(info.value, pe.PolyellError)
+    assert fragment in str(info.value), str(info.value)
+
+
+CLI = [
+    (["analyze", "--q", "1,2"], "q: expected"),
+    (["analyze", "--tau-max", "1,0,1"], "tau_max: expected strictly positive"),
+    (["analyze", "--robot", "kuka"], "name: expected one of"),
+    (["analyze", "--robot", "missing.toml"], "an existing TOML file"),
+    (["analyze", "--direction", "1,1"], "unit direction vectors"),
+    (["study", "missing.toml", "--out", "x"], "an existing TOML file"),
+]
+
+
+@pytest.mark.parametrize(("argv", "fragment"), CLI, ids=[" ".join(a) for a, _ in CLI])
+def test_bad_command_line_is_one_line_and_exit_2(capsys, argv, fragment):
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("polyell: error:") and fragment in err
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+
+
+def test_the_matrix_has_at_least_forty_rows():
+    assert len(API) + len(FILES) + len(CLI) >= 40
