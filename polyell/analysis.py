@@ -218,7 +218,9 @@ class Analysis:
                 self._require_classic()
                 at_rest = classic_joint_map(dyn.J)
             else:
-                at_rest = chiacchio_joint_map(dyn.J, dyn.B, self.Q, self._gravity_bias, self.rank)
+                at_rest = chiacchio_joint_map(
+                    dyn.J, dyn.B, self.half_range, self._gravity_bias, self.svd.pinv()
+                )
             # J qdd = xdd - Jdot qdot: the maps act on the acceleration less its bias.
             self._joint_maps[kind] = at_rest.after_shift(dyn.xdd_bias)
         return self._joint_maps[kind]

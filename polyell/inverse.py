@@ -47,8 +47,13 @@ class AffineMap(NamedTuple):
 
 
 def jacobian_pseudoinverse(J: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``J^+ = J^T (J J^T)^-1`` (eq. 26), shape (n, m); J must have full row rank."""
-    pinv: NDArray[np.float64] = np.linalg.solve(J @ J.T, J).T
+    """``J^+ = J^T (J J^T)^-1`` (eq. 26), shape (n, m); J must have full row rank.
+
+    Computed from the SVD of J (``V S^-1 U^T``), not from ``J J^T``, whose condition number
+    is the square of J's: near a singularity that would cost half the digits.
+    """
+    U, s, Vt = np.linalg.svd(J, full_matrices=False)
+    pinv: NDArray[np.float64] = (Vt.T / s) @ U.T
     return pinv
 
 
@@ -85,22 +90,30 @@ def classic_joint_map(J: NDArray[np.float64]) -> AffineMap:
 def chiacchio_joint_map(
     J: NDArray[np.float64],
     B: NDArray[np.float64],
-    Q: NDArray[np.float64],
+    half_range: NDArray[np.float64],
     gravity_bias: NDArray[np.float64],
-    rank: int,
+    M_pinv: NDArray[np.float64],
 ) -> AffineMap:
     """Eq. (33)/(40): ``qdd = J_Q^# xdd - (I - J_Q^# J) B^-1 (g - tau_c)``.
 
+    Evaluated as eq. (39) with ``J_Q^# = B^-1 L M^#`` (eq. 36 and 12: with
+    ``Q = (L^-1 B)^T (L^-1 B)`` the Q-weighted minimum-norm solution of ``J qdd = y`` is
+    ``B^-1 L M^# y``).  This uses the SVD of M (condition number that of M) instead of
+    ``Q^-1/2`` (that of M squared), so it stays accurate for ill-conditioned inertias; it
+    equals :func:`weighted_generalized_inverse` (eq. 41) where both are accurate.
+
     Parameters
     ----------
-    J, B, Q : ndarray
-        Jacobian (m, n), inertia (n, n), weight (n, n).
+    J, B : ndarray
+        Jacobian (m, n), inertia (n, n).
+    half_range : ndarray, shape (n,)
+        Diagonal of L.
     gravity_bias : ndarray, shape (n,)
         ``g - tau_c`` [N m].
-    rank : int
-        Rank of J.
+    M_pinv : ndarray, shape (n, m)
+        The generalized inverse of M at the analysis' rank (eq. 37).
     """
-    JQ = weighted_generalized_inverse(J, Q, rank)
+    JQ = np.asarray(np.linalg.solve(B, half_range[:, None] * M_pinv), dtype=np.float64)
     free_fall = np.linalg.solve(B, gravity_bias)
     return AffineMap(JQ, JQ @ (J @ free_fall) - free_fall)
 
