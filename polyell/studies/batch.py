@@ -215,7 +215,8 @@ def _block_rows(
     feasible_p = ~np.isnan(lo_p)
 
     # Classic ellipsoid from F = L^-1 B J^+ (its core is F^T F), as in Analysis.ellipsoid.
-    J_pinv = np.swapaxes(np.linalg.solve(J @ np.swapaxes(J, -1, -2), J), -1, -2)
+    U_j, s_j, Vt_j = np.linalg.svd(J, full_matrices=False)  # J^+ as in jacobian_pseudoinverse
+    J_pinv = (np.swapaxes(Vt_j, -1, -2) / s_j[:, None, :]) @ np.swapaxes(U_j, -1, -2)
     F = (B @ J_pinv) / half[:, None]
     _, s_f, Vt_f = np.linalg.svd(F, full_matrices=False)
     ellipsoids = {
