@@ -8,7 +8,9 @@ Each ellipsoid definition comes with its own solution of :math:`J \ddot q = \ddo
   :math:`\ddot q = J_Q^\# \ddot x - (I - J_Q^\# J) B^{-1} (g - \tau_c)` with the
   weighted generalized inverse :math:`J_Q^\# = Q^{-1/2} (J Q^{-1/2})^\#` of eq. (41),
   equal to :math:`J_Q^\dagger = Q^{-1} J^T (J Q^{-1} J^T)^{-1}` (eq. 31) when J has
-  full rank.  It solves eq. (34): the minimum normalized-torque norm.
+  full rank.  It solves eq. (34): the minimum normalized-torque norm.  It is evaluated as
+  :math:`J_Q^\# = B^{-1} L M^\#` (eq. 39), from the SVD of M, which keeps its digits for
+  ill-conditioned inertias; :func:`weighted_generalized_inverse` is eq. (41) literally.
 
 The normalized torque is :math:`\tilde\tau = L^{-1} (B \ddot q + g - \tau_c)` (eq. 10,
 12 with the shift for asymmetric limits).
