@@ -128,10 +128,11 @@ class Analysis:
         self.half_range = 0.5 * (self.tau_max - self.tau_min)
         J, B = dynamics.J, dynamics.B
         self._gravity_bias = dynamics.g - self.tau_center
-        self.M: NDArray[np.float64] = J @ np.linalg.solve(B, np.diag(self.half_range))
-        self.xg: NDArray[np.float64] = (
-            -J @ np.linalg.solve(B, self._gravity_bias) + dynamics.xdd_bias
-        )
+        # One factorisation of B for both: B^-1 [L, g - tau_c].
+        n = dynamics.n
+        solved = np.linalg.solve(B, np.column_stack([np.diag(self.half_range), self._gravity_bias]))
+        self.M: NDArray[np.float64] = J @ solved[:, :n]
+        self.xg: NDArray[np.float64] = -J @ solved[:, n] + dynamics.xdd_bias
         self.svd: RankRevealingSVD = rank_revealing_svd(self.M, rank_rtol)
         self._ellipsoids: dict[str, Ellipsoid] = {}
         self._joint_maps: dict[str, AffineMap] = {}

@@ -94,7 +94,8 @@ def rank_revealing_svd(M: NDArray[np.float64], rtol: float = RANK_RTOL) -> RankR
             repr(rtol),
             f"keep the default {RANK_RTOL:g} unless you know the data's precision.",
         )
-    U, s, Vt = np.linalg.svd(M, full_matrices=True)
+    m, n = M.shape
+    U, s, Vt = np.linalg.svd(M, full_matrices=m > n)  # U is square either way
     rank = int(np.count_nonzero(s > rtol * s[0])) if s.size and s[0] > 0 else 0
     return RankRevealingSVD(
         U1=U[:, :rank],

@@ -74,17 +74,27 @@ def cross(blocks: NDArray[np.float64]) -> NDArray[np.float64]:
     )
 
 
+@lru_cache(maxsize=16)
+def _corner_bits(k: int) -> NDArray[np.int64]:
+    """The 2^k corners of {0, 1}^k as rows (cached, read-only)."""
+    rows = np.array(list(product((0, 1), repeat=k)), dtype=np.int64).reshape(2**k, k)
+    rows.flags.writeable = False
+    return rows
+
+
 def _nonzero_generators(G: NDArray[np.float64]) -> NDArray[np.float64]:
-    lengths = np.linalg.norm(G, axis=0)
-    if lengths.size == 0 or lengths.max() == 0:
+    lengths = np.sqrt((G * G).sum(axis=0))
+    longest = lengths.max(initial=0.0)
+    if longest == 0:
         return G[:, :0]
-    return G[:, lengths > _ZERO_GENERATOR_RTOL * lengths.max()]
+    keep = lengths > _ZERO_GENERATOR_RTOL * longest
+    return G if keep.all() else G[:, keep]
 
 
 def _unique_directions(normals: NDArray[np.float64]) -> NDArray[np.float64]:
     """Drop unit vectors equal, up to sign, to an earlier one."""
-    cosines = np.triu(np.abs(normals @ normals.T), k=1)
-    near = np.argwhere(cosines > 1.0 - 1e-6)  # candidates; decided by distance below
+    near = np.argwhere(np.abs(normals @ normals.T) > 1.0 - 1e-6)  # candidates, and i = j
+    near = near[near[:, 0] < near[:, 1]]  # decided by distance below
     if near.size == 0:
         return normals
     first, second = normals[near[:, 0]], normals[near[:, 1]]
@@ -116,10 +126,11 @@ def zonotope_facets(G: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArra
     if r == 1:
         normals = np.array([[1.0]])
     else:
-        blocks = np.transpose(gens[:, subsets(gens.shape[1], r - 1)], (1, 0, 2))  # (C, r, r-1)
+        chosen = subsets(gens.shape[1], r - 1)
+        blocks = np.transpose(gens[:, chosen], (1, 0, 2))  # (C, r, r-1)
         cofactors = cross(blocks)
-        size = np.linalg.norm(cofactors, axis=1)
-        scale = np.prod(np.linalg.norm(blocks, axis=1), axis=1)
+        size = np.sqrt((cofactors * cofactors).sum(axis=1))
+        scale = np.sqrt((gens * gens).sum(axis=0))[chosen].prod(axis=1)
         independent = size > _DEPENDENT_RTOL * scale
         normals = _unique_directions(cofactors[independent] / size[independent, None])
     offsets = np.abs(normals @ gens).sum(axis=1)
@@ -181,17 +192,20 @@ def _vertices_in_general_position(
     """
     F, n = dots.shape
     free = np.nonzero(in_facet)[1].reshape(F, -1)  # (F, r-1)
-    corners = np.array(list(product((-1, 1), repeat=free.shape[1])), dtype=np.int8)
-    signs = np.repeat(np.sign(dots).astype(np.int8)[:, None, :], len(corners), axis=1)
-    facet = np.arange(F)[:, None, None]
-    signs[facet, np.arange(len(corners))[None, :, None], free[:, None, :]] = corners[None]
-    signs = signs.reshape(-1, n)
-    keys = (signs > 0) @ (1 << np.arange(n, dtype=np.int64)) if n < 63 else None
-    if keys is None:
-        unique = np.unique(signs, axis=0)
-    else:
-        unique = signs[np.unique(keys, return_index=True)[1]]
-    return unique.astype(float) @ gens.T
+    if n >= 63:  # sign vectors do not fit in an integer key: rows of signs instead
+        corners = np.array(list(product((-1, 1), repeat=free.shape[1])), dtype=np.int8)
+        rows = np.repeat(np.sign(dots).astype(np.int8)[:, None, :], len(corners), axis=1)
+        facet = np.arange(F)[:, None, None]
+        rows[facet, np.arange(len(corners))[None, :, None], free[:, None, :]] = corners[None]
+        return np.unique(rows.reshape(-1, n), axis=0).astype(float) @ gens.T
+    # A sign vector as the bits of an integer (bit i set: +g_i): the generators off the
+    # facet plane are fixed by the normal, those in it take every combination.
+    bits = 1 << np.arange(n, dtype=np.int64)
+    base = ((dots > 0) & ~in_facet) @ bits
+    corners = _corner_bits(free.shape[1]) @ bits[free].T  # (2^(r-1), F)
+    keys = np.unique(base + corners)
+    signs = ((keys[:, None] >> np.arange(n)) & 1) * 2.0 - 1.0
+    return signs @ gens.T
 
 
 def _vertices_by_active_facets(
