@@ -69,7 +69,7 @@ class Polytope(ConvexSet):
         self.center = np.asarray(center, dtype=float)
         self._svd = svd if svd is not None else rank_revealing_svd(self.generators, rank_rtol)
         self.affine_set = AffineSubspace.from_svd(self.center, self._svd)
-        self._set_atol(float(np.linalg.norm(self.generators, axis=0).sum()))
+        self._set_atol(float(np.sqrt((self.generators**2).sum(axis=0)).sum()))
 
     def __repr__(self) -> str:
         return (

@@ -93,10 +93,12 @@ def _nonzero_generators(G: NDArray[np.float64]) -> NDArray[np.float64]:
 
 def _unique_directions(normals: NDArray[np.float64]) -> NDArray[np.float64]:
     """Drop unit vectors equal, up to sign, to an earlier one."""
-    near = np.argwhere(np.abs(normals @ normals.T) > 1.0 - 1e-6)  # candidates, and i = j
-    near = near[near[:, 0] < near[:, 1]]  # decided by distance below
-    if near.size == 0:
+    cosines = np.abs(normals @ normals.T)
+    np.fill_diagonal(cosines, 0.0)
+    if cosines.max(initial=0.0) <= 1.0 - 1e-6:  # no candidate pair: the usual case
         return normals
+    near = np.argwhere(cosines > 1.0 - 1e-6)
+    near = near[near[:, 0] < near[:, 1]]  # decided by distance below
     first, second = normals[near[:, 0]], normals[near[:, 1]]
     distance = np.minimum(
         np.linalg.norm(first - second, axis=1), np.linalg.norm(first + second, axis=1)
@@ -172,7 +174,7 @@ def zonotope_vertices(
     """
     r = G.shape[0]
     gens = _nonzero_generators(G)
-    lengths = np.linalg.norm(gens, axis=0)
+    lengths = np.sqrt((gens * gens).sum(axis=0))
     dots = normals @ gens
     in_facet = np.abs(dots) <= _IN_FACET_RTOL * lengths
     if np.all(in_facet.sum(axis=1) == r - 1):
@@ -203,7 +205,7 @@ def _vertices_in_general_position(
     bits = 1 << np.arange(n, dtype=np.int64)
     base = ((dots > 0) & ~in_facet) @ bits
     corners = _corner_bits(free.shape[1]) @ bits[free].T  # (2^(r-1), F)
-    keys = np.unique(base + corners)
+    keys = np.fromiter(set((base + corners).ravel().tolist()), dtype=np.int64)
     signs = ((keys[:, None] >> np.arange(n)) & 1) * 2.0 - 1.0
     return signs @ gens.T
 
