@@ -23,6 +23,7 @@ from scipy.spatial import ConvexHull
 from polyell.errors import InputError
 
 __all__ = [
+    "DEPENDENT_RTOL",
     "MAX_CORNER_JOINTS",
     "corner_vertices",
     "zonotope_facets",
@@ -35,7 +36,7 @@ MAX_CORNER_JOINTS = 16
 #: Generators shorter than this fraction of the longest one are zero.
 _ZERO_GENERATOR_RTOL = 1e-12
 #: Subsets whose normal is this small relative to their generator lengths are dependent.
-_DEPENDENT_RTOL = 1e-12
+DEPENDENT_RTOL = 1e-12
 #: Unit normals closer than this (up to sign) are the same facet direction.
 _SAME_NORMAL_TOL = 1e-10
 #: A generator with |a . g| <= this * |g| lies in the facet plane of normal a.
@@ -133,7 +134,7 @@ def zonotope_facets(G: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArra
         cofactors = cross(blocks)
         size = np.sqrt((cofactors * cofactors).sum(axis=1))
         scale = np.sqrt((gens * gens).sum(axis=0))[chosen].prod(axis=1)
-        independent = size > _DEPENDENT_RTOL * scale
+        independent = size > DEPENDENT_RTOL * scale
         normals = _unique_directions(cofactors[independent] / size[independent, None])
     offsets = np.abs(normals @ gens).sum(axis=1)
     return np.concatenate([normals, -normals]), np.concatenate([offsets, offsets])

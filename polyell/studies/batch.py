@@ -21,7 +21,7 @@ from polyell.comparison.metrics import INSIDE_RTOL
 from polyell.geometry.convex_set import ATOL_RELATIVE
 from polyell.geometry.ellipsoid import unit_ball_volume
 from polyell.geometry.subspace import RANK_RTOL
-from polyell.geometry.zonotope import _DEPENDENT_RTOL, cross, subsets
+from polyell.geometry.zonotope import DEPENDENT_RTOL, cross, subsets
 from polyell.models.dynamics import Dynamics
 
 __all__ = ["batch_rows", "score_columns"]
@@ -45,7 +45,7 @@ def _facets(M: Array) -> tuple[Array, Array]:
         normals = cross(blocks)
         size = np.linalg.norm(normals, axis=-1)
         scale = np.prod(np.linalg.norm(blocks, axis=2), axis=-1)
-        dependent = size <= _DEPENDENT_RTOL * scale
+        dependent = size <= DEPENDENT_RTOL * scale
         normals = np.where(
             dependent[..., None], 0.0, normals / np.where(dependent, 1.0, size)[..., None]
         )
