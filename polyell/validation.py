@@ -41,7 +41,7 @@ def _as_finite_float(name: str, value: ArrayLike, expected: str) -> NDArray[np.f
         array = np.array(value, dtype=np.float64)
     except (TypeError, ValueError):
         raise InputError(name, expected, _describe(value)) from None
-    if not np.all(np.isfinite(array)):
+    if not np.isfinite(array).all():
         bad = np.argwhere(~np.isfinite(array))[0]
         raise InputError(
             name,
@@ -168,8 +168,8 @@ def check_torque_limits(
     """
     upper = check_array("tau_max", tau_max, (n,))
     if tau_min is None:
-        bad = np.flatnonzero(upper <= 0)
-        if bad.size:
+        if (upper <= 0).any():
+            bad = np.flatnonzero(upper <= 0)
             raise InputError(
                 "tau_max",
                 "strictly positive symmetric bounds when tau_min is not given",
@@ -178,9 +178,8 @@ def check_torque_limits(
             )
         return upper, -upper
     lower = check_array("tau_min", tau_min, (n,))
-    bad = np.flatnonzero(lower >= upper)
-    if bad.size:
-        i = bad[0]
+    if (lower >= upper).any():
+        i = np.flatnonzero(lower >= upper)[0]
         raise InputError(
             "tau_min",
             "tau_min < tau_max for every joint",

@@ -7,7 +7,7 @@ import polyell as pe
 arm = pe.robots.load("chiacchio2000")
 
 redundant = pe.analyze(arm.dynamics([np.pi / 2, -np.pi / 2, -np.pi / 2]), arm.tau_max)
-print("x_g =", np.round(redundant.xg, 3))
+print("x_g =", np.round(redundant.xg, 3) + 0.0)  # + 0.0: no "-0." from rounding
 for kind in ("yoshikawa", "chiacchio"):
     E = redundant.ellipsoid(kind)
     print(f"{kind}: N = 1e-3 *", np.round(E.core * 1e3, 4).tolist())

@@ -19,7 +19,12 @@ from polyell.geometry.subspace import (
     RankRevealingSVD,
     rank_revealing_svd,
 )
-from polyell.geometry.zonotope import zonotope_facets, zonotope_vertices, zonotope_volume
+from polyell.geometry.zonotope import (
+    ZonotopeFacets,
+    zonotope_facets,
+    zonotope_vertices,
+    zonotope_volume,
+)
 from polyell.validation import check_array, check_directions
 
 __all__ = ["Polytope"]
@@ -69,6 +74,12 @@ class Polytope(ConvexSet):
         self.center = np.asarray(center, dtype=float)
         self._svd = svd if svd is not None else rank_revealing_svd(self.generators, rank_rtol)
         self.affine_set = AffineSubspace.from_svd(self.center, self._svd)
+        # The generators in the affine set's coordinates, (r, n): M itself at full rank.
+        self._coordinate_generators = (
+            self.generators
+            if self.dim == self.ambient_dim
+            else self.affine_set.basis.T @ self.generators
+        )
         self._set_atol(float(np.sqrt((self.generators**2).sum(axis=0)).sum()))
 
     def __repr__(self) -> str:
@@ -78,23 +89,28 @@ class Polytope(ConvexSet):
         )
 
     @cached_property
-    def _reduced(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """Generators, facet normals and offsets in the affine set's coordinates."""
-        G = self.affine_set.basis.T @ self.generators
+    def _facets(
+        self,
+    ) -> tuple[ZonotopeFacets | None, NDArray[np.float64], NDArray[np.float64]]:
+        """The zonotope's facets in the affine set's coordinates (None for a point); A; b."""
         if self.dim == 0:
-            return G, np.zeros((0, 0)), np.zeros(0)
-        normals, offsets = zonotope_facets(G)
-        return G, normals, offsets
+            return None, np.zeros((0, self.ambient_dim)), np.zeros(0)
+        facets = zonotope_facets(self._coordinate_generators)
+        if self.dim == self.ambient_dim:  # the basis is the identity
+            A = facets.normals
+        else:
+            A = facets.normals @ self.affine_set.basis.T
+        return facets, A, facets.offsets + A @ self.center
 
-    @cached_property
+    @property
     def A(self) -> NDArray[np.float64]:
         """Unit outward facet normals in task coordinates, shape (F, m)."""
-        return self._reduced[1] @ self.affine_set.basis.T
+        return self._facets[1]
 
-    @cached_property
+    @property
     def b(self) -> NDArray[np.float64]:
         """Facet offsets, shape (F,): ``P = {x : A x <= b, A_eq x = b_eq}``."""
-        return self._reduced[2] + self.A @ self.center
+        return self._facets[2]
 
     @property
     def A_eq(self) -> NDArray[np.float64]:
@@ -109,16 +125,18 @@ class Polytope(ConvexSet):
     @cached_property
     def vertices(self) -> NDArray[np.float64]:
         """Extreme points, shape (V, m); counter-clockwise when ``dim == 2``."""
-        G, normals, offsets = self._reduced
-        if self.dim == 0:
+        facets = self._facets[0]
+        if facets is None:
             return self.center[None, :].copy()
-        reduced = zonotope_vertices(G, normals, offsets)
+        reduced = zonotope_vertices(facets)
+        if self.dim == self.ambient_dim:
+            return self.center + reduced
         return self.center + reduced @ self.affine_set.basis.T
 
     @cached_property
     def volume(self) -> float:
         """Volume in the affine set (r-dimensional; 1 for a single point) [(m/s^2)^r]."""
-        return zonotope_volume(self._reduced[0])
+        return zonotope_volume(self._coordinate_generators)
 
     def halfspaces(
         self, method: Literal["zonotope", "cdd"] = "zonotope"

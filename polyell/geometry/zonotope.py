@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from functools import lru_cache
 from itertools import combinations, product
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -25,6 +26,7 @@ from polyell.errors import InputError
 __all__ = [
     "DEPENDENT_RTOL",
     "MAX_CORNER_JOINTS",
+    "ZonotopeFacets",
     "corner_vertices",
     "zonotope_facets",
     "zonotope_vertices",
@@ -41,6 +43,8 @@ DEPENDENT_RTOL = 1e-12
 _SAME_NORMAL_TOL = 1e-10
 #: A generator with |a . g| <= this * |g| lies in the facet plane of normal a.
 _IN_FACET_RTOL = 1e-10
+#: Up to this many generators, vertices are picked from a cached table of sign vectors.
+_SIGN_TABLE_JOINTS = 12
 
 
 @lru_cache(maxsize=64)
@@ -83,23 +87,34 @@ def _corner_bits(k: int) -> NDArray[np.int64]:
     return rows
 
 
-def _nonzero_generators(G: NDArray[np.float64]) -> NDArray[np.float64]:
+@lru_cache(maxsize=16)
+def _sign_table(n: int) -> NDArray[np.float64]:
+    """Row k: the signs (+-1) of the bits of k, shape (2^n, n) (cached, read-only)."""
+    table = (((np.arange(1 << n)[:, None] >> np.arange(n)) & 1) * 2 - 1).astype(np.float64)
+    table.flags.writeable = False
+    return table
+
+
+def _nonzero_generators(G: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The generators longer than ``_ZERO_GENERATOR_RTOL`` of the longest, and their lengths."""
     lengths = np.sqrt((G * G).sum(axis=0))
     longest = lengths.max(initial=0.0)
     if longest == 0:
-        return G[:, :0]
+        return G[:, :0], lengths[:0]
+    if lengths.min() > _ZERO_GENERATOR_RTOL * longest:
+        return G, lengths
     keep = lengths > _ZERO_GENERATOR_RTOL * longest
-    return G if keep.all() else G[:, keep]
+    return G[:, keep], lengths[keep]
 
 
 def _unique_directions(normals: NDArray[np.float64]) -> NDArray[np.float64]:
     """Drop unit vectors equal, up to sign, to an earlier one."""
-    cosines = np.abs(normals @ normals.T)
-    np.fill_diagonal(cosines, 0.0)
-    if cosines.max(initial=0.0) <= 1.0 - 1e-6:  # no candidate pair: the usual case
+    # A screen on the cosines (rounded by ~1e-15), then the decision on the distances:
+    # two unit vectors within _SAME_NORMAL_TOL have a cosine above 1 - 1e-20.
+    close = np.abs(normals @ normals.T) > 1.0 - 1e-12
+    if np.count_nonzero(close) == len(normals):  # only the diagonal: the usual case
         return normals
-    near = np.argwhere(cosines > 1.0 - 1e-6)
-    near = near[near[:, 0] < near[:, 1]]  # decided by distance below
+    near = np.argwhere(np.triu(close, 1))
     first, second = normals[near[:, 0]], normals[near[:, 1]]
     distance = np.minimum(
         np.linalg.norm(first - second, axis=1), np.linalg.norm(first + second, axis=1)
@@ -109,7 +124,44 @@ def _unique_directions(normals: NDArray[np.float64]) -> NDArray[np.float64]:
     return normals[~duplicate]
 
 
-def zonotope_facets(G: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def _cofactors(gens: NDArray[np.float64], chosen: NDArray[np.int_]) -> NDArray[np.float64]:
+    """The generalised cross product of each subset of r - 1 generators, shape (C, r)."""
+    if gens.shape[0] == 3:  # the common task; the same as cross(), with fewer numpy calls
+        a, b = chosen[:, 0], chosen[:, 1]
+        rows, after = _ROTATE
+        return (gens[rows, a] * gens[after, b] - gens[after, a] * gens[rows, b]).T
+    return cross(np.transpose(gens[:, chosen], (1, 0, 2)))
+
+
+#: Row indices (1, 2, 0) and (2, 0, 1), shaped to pick the 3-D cross product's factors.
+_ROTATE = (np.array([[1], [2], [0]]), np.array([[2], [0], [1]]))
+
+
+class ZonotopeFacets(NamedTuple):
+    """The facets of a zonotope, with what its vertex enumeration reuses.
+
+    Attributes
+    ----------
+    generators : ndarray, shape (r, n)
+        The non-zero generators (columns).
+    lengths : ndarray, shape (n,)
+        Their Euclidean lengths.
+    normals : ndarray, shape (F, r)
+        Unit outward facet normals: ``F/2`` directions ``a``, then their negatives.
+    offsets : ndarray, shape (F,)
+        ``h(a) = sum_i |a . g_i|``: the zonotope is ``{ y : normals @ y <= offsets }``.
+    dots : ndarray, shape (F/2, n)
+        ``a . g_i`` for the first ``F/2`` normals.
+    """
+
+    generators: NDArray[np.float64]
+    lengths: NDArray[np.float64]
+    normals: NDArray[np.float64]
+    offsets: NDArray[np.float64]
+    dots: NDArray[np.float64]
+
+
+def zonotope_facets(G: NDArray[np.float64]) -> ZonotopeFacets:
     """Facet normals and offsets of the zonotope, ``Z = { y : normals @ y <= offsets }``.
 
     Parameters
@@ -119,25 +171,26 @@ def zonotope_facets(G: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArra
 
     Returns
     -------
-    normals : ndarray, shape (F, r)
-        Unit outward facet normals, in pairs ``a, -a``.
-    offsets : ndarray, shape (F,)
-        ``h(a) = sum_i |a . g_i|``.
+    ZonotopeFacets
+        Normals in pairs ``a, -a`` and offsets ``h(a) = sum_i |a . g_i|``.
     """
     r = G.shape[0]
-    gens = _nonzero_generators(G)
+    gens, lengths = _nonzero_generators(G)
     if r == 1:
-        normals = np.array([[1.0]])
+        half = np.ones((1, 1))
     else:
         chosen = subsets(gens.shape[1], r - 1)
-        blocks = np.transpose(gens[:, chosen], (1, 0, 2))  # (C, r, r-1)
-        cofactors = cross(blocks)
+        cofactors = _cofactors(gens, chosen)
         size = np.sqrt((cofactors * cofactors).sum(axis=1))
-        scale = np.sqrt((gens * gens).sum(axis=0))[chosen].prod(axis=1)
-        independent = size > DEPENDENT_RTOL * scale
-        normals = _unique_directions(cofactors[independent] / size[independent, None])
-    offsets = np.abs(normals @ gens).sum(axis=1)
-    return np.concatenate([normals, -normals]), np.concatenate([offsets, offsets])
+        independent = size > DEPENDENT_RTOL * lengths[chosen].prod(axis=1)
+        if not independent.all():
+            cofactors, size = cofactors[independent], size[independent]
+        half = _unique_directions(cofactors / size[:, None])
+    dots = half @ gens
+    offsets = np.abs(dots).sum(axis=1)
+    return ZonotopeFacets(
+        gens, lengths, np.concatenate([half, -half]), np.concatenate([offsets, offsets]), dots
+    )
 
 
 def _order_polygon(points: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -154,34 +207,26 @@ def _unique_points(points: NDArray[np.float64], atol: float) -> NDArray[np.float
     return points[keep]
 
 
-def zonotope_vertices(
-    G: NDArray[np.float64],
-    normals: NDArray[np.float64],
-    offsets: NDArray[np.float64],
-) -> NDArray[np.float64]:
+def zonotope_vertices(facets: ZonotopeFacets) -> NDArray[np.float64]:
     """Extreme points of the zonotope from its facets (no 2^n enumeration).
 
     Parameters
     ----------
-    G : ndarray, shape (r, n)
-        Generators spanning R^r, r >= 1.
-    normals, offsets : ndarray, shapes (F, r) and (F,)
-        The facets from :func:`zonotope_facets`.
+    facets : ZonotopeFacets
+        From :func:`zonotope_facets`.
 
     Returns
     -------
     vertices : ndarray, shape (V, r)
         The extreme points; in counter-clockwise order when r = 2.
     """
-    r = G.shape[0]
-    gens = _nonzero_generators(G)
-    lengths = np.sqrt((gens * gens).sum(axis=0))
-    dots = normals @ gens
-    in_facet = np.abs(dots) <= _IN_FACET_RTOL * lengths
-    if np.all(in_facet.sum(axis=1) == r - 1):
+    gens, dots = facets.generators, facets.dots
+    r = gens.shape[0]
+    in_facet = np.abs(dots) <= _IN_FACET_RTOL * facets.lengths
+    if (in_facet.sum(axis=1) == r - 1).all():
         vertices = _vertices_in_general_position(gens, dots, in_facet)
     else:
-        vertices = _vertices_by_active_facets(gens, normals, offsets)
+        vertices = _vertices_by_active_facets(gens, facets.normals, facets.offsets)
     return _order_polygon(vertices) if r == 2 else vertices
 
 
@@ -190,8 +235,9 @@ def _vertices_in_general_position(
 ) -> NDArray[np.float64]:
     """Every facet is a parallelotope of r - 1 generators: all its corners are vertices.
 
-    A vertex has a unique sign vector (no generator is zero), so the candidates are
-    deduplicated exactly on their signs.
+    ``dots`` and ``in_facet`` (F, n) describe one normal of each pair ``a, -a``; the
+    vertices on ``-a`` are the negatives of those on ``a``.  A vertex has a unique sign
+    vector (no generator is zero), so the candidates are deduplicated exactly on their signs.
     """
     F, n = dots.shape
     free = np.nonzero(in_facet)[1].reshape(F, -1)  # (F, r-1)
@@ -200,15 +246,21 @@ def _vertices_in_general_position(
         rows = np.repeat(np.sign(dots).astype(np.int8)[:, None, :], len(corners), axis=1)
         facet = np.arange(F)[:, None, None]
         rows[facet, np.arange(len(corners))[None, :, None], free[:, None, :]] = corners[None]
-        return np.unique(rows.reshape(-1, n), axis=0).astype(float) @ gens.T
+        rows = rows.reshape(-1, n)
+        return np.unique(np.concatenate([rows, -rows]), axis=0).astype(float) @ gens.T
     # A sign vector as the bits of an integer (bit i set: +g_i): the generators off the
-    # facet plane are fixed by the normal, those in it take every combination.
+    # facet plane are fixed by the normal, those in it take every combination.  The
+    # opposite facet's vertices have every bit flipped: key ^ (2^n - 1) = 2^n - 1 - key.
     bits = 1 << np.arange(n, dtype=np.int64)
     base = ((dots > 0) & ~in_facet) @ bits
-    corners = _corner_bits(free.shape[1]) @ bits[free].T  # (2^(r-1), F)
-    keys = np.fromiter(set((base + corners).ravel().tolist()), dtype=np.int64)
-    signs = ((keys[:, None] >> np.arange(n)) & 1) * 2.0 - 1.0
-    return signs @ gens.T
+    keys = base + _corner_bits(free.shape[1]) @ bits[free].T  # (2^(r-1), F)
+    if n <= _SIGN_TABLE_JOINTS:  # mark the keys present in a table of all 2^n
+        present = np.zeros(1 << n, dtype=bool)
+        present[keys] = True
+        present |= present[::-1]
+        return _sign_table(n)[present] @ gens.T
+    keys = np.unique(np.concatenate([keys.ravel(), keys.ravel() ^ ((1 << n) - 1)]))
+    return (((keys[:, None] >> np.arange(n)) & 1) * 2.0 - 1.0) @ gens.T
 
 
 def _vertices_by_active_facets(
@@ -246,7 +298,7 @@ def zonotope_volume(G: NDArray[np.float64]) -> float:
     r = G.shape[0]
     if r == 0:
         return 1.0
-    gens = _nonzero_generators(G)
+    gens, _ = _nonzero_generators(G)
     chosen = subsets(gens.shape[1], r)
     if chosen.size == 0:
         return 0.0
