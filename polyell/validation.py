@@ -6,7 +6,7 @@ the :class:`~polyell.errors.InputError` it raises can point at the right place.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -33,14 +33,16 @@ def _describe(value: object) -> str:
     return text if len(text) <= 120 else text[:117] + "..."
 
 
-def _as_finite_float(name: str, value: ArrayLike, expected: str) -> NDArray[np.float64]:
-    """Convert to a float64 array and reject NaN and infinity."""
+def _as_finite_float(
+    name: str, value: ArrayLike, expected: Callable[[], str]
+) -> NDArray[np.float64]:
+    """Convert to a float64 array and reject NaN and infinity (``expected()``: for messages)."""
     if value is None:  # np.array(None, dtype=float) would be a silent NaN
-        raise InputError(name, expected, "None")
+        raise InputError(name, expected(), "None")
     try:
         array = np.array(value, dtype=np.float64)
     except (TypeError, ValueError):
-        raise InputError(name, expected, _describe(value)) from None
+        raise InputError(name, expected(), _describe(value)) from None
     if not np.isfinite(array).all():
         bad = np.argwhere(~np.isfinite(array))[0]
         raise InputError(
@@ -79,15 +81,17 @@ def check_array(
     InputError
         If ``value`` is not numeric, has the wrong shape or holds NaN or infinity.
     """
-    dims = ["k" if s is None else str(s) for s in shape]
-    sizes = [s if isinstance(s, int) else None for s in shape]
-    expected = f"an array of {what} with shape ({', '.join(dims)}{',' if len(dims) == 1 else ''})"
+
+    def expected() -> str:
+        dims = ", ".join("k" if s is None else str(s) for s in shape)
+        return f"an array of {what} with shape ({dims}{',' if len(shape) == 1 else ''})"
+
     array = _as_finite_float(name, value, expected)
     if array.ndim != len(shape) or any(
-        s is not None and s != a for s, a in zip(sizes, array.shape, strict=True)
+        isinstance(s, int) and s != a for s, a in zip(shape, array.shape, strict=True)
     ):
         raise InputError(
-            name, expected, f"shape {array.shape}", "check the number of joints and task rows."
+            name, expected(), f"shape {array.shape}", "check the number of joints and task rows."
         )
     return array
 
@@ -197,7 +201,7 @@ def check_points(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]:
     points : ndarray of float64, shape ``(..., m)``
     """
     expected = f"points with {m} coordinates in the last axis, shape (m,) or (k, m)"
-    array = _as_finite_float(name, value, expected)
+    array = _as_finite_float(name, value, lambda: expected)
     if array.ndim == 0 or array.shape[-1] != m:
         raise InputError(
             name, expected, f"shape {array.shape}", "give one entry per task-space row of J."

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -20,18 +21,22 @@ ATOL_RELATIVE = 1e-9
 class ConvexSet(ABC):
     """A compact convex set of the task space, full-dimensional in its affine hull.
 
-    Subclasses set ``center`` (m,), ``affine_set`` and ``atol`` (via :meth:`_set_atol`),
-    and implement :meth:`_inside_hull` and :meth:`_interval_on_lines`.
+    Subclasses set ``center`` (m,) and ``affine_set``, and implement :meth:`_size`,
+    :meth:`_inside_hull` and :meth:`_interval_on_lines`.
     """
 
     center: NDArray[np.float64]
     affine_set: AffineSubspace
-    atol: float
 
-    def _set_atol(self, size: float) -> None:
+    @abstractmethod
+    def _size(self) -> float:
+        """A length of the order of the set's extent, for :attr:`atol`."""
+
+    @cached_property
+    def atol(self) -> float:
         """Membership tolerance: ``ATOL_RELATIVE`` times the larger of size and |centre|."""
-        self.atol = ATOL_RELATIVE * max(
-            size, float(np.linalg.norm(self.center)), np.finfo(float).tiny
+        return ATOL_RELATIVE * max(
+            self._size(), float(np.linalg.norm(self.center)), np.finfo(float).tiny
         )
 
     @property

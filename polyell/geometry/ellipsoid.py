@@ -86,7 +86,6 @@ class Ellipsoid(ConvexSet):
             basis = self.axes
             normals = null_space(self.axes.T) if self.rank else np.eye(m)
         self.affine_set = AffineSubspace(point=self.center, basis=basis, normals=normals)
-        self._set_atol(float(self.semi_axes.sum()))
 
     @classmethod
     def from_core(cls, center: ArrayLike, core: ArrayLike, *, kind: str = "custom") -> Ellipsoid:
@@ -142,6 +141,9 @@ class Ellipsoid(ConvexSet):
         """
         a = check_points("normals", normals, self.ambient_dim)
         return a @ self.center + np.linalg.norm((a @ self.axes) * self.semi_axes, axis=-1)
+
+    def _size(self) -> float:
+        return float(self.semi_axes.sum())
 
     def _inside_hull(self, x: NDArray[np.float64]) -> NDArray[np.bool_]:
         u = ((x - self.center) @ self.axes) / self.semi_axes

@@ -80,7 +80,6 @@ class Polytope(ConvexSet):
             if self.dim == self.ambient_dim
             else self.affine_set.basis.T @ self.generators
         )
-        self._set_atol(float(np.sqrt((self.generators**2).sum(axis=0)).sum()))
 
     def __repr__(self) -> str:
         return (
@@ -164,6 +163,9 @@ class Polytope(ConvexSet):
         A_red, b_red = halfspaces_from_vertices(self.affine_set.coordinates(self.vertices))
         A = A_red @ self.affine_set.basis.T
         return A, b_red + A @ self.center
+
+    def _size(self) -> float:
+        return float(np.sqrt((self.generators**2).sum(axis=0)).sum())
 
     def _inside_hull(self, x: NDArray[np.float64]) -> NDArray[np.bool_]:
         return np.all(x @ self.A.T <= self.b + self.atol, axis=-1)

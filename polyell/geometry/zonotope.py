@@ -87,6 +87,14 @@ def _corner_bits(k: int) -> NDArray[np.int64]:
     return rows
 
 
+@lru_cache(maxsize=64)
+def _bits(n: int) -> NDArray[np.int64]:
+    """``2^i`` for i in range(n) (cached, read-only)."""
+    bits = 1 << np.arange(n, dtype=np.int64)
+    bits.flags.writeable = False
+    return bits
+
+
 @lru_cache(maxsize=16)
 def _sign_table(n: int) -> NDArray[np.float64]:
     """Row k: the signs (+-1) of the bits of k, shape (2^n, n) (cached, read-only)."""
@@ -126,15 +134,24 @@ def _unique_directions(normals: NDArray[np.float64]) -> NDArray[np.float64]:
 
 def _cofactors(gens: NDArray[np.float64], chosen: NDArray[np.int_]) -> NDArray[np.float64]:
     """The generalised cross product of each subset of r - 1 generators, shape (C, r)."""
-    if gens.shape[0] == 3:  # the common task; the same as cross(), with fewer numpy calls
-        a, b = chosen[:, 0], chosen[:, 1]
-        rows, after = _ROTATE
-        return (gens[rows, a] * gens[after, b] - gens[after, a] * gens[rows, b]).T
+    r, n = gens.shape
+    if r == 3:  # the common task: the same as cross(), with four gathers from a flat array
+        flat = gens.ravel()
+        a, b, c, d = _cross_indices(n)
+        return (flat.take(a) * flat.take(b) - flat.take(c) * flat.take(d)).reshape(3, -1).T
     return cross(np.transpose(gens[:, chosen], (1, 0, 2)))
 
 
-#: Row indices (1, 2, 0) and (2, 0, 1), shaped to pick the 3-D cross product's factors.
-_ROTATE = (np.array([[1], [2], [0]]), np.array([[2], [0], [1]]))
+@lru_cache(maxsize=64)
+def _cross_indices(n: int) -> tuple[NDArray[np.int_], ...]:
+    """Flat indices into a (3, n) array for ``g_i x g_j`` over the pairs ``subsets(n, 2)``.
+
+    Component k of the cross product is ``g_i[k+1] g_j[k+2] - g_i[k+2] g_j[k+1]`` (mod 3).
+    """
+    pairs = subsets(n, 2)
+    i, j = pairs[:, 0], pairs[:, 1]
+    k1, k2 = np.array([[1], [2], [0]]), np.array([[2], [0], [1]])
+    return tuple((row * n + column).ravel() for row, column in ((k1, i), (k2, j), (k2, i), (k1, j)))
 
 
 class ZonotopeFacets(NamedTuple):
@@ -179,10 +196,12 @@ def zonotope_facets(G: NDArray[np.float64]) -> ZonotopeFacets:
     if r == 1:
         half = np.ones((1, 1))
     else:
+        # Cofactors of unit generators: their size is the volume spanned by the unit
+        # vectors, so the dependence test needs no scale.
         chosen = subsets(gens.shape[1], r - 1)
-        cofactors = _cofactors(gens, chosen)
+        cofactors = _cofactors(gens / lengths, chosen)
         size = np.sqrt((cofactors * cofactors).sum(axis=1))
-        independent = size > DEPENDENT_RTOL * lengths[chosen].prod(axis=1)
+        independent = size > DEPENDENT_RTOL
         if not independent.all():
             cofactors, size = cofactors[independent], size[independent]
         half = _unique_directions(cofactors / size[:, None])
@@ -222,28 +241,30 @@ def zonotope_vertices(facets: ZonotopeFacets) -> NDArray[np.float64]:
     """
     gens, dots = facets.generators, facets.dots
     r = gens.shape[0]
-    in_facet = np.abs(dots) <= _IN_FACET_RTOL * facets.lengths
+    threshold = _IN_FACET_RTOL * facets.lengths
+    in_facet = np.abs(dots) <= threshold
     if (in_facet.sum(axis=1) == r - 1).all():
-        vertices = _vertices_in_general_position(gens, dots, in_facet)
+        vertices = _vertices_in_general_position(gens, dots > threshold, in_facet)
     else:
         vertices = _vertices_by_active_facets(gens, facets.normals, facets.offsets)
     return _order_polygon(vertices) if r == 2 else vertices
 
 
 def _vertices_in_general_position(
-    gens: NDArray[np.float64], dots: NDArray[np.float64], in_facet: NDArray[np.bool_]
+    gens: NDArray[np.float64], positive: NDArray[np.bool_], in_facet: NDArray[np.bool_]
 ) -> NDArray[np.float64]:
     """Every facet is a parallelotope of r - 1 generators: all its corners are vertices.
 
-    ``dots`` and ``in_facet`` (F, n) describe one normal of each pair ``a, -a``; the
-    vertices on ``-a`` are the negatives of those on ``a``.  A vertex has a unique sign
-    vector (no generator is zero), so the candidates are deduplicated exactly on their signs.
+    ``positive`` (``a . g_i`` above the in-plane tolerance) and ``in_facet``, both (F, n),
+    describe one normal of each pair ``a, -a``; the vertices on ``-a`` are the negatives
+    of those on ``a``.  A vertex has a unique sign vector (no generator is zero), so the
+    candidates are deduplicated exactly on their signs.
     """
-    F, n = dots.shape
+    F, n = positive.shape
     free = np.nonzero(in_facet)[1].reshape(F, -1)  # (F, r-1)
     if n >= 63:  # sign vectors do not fit in an integer key: rows of signs instead
         corners = np.array(list(product((-1, 1), repeat=free.shape[1])), dtype=np.int8)
-        rows = np.repeat(np.sign(dots).astype(np.int8)[:, None, :], len(corners), axis=1)
+        rows = np.repeat(np.where(positive, 1, -1).astype(np.int8)[:, None], len(corners), 1)
         facet = np.arange(F)[:, None, None]
         rows[facet, np.arange(len(corners))[None, :, None], free[:, None, :]] = corners[None]
         rows = rows.reshape(-1, n)
@@ -251,9 +272,8 @@ def _vertices_in_general_position(
     # A sign vector as the bits of an integer (bit i set: +g_i): the generators off the
     # facet plane are fixed by the normal, those in it take every combination.  The
     # opposite facet's vertices have every bit flipped: key ^ (2^n - 1) = 2^n - 1 - key.
-    bits = 1 << np.arange(n, dtype=np.int64)
-    base = ((dots > 0) & ~in_facet) @ bits
-    keys = base + _corner_bits(free.shape[1]) @ bits[free].T  # (2^(r-1), F)
+    bits = _bits(n)
+    keys = positive @ bits + _corner_bits(free.shape[1]) @ bits[free].T  # (2^(r-1), F)
     if n <= _SIGN_TABLE_JOINTS:  # mark the keys present in a table of all 2^n
         present = np.zeros(1 << n, dtype=bool)
         present[keys] = True

@@ -10,6 +10,7 @@
 from __future__ import annotations
 
 import itertools
+import math
 
 import numpy as np
 import pytest
@@ -188,6 +189,18 @@ def test_limits_keep_the_shape_of_the_directions():
     P = random_problem(0, 2, 3).polytope
     assert P.limits([1.0, 0.0]).lo.shape == ()
     assert P.limits([[1.0, 0.0]]).hi.shape == (1,)
+
+
+@pytest.mark.parametrize("m, n", [(3, 14), (2, 64), (3, 64)])
+def test_vertices_of_many_generators_span_the_zonotope(m, n):
+    # n > 12 dedups sign keys by sorting; n >= 63 by rows of signs (no integer key).
+    P = pe.Polytope(np.random.default_rng(n).normal(size=(m, n)), center=np.ones(m))
+    V = P.vertices
+    assert len(V) == 2 * sum(math.comb(n - 1, k) for k in range(m))  # general position
+    assert len(ConvexHull(V).vertices) == len(V)  # every one extreme
+    assert ConvexHull(V).volume == pytest.approx(P.volume, rel=RTOL_EXACT)
+    if n <= MAX_CORNER_JOINTS:
+        assert same_point_sets(V, P.center + corner_vertices(P.generators), 1e-9 * n)
 
 
 def test_corner_enumeration_is_refused_for_many_joints():
