@@ -96,7 +96,8 @@ def rank_revealing_svd(M: NDArray[np.float64], rtol: float = RANK_RTOL) -> RankR
             f"keep the default {RANK_RTOL:g} unless you know the data's precision.",
         )
     m, n = M.shape
-    U, s, Vt, info = lapack.dgesdd(M, full_matrices=m > n)  # U is square either way
+    # (an int flag: f2py converts a bool far more slowly)
+    U, s, Vt, info = lapack.dgesdd(M, full_matrices=int(m > n))  # U is square either way
     if info != 0:
         raise SolverError(f"The SVD of M (eq. 35) did not converge: LAPACK dgesdd info={info}.")
     rank = int(np.count_nonzero(s > rtol * s[0])) if s.size and s[0] > 0 else 0

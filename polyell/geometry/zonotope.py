@@ -169,6 +169,10 @@ class ZonotopeFacets(NamedTuple):
         ``h(a) = sum_i |a . g_i|``: the zonotope is ``{ y : normals @ y <= offsets }``.
     dots : ndarray, shape (F/2, n)
         ``a . g_i`` for the first ``F/2`` normals.
+    in_facet : ndarray of bool, shape (F/2, n)
+        ``|a . g_i| <= _IN_FACET_RTOL |g_i|``: generator i lies in the facet's plane.
+    general_position : bool
+        Every facet holds exactly r - 1 generators (a parallelotope facet).
     """
 
     generators: NDArray[np.float64]
@@ -176,6 +180,8 @@ class ZonotopeFacets(NamedTuple):
     normals: NDArray[np.float64]
     offsets: NDArray[np.float64]
     dots: NDArray[np.float64]
+    in_facet: NDArray[np.bool_]
+    general_position: bool
 
 
 def zonotope_facets(G: NDArray[np.float64]) -> ZonotopeFacets:
@@ -204,12 +210,34 @@ def zonotope_facets(G: NDArray[np.float64]) -> ZonotopeFacets:
         independent = size > DEPENDENT_RTOL
         if not independent.all():
             cofactors, size = cofactors[independent], size[independent]
-        half = _unique_directions(cofactors / size[:, None])
-    dots = half @ gens
+        half = cofactors / size[:, None]
+    dots, in_facet, general = _incidence(half, gens, lengths)
+    if not general:  # two subsets may span one facet plane: keep its normal once
+        half = _unique_directions(half)
+        dots, in_facet, general = _incidence(half, gens, lengths)
     offsets = np.abs(dots).sum(axis=1)
     return ZonotopeFacets(
-        gens, lengths, np.concatenate([half, -half]), np.concatenate([offsets, offsets]), dots
+        gens,
+        lengths,
+        np.concatenate([half, -half]),
+        np.concatenate([offsets, offsets]),
+        dots,
+        in_facet,
+        general,
     )
+
+
+def _incidence(
+    normals: NDArray[np.float64], gens: NDArray[np.float64], lengths: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.bool_], bool]:
+    """``a . g_i``, which generators lie in each plane, and whether each holds exactly r - 1.
+
+    In general position no two subsets share a plane (it would hold r generators), so
+    the normals need no deduplication.
+    """
+    dots = normals @ gens
+    in_facet = np.abs(dots) <= _IN_FACET_RTOL * lengths
+    return dots, in_facet, bool((in_facet.sum(axis=1) == gens.shape[0] - 1).all())
 
 
 def _order_polygon(points: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -239,15 +267,13 @@ def zonotope_vertices(facets: ZonotopeFacets) -> NDArray[np.float64]:
     vertices : ndarray, shape (V, r)
         The extreme points; in counter-clockwise order when r = 2.
     """
-    gens, dots = facets.generators, facets.dots
-    r = gens.shape[0]
-    threshold = _IN_FACET_RTOL * facets.lengths
-    in_facet = np.abs(dots) <= threshold
-    if (in_facet.sum(axis=1) == r - 1).all():
-        vertices = _vertices_in_general_position(gens, dots > threshold, in_facet)
+    gens = facets.generators
+    if facets.general_position:
+        positive = facets.dots > _IN_FACET_RTOL * facets.lengths  # and not in the plane
+        vertices = _vertices_in_general_position(gens, positive, facets.in_facet)
     else:
         vertices = _vertices_by_active_facets(gens, facets.normals, facets.offsets)
-    return _order_polygon(vertices) if r == 2 else vertices
+    return _order_polygon(vertices) if gens.shape[0] == 2 else vertices
 
 
 def _vertices_in_general_position(
