@@ -16,6 +16,7 @@ from __future__ import annotations
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -277,18 +278,43 @@ class UrdfRobot:
         )
 
     def configuration(self, q: ArrayLike) -> NDArray[np.float64]:
-        """Pinocchio's configuration vector for joint angles ``q`` (shape (nq,)).
+        """Pinocchio's configuration vector for joint angles ``q``.
 
         Unbounded (continuous) revolute joints are stored by Pinocchio as (cos, sin).
+
+        Parameters
+        ----------
+        q : array-like, shape (nq,) or (K, nq)
+            Joint positions [rad or m].
+
+        Returns
+        -------
+        ndarray, shape (model.nq,) or (K, model.nq)
         """
-        angles = check_array("q", q, (self.nq,), what="joint positions [rad or m]")
-        config = np.array(self._pin.neutral(self.model), dtype=float)
-        for joint in list(self.model.joints)[1:]:
-            value = angles[joint.idx_v]
-            if joint.nq == 1:
-                config[joint.idx_q] = value
-            else:
-                config[joint.idx_q : joint.idx_q + 2] = np.cos(value), np.sin(value)
+        shape = ("K", self.nq) if np.ndim(q) == 2 else (self.nq,)
+        angles = check_array("q", q, shape, what="joint positions [rad or m]")
+        return self._configurations(np.atleast_2d(angles)).reshape(*angles.shape[:-1], -1)
+
+    @cached_property
+    def _joint_slots(self) -> tuple[NDArray[np.int_], ...]:
+        """Where the joint angles go in the configuration vector.
+
+        ``(to, from)`` indices for one-coordinate joints, then for (cos, sin) joints.
+        """
+        joints = list(self.model.joints)[1:]
+        plain = [(j.idx_q, j.idx_v) for j in joints if j.nq == 1]
+        circle = [(j.idx_q, j.idx_v) for j in joints if j.nq == 2]
+        to, source = np.array(plain, dtype=int).reshape(-1, 2).T
+        circle_to, circle_source = np.array(circle, dtype=int).reshape(-1, 2).T
+        return to, source, circle_to, circle_source
+
+    def _configurations(self, angles: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Configuration vectors of checked angles (K, nq): shape (K, model.nq)."""
+        to, source, circle_to, circle_source = self._joint_slots
+        config = np.empty((len(angles), self.model.nq))
+        config[:, to] = angles[:, source]
+        config[:, circle_to] = np.cos(angles[:, circle_source])
+        config[:, circle_to + 1] = np.sin(angles[:, circle_source])
         return config
 
     def dynamics(self, q: ArrayLike, qd: ArrayLike | None = None) -> Dynamics:
@@ -306,39 +332,42 @@ class UrdfRobot:
         -------
         Dynamics
         """
-        if np.ndim(q) == 2:
-            positions = check_array("q", q, ("K", self.nq), what="joint positions")
-            velocities = (
-                np.zeros_like(positions)
-                if qd is None
-                else check_array("qd", qd, positions.shape, what="joint velocities")
-            )
-            terms = [self._terms(p, v) for p, v in zip(positions, velocities, strict=True)]
-            return Dynamics(*(np.array(parts) for parts in zip(*terms, strict=True)))
-        return Dynamics(*self._terms(q, None if qd is None else check_array("qd", qd, (self.nq,))))
+        shape = ("K", self.nq) if np.ndim(q) == 2 else (self.nq,)
+        positions = check_array("q", q, shape, what="joint positions")
+        velocities = (
+            None if qd is None else check_array("qd", qd, positions.shape, what="joint velocities")
+        )
+        if velocities is not None and not np.any(velocities):
+            velocities = None
+        terms = self._terms(
+            np.atleast_2d(positions), None if velocities is None else np.atleast_2d(velocities)
+        )
+        return Dynamics(*(t if positions.ndim == 2 else t[0] for t in terms))
 
     def _terms(
-        self, q: ArrayLike, velocity: NDArray[np.float64] | None
+        self, positions: NDArray[np.float64], velocities: NDArray[np.float64] | None
     ) -> tuple[NDArray[np.float64], ...]:
-        """``(J, B, g, xdd_bias)`` at one configuration."""
-        pin, model, data = self._pin, self.model, self._data
-        config = self.configuration(q)
-        pin.computeJointJacobians(model, data, config)
-        pin.updateFramePlacements(model, data)
-        jacobian = pin.getFrameJacobian(model, data, self._frame, pin.LOCAL_WORLD_ALIGNED)
-        B = np.array(pin.crba(model, data, config))
-        B = np.triu(B) + np.triu(B, 1).T  # Pinocchio fills the upper triangle
-        J = jacobian[self.rows] * self.weights[:, None]
-        if velocity is None or not np.any(velocity):
-            g = np.array(pin.computeGeneralizedGravity(model, data, config))
-            return J, B, g, np.zeros(len(self.rows))
-        g = np.array(pin.nonLinearEffects(model, data, config, velocity))
-        pin.forwardKinematics(model, data, config, velocity, np.zeros(self.nq))
-        acceleration = pin.getFrameClassicalAcceleration(
-            model, data, self._frame, pin.LOCAL_WORLD_ALIGNED
-        )
-        bias = np.concatenate([acceleration.linear, acceleration.angular])
-        return J, B, g, bias[self.rows] * self.weights
+        """``(J, B, g, xdd_bias)`` for checked positions (K, nq): one Pinocchio call per row."""
+        pin, model, data, frame = self._pin, self.model, self._data, self._frame
+        world = pin.LOCAL_WORLD_ALIGNED
+        configs = self._configurations(positions)
+        K, n = len(configs), self.nq
+        J, B, g = np.empty((K, 6, n)), np.empty((K, n, n)), np.empty((K, n))
+        bias = np.zeros((K, 6))
+        for k, config in enumerate(configs):
+            pin.computeJointJacobians(model, data, config)
+            pin.updateFramePlacements(model, data)
+            J[k] = pin.getFrameJacobian(model, data, frame, world)
+            B[k] = pin.crba(model, data, config)
+            if velocities is None:
+                g[k] = pin.computeGeneralizedGravity(model, data, config)
+                continue
+            g[k] = pin.nonLinearEffects(model, data, config, velocities[k])
+            pin.forwardKinematics(model, data, config, velocities[k], np.zeros(n))
+            acceleration = pin.getFrameClassicalAcceleration(model, data, frame, world)
+            bias[k, :3], bias[k, 3:] = acceleration.linear, acceleration.angular
+        B = np.triu(B) + np.swapaxes(np.triu(B, 1), 1, 2)  # Pinocchio fills the upper triangle
+        return J[:, self.rows] * self.weights[:, None], B, g, bias[:, self.rows] * self.weights
 
 
 def _rebuild(arguments: dict[str, Any]) -> UrdfRobot:

@@ -67,6 +67,35 @@ def test_moving_robot_adds_coriolis_torques_and_the_velocity_acceleration():
     np.testing.assert_allclose(moving.J @ solution.qdd + moving.xdd_bias, in_motion.xg, atol=1e-9)
 
 
+@pytest.mark.parametrize("joint_type", ["revolute", "continuous"])
+def test_batched_dynamics_equal_the_closed_form_arm_row_by_row(joint_type):
+    rng = np.random.default_rng(7)
+    Q, Qd = rng.uniform(-np.pi, np.pi, (6, 3)), rng.uniform(-2, 2, (6, 3))
+    Qd[2] = 0.0  # a row at rest among moving ones
+    robot = planar_robot(joint_type)
+    still, moving, closed = robot.dynamics(Q), robot.dynamics(Q, Qd), PAPER_ARM.dynamics(Q)
+    assert still.batch_size == moving.batch_size == 6
+    for dyn in (still, moving):
+        np.testing.assert_allclose(dyn.J, closed.J, atol=1e-12)
+        np.testing.assert_allclose(dyn.B, closed.B, atol=1e-12)
+    np.testing.assert_allclose(still.g, closed.g, atol=1e-10)
+    np.testing.assert_array_equal(still.xdd_bias, 0.0)
+    h = 1e-6
+    for q, qd, g, bias in zip(Q, Qd, moving.g - still.g, moving.xdd_bias, strict=True):
+        np.testing.assert_allclose(g, coriolis_from_inertia(PAPER_ARM, q, qd), atol=1e-6)
+        jdot = (PAPER_ARM.jacobian(q + h * qd) - PAPER_ARM.jacobian(q - h * qd)) / (2 * h)
+        np.testing.assert_allclose(bias, jdot @ qd, atol=1e-6)
+
+
+def test_configuration_vectors_of_continuous_joints():
+    robot, q = planar_robot("continuous"), np.array([[0.3, -1.0, 2.5], [0.0, np.pi, -0.5]])
+    config = robot.configuration(q)
+    assert config.shape == (2, 6)
+    np.testing.assert_allclose(config[:, 0::2], np.cos(q), atol=1e-15)
+    np.testing.assert_allclose(config[:, 1::2], np.sin(q), atol=1e-15)
+    np.testing.assert_array_equal(robot.configuration(q[1]), config[1])
+
+
 def test_point_payload_adds_its_mass_at_the_tip():
     q = np.array([0.3, -0.7, 1.1])
     plain, loaded = planar_robot(), planar_robot(payload=pe.Payload(mass=1.5))
