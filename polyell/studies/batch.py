@@ -72,15 +72,25 @@ def _polytope_limits(
     """Rays against facet pairs for every configuration: (K, k) ends, NaN where empty.
 
     The pair ``+-a`` bounds ``a . (lambda t)`` to ``[a . c - h, a . c + h]``, so with
-    ``s = a . t`` it gives ``lambda`` between ``(a.c - h)/s`` and ``(a.c + h)/s``.
+    ``s = a . t`` it gives ``lambda`` between ``(a.c - h)/s`` and ``(a.c + h)/s``.  One
+    facet pair at a time, into (K, k) buffers that stay in cache (a (K, C, k) array would
+    not, and two processes would then compete for memory bandwidth).
     """
-    slopes = normals @ T.T  # (K, C, k)
-    offsets = np.einsum("kcm,km->kc", normals, center)[..., None]
-    reach = np.copysign(half_widths[..., None], slopes)  # +-h, the sign of the slope
+    K, k = len(normals), len(T)
+    offsets = np.einsum("kcm,km->kc", normals, center)
+    lower, upper = np.full((K, k), -np.inf), np.full((K, k), np.inf)
+    slopes, reach, bound = np.empty((K, k)), np.empty((K, k)), np.empty((K, k))
+    directions = np.ascontiguousarray(T.T)
     with np.errstate(divide="ignore", invalid="ignore"):
         # s = 0 gives -inf/+inf (no bound) when |a.c| <= h, and an empty line otherwise.
-        lower = ((offsets - reach) / slopes).max(axis=1)
-        upper = ((offsets + reach) / slopes).min(axis=1)
+        for j in range(normals.shape[1]):
+            np.matmul(normals[:, j], directions, out=slopes)
+            np.copysign(half_widths[:, j, None], slopes, out=reach)  # +-h, the slope's sign
+            offset = offsets[:, j, None]
+            np.divide(np.subtract(offset, reach, out=bound), slopes, out=bound)
+            np.maximum(lower, bound, out=lower)  # NaN (0/0) propagates: an empty line
+            np.divide(np.add(offset, reach, out=bound), slopes, out=bound)
+            np.minimum(upper, bound, out=upper)
     grazing = (lower > upper) & (lower - upper <= atol[:, None])
     mid = 0.5 * (lower + upper)
     lower = np.where(grazing, mid, lower)
@@ -90,12 +100,19 @@ def _polytope_limits(
 
 
 def _ellipsoid_limits(center: Array, axes: Array, semi: Array, T: Array) -> tuple[Array, Array]:
-    """Eq. (23)-(24) for every configuration: (K, k) ends, NaN where empty."""
+    """Eq. (23)-(24) for every configuration: (K, k) ends, NaN where empty.
+
+    With the core ``N``, ``lambda t`` is on the boundary when ``alpha lambda^2 + 2 beta
+    lambda + gamma = 0``: ``alpha = t'Nt`` (all t at once: vec(N) . vec(t t')),
+    ``beta = -t'Nc``, ``gamma = c'Nc - 1``.
+    """
+    K, m = center.shape
     N = (axes / semi[:, None, :] ** 2) @ np.swapaxes(axes, -1, -2)
-    Nt = N @ T.T  # (K, m, k)
-    alpha = (Nt * T.T).sum(axis=1)
-    beta = -np.einsum("kit,ki->kt", Nt, center)
-    gamma = np.einsum("ki,kij,kj->k", center, N, center)[:, None] - 1.0
+    outer = (T[:, :, None] * T[:, None, :]).reshape(len(T), m * m)  # (k, m*m)
+    alpha = N.reshape(K, m * m) @ outer.T
+    Nc = (N @ center[..., None])[..., 0]
+    beta = -(Nc @ T.T)
+    gamma = (Nc * center).sum(axis=-1)[:, None] - 1.0
     discriminant = beta**2 - alpha * gamma
     root = np.sqrt(np.where(discriminant >= 0, discriminant, np.nan))
     return (-beta - root) / alpha, (-beta + root) / alpha
