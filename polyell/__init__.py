@@ -24,7 +24,7 @@ from polyell.geometry import (
     Polytope,
 )
 from polyell.models import Dynamics, Payload, PlanarArm, UrdfRobot
-from polyell.studies import grid, random_configurations, sweep
+from polyell.studies import grid, local_cluster, random_configurations, sweep
 
 __version__ = "0.1.0"
 
@@ -55,6 +55,7 @@ __all__ = [
     "analyze",
     "compare",
     "grid",
+    "local_cluster",
     "random_configurations",
     "robots",
     "sweep",

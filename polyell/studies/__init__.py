@@ -1,5 +1,6 @@
 """Scripted studies: TOML descriptions of robots and configurations, run to tables and figures."""
 
+from polyell.studies.cluster import local_cluster
 from polyell.studies.configurations import grid, random_configurations
 from polyell.studies.runner import run_study
 from polyell.studies.spec import StudySpec, load_robot_file, load_study
@@ -10,6 +11,7 @@ __all__ = [
     "grid",
     "load_robot_file",
     "load_study",
+    "local_cluster",
     "random_configurations",
     "run_study",
     "sweep",

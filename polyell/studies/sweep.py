@@ -31,6 +31,7 @@ from polyell.geometry.directions import sphere_directions
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.models.dynamics import Dynamics
 from polyell.studies.batch import batch_rows
+from polyell.studies.cluster import local_cluster
 from polyell.studies.configurations import ConfigurationSet
 from polyell.validation import check_array, check_directions, check_torque_limits
 
@@ -127,20 +128,13 @@ def _fingerprint(job: _Job, chunk: int) -> str:
 
 def _client(scheduler: str) -> Any:
     try:
-        from dask.distributed import Client, LocalCluster
+        from dask.distributed import Client
     except ImportError as exn:
         raise MissingDependencyError(
             "Distributed sweeps need Dask. Fix: pip install 'polyell[studies]'."
         ) from exn
     if scheduler == "processes":
-        cluster = LocalCluster(
-            n_workers=os.cpu_count() or 1,
-            threads_per_worker=1,
-            processes=True,
-            host="127.0.0.1",
-            dashboard_address=None,
-        )
-        return Client(cluster)
+        return Client(local_cluster())
     if scheduler.startswith(("tcp://", "tls://", "inproc://")):
         return Client(scheduler)
     raise InputError(
@@ -242,7 +236,9 @@ def sweep(
         function then returns the folder.  Restarting with the same arguments resumes.
     scheduler : None, "processes" or str
         None: in this process.  ``"processes"``: a local Dask cluster, one worker per
-        core.  ``"tcp://host:port"``: an existing Dask cluster.
+        core (:func:`polyell.local_cluster`).  ``"tcp://host:port"``: an existing Dask
+        cluster (start its workers without ``MALLOC_TRIM_THRESHOLD_``, see
+        :mod:`polyell.studies.cluster`).
     chunk : int
         Configurations per task (and per Parquet file).
     mvie : bool

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import signal
 import subprocess
 import sys
@@ -135,9 +136,13 @@ def test_dask_local_cluster_on_loopback_gives_the_same_rows(tmp_path):
     distributed = pytest.importorskip("dask.distributed")
     g = pe.grid(np.pi / 2, (-2, 2, 8), (-2, 2, 8))
     expected = pe.sweep(ARM, g, chunk=10)
-    with distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None
-    ) as cluster:
+    with pe.local_cluster(2) as cluster, distributed.Client(cluster) as client:
+        assert cluster.scheduler_address.startswith("tcp://127.0.0.1:")
+        environments = client.run(lambda: dict(os.environ)).values()
+        assert len(environments) == 2
+        for environment in environments:  # one BLAS thread, glibc's adaptive allocator
+            assert environment["OPENBLAS_NUM_THREADS"] == "1"
+            assert "MALLOC_TRIM_THRESHOLD_" not in environment
         frame = pe.sweep(ARM, g, chunk=10, scheduler=cluster.scheduler_address)
         pd.testing.assert_frame_equal(frame, expected)
         panda = pe.robots.load("panda")  # pickled to the workers by its arguments
@@ -166,6 +171,12 @@ def test_bad_sweeps(kwargs, fragment):
     with pytest.raises(pe.InputError) as info:
         pe.sweep(ARM, **arguments)
     assert fragment in str(info.value)
+
+
+@pytest.mark.parametrize("n_workers", [0, -1, 1.5, True])
+def test_local_cluster_refuses_bad_worker_counts(n_workers):
+    with pytest.raises(pe.InputError, match="n_workers: expected a positive number"):
+        pe.local_cluster(n_workers)
 
 
 def test_a_single_dynamics_is_not_a_batch():
