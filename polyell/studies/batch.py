@@ -207,8 +207,9 @@ def _block_rows(
     center_torque = 0.5 * (tau_max + tau_min)
     half = 0.5 * (tau_max - tau_min)
     bias = g - center_torque
-    M = J @ np.linalg.solve(B, np.broadcast_to(np.diag(half), (K, n, n)))
-    xg = -(J @ np.linalg.solve(B, bias[..., None]))[..., 0] + xdd_bias
+    Binv_Jt = np.linalg.solve(B, np.swapaxes(J, -1, -2))  # (K, n, m); B is symmetric
+    M = np.swapaxes(Binv_Jt, -1, -2) * half
+    xg = xdd_bias - np.einsum("knm,kn->km", Binv_Jt, bias)
     U, s, Vt = np.linalg.svd(M, full_matrices=False)
     columns = {name: np.full(K, np.nan) for name in score_columns()}
     for kind in COMPARED_KINDS:
