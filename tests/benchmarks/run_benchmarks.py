@@ -48,6 +48,22 @@ def timed(function, repeats: int) -> list[float]:
     return times
 
 
+def timed_alternately(functions, repeats: int) -> list[list[float]]:
+    """Like :func:`timed` for several functions, their calls interleaved repeat by repeat.
+
+    The machine's speed drifts between runs; interleaving puts the drift on all of them.
+    """
+    for function in functions:
+        function()
+    times: list[list[float]] = [[] for _ in functions]
+    for _ in range(repeats):
+        for function, record in zip(functions, times, strict=True):
+            start = time.perf_counter()
+            function()
+            record.append(time.perf_counter() - start)
+    return times
+
+
 def summary(values: list[float], scale: float = 1.0, digits: int = 3) -> str:
     v = np.asarray(values) * scale
     return f"{np.median(v):.{digits}g} ({np.min(v):.{digits}g} – {np.max(v):.{digits}g})"
@@ -88,7 +104,7 @@ def bench_polytope(repeats: int) -> list[str]:
         for dyn in dynamics:
             capacity.acceleration_polytope(dyn.J, dyn.B, panda.tau_max, panda.tau_min, t_bias=dyn.g)
 
-    mine, other = timed(ours, repeats), timed(theirs, repeats)
+    mine, other = timed_alternately([ours, theirs], 3 * repeats)
     worst = 0.0
     for dyn in dynamics:
         P = pe.analyze(dyn, panda.tau_max).polytope
@@ -104,7 +120,8 @@ def bench_polytope(repeats: int) -> list[str]:
         "",
         "Franka Panda (fingers locked), 20 random configurations; each call builds the polytope "
         "from J, B, g and the torque limits: vertices and facets (polyell: `analyze(...).polytope`"
-        " with `vertices`, `A`, `b`; pycapacity: `robot.acceleration_polytope`).",
+        " with `vertices`, `A`, `b`; pycapacity: `robot.acceleration_polytope`). The two are "
+        f"timed alternately, {3 * repeats} repeats each.",
         "",
         "| | ms per configuration, median (min – max) |",
         "|---|---|",
@@ -159,66 +176,65 @@ def bench_sweep(repeats: int) -> list[str]:
     from dask.distributed import LocalCluster
 
     panda = pe.robots.load("panda")
-    Q = panda_configurations(40_000, seed=4)
-    dyn = panda.dynamics(Q)
+    Q = panda_configurations(80_000, seed=4)
     directional = (s for s in pe.SCORE_NAMES if s.startswith("direction"))
     scores = ("volume", "inscribed_scale", "coverage", *directional)
-    limits = {"tau_max": panda.tau_max}
-    batched = timed(lambda: pe.sweep(dyn, scores=scores, directions=64, **limits), repeats)
-    Qr = Q[:20_000]
-    robot = timed(lambda: pe.sweep(panda, Qr, scores=scores, directions=64), repeats)
-    big = Q
-    in_process = timed(lambda: pe.sweep(panda, big, scores=scores, chunk=10_000), repeats)
-    options = {"threads_per_worker": 1, "processes": True, "host": "127.0.0.1"}
-    with LocalCluster(n_workers=1, dashboard_address=None, **options) as single:
-        one_worker = timed(
-            lambda: pe.sweep(
-                panda, big, scores=scores, chunk=10_000, scheduler=single.scheduler_address
-            ),
-            repeats,
-        )
-    with LocalCluster(n_workers=2, dashboard_address=None, **options) as cluster:
+    half = Q[:40_000]
+    dyn = panda.dynamics(half)
+    batched = timed(lambda: pe.sweep(dyn, scores=scores, tau_max=panda.tau_max), repeats)
+    in_process = timed(lambda: pe.sweep(panda, half, scores=scores, chunk=10_000), repeats)
+
+    def on(cluster):
         address = cluster.scheduler_address
-        two_workers = timed(
-            lambda: pe.sweep(panda, big, scores=scores, chunk=10_000, scheduler=address), repeats
-        )
-        halves = timed(
-            lambda: pe.sweep(panda, big, scores=scores, chunk=20_000, scheduler=address), repeats
-        )
+        return lambda: pe.sweep(panda, Q, scores=scores, chunk=10_000, scheduler=address)
+
+    with pe.local_cluster(1) as single, pe.local_cluster(2) as double:
+        one_worker, two_workers = timed_alternately([on(single), on(double)], repeats)
         Qm = Q[:60]
+        address = double.scheduler_address
         mvie_serial = timed(lambda: pe.sweep(panda, Qm, mvie=True, chunk=30), 1)
         mvie_dask = timed(lambda: pe.sweep(panda, Qm, mvie=True, chunk=30, scheduler=address), 1)
+    options = {"threads_per_worker": 1, "processes": True, "host": "127.0.0.1"}
+    with LocalCluster(n_workers=1, dashboard_address=None, **options) as default:
+        default_worker = timed(on(default), max(3, repeats // 2))
 
     def rate(times: list[float], k: int) -> str:
         return summary([k / t for t in times], digits=4)
 
+    paired = np.asarray(one_worker) / np.asarray(two_workers)
+    mvie_slowdown = (len(half) / np.median(batched)) / (60 / np.median(mvie_serial))
     return [
         "## (c) Sweep throughput",
         "",
         "Panda, random configurations within the joint limits; volume, inscribed scale, "
         "coverage and 64-direction errors for both ellipsoids.  'Batched Dynamics' starts from "
         "precomputed J, B, g (the polyell part alone); 'robot' includes Pinocchio's dynamics, "
-        "one call per configuration.",
+        "one call per configuration.  The Dask clusters are `pe.local_cluster(1)` and "
+        "`pe.local_cluster(2)` (one single-threaded worker process per core, on loopback), "
+        "both running, timed alternately on 80,000 configurations in chunks of 10,000.",
         "",
         "| source | configurations / s, median (min – max) |",
         "|---|---|",
-        f"| batched Dynamics, 1 process | {rate(batched, len(Q))} |",
-        f"| robot, 1 process | {rate(robot, len(Qr))} |",
-        f"| robot, 40,000 configurations in chunks of 10,000 | {rate(in_process, len(Q))} |",
-        f"| robot, the same on a local Dask cluster, 1 worker | {rate(one_worker, len(Q))} |",
-        f"| robot, the same on a local Dask cluster, 2 workers | {rate(two_workers, len(Q))} |",
-        f"| robot, 2 workers, one chunk of 20,000 each | {rate(halves, len(Q))} |",
+        f"| batched Dynamics, 1 process (40,000) | {rate(batched, len(half))} |",
+        f"| robot, 1 process (40,000 in chunks of 10,000) | {rate(in_process, len(half))} |",
+        f"| robot, local Dask cluster, 1 worker | {rate(one_worker, len(Q))} |",
+        f"| robot, local Dask cluster, 2 workers | {rate(two_workers, len(Q))} |",
+        "| robot, 1 worker started with Dask's default environment (`MALLOC_TRIM_THRESHOLD_`) "
+        f"| {rate(default_worker, len(Q))} |",
         f"| with MVIE, 1 process (60 configurations) | {rate(mvie_serial, 60)} |",
         f"| with MVIE, 2 Dask workers | {rate(mvie_dask, 60)} |",
         "",
         "2 Dask workers vs 1 Dask worker: "
-        f"**{np.median(one_worker) / np.median(two_workers):.2f}×** (target 1.7×); vs this "
-        f"process alone: {np.median(in_process) / np.median(two_workers):.2f}× in chunks of "
-        f"10,000, {np.median(in_process) / np.median(halves):.2f}× with one chunk per worker "
-        "(on this 2-core machine the Dask scheduler and the client share the two cores with "
-        "the workers). MVIE: 2 workers vs this process "
-        f"{np.median(mvie_serial) / np.median(mvie_dask):.2f}×. Per core, the batched path "
-        "targets 20,000 configurations / s.",
+        f"**{np.median(one_worker) / np.median(two_workers):.2f}×** (target 1.7×; run by run "
+        f"{paired.min():.2f}–{paired.max():.2f}×). A worker started with Dask's default "
+        "`MALLOC_TRIM_THRESHOLD_=65536` is "
+        f"{np.median(default_worker) / np.median(one_worker):.2f}× slower than one of "
+        "`pe.local_cluster` (numpy's temporaries are then fresh page-faulting mappings). MVIE: "
+        f"{np.median(mvie_serial) / np.median(mvie_dask):.2f}× faster on 2 workers than in this "
+        "process, and about "
+        f"{mvie_slowdown:,.0f}"
+        "× slower than the batched path. Per core, the batched path targets 20,000 "
+        "configurations / s.",
         "",
     ]
 
