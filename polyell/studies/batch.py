@@ -36,23 +36,25 @@ def score_columns() -> list[str]:
 
 
 def _facets(M: Array) -> tuple[Array, Array]:
-    """Unit facet normals a (K, C, m), one of each +-pair, and offsets h = sum |a . g_i|."""
+    """Unit facet normals a (K, C, m), one of each +-pair, and offsets h = sum |a . g_i|.
+
+    As in :func:`~polyell.geometry.zonotope.zonotope_facets`: cross products of unit
+    generators, a subset dependent when theirs is at most ``DEPENDENT_RTOL`` long (its
+    normal is then zero and its offset infinite: no constraint).
+    """
     K, m, n = M.shape
     if m == 1:
-        normals = np.ones((K, 1, 1))
-    else:
-        blocks = np.transpose(M[:, :, subsets(n, m - 1)], (0, 2, 1, 3))  # (K, C, m, m-1)
-        normals = cross(blocks)
-        size = np.linalg.norm(normals, axis=-1)
-        scale = np.prod(np.linalg.norm(blocks, axis=2), axis=-1)
-        dependent = size <= DEPENDENT_RTOL * scale
-        normals = np.where(
-            dependent[..., None], 0.0, normals / np.where(dependent, 1.0, size)[..., None]
-        )
+        return np.ones((K, 1, 1)), np.abs(M).sum(axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):  # a zero generator: NaN, dependent
+        unit = M / np.sqrt((M * M).sum(axis=1))[:, None, :]
+    normals = cross(np.transpose(unit[:, :, subsets(n, m - 1)], (0, 2, 1, 3)))  # (K, C, m)
+    size = np.sqrt((normals * normals).sum(axis=-1))
+    dependent = ~(size > DEPENDENT_RTOL)
+    normals = np.where(
+        dependent[..., None], 0.0, normals / np.where(dependent, 1.0, size)[..., None]
+    )
     offsets = np.abs(normals @ M).sum(axis=-1)
-    if m > 1:
-        offsets = np.where(np.linalg.norm(normals, axis=-1) == 0, np.inf, offsets)
-    return normals, offsets
+    return normals, np.where(dependent, np.inf, offsets)
 
 
 def _zonotope_volume(M: Array) -> Array:

@@ -4,10 +4,10 @@ Dask's nannies start workers with ``MALLOC_TRIM_THRESHOLD_=65536``
 (``distributed.nanny.pre-spawn-environ``).  Setting it switches off glibc's adaptive
 allocation thresholds, so that every numpy temporary above 128 kB is a fresh ``mmap``
 that page-faults on first touch; a sweep, which allocates many such temporaries, then
-ran about twice as slowly in a worker as in a plain process on the benchmark machine
-(``docs/performance.md`` measures it).  :func:`local_cluster` leaves the variable unset (and keeps one BLAS
-thread per worker).  Workers of a cluster started elsewhere (``scheduler="tcp://..."``)
-profit from the same setting.
+ran 1.4 to 2 times more slowly in a worker than in a plain process on the benchmark
+machine (``docs/performance.md`` measures it).  :func:`local_cluster` leaves the
+variable unset (and keeps one BLAS thread per worker).  Workers of a cluster started
+elsewhere (``scheduler="tcp://..."``) profit from the same setting.
 """
 
 from __future__ import annotations
