@@ -9,6 +9,7 @@ object built from the same ``M`` so that they always agree on the dimension.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -111,6 +112,14 @@ def rank_revealing_svd(M: NDArray[np.float64], rtol: float = RANK_RTOL) -> RankR
     )
 
 
+@lru_cache(maxsize=16)
+def _whole_space(m: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The identity basis and the empty normal basis of R^m (cached, read-only)."""
+    basis, normals = np.eye(m), np.zeros((m, 0))
+    basis.flags.writeable = normals.flags.writeable = False
+    return basis, normals
+
+
 class LineMeeting(NamedTuple):
     """How the lines ``{a t}`` through the origin meet an affine set.
 
@@ -152,8 +161,8 @@ class AffineSubspace:
         """The set ``point + Im(M)``; the whole space (identity basis) when M has full rank."""
         m = point.size
         if svd.rank == m:
-            return cls(point=point, basis=np.eye(m), normals=np.zeros((m, 0)))
-        return cls(point=point, basis=svd.U1, normals=svd.U2)
+            return cls(point, *_whole_space(m))
+        return cls(point, svd.U1, svd.U2)
 
     @property
     def dim(self) -> int:
