@@ -23,7 +23,7 @@ def _significant(value: float) -> str:
 
 
 def _percent(value: float) -> str:
-    return f"{100.0 * value:.2f}"
+    return f"{round(100.0 * value, 2) + 0.0:.2f}"  # + 0.0: a rounded -0.0 shows as 0.00
 
 
 def _count(value: float) -> str:

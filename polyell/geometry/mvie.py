@@ -48,6 +48,13 @@ def max_volume_inscribed_ellipsoid(P: Polytope) -> Ellipsoid:
         return Ellipsoid(P.center, np.zeros((P.ambient_dim, 0)), np.zeros(0), kind="mvie")
     normals = P.A @ basis  # unit normals in the affine set's coordinates
     offsets = P.b - P.A @ P.center  # h_i > 0
+    # P is a zonotope: its facets come in pairs (a, -a) with one offset from the centre,
+    # and ||S a|| = ||S (-a)||, so one of each pair gives every constraint.  (The
+    # duplicates are not harmless: they made Clarabel stop "inaccurate" on some
+    # well-conditioned Panda polytopes.)
+    half = len(normals) // 2
+    if np.array_equal(normals[:half], -normals[half:]):
+        normals, offsets = normals[:half], offsets[:half]
     if r == 1:
         half_length = float(np.min(offsets / np.abs(normals[:, 0])))
         return Ellipsoid(P.center, basis, [half_length], kind="mvie")

@@ -10,6 +10,7 @@ import pytest
 
 import polyell as pe
 from polyell.comparison.metrics import inscribed_scale, overlap, witness_torque_max
+from polyell.comparison.tables import format_scores_table
 from polyell.geometry.directions import sphere_directions
 from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
 from reference import (
@@ -243,6 +244,24 @@ def test_tables(paper, paper_singular):
     frame = pd.read_csv(io.StringIO(paper.to_csv()), index_col="kind")
     for name in pe.SCORE_NAMES:
         np.testing.assert_allclose(frame.loc["chiacchio", name], getattr(paper["chiacchio"], name))
+
+
+def test_mvie_of_a_panda_polytope_that_duplicate_facet_pairs_made_inaccurate():
+    # Configuration 160 of studies/panda_random.toml: with both facets of every pair as
+    # constraints, Clarabel stopped at "optimal_inaccurate" here.
+    panda = pe.robots.load("panda")
+    q = pe.random_configurations(300, *panda.position_limits, seed=2000).rows(160, 161)[0]
+    cmp = pe.compare(pe.analyze(panda.dynamics(q), panda.tau_max), 64)
+    assert cmp["mvie"].defined
+    assert cmp["mvie"].inscribed_scale == pytest.approx(1.0, abs=1e-9)
+    assert cmp["mvie"].volume >= cmp["chiacchio"].volume  # the largest inscribed one
+
+
+def test_tables_show_a_rounded_negative_zero_as_zero(paper):
+    frame = paper.to_frame()
+    frame.loc["mvie", "direction_bias"] = -1e-12  # rounding noise about an exact 0
+    table = format_scores_table(frame, paper.analysis.rank, "markdown")
+    assert "-0.00" not in table and "|   0.00 |" in table
 
 
 def test_compare_without_mvie_is_explicit(paper):
