@@ -34,7 +34,7 @@ class ConvexSet(ABC):
 
     @cached_property
     def atol(self) -> float:
-        """Membership tolerance: ``ATOL_RELATIVE`` times the larger of size and |centre|."""
+        """Membership tolerance: ``ATOL_RELATIVE`` times the larger of the size and ``||c||``."""
         return ATOL_RELATIVE * max(
             self._size(), float(np.linalg.norm(self.center)), np.finfo(float).tiny
         )
