@@ -125,8 +125,11 @@ class Analysis:
             )
         self.dynamics = dynamics
         self.tau_max, self.tau_min = check_torque_limits(tau_max, tau_min, dynamics.n)
-        self.tau_center = 0.5 * (self.tau_max + self.tau_min)
-        self.half_range = 0.5 * (self.tau_max - self.tau_min)
+        if tau_min is None:  # symmetric limits: exactly what the general formulas give
+            self.tau_center, self.half_range = np.zeros(dynamics.n), self.tau_max.copy()
+        else:
+            self.tau_center = 0.5 * (self.tau_max + self.tau_min)
+            self.half_range = 0.5 * (self.tau_max - self.tau_min)
         J, B = dynamics.J, dynamics.B
         self._gravity_bias = dynamics.g - self.tau_center
         # One Cholesky solve (B is positive definite, checked by Dynamics) gives

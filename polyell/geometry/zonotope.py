@@ -161,8 +161,9 @@ class ZonotopeFacets(NamedTuple):
     ----------
     generators : ndarray, shape (r, n)
         The non-zero generators (columns).
-    lengths : ndarray, shape (n,)
-        Their Euclidean lengths.
+    in_plane_tol : ndarray, shape (n,)
+        ``_IN_FACET_RTOL |g_i|``: generator i lies in a facet's plane when
+        ``|a . g_i|`` is at most this.
     normals : ndarray, shape (F, r)
         Unit outward facet normals: ``F/2`` directions ``a``, then their negatives.
     offsets : ndarray, shape (F,)
@@ -170,13 +171,13 @@ class ZonotopeFacets(NamedTuple):
     dots : ndarray, shape (F/2, n)
         ``a . g_i`` for the first ``F/2`` normals.
     in_facet : ndarray of bool, shape (F/2, n)
-        ``|a . g_i| <= _IN_FACET_RTOL |g_i|``: generator i lies in the facet's plane.
+        ``|a . g_i| <= in_plane_tol``: generator i lies in the facet's plane.
     general_position : bool
         Every facet holds exactly r - 1 generators (a parallelotope facet).
     """
 
     generators: NDArray[np.float64]
-    lengths: NDArray[np.float64]
+    in_plane_tol: NDArray[np.float64]
     normals: NDArray[np.float64]
     offsets: NDArray[np.float64]
     dots: NDArray[np.float64]
@@ -211,14 +212,15 @@ def zonotope_facets(G: NDArray[np.float64]) -> ZonotopeFacets:
         if not independent.all():
             cofactors, size = cofactors[independent], size[independent]
         half = cofactors / size[:, None]
-    dots, in_facet, general = _incidence(half, gens, lengths)
+    tol = _IN_FACET_RTOL * lengths
+    dots, in_facet, general = _incidence(half, gens, tol)
     if not general:  # two subsets may span one facet plane: keep its normal once
         half = _unique_directions(half)
-        dots, in_facet, general = _incidence(half, gens, lengths)
+        dots, in_facet, general = _incidence(half, gens, tol)
     offsets = np.abs(dots).sum(axis=1)
     return ZonotopeFacets(
         gens,
-        lengths,
+        tol,
         np.concatenate([half, -half]),
         np.concatenate([offsets, offsets]),
         dots,
@@ -228,7 +230,7 @@ def zonotope_facets(G: NDArray[np.float64]) -> ZonotopeFacets:
 
 
 def _incidence(
-    normals: NDArray[np.float64], gens: NDArray[np.float64], lengths: NDArray[np.float64]
+    normals: NDArray[np.float64], gens: NDArray[np.float64], tol: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], NDArray[np.bool_], bool]:
     """``a . g_i``, which generators lie in each plane, and whether each holds exactly r - 1.
 
@@ -236,7 +238,7 @@ def _incidence(
     the normals need no deduplication.
     """
     dots = normals @ gens
-    in_facet = np.abs(dots) <= _IN_FACET_RTOL * lengths
+    in_facet = np.abs(dots) <= tol
     return dots, in_facet, bool((in_facet.sum(axis=1) == gens.shape[0] - 1).all())
 
 
@@ -269,7 +271,7 @@ def zonotope_vertices(facets: ZonotopeFacets) -> NDArray[np.float64]:
     """
     gens = facets.generators
     if facets.general_position:
-        positive = facets.dots > _IN_FACET_RTOL * facets.lengths  # and not in the plane
+        positive = facets.dots > facets.in_plane_tol  # and not in the plane
         vertices = _vertices_in_general_position(gens, positive, facets.in_facet)
     else:
         vertices = _vertices_by_active_facets(gens, facets.normals, facets.offsets)
