@@ -70,16 +70,20 @@ def _zonotope_volume(M: Array) -> Array:
 
 def _polytope_limits(
     normals: Array, half_widths: Array, center: Array, T: Array, atol: Array
-) -> tuple[Array, Array]:
-    """Rays against facet pairs for every configuration: (K, k) ends, NaN where empty.
+) -> tuple[Array, NDArray[np.bool_]]:
+    """Rays against facet pairs for every configuration: far ends (K, k), and lines that meet P.
 
+    The far end is NaN where the line misses P.
     The pair ``+-a`` bounds ``a . (lambda t)`` to ``[a . c - h, a . c + h]``, so with
     ``s = a . t`` it gives ``lambda`` between ``(a.c - h)/s`` and ``(a.c + h)/s``.  One
     facet pair at a time, into (K, k) buffers that stay in cache (a (K, C, k) array would
-    not, and two processes would then compete for memory bandwidth).
+    not, and two processes would then compete for memory bandwidth).  When the origin is
+    inside every configuration's P (``|a.c| < h`` for every pair: the usual case), every
+    line meets P and only the far ends are computed.
     """
     K, k = len(normals), len(T)
     offsets = np.einsum("kcm,km->kc", normals, center)
+    origin_inside = bool((np.abs(offsets) < half_widths).all())
     lower, upper = np.full((K, k), -np.inf), np.full((K, k), np.inf)
     slopes, reach, bound = np.empty((K, k)), np.empty((K, k)), np.empty((K, k))
     directions = np.ascontiguousarray(T.T)
@@ -89,16 +93,17 @@ def _polytope_limits(
             np.matmul(normals[:, j], directions, out=slopes)
             np.copysign(half_widths[:, j, None], slopes, out=reach)  # +-h, the slope's sign
             offset = offsets[:, j, None]
-            np.divide(np.subtract(offset, reach, out=bound), slopes, out=bound)
-            np.maximum(lower, bound, out=lower)  # NaN (0/0) propagates: an empty line
+            if not origin_inside:
+                np.divide(np.subtract(offset, reach, out=bound), slopes, out=bound)
+                np.maximum(lower, bound, out=lower)  # NaN (0/0) propagates: an empty line
             np.divide(np.add(offset, reach, out=bound), slopes, out=bound)
             np.minimum(upper, bound, out=upper)
-    grazing = (lower > upper) & (lower - upper <= atol[:, None])
-    mid = 0.5 * (lower + upper)
-    lower = np.where(grazing, mid, lower)
-    upper = np.where(grazing, mid, upper)
-    empty = ~(lower <= upper)  # also NaN: 0/0, a line on a facet's boundary
-    return np.where(empty, np.nan, lower), np.where(empty, np.nan, upper)
+    if origin_inside:  # lower < 0 < upper on every line
+        return upper, np.ones((K, k), dtype=bool)
+    grazing = (lower > upper) & (lower - upper <= atol[:, None])  # a touch, to rounding
+    upper = np.where(grazing, 0.5 * (lower + upper), upper)
+    meets = (lower <= upper) | grazing  # False for NaN: 0/0, a line on a facet's boundary
+    return np.where(meets, upper, np.nan), meets
 
 
 def _ellipsoid_limits(center: Array, axes: Array, semi: Array, T: Array) -> tuple[Array, Array]:
@@ -231,8 +236,7 @@ def _block_rows(
     atol = ATOL_RELATIVE * np.maximum(
         np.linalg.norm(M, axis=1).sum(axis=-1), np.linalg.norm(xg, axis=-1)
     )
-    lo_p, hi_p = _polytope_limits(normals, h, xg, directions, atol)
-    feasible_p = ~np.isnan(lo_p)
+    hi_p, feasible_p = _polytope_limits(normals, h, xg, directions, atol)
 
     # Classic ellipsoid from F = L^-1 B J^+ (its core is F^T F), as in Analysis.ellipsoid.
     U_j, s_j, Vt_j = np.linalg.svd(J, full_matrices=False)  # J^+ as in jacobian_pseudoinverse

@@ -65,6 +65,7 @@ def test_batched_dynamics_with_asymmetric_limits_and_motion_bias():
     T /= np.linalg.norm(T, axis=1, keepdims=True)
     frame = pe.sweep(dyn, tau_max=tau_max, tau_min=tau_min, directions=T, chunk=7)
     assert frame.loc[3, "polytope_dim"] == 1  # a rank-1 Jacobian: the scalar path
+    assert (frame["chiacchio_directions_used"] < len(T)).any()  # lines that miss P
     assert_rows_equal_compare(frame, lambda k: dyn[k], tau_max, tau_min, T)
 
 
