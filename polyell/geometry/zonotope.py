@@ -28,6 +28,7 @@ __all__ = [
     "MAX_CORNER_JOINTS",
     "ZonotopeFacets",
     "corner_vertices",
+    "subset_cofactors",
     "zonotope_facets",
     "zonotope_vertices",
     "zonotope_volume",
@@ -132,14 +133,26 @@ def _unique_directions(normals: NDArray[np.float64]) -> NDArray[np.float64]:
     return normals[~duplicate]
 
 
-def _cofactors(gens: NDArray[np.float64], chosen: NDArray[np.int_]) -> NDArray[np.float64]:
-    """The generalised cross product of each subset of r - 1 generators, shape (C, r)."""
-    r, n = gens.shape
-    if r == 3:  # the common task: the same as cross(), with four gathers from a flat array
-        flat = gens.ravel()
+def subset_cofactors(G: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Generalised cross products of every (r - 1)-subset of the columns of ``G``.
+
+    Parameters
+    ----------
+    G : ndarray, shape (..., r, n)
+        Generators (columns), r >= 2; leading axes are a batch.
+
+    Returns
+    -------
+    ndarray, shape (..., C, r)
+        One cofactor vector per subset, in the order of ``subsets(n, r - 1)``.
+    """
+    *batch, r, n = G.shape
+    if r == 3:  # the common task: four gathers from the flattened generators
+        flat = G.reshape(*batch, 3 * n)
         a, b, c, d = _cross_indices(n)
-        return (flat.take(a) * flat.take(b) - flat.take(c) * flat.take(d)).reshape(3, -1).T
-    return cross(np.transpose(gens[:, chosen], (1, 0, 2)))
+        products = flat.take(a, -1) * flat.take(b, -1) - flat.take(c, -1) * flat.take(d, -1)
+        return np.swapaxes(products.reshape(*batch, 3, -1), -1, -2)
+    return cross(np.moveaxis(G[..., subsets(n, r - 1)], -3, -2))  # (..., C, r, r-1)
 
 
 @lru_cache(maxsize=64)
@@ -205,8 +218,7 @@ def zonotope_facets(G: NDArray[np.float64]) -> ZonotopeFacets:
     else:
         # Cofactors of unit generators: their size is the volume spanned by the unit
         # vectors, so the dependence test needs no scale.
-        chosen = subsets(gens.shape[1], r - 1)
-        cofactors = _cofactors(gens / lengths, chosen)
+        cofactors = subset_cofactors(gens / lengths)
         size = np.sqrt((cofactors * cofactors).sum(axis=1))
         independent = size > DEPENDENT_RTOL
         if not independent.all():

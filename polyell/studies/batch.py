@@ -21,7 +21,7 @@ from polyell.comparison.metrics import INSIDE_RTOL
 from polyell.geometry.convex_set import ATOL_RELATIVE
 from polyell.geometry.ellipsoid import unit_ball_volume
 from polyell.geometry.subspace import RANK_RTOL
-from polyell.geometry.zonotope import DEPENDENT_RTOL, cross, subsets
+from polyell.geometry.zonotope import DEPENDENT_RTOL, cross, subset_cofactors, subsets
 from polyell.models.dynamics import Dynamics
 
 __all__ = ["batch_rows", "score_columns"]
@@ -42,12 +42,12 @@ def _facets(M: Array) -> tuple[Array, Array]:
     generators, a subset dependent when theirs is at most ``DEPENDENT_RTOL`` long (its
     normal is then zero and its offset infinite: no constraint).
     """
-    K, m, n = M.shape
+    K, m = M.shape[:2]
     if m == 1:
         return np.ones((K, 1, 1)), np.abs(M).sum(axis=-1)
     with np.errstate(divide="ignore", invalid="ignore"):  # a zero generator: NaN, dependent
         unit = M / np.sqrt((M * M).sum(axis=1))[:, None, :]
-    normals = cross(np.transpose(unit[:, :, subsets(n, m - 1)], (0, 2, 1, 3)))  # (K, C, m)
+    normals = subset_cofactors(unit)  # (K, C, m)
     size = np.sqrt((normals * normals).sum(axis=-1))
     dependent = ~(size > DEPENDENT_RTOL)
     normals = np.where(
