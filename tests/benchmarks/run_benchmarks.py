@@ -189,12 +189,23 @@ def bench_sweep(repeats: int) -> list[str]:
         repeats,
     )
 
-    def on(cluster):
+    def on(cluster, parquet: bool = False):
         address = cluster.scheduler_address
-        return lambda: pe.sweep(panda, Q, scores=scores, chunk=10_000, scheduler=address)
+
+        def run() -> None:
+            if not parquet:  # the frames come back to this process
+                pe.sweep(panda, Q, scores=scores, chunk=10_000, scheduler=address)
+                return
+            with tempfile.TemporaryDirectory() as folder:  # the workers write the parts
+                pe.sweep(panda, Q, scores=scores, chunk=10_000, scheduler=address, out=folder)
+
+        return run
 
     with pe.local_cluster(1) as single, pe.local_cluster(2) as double:
         one_worker, two_workers = timed_alternately([on(single), on(double)], repeats)
+        one_parquet, two_parquet = timed_alternately(
+            [on(single, parquet=True), on(double, parquet=True)], repeats
+        )
         Qm = Q[:60]
         address = double.scheduler_address
         mvie_serial = timed(lambda: pe.sweep(panda, Qm, mvie=True, chunk=30), 1)
@@ -206,7 +217,13 @@ def bench_sweep(repeats: int) -> list[str]:
     def rate(times: list[float], k: int) -> str:
         return summary([k / t for t in times], digits=4)
 
-    paired = np.asarray(one_worker) / np.asarray(two_workers)
+    def scaling(one: list[float], two: list[float]) -> str:
+        paired = np.asarray(one) / np.asarray(two)
+        return (
+            f"**{np.median(one) / np.median(two):.2f}×** "
+            f"(run by run {paired.min():.2f}–{paired.max():.2f}×)"
+        )
+
     mvie_slowdown = (len(half) / np.median(batched)) / (60 / np.median(mvie_serial))
     return [
         "## (c) Sweep throughput",
@@ -224,14 +241,17 @@ def bench_sweep(repeats: int) -> list[str]:
         f"| batched Dynamics, 1 process (the same) | {rate(batched, len(half))} |",
         f"| robot, local Dask cluster, 1 worker | {rate(one_worker, len(Q))} |",
         f"| robot, local Dask cluster, 2 workers | {rate(two_workers, len(Q))} |",
+        f"| robot, 1 worker, to a Parquet dataset | {rate(one_parquet, len(Q))} |",
+        f"| robot, 2 workers, to a Parquet dataset | {rate(two_parquet, len(Q))} |",
         "| robot, 1 worker started with Dask's default environment (`MALLOC_TRIM_THRESHOLD_`) "
         f"| {rate(default_worker, len(Q))} |",
         f"| with MVIE, 1 process (60 configurations) | {rate(mvie_serial, 60)} |",
         f"| with MVIE, 2 Dask workers | {rate(mvie_dask, 60)} |",
         "",
-        "2 Dask workers vs 1 Dask worker: "
-        f"**{np.median(one_worker) / np.median(two_workers):.2f}×** (target 1.7×; run by run "
-        f"{paired.min():.2f}–{paired.max():.2f}×). A worker started with Dask's default "
+        "2 Dask workers vs 1 Dask worker (target 1.7×): "
+        f"{scaling(one_worker, two_workers)} returning the frames to this process, "
+        f"{scaling(one_parquet, two_parquet)} writing a Parquet dataset (each worker writes "
+        "its parts; the mode of large studies). A worker started with Dask's default "
         "`MALLOC_TRIM_THRESHOLD_=65536` is "
         f"{np.median(default_worker) / np.median(one_worker):.2f}× slower than one of "
         "`pe.local_cluster` (numpy's temporaries are then fresh page-faulting mappings). MVIE: "
