@@ -74,6 +74,7 @@ def _polytope_limits(
     """Rays against facet pairs for every configuration: far ends (K, k), and lines that meet P.
 
     The far end is NaN where the line misses P.
+
     The pair ``+-a`` bounds ``a . (lambda t)`` to ``[a . c - h, a . c + h]``, so with
     ``s = a . t`` it gives ``lambda`` between ``(a.c - h)/s`` and ``(a.c + h)/s``.  One
     facet pair at a time, into (K, k) buffers that stay in cache (a (K, C, k) array would
