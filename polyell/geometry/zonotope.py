@@ -98,8 +98,8 @@ def _bits(n: int) -> NDArray[np.int64]:
 
 @lru_cache(maxsize=16)
 def _sign_table(n: int) -> NDArray[np.float64]:
-    """Row k: the signs (+-1) of the bits of k, shape (2^n, n) (cached, read-only)."""
-    table = (((np.arange(1 << n)[:, None] >> np.arange(n)) & 1) * 2 - 1).astype(np.float64)
+    """Row k: the signs (+-1) of the bits of k, bit i in column i, shape (2^n, n) (cached)."""
+    table = (_corner_bits(n)[:, ::-1] * 2 - 1).astype(np.float64)
     table.flags.writeable = False
     return table
 
