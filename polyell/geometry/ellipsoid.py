@@ -11,7 +11,7 @@ from scipy.special import gammaln
 
 from polyell.errors import InputError
 from polyell.geometry.convex_set import ConvexSet
-from polyell.geometry.limits import DirectionalLimits
+from polyell.geometry.limits import DirectionalLimits, line_interval_in_ellipsoids
 from polyell.geometry.subspace import AffineSubspace
 from polyell.validation import check_array, check_points
 
@@ -173,19 +173,13 @@ class Ellipsoid(ConvexSet):
     def _interval_on_lines(
         self, lines: NDArray[np.float64]
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        r"""Eq. (23)-(24) on lines in the affine set.
+        """Eq. (23)-(24) on lines in the affine set, from the factors ``(U, s)``.
 
-        :math:`a` solves :math:`\alpha a^2 + 2 \beta a + \gamma \le 0` with
-        :math:`\alpha = t^T N t`, :math:`\beta = -t^T N c`, :math:`\gamma = c^T N c - 1`,
-        giving the interval (24), empty when :math:`\beta^2 - \alpha\gamma < 0`.  For a
-        degenerate ellipsoid, lines that leave the affine set are handled by
+        For a degenerate ellipsoid, lines that leave the affine set are handled by
         :meth:`limits` directly: eq. (23) alone would be wrong there because N is only
         semidefinite.
         """
-        Nt = lines @ self.core
-        alpha = np.einsum("ij,ij->i", Nt, lines)
-        beta = -Nt @ self.center
-        gamma = self.center @ self.core @ self.center - 1.0
-        discriminant = beta**2 - alpha * gamma
-        root = np.sqrt(np.where(discriminant >= 0, discriminant, np.nan))
-        return (-beta - root) / alpha, (-beta + root) / alpha
+        lo, hi = line_interval_in_ellipsoids(
+            self.center[None], self.axes[None], self.semi_axes[None], lines
+        )
+        return lo[0], hi[0]

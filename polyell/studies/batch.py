@@ -20,6 +20,7 @@ from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES
 from polyell.comparison.metrics import INSIDE_RTOL
 from polyell.geometry.convex_set import ATOL_RELATIVE
 from polyell.geometry.ellipsoid import unit_ball_volume
+from polyell.geometry.limits import line_interval_in_ellipsoids
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.geometry.zonotope import DEPENDENT_RTOL, cross, subset_cofactors, subsets
 from polyell.models.dynamics import Dynamics
@@ -107,25 +108,6 @@ def _polytope_limits(
     return np.where(meets, upper, np.nan), meets
 
 
-def _ellipsoid_limits(center: Array, axes: Array, semi: Array, T: Array) -> tuple[Array, Array]:
-    """Eq. (23)-(24) for every configuration: (K, k) ends, NaN where empty.
-
-    With the core ``N``, ``lambda t`` is on the boundary when ``alpha lambda^2 + 2 beta
-    lambda + gamma = 0``: ``alpha = t'Nt`` (all t at once: vec(N) . vec(t t')),
-    ``beta = -t'Nc``, ``gamma = c'Nc - 1``.
-    """
-    K, m = center.shape
-    N = (axes / semi[:, None, :] ** 2) @ np.swapaxes(axes, -1, -2)
-    outer = (T[:, :, None] * T[:, None, :]).reshape(len(T), m * m)  # (k, m*m)
-    alpha = N.reshape(K, m * m) @ outer.T
-    Nc = (N @ center[..., None])[..., 0]
-    beta = -(Nc @ T.T)
-    gamma = (Nc * center).sum(axis=-1)[:, None] - 1.0
-    discriminant = beta**2 - alpha * gamma
-    root = np.sqrt(np.where(discriminant >= 0, discriminant, np.nan))
-    return (-beta - root) / alpha, (-beta + root) / alpha
-
-
 def _direction_statistics(
     hi_e: Array, feasible_e: NDArray[np.bool_], hi_p: Array, feasible_p: NDArray[np.bool_]
 ) -> dict[str, Array]:
@@ -146,6 +128,11 @@ def _direction_statistics(
     stats["directions_used"] = count.astype(float)
     return stats
 
+
+#: Rows with ``sigma_min / sigma_max`` within this relative band above ``rank_rtol`` take
+#: the scalar path, which makes the rank decision (far wider than any rounding difference
+#: between the two computations of M and its SVD, and met by almost no configuration).
+RANK_BAND = 1e-2
 
 #: Configurations processed together: large enough to amortise numpy's per-call cost,
 #: small enough for the (block, facets, directions) arrays to stay in cache.
@@ -225,7 +212,10 @@ def _block_rows(
         columns[f"{kind}_directions_used"][:] = 0.0
     if m > n:
         return columns, np.ones(K, dtype=bool)
-    scalar = ~(s[:, -1] > rank_rtol * s[:, 0])
+    # The rank decision is the scalar path's (Analysis computes M by a Cholesky solve and
+    # its own SVD; both agree with these to rounding, not bit for bit): rows within
+    # RANK_BAND of the threshold go there, so that one computation decides their rank.
+    scalar = ~(s[:, -1] > rank_rtol * (1.0 + RANK_BAND) * s[:, 0])
     ok = ~scalar
     if not ok.any():
         return columns, scalar
@@ -261,7 +251,7 @@ def _block_rows(
             scale = np.min(h / reach, axis=-1)
         inside &= scale >= 1.0 - INSIDE_RTOL
         volume = unit_ball * np.prod(semi, axis=-1)
-        lo_e, hi_e = _ellipsoid_limits(xg, axes, semi, directions)
+        lo_e, hi_e = line_interval_in_ellipsoids(xg, axes, semi, directions)
         stats = _direction_statistics(hi_e, ~np.isnan(lo_e), hi_p, feasible_p)
         if torque_matrix is None:  # eq. 33/36: tau_n = M^+ (x - xg), zero at the centre
             witness = np.max(np.linalg.norm(Vt, axis=1), axis=-1)

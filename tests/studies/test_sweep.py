@@ -185,3 +185,27 @@ def test_a_single_dynamics_is_not_a_batch():
         pe.sweep(ARM.dynamics([0.1, 0.2, 0.3]), tau_max=ARM.tau_max)
     with pytest.raises(pe.InputError, match=r"call pe\.sweep for the whole batch"):
         pe.analyze(ARM.dynamics(np.zeros((2, 3))), ARM.tau_max)
+
+
+@pytest.mark.parametrize("rank_rtol", [pe.RANK_RTOL, 1e-6])
+def test_sweep_and_analyze_decide_the_same_rank_at_the_threshold(rank_rtol):
+    """sigma_min / sigma_max of M from 1e-3 below to 1e-3 above the threshold (issue 15).
+
+    M is built with its singular values in place and J = M B (unit limits), so both paths
+    compute M = J B^-1 with rounding errors of their own.
+    """
+    rng = np.random.default_rng(11)
+    side = np.geomspace(1e-3, 1e-9, 25)
+    offsets = np.concatenate([-side, [0.0], side[::-1]])
+    K, n = len(offsets), 3
+    J, B = np.empty((K, 2, n)), np.empty((K, n, n))
+    for k, offset in enumerate(offsets):
+        U = np.linalg.qr(rng.normal(size=(2, 2)))[0]
+        V = np.linalg.qr(rng.normal(size=(n, n)))[0][:, :2]
+        B[k] = random_spd(rng, n, 1e3)
+        J[k] = ((U * [2.0, 2.0 * rank_rtol * (1.0 + offset)]) @ V.T) @ B[k]
+    dyn = pe.Dynamics(J, B, rng.normal(size=(K, n)))
+    frame = pe.sweep(dyn, tau_max=np.ones(n), rank_rtol=rank_rtol, directions=16)
+    ranks = [pe.analyze(dyn[k], np.ones(n), rank_rtol=rank_rtol).rank for k in range(K)]
+    assert frame["polytope_dim"].tolist() == ranks
+    assert ranks[:3] == [1] * 3 and ranks[-3:] == [2] * 3  # well inside either side
