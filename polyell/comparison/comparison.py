@@ -21,7 +21,7 @@ from polyell.comparison.metrics import (
     witness_torque_max,
 )
 from polyell.comparison.tables import format_scores_table
-from polyell.errors import InputError, UndefinedEllipsoidError
+from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.directions import directions_in
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
@@ -152,12 +152,24 @@ class Comparison:
         """The ellipsoid scored under ``kind`` (raises where it is undefined)."""
         return self.mvie if kind == "mvie" else self.analysis.ellipsoid(kind)  # type: ignore[arg-type]
 
+    @cached_property
+    def _mvie_volume(self) -> float:
+        """Volume of the MVIE, NaN where it was not computed or could not be."""
+        if not self._with_mvie:
+            return np.nan
+        try:
+            return self.mvie.volume
+        except SolverError:
+            return np.nan
+
     def _score(self, kind: str) -> Scores:
         if kind == "mvie" and not self._with_mvie:
             return Scores(kind=kind, defined=False, reason="not computed (mvie=False)")
         try:
             E = self.ellipsoid(kind)
-        except UndefinedEllipsoidError as exn:
+        except (UndefinedEllipsoidError, SolverError) as exn:
+            # A score that cannot be computed here is reported, never raised: a sweep's
+            # other configurations must not depend on it.
             return Scores(kind=kind, defined=False, reason=str(exn))
         P = self.analysis.polytope
         check_same_affine_set(E, P)
@@ -173,7 +185,7 @@ class Comparison:
             coverage_stderr=shares.coverage_stderr,
             overreach=shares.overreach,
             overreach_stderr=shares.overreach_stderr,
-            mvie_ratio=E.volume / self.mvie.volume if self._with_mvie else np.nan,
+            mvie_ratio=E.volume / self._mvie_volume,
             direction_error_mean=errors.mean,
             direction_error_max=errors.max,
             direction_error_rms=errors.rms,

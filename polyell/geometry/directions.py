@@ -54,7 +54,10 @@ def sphere_directions(k: int, r: int) -> NDArray[np.float64]:
         return np.column_stack(
             [radius * np.cos(i * _GOLDEN_ANGLE), radius * np.sin(i * _GOLDEN_ANGLE), z]
         )
-    points = qmc.Sobol(d=r, scramble=True, seed=0).random(k)
+    # The first k points of the sequence, drawn as a power of two (the size at which
+    # scipy's Sobol' generator keeps its balance and issues no warning).
+    exponent = max(0, int(k - 1).bit_length())
+    points = qmc.Sobol(d=r, scramble=True, seed=0).random_base2(exponent)[:k]
     gaussian = norm.ppf(np.clip(points, 1e-12, 1 - 1e-12))
     return gaussian / np.linalg.norm(gaussian, axis=1, keepdims=True)
 

@@ -1,68 +1,94 @@
 r"""The maximum-volume ellipsoid inscribed in the acceleration polytope.
 
-For a polytope :math:`\{y : a_i^T y \le h_i\}` symmetric about its centre (a zonotope),
-the maximum-volume inscribed ellipsoid is centred there, and its shape
-:math:`S \succeq 0` (:math:`E = \{c + S u : \|u\| \le 1\}`) solves the log-det program
+The polytope :math:`P = \{\ddot x_g + M \tilde\tau : \|\tilde\tau\|_\infty \le 1\}` is
+symmetric about :math:`\ddot x_g`, so its maximum-volume inscribed ellipsoid (MVIE) is
+centred there and only its shape is unknown.  It is computed in whitened coordinates
+:math:`\ddot x = \ddot x_g + U_1 \Sigma y` (eq. 35), where P becomes the zonotope
+:math:`\{V_1^T \tilde\tau\}` of orthonormal rows: between the unit ball (the new ellipsoid,
+eq. 32/38) and the ball of radius :math:`\sqrt n`, however close the configuration is to a
+singular one.  There the shape :math:`X` of :math:`\{X^{1/2} u : \|u\| \le 1\}` solves
 
 .. math::
 
-    \max_S \ \log\det S \quad \text{s.t.} \quad \|S a_i\| \le h_i ,
+    \max_X \ \log\det X \quad \text{s.t.} \quad a_i^T X a_i \le h_i^2
 
-solved in the coordinates of the polytope's affine set (so degenerate polytopes get their
-lower-dimensional MVIE) with cvxpy and Clarabel.
+over the facet pairs :math:`\pm a_i^T y \le h_i`, and the MVIE is
+:math:`\{\ddot x_g + U_1 \Sigma X^{1/2} u\}`.  With n = r generators P is a parallelotope, X =
+I, and the MVIE is exactly the new ellipsoid.
 """
 
 from __future__ import annotations
 
-import cvxpy as cp
+from typing import Literal
+
 import numpy as np
+from numpy.typing import NDArray
 
-from polyell.errors import SolverError
+from polyell.errors import InputError, SolverError
 from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.logdet import centred_mvee
 from polyell.geometry.polytope import Polytope
+from polyell.geometry.zonotope import zonotope_facets
 
-__all__ = ["max_volume_inscribed_ellipsoid"]
+__all__ = ["MVIE_METHODS", "max_volume_inscribed_ellipsoid"]
+
+#: ``"logdet"``: the dedicated Newton method of :func:`~polyell.geometry.logdet.centred_mvee`
+#: (the default); ``"cvxpy"``: the same program through cvxpy and Clarabel (a cross-check).
+MVIE_METHODS = ("logdet", "cvxpy")
 
 
-def max_volume_inscribed_ellipsoid(P: Polytope) -> Ellipsoid:
+def max_volume_inscribed_ellipsoid(
+    P: Polytope, method: Literal["logdet", "cvxpy"] = "logdet"
+) -> Ellipsoid:
     """The maximum-volume ellipsoid inscribed in ``P``, in ``P``'s affine set.
 
     Parameters
     ----------
     P : Polytope
+    method : {"logdet", "cvxpy"}
+        The solver of the log-det program (see :data:`MVIE_METHODS`); both work in the
+        whitened coordinates.
 
     Returns
     -------
     Ellipsoid
-        Of kind ``"mvie"``, centred at ``P.center``.  The solver's answer is rescaled
-        uniformly (by its tolerance) so that it touches the boundary of ``P`` exactly.
+        Of kind ``"mvie"``, centred at ``P.center``, touching the boundary of ``P``.  Its
+        volume is within a relative 1e-8 of the optimum (the dual certificate of
+        ``"logdet"``).
 
     Raises
     ------
     SolverError
-        If Clarabel does not certify an optimum.
+        If the solver does not certify an optimum.
     """
-    basis = P.affine_set.basis
-    r = P.dim
+    if method not in MVIE_METHODS:
+        raise InputError("method", f"one of {MVIE_METHODS}", repr(method))
+    svd, r = P.svd, P.dim
     if r == 0:
         return Ellipsoid(P.center, np.zeros((P.ambient_dim, 0)), np.zeros(0), kind="mvie")
-    normals = P.A @ basis  # unit normals in the affine set's coordinates
-    offsets = P.b - P.A @ P.center  # h_i > 0
-    # P is a zonotope: its facets come in pairs (a, -a) with one offset from the centre,
-    # and ||S a|| = ||S (-a)||, so one of each pair gives every constraint.  (The
-    # duplicates are not harmless: they made Clarabel stop "inaccurate" on some
-    # well-conditioned Panda polytopes.)
-    half = len(normals) // 2
-    if np.array_equal(normals[:half], -normals[half:]):
-        normals, offsets = normals[:half], offsets[:half]
-    if r == 1:
-        half_length = float(np.min(offsets / np.abs(normals[:, 0])))
-        return Ellipsoid(P.center, basis, [half_length], kind="mvie")
-    scale = float(offsets.max())
-    S = cp.Variable((r, r), PSD=True)
-    problem = cp.Problem(
-        cp.Maximize(cp.log_det(S)), [cp.norm(S @ normals.T, axis=0) <= offsets / scale]
-    )
+    if P.generators.shape[1] == r:  # a parallelotope: X = I, the new ellipsoid itself
+        return Ellipsoid(P.center, svd.U1, svd.sigma, kind="mvie")
+    whitened = svd.V1.T  # (r, n), orthonormal rows
+    if r == 1:  # a segment: the whole of it
+        return Ellipsoid(P.center, svd.U1, svd.sigma * np.abs(whitened).sum(), kind="mvie")
+    facets = zonotope_facets(whitened)
+    half = len(facets.normals) // 2  # one of each pair +-a: the same constraint
+    points = facets.normals[:half] / facets.offsets[:half, None]
+    X = centred_mvee(points).shape if method == "logdet" else _shape_by_cvxpy(points)
+    # E = {xg + U1 Sigma X^(1/2) u}: axes and semi-axes from the SVD of Sigma X^(1/2).
+    eigenvalues, eigenvectors = np.linalg.eigh(X)
+    root = (eigenvectors * np.sqrt(eigenvalues)) @ eigenvectors.T
+    W, semi_axes, _ = np.linalg.svd(svd.sigma[:, None] * root)
+    return Ellipsoid(P.center, svd.U1 @ W, semi_axes, kind="mvie")
+
+
+def _shape_by_cvxpy(points: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``max log det X`` s.t. ``||X^(1/2) c_i|| <= 1`` by cvxpy and Clarabel, X scaled to touch."""
+    import cvxpy as cp
+
+    r = points.shape[1]
+    S = cp.Variable((r, r), PSD=True)  # S = X^(1/2)
+    problem = cp.Problem(cp.Maximize(cp.log_det(S)), [cp.norm(S @ points.T, axis=0) <= 1])
     try:
         problem.solve(solver=cp.CLARABEL)
     except cp.error.SolverError as exn:
@@ -72,11 +98,6 @@ def max_volume_inscribed_ellipsoid(P: Polytope) -> Ellipsoid:
             f"Clarabel returned status {problem.status!r} for the maximum-volume inscribed "
             "ellipsoid; its scores are unknown."
         )
-    shape = np.asarray(S.value)
-    eigenvalues, eigenvectors = np.linalg.eigh(scale * 0.5 * (shape + shape.T))
-    reach = np.linalg.norm((normals @ eigenvectors) * eigenvalues, axis=1)
-    # Rescale to touch P exactly: the solver's answer is feasible and optimal to its
-    # tolerance (1e-8); the uniform rescaling fixes the feasibility digits and only grows
-    # the volume when the solver stopped strictly inside.
-    eigenvalues *= float(np.min(offsets / reach))
-    return Ellipsoid(P.center, basis @ eigenvectors, eigenvalues, kind="mvie")
+    S_value = np.asarray(S.value)
+    X = S_value @ S_value.T
+    return X / np.max(np.einsum("ia,ab,ib->i", points, X, points))

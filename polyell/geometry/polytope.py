@@ -81,6 +81,11 @@ class Polytope(ConvexSet):
             else self.affine_set.basis.T @ self.generators
         )
 
+    @property
+    def svd(self) -> RankRevealingSVD:
+        """The rank-revealing SVD of the generators (eq. 35) behind :attr:`dim`."""
+        return self._svd
+
     def __repr__(self) -> str:
         return (
             f"Polytope(m={self.ambient_dim}, n={self.generators.shape[1]}, dim={self.dim}, "
