@@ -12,11 +12,13 @@ from polyell.errors import (
     InputError,
     MissingDependencyError,
     PolyellError,
+    ProjectedInputWarning,
     SolverError,
     UndefinedEllipsoidError,
     UnreachableAccelerationError,
 )
 from polyell.geometry import (
+    AFFINE_RTOL,
     RANK_RTOL,
     AffineSubspace,
     DirectionalLimits,
@@ -29,6 +31,7 @@ from polyell.studies import grid, local_cluster, random_configurations, sweep
 __version__ = "0.1.0"
 
 __all__ = [
+    "AFFINE_RTOL",
     "COMPARED_KINDS",
     "ELLIPSOID_KINDS",
     "RANK_RTOL",
@@ -46,6 +49,7 @@ __all__ = [
     "PlanarArm",
     "PolyellError",
     "Polytope",
+    "ProjectedInputWarning",
     "Scores",
     "SolverError",
     "UndefinedEllipsoidError",

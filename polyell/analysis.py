@@ -15,6 +15,7 @@ accelerations are :math:`\ddot x = M \tilde\tau + \ddot x_g` (eq. 13) with
 
 from __future__ import annotations
 
+import warnings
 from functools import cached_property
 from typing import Literal, NamedTuple
 
@@ -22,13 +23,23 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import lapack
 
-from polyell.errors import InputError, UndefinedEllipsoidError, UnreachableAccelerationError
+from polyell.errors import (
+    InputError,
+    ProjectedInputWarning,
+    UndefinedEllipsoidError,
+    UnreachableAccelerationError,
+)
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.polytope import Polytope
-from polyell.geometry.subspace import RANK_RTOL, RankRevealingSVD, rank_revealing_svd
+from polyell.geometry.subspace import (
+    AFFINE_RTOL,
+    RANK_RTOL,
+    RankRevealingSVD,
+    rank_revealing_svd,
+)
 from polyell.inverse import AffineMap, chiacchio_joint_map, classic_joint_map, torque_map
 from polyell.models.dynamics import Dynamics
-from polyell.validation import check_points, check_torque_limits
+from polyell.validation import check_fraction, check_points, check_torque_limits
 
 __all__ = ["ELLIPSOID_KINDS", "Analysis", "InverseSolution", "analyze"]
 
@@ -108,6 +119,7 @@ class Analysis:
         tau_min: ArrayLike | None = None,
         *,
         rank_rtol: float = RANK_RTOL,
+        affine_rtol: float = AFFINE_RTOL,
     ) -> None:
         if not isinstance(dynamics, Dynamics):
             raise InputError(
@@ -143,6 +155,7 @@ class Analysis:
         self.M: NDArray[np.float64] = J_Binv * self.half_range
         self.xg: NDArray[np.float64] = dynamics.xdd_bias - J_Binv @ self._gravity_bias
         self.svd: RankRevealingSVD = rank_revealing_svd(self.M, rank_rtol)
+        self.affine_rtol = check_fraction("affine_rtol", affine_rtol)
         self._ellipsoids: dict[str, Ellipsoid] = {}
         self._joint_maps: dict[str, AffineMap] = {}
 
@@ -171,7 +184,9 @@ class Analysis:
     @cached_property
     def polytope(self) -> Polytope:
         """The exact acceleration polytope (eq. 15)."""
-        return Polytope(self.M, self.xg, svd=self.svd)
+        polytope = Polytope(self.M, self.xg, svd=self.svd)
+        polytope.affine_rtol = self.affine_rtol
+        return polytope
 
     def ellipsoid(self, kind: EllipsoidKind = "chiacchio") -> Ellipsoid:
         """A dynamic manipulability ellipsoid centred at ``xg``.
@@ -201,6 +216,7 @@ class Analysis:
                 F = self.torque_map(kind).matrix
                 _, s, Vt = np.linalg.svd(F, full_matrices=False)
                 ellipsoid = Ellipsoid(self.xg, Vt.T, 1.0 / s, kind=kind)
+            ellipsoid.affine_rtol = self.affine_rtol
             self._ellipsoids[kind] = ellipsoid
         return self._ellipsoids[kind]
 
@@ -267,15 +283,27 @@ class Analysis:
             For ``"yoshikawa"`` at a singular configuration.
         """
         x = check_points("xdd", xdd, self.dynamics.m)
-        if _check_kind(kind) == "chiacchio":
-            distance = self.polytope.affine_set.distance(x)
-            if np.any(distance > self.polytope.atol):
+        if _check_kind(kind) == "chiacchio" and self.is_singular:
+            affine_set = self.polytope.affine_set
+            if not np.all(affine_set.near(x, self.affine_rtol)):
+                distance = np.max(affine_set.distance(x))
                 raise UnreachableAccelerationError(
                     f"xdd: expected accelerations in the affine set xg + Im(M) of dimension "
-                    f"{self.rank}, got one at distance {np.max(distance):.3g} from it; no joint "
-                    "acceleration produces it at this singular configuration. Fix: project it "
-                    "with analysis.polytope.affine_set.project(xdd)."
+                    f"{self.rank}, got one at distance {distance:.3g} from it (more than "
+                    f"affine_rtol = {self.affine_rtol:g} relative); no joint acceleration "
+                    "produces it at this singular configuration. Fix: project it with "
+                    "analysis.polytope.affine_set.project(xdd)."
                 )
+            moved = np.max(affine_set.distance(x))
+            if moved > self.polytope.atol:
+                warnings.warn(
+                    f"xdd: taken as rounded and projected onto the affine set of this "
+                    f"singular configuration (distance {moved:.3g}); eq. (40) maps the "
+                    "projection.",
+                    ProjectedInputWarning,
+                    stacklevel=2,
+                )
+            x = affine_set.project(x)
         return InverseSolution(self.joint_map(kind)(x), self.torque_map(kind)(x))
 
 
@@ -285,6 +313,7 @@ def analyze(
     tau_min: ArrayLike | None = None,
     *,
     rank_rtol: float = RANK_RTOL,
+    affine_rtol: float = AFFINE_RTOL,
 ) -> Analysis:
     """Analyze the achievable accelerations of a robot at rest at one configuration.
 
@@ -299,6 +328,12 @@ def analyze(
     rank_rtol : float, optional
         Relative tolerance of the rank decision (singular values of M at or below
         ``rank_rtol * sigma_max`` are zero); default :data:`~polyell.RANK_RTOL`.
+    affine_rtol : float, optional
+        At a singular configuration, how far (relative) a direction or a point may be off
+        the affine set ``xg + Im(M)`` and still count as in it (rounded input, projected
+        with a :class:`~polyell.ProjectedInputWarning`); default
+        :data:`~polyell.AFFINE_RTOL`.  Shared by the polytope, the ellipsoids and
+        :meth:`Analysis.inverse`.
 
     Returns
     -------
@@ -312,4 +347,4 @@ def analyze(
     >>> np.round(an.xg, 3) + 0.0  # + 0.0 shows a rounded -0.0 as 0.0
     array([  0.   , -12.392])
     """
-    return Analysis(dyn, tau_max, tau_min, rank_rtol=rank_rtol)
+    return Analysis(dyn, tau_max, tau_min, rank_rtol=rank_rtol, affine_rtol=affine_rtol)

@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import warnings
 from collections.abc import Sequence
 
 import numpy as np
@@ -16,7 +17,7 @@ import numpy as np
 from polyell import robots
 from polyell.analysis import analyze
 from polyell.comparison import compare
-from polyell.errors import InputError, PolyellError
+from polyell.errors import InputError, PolyellError, ProjectedInputWarning
 from polyell.expressions import evaluate_list
 from polyell.report import analysis_to_json, format_analysis
 from polyell.studies import load_robot_file, load_study, run_study
@@ -131,10 +132,20 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
     args = _parser().parse_args(argv)
     try:
-        _analyze(args) if args.command == "analyze" else _study(args)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", ProjectedInputWarning)
+            _analyze(args) if args.command == "analyze" else _study(args)
     except PolyellError as exn:
         print(f"polyell: error: {exn}", file=sys.stderr)
         return 2
+    finally:  # rounded input that was projected: one note each, after the output
+        for note in dict.fromkeys(
+            str(w.message) for w in caught if issubclass(w.category, ProjectedInputWarning)
+        ):
+            print(f"polyell: note: {note}", file=sys.stderr)
+        for w in caught:
+            if not issubclass(w.category, ProjectedInputWarning):
+                warnings.showwarning(w.message, w.category, w.filename, w.lineno)
     return 0
 
 

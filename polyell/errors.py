@@ -11,6 +11,7 @@ __all__ = [
     "InputError",
     "MissingDependencyError",
     "PolyellError",
+    "ProjectedInputWarning",
     "SolverError",
     "UndefinedEllipsoidError",
     "UnreachableAccelerationError",
@@ -69,3 +70,11 @@ class SolverError(PolyellError):
 
 class MissingDependencyError(PolyellError, ImportError):
     """An optional dependency is not installed; the message names the extra to install."""
+
+
+class ProjectedInputWarning(UserWarning):
+    """Input taken as rounded and projected onto the affine set of a singular configuration.
+
+    A direction or an acceleration within :data:`~polyell.AFFINE_RTOL` of the set
+    ``xg + Im(M)`` (eq. 35) is treated as lying in it; polyell says so with this warning.
+    """

@@ -16,6 +16,7 @@ from polyell.errors import InputError
 __all__ = [
     "check_array",
     "check_directions",
+    "check_fraction",
     "check_points",
     "check_spd",
     "check_torque_limits",
@@ -191,6 +192,17 @@ def check_torque_limits(
             "each joint needs a torque range of positive width.",
         )
     return upper, lower
+
+
+def check_fraction(name: str, value: object) -> float:
+    """Check a relative tolerance: a real number in ``[0, 1)``, returned as a float."""
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int | float | np.integer | np.floating)
+        or not 0.0 <= float(value) < 1.0
+    ):
+        raise InputError(name, "a relative tolerance in [0, 1)", repr(value))
+    return float(value)
 
 
 def check_points(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]:

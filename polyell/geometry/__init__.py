@@ -3,9 +3,10 @@
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.limits import DirectionalLimits
 from polyell.geometry.polytope import Polytope
-from polyell.geometry.subspace import RANK_RTOL, AffineSubspace, rank_revealing_svd
+from polyell.geometry.subspace import AFFINE_RTOL, RANK_RTOL, AffineSubspace, rank_revealing_svd
 
 __all__ = [
+    "AFFINE_RTOL",
     "RANK_RTOL",
     "AffineSubspace",
     "DirectionalLimits",

@@ -2,20 +2,25 @@
 
 from __future__ import annotations
 
+import warnings
 from abc import ABC, abstractmethod
+from collections.abc import Callable
 from functools import cached_property
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from polyell.errors import ProjectedInputWarning
 from polyell.geometry.limits import DirectionalLimits
-from polyell.geometry.subspace import AffineSubspace
+from polyell.geometry.subspace import AFFINE_RTOL, AffineSubspace
 from polyell.validation import check_directions, check_points
 
 __all__ = ["ATOL_RELATIVE", "ConvexSet"]
 
 #: Distance tolerance of membership tests, relative to the set's size.
 ATOL_RELATIVE = 1e-9
+#: A projected direction that moved by more than this is reported (rounding is not).
+PROJECTION_NOTICE = 1e-12
 
 
 class ConvexSet(ABC):
@@ -27,6 +32,8 @@ class ConvexSet(ABC):
 
     center: NDArray[np.float64]
     affine_set: AffineSubspace
+    #: :data:`~polyell.AFFINE_RTOL` unless set: the tolerance of "on the affine set".
+    affine_rtol: float = AFFINE_RTOL
 
     @abstractmethod
     def _size(self) -> float:
@@ -50,7 +57,10 @@ class ConvexSet(ABC):
         return self.affine_set.dim
 
     def contains(self, points: ArrayLike) -> NDArray[np.bool_]:
-        """Whether points belong to the set (within the distance :attr:`atol`).
+        """Whether points belong to the set.
+
+        A point counts as lying in the affine set within :data:`~polyell.AFFINE_RTOL`
+        (rounded input, see :attr:`affine_rtol`) and inside the set within :attr:`atol`.
 
         Parameters
         ----------
@@ -61,11 +71,11 @@ class ConvexSet(ABC):
         inside : ndarray of bool, shape () or (k,)
         """
         x = check_points("points", points, self.ambient_dim)
-        return (self.affine_set.distance(x) <= self.atol) & self._inside_hull(x)
+        return self.affine_set.near(x, self.affine_rtol) & self._inside_hull(x)
 
     @abstractmethod
     def _inside_hull(self, x: NDArray[np.float64]) -> NDArray[np.bool_]:
-        """Membership of points (..., m) assumed to lie on the affine hull."""
+        """Membership of points (..., m), tested on their projection onto the affine hull."""
 
     @abstractmethod
     def _interval_on_lines(
@@ -79,7 +89,8 @@ class ConvexSet(ABC):
         A line ``{a t}`` lying in the affine hull gets the set's own interval; a line
         crossing the hull in one point ``a0 t`` gets ``[a0, a0]`` if that point belongs to
         the set; any other line gets an empty interval.  For a full-dimensional set every
-        line is of the first kind.
+        line is of the first kind.  A direction within :attr:`affine_rtol` of the affine
+        hull (a rounded one) is projected onto it, with a :class:`ProjectedInputWarning`.
 
         Parameters
         ----------
@@ -92,16 +103,37 @@ class ConvexSet(ABC):
             ``(lo, hi)`` with the leading shape of ``directions``; NaN where the line
             misses the set.
         """
+        return self._limits(directions, self._interval_on_lines)
+
+    def _limits(
+        self,
+        directions: ArrayLike,
+        interval_on_lines: Callable[
+            [NDArray[np.float64]], tuple[NDArray[np.float64], NDArray[np.float64]]
+        ],
+    ) -> DirectionalLimits:
+        """:meth:`limits`, with the interval on in-set lines computed by ``interval_on_lines``."""
         directions = check_directions("directions", directions, self.ambient_dim)
         T = np.atleast_2d(directions)
         lo = np.full(T.shape[0], np.nan)
         hi = np.full(T.shape[0], np.nan)
-        meeting = self.affine_set.meet_lines(T, self.atol)
+        meeting = self.affine_set.meet_lines(T, self.affine_rtol)
         if meeting.inside.any():
-            lo[meeting.inside], hi[meeting.inside] = self._interval_on_lines(T[meeting.inside])
+            lines = meeting.projected[meeting.inside]
+            moved = np.linalg.norm(lines - T[meeting.inside], axis=1)
+            if moved.max() > PROJECTION_NOTICE:
+                warnings.warn(
+                    f"directions: {np.count_nonzero(moved > PROJECTION_NOTICE)} direction(s) "
+                    f"up to {moved.max():.2g} off the {self.dim}-dimensional affine set of "
+                    "this singular configuration were taken as rounded and projected onto "
+                    f"it (affine_rtol = {self.affine_rtol:g}).",
+                    ProjectedInputWarning,
+                    stacklevel=3,
+                )
+            lo[meeting.inside], hi[meeting.inside] = interval_on_lines(lines)
         if meeting.single.any():
             a0 = meeting.a0[meeting.single]
-            member = self.contains(a0[:, None] * T[meeting.single])
+            member = self._inside_hull(a0[:, None] * T[meeting.single])
             lo[meeting.single] = np.where(member, a0, np.nan)
             hi[meeting.single] = np.where(member, a0, np.nan)
         shape = directions.shape[:-1]

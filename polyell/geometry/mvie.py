@@ -63,6 +63,12 @@ def max_volume_inscribed_ellipsoid(
     """
     if method not in MVIE_METHODS:
         raise InputError("method", f"one of {MVIE_METHODS}", repr(method))
+    E = _mvie(P, method)
+    E.affine_rtol = P.affine_rtol
+    return E
+
+
+def _mvie(P: Polytope, method: str) -> Ellipsoid:
     svd, r = P.svd, P.dim
     if r == 0:
         return Ellipsoid(P.center, np.zeros((P.ambient_dim, 0)), np.zeros(0), kind="mvie")

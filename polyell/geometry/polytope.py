@@ -25,7 +25,7 @@ from polyell.geometry.zonotope import (
     zonotope_vertices,
     zonotope_volume,
 )
-from polyell.validation import check_array, check_directions
+from polyell.validation import check_array
 
 __all__ = ["Polytope"]
 
@@ -199,9 +199,10 @@ class Polytope(ConvexSet):
             return super().limits(directions)
         if method != "lp":
             raise InputError("method", "'closed_form' or 'lp'", repr(method))
-        T = check_directions("directions", directions, self.ambient_dim)
-        lo, hi = polytope_limits_lp(self.generators, self.center, np.atleast_2d(T))
-        return DirectionalLimits(lo.reshape(T.shape[:-1]), hi.reshape(T.shape[:-1]))
+        # The same decisions about the affine set as the closed form; LPs on in-set lines.
+        return self._limits(
+            directions, lambda lines: polytope_limits_lp(self.generators, self.center, lines)
+        )
 
     def _interval_on_lines(
         self, lines: NDArray[np.float64]

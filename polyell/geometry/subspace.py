@@ -19,7 +19,7 @@ from scipy.linalg import lapack
 from polyell.errors import InputError, SolverError
 
 __all__ = [
-    "PARALLEL_TOL",
+    "AFFINE_RTOL",
     "RANK_RTOL",
     "AffineSubspace",
     "LineMeeting",
@@ -29,8 +29,13 @@ __all__ = [
 
 #: Singular values at or below ``RANK_RTOL * sigma_max`` count as zero (eq. 35).
 RANK_RTOL = 1e-10
-#: A unit direction whose component off the subspace is at most this is parallel to it.
-PARALLEL_TOL = 1e-9
+#: "On the affine set" at a singular configuration, for input rounded to 5-7 significant
+#: digits (a direction or a point typed from a paper or a log): a unit direction whose
+#: component off the set (the sine of its angle to it) is at most ``AFFINE_RTOL`` lies in it,
+#: and so does a point at a distance of at most ``AFFINE_RTOL * max(|x|, |xg|)``.  Relative
+#: to the point and the centre, not to a set's extent, so that the polytope and every
+#: ellipsoid of one analysis decide alike.  ``pe.analyze(..., affine_rtol=...)`` sets it.
+AFFINE_RTOL = 1e-4
 
 
 class RankRevealingSVD(NamedTuple):
@@ -126,16 +131,21 @@ class LineMeeting(NamedTuple):
     Attributes
     ----------
     inside : ndarray of bool, shape (k,)
-        The whole line lies in the set (it is parallel to it and the set contains 0).
+        The whole line lies in the set, within the tolerance (it is parallel to it and the
+        set contains 0).
     single : ndarray of bool, shape (k,)
         The line crosses the set in exactly one point ``a = a0``.
     a0 : ndarray, shape (k,)
         The crossing parameter where ``single`` is true, NaN elsewhere.
+    projected : ndarray, shape (k, m)
+        The directions projected onto the set and renormalised where ``inside`` (the line
+        then lies in it exactly), the directions themselves elsewhere.
     """
 
     inside: NDArray[np.bool_]
     single: NDArray[np.bool_]
     a0: NDArray[np.float64]
+    projected: NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -187,20 +197,26 @@ class AffineSubspace:
         """Euclidean distance of points ``x`` (shape ``(..., m)``) from the set."""
         return np.linalg.norm((x - self.point) @ self.normals, axis=-1)
 
+    def near(self, x: NDArray[np.float64], rtol: float = AFFINE_RTOL) -> NDArray[np.bool_]:
+        """Whether points ``x`` (shape ``(..., m)``) lie on the set to ``rtol`` (AFFINE_RTOL)."""
+        scale = np.maximum(np.linalg.norm(x, axis=-1), np.linalg.norm(self.point))
+        return self.distance(x) <= rtol * scale
+
     def project(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         """Orthogonal projection of points ``x`` (shape ``(..., m)``) onto the set."""
         return self.point + self.coordinates(x) @ self.basis.T
 
-    def meet_lines(self, directions: NDArray[np.float64], atol: float) -> LineMeeting:
+    def meet_lines(self, directions: NDArray[np.float64], rtol: float = AFFINE_RTOL) -> LineMeeting:
         """Intersect the lines ``{a t : a real}`` with the set.
 
         Parameters
         ----------
         directions : ndarray, shape (k, m)
             Unit directions ``t``.
-        atol : float
-            Distance below which a point counts as lying on the set.  A direction whose
-            component off the set is at most ``PARALLEL_TOL`` is taken as parallel.
+        rtol : float
+            :data:`AFFINE_RTOL`: a direction whose component off the set is at most this
+            is parallel to it (and is projected onto it), and a point within
+            ``rtol * max(|x|, |point|)`` of the set lies on it.
 
         Returns
         -------
@@ -208,20 +224,21 @@ class AffineSubspace:
         """
         k = directions.shape[0]
         if self.dim == self.ambient_dim:
-            return LineMeeting(np.ones(k, bool), np.zeros(k, bool), np.full(k, np.nan))
+            return LineMeeting(np.ones(k, bool), np.zeros(k, bool), np.full(k, np.nan), directions)
         off = directions @ self.normals  # (k, m - r)
         target = self.point @ self.normals  # (m - r,): solve a * off = target
         off_norm2 = np.einsum("ij,ij->i", off, off)
-        parallel = off_norm2 <= PARALLEL_TOL**2
-        through_origin = np.linalg.norm(target) <= atol
+        parallel = off_norm2 <= rtol**2
+        through_origin = np.linalg.norm(target) <= rtol * np.linalg.norm(self.point)
         with np.errstate(invalid="ignore", divide="ignore"):
             a0 = np.where(parallel, np.nan, (off @ target) / off_norm2)
         if through_origin:  # a line not parallel to a set through 0 crosses it at a = 0
             a0 = np.where(parallel, np.nan, 0.0)
-        residual = np.linalg.norm(a0[:, None] * off - target, axis=1)
-        single = ~parallel & (residual <= atol)
-        return LineMeeting(
-            inside=parallel & through_origin,
-            single=single,
-            a0=np.where(single, a0, np.nan),
-        )
+        crossing = np.where(parallel, 0.0, a0)[:, None] * directions
+        single = ~parallel & self.near(crossing, rtol)
+        inside = parallel & through_origin
+        projected = directions.copy()
+        if inside.any():
+            in_set = directions[inside] @ self.basis @ self.basis.T
+            projected[inside] = in_set / np.linalg.norm(in_set, axis=1, keepdims=True)
+        return LineMeeting(inside, single, np.where(single, a0, np.nan), projected)

@@ -81,7 +81,9 @@ def test_contains_boundary_and_rejects_points_just_outside(seed):
     assert np.all(E.contains(boundary))
     assert not np.any(E.contains(E.center + 1.001 * (boundary - E.center)))
     normal = np.cross(E.axes[:, 0], E.axes[:, 1])
-    assert not E.contains(E.center + 1e-6 * normal)
+    scale = np.linalg.norm(E.center)  # off the plane: within AFFINE_RTOL of |x| (rounding)
+    assert not E.contains(E.center + 10 * pe.AFFINE_RTOL * (scale + 1.0) * normal)
+    assert E.contains(E.center + 0.1 * pe.AFFINE_RTOL * scale * normal)
 
 
 def test_support_function_is_attained_on_the_boundary():

@@ -1,0 +1,127 @@
+"""Rounded input at singular configurations: one tolerance, AFFINE_RTOL (issue 11).
+
+At q = (pi/6, 0, 0) the polytope and the new ellipsoid are segments on the line through the
+origin with direction t = (-1/2, sqrt(3)/2).  Users type t and points to 5-7 digits.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import warnings
+
+import numpy as np
+import pytest
+
+import polyell as pe
+from reference import PAPER_Q_SINGULAR, RTOL_LP, assert_printed, paper_analysis
+
+EXACT = np.array([-0.5, np.sqrt(3.0) / 2.0])
+IN_SET = {"polytope": (-103.81, 85.574), "chiacchio": (-70.922, 52.690)}
+
+
+@pytest.fixture(scope="module")
+def singular():
+    return paper_analysis(PAPER_Q_SINGULAR)
+
+
+def sets(an):
+    return {"polytope": an.polytope, "chiacchio": an.ellipsoid("chiacchio")}
+
+
+def rotated(angle: float) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([c * EXACT[0] - s * EXACT[1], s * EXACT[0] + c * EXACT[1]])
+
+
+@pytest.mark.parametrize("typed", [[-0.5, 0.8660254], [-0.5, 0.866025], [-0.50000, 0.86603]])
+def test_a_typed_direction_gets_the_interval_of_the_segment(singular, typed):
+    t = np.array(typed) / np.linalg.norm(typed)
+    for name, S in sets(singular).items():
+        with pytest.warns(pe.ProjectedInputWarning, match="projected"):
+            lo, hi = S.limits(t)
+        assert_printed([lo, hi], "{} {}".format(*IN_SET[name]).replace("52.69 ", "52.690 "))
+
+
+def test_lp_agrees_with_the_closed_form_on_a_typed_direction(singular):
+    t = np.array([-0.5, 0.8660254]) / np.linalg.norm([-0.5, 0.8660254])
+    P = singular.polytope
+    with pytest.warns(pe.ProjectedInputWarning):
+        closed = P.limits(t)
+    with pytest.warns(pe.ProjectedInputWarning):
+        lp = P.limits(t, method="lp")
+    np.testing.assert_allclose(lp, closed, rtol=RTOL_LP)
+
+
+@pytest.mark.parametrize("angle", [1e-12, 1e-9, 1e-7, 1e-5, 0.9e-4, 1.1e-4, 1e-3, 0.1])
+def test_limits_converge_without_a_jump_beyond_the_tolerance(singular, angle):
+    """Inside the tolerance the interval is the segment's, and its ends count as members
+    (within AFFINE_RTOL of the set); beyond it the exact single point (the origin)."""
+    t = rotated(angle)
+    for name, S in sets(singular).items():
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", pe.ProjectedInputWarning)
+            lo, hi = S.limits(t)
+        if angle < pe.AFFINE_RTOL:
+            np.testing.assert_allclose([lo, hi], S.limits(EXACT), rtol=1e-12)
+            assert np.all(S.contains(np.outer([lo, hi], t)))
+        else:
+            assert lo == hi == 0.0  # the line crosses the segment's line at the origin
+            assert not np.any(S.contains(np.outer(IN_SET[name], t)))
+
+
+def test_polytope_and_ellipsoids_decide_alike(singular):
+    rng = np.random.default_rng(3)
+    angles = np.geomspace(1e-10, 1e-2, 40) * rng.choice([-1, 1], 40)
+    decisions = []
+    for S in sets(singular).values():
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", pe.ProjectedInputWarning)
+            lo, hi = S.limits(np.array([rotated(a) for a in angles]))
+        decisions.append(hi > lo)  # an interval, not a single point
+    assert np.array_equal(decisions[0], decisions[1])
+    assert decisions[0].sum() == np.count_nonzero(np.abs(angles) < pe.AFFINE_RTOL)
+
+
+def test_the_papers_printed_points(singular):
+    assert singular.polytope.contains([35.46095, -61.42016])
+    with pytest.warns(pe.ProjectedInputWarning):
+        qdd, tau_n = singular.inverse([35.461, -61.420])  # eq. (40), printed to 3 decimals
+    # The printed point is itself off by up to 5e-4 per entry: qdd within 2e-3 of the
+    # paper's (computed from the unrounded point), tau_n to its printed digits.
+    np.testing.assert_allclose(qdd, [-49.417, 172.961, -364.223], atol=2e-3)
+    assert_printed(tau_n, "-0.1771 0.5182 -0.8367")
+
+
+def test_a_point_clearly_off_the_set_is_unreachable(singular):
+    with pytest.raises(pe.UnreachableAccelerationError, match="affine_rtol"):
+        singular.inverse([35.5, -61.0])
+
+
+def test_the_tolerance_is_the_users(singular):
+    strict = pe.analyze(singular.dynamics, singular.tau_max, affine_rtol=1e-12)
+    lo, hi = strict.polytope.limits(np.array([-0.5, 0.8660254]) / np.linalg.norm([-0.5, 0.8660254]))
+    assert lo == hi == 0.0
+    assert not strict.polytope.contains([35.46095, -61.42016])
+    with pytest.raises(pe.InputError, match="affine_rtol"):
+        pe.analyze(singular.dynamics, singular.tau_max, affine_rtol=2.0)
+
+
+def test_readme_singular_example_prints_the_segment():
+    result = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "polyell.cli",
+            "analyze",
+            "--q",
+            "pi/6,0,0",
+            "--direction=-0.5,0.8660254",
+            "--no-mvie",
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert "[-70.922, 52.69]" in result.stdout and "[-103.81, 85.574]" in result.stdout
+    assert "polyell: note: directions" in result.stderr and "Traceback" not in result.stderr
