@@ -24,6 +24,7 @@ from polyell.comparison.tables import ELLIPSOID_LABELS
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.directions import sphere_directions
 from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.models.task import row_label, task_unit
 
 __all__ = [
     "STYLES",
@@ -75,13 +76,22 @@ def _ellipse_points(E: Ellipsoid, k: int = 721) -> NDArray[np.float64]:
     return E.center + (u * E.semi_axes) @ E.axes.T
 
 
+def _label_axes(ax: Axes, analysis: Analysis, unit: str | None) -> None:
+    """Label each axis with its task row (x, z, wx, ...) and the task's unit."""
+    unit = unit or task_unit(analysis.dynamics.task, tex=True)
+    setters = (ax.set_xlabel, ax.set_ylabel, getattr(ax, "set_zlabel", None))
+    for setter, row in zip(setters, analysis.dynamics.task, strict=False):
+        assert setter is not None
+        setter(f"{row_label(row)} [{unit}]")
+
+
 def plot_sets(
     analysis: Analysis,
     ax: Axes | None = None,
     *,
     kinds: Sequence[str] = ("chiacchio", "yoshikawa"),
     mvie: Ellipsoid | None = None,
-    unit: str = "m/s$^2$",
+    unit: str | None = None,
     title: str | None = None,
 ) -> Figure:
     """The polytope and the ellipsoids of a 2-D task space (paper Figures 1 and 2).
@@ -99,8 +109,8 @@ def plot_sets(
         undefined one is skipped.
     mvie : Ellipsoid, optional
         The maximum-volume inscribed ellipsoid, when ``"mvie"`` is in ``kinds``.
-    unit : str
-        Axis unit.
+    unit : str, optional
+        Axis unit; default the task's (m/s^2 for linear rows, rad/s^2 for angular ones).
     title : str, optional
 
     Returns
@@ -140,8 +150,7 @@ def plot_sets(
         label="origin",
     )
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel(rf"$\ddot x$ [{unit}]")
-    ax.set_ylabel(rf"$\ddot y$ [{unit}]")
+    _label_axes(ax, analysis, unit)
     ax.grid(True, color="0.9", linewidth=0.6)
     ax.legend(fontsize="small", loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=3)
     if title:
@@ -167,7 +176,7 @@ def plot_sets_3d(
     *,
     kinds: Sequence[str] = ("chiacchio", "yoshikawa"),
     mvie: Ellipsoid | None = None,
-    unit: str = "m/s$^2$",
+    unit: str | None = None,
     title: str | None = None,
     view: tuple[float, float] = (25.0, -60.0),
 ) -> Figure:
@@ -204,9 +213,7 @@ def plot_sets_3d(
     ax.auto_scale_xyz(*[(b.min(), b.max()) for b in bounds.T])
     ax.set_box_aspect(np.ptp(bounds, axis=0) + 1e-12)
     ax.view_init(*view)
-    ax.set_xlabel(f"x [{unit}]")
-    ax.set_ylabel(f"y [{unit}]")
-    ax.set_zlabel(f"z [{unit}]")
+    _label_axes(ax, analysis, unit)
     ax.legend(fontsize="small")
     if title:
         ax.set_title(title)
@@ -219,7 +226,7 @@ def plot_directional_limits(
     kinds: Sequence[str] = ("chiacchio", "yoshikawa"),
     mvie: Ellipsoid | None = None,
     directions: int = 720,
-    unit: str = "m/s$^2$",
+    unit: str | None = None,
     title: str | None = None,
 ) -> Figure:
     """Polar plot of the upper directional limit ``hi(t)`` of P and of each ellipsoid (2-D).
@@ -238,6 +245,7 @@ def plot_directional_limits(
     for name, S in sets.items():
         hi = S.limits(T).hi[order]
         ax.plot(angles[order], np.where(hi > 0, hi, np.nan), **_style(name))  # type: ignore[arg-type]
+    unit = unit or task_unit(analysis.dynamics.task, tex=True)
     ax.set_title(title or f"upper limit along each direction [{unit}]", fontsize="medium")
     ax.legend(fontsize="small", loc="lower left", bbox_to_anchor=(-0.1, -0.12))
     return figure

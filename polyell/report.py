@@ -11,6 +11,7 @@ from numpy.typing import NDArray
 from polyell.analysis import ELLIPSOID_KINDS, Analysis
 from polyell.comparison import Comparison
 from polyell.errors import UndefinedEllipsoidError
+from polyell.models.task import task_unit
 
 __all__ = ["analysis_to_json", "format_analysis"]
 
@@ -57,10 +58,12 @@ def format_analysis(
     str
     """
     P, svd = analysis.polytope, analysis.svd
+    unit = task_unit(analysis.dynamics.task)
     lines = [
+        f"task rows {', '.join(analysis.dynamics.task)} [{unit}]",
         f"rank M = {analysis.rank} of m = {analysis.dynamics.m}"
         + (" (singular configuration)" if analysis.is_singular else ""),
-        "xdd_g (eq. 8) [m/s^2]:",
+        f"xdd_g (eq. 8) [{unit}]:",
         _matrix(analysis.xg),
         "M (eq. 14):",
         _matrix(analysis.M),
@@ -72,7 +75,7 @@ def format_analysis(
         "",
         f"Polytope (eq. 15): dimension {P.dim}, {len(P.vertices)} vertices, "
         f"{len(P.A)} facets, volume {P.volume:.6g}",
-        "  vertices [m/s^2]:",
+        f"  vertices [{unit}]:",
         _matrix(P.vertices),
     ]
     if P.A_eq.size:
@@ -90,7 +93,7 @@ def format_analysis(
             f"Ellipsoid {kind!r}: rank {E.rank}, volume {E.volume:.6g}",
             "  core N:",
             _matrix(E.core),
-            "  semi-axes [m/s^2]: " + ", ".join(f"{s:.5g}" for s in E.semi_axes),
+            f"  semi-axes [{unit}]: " + ", ".join(f"{s:.5g}" for s in E.semi_axes),
             "  axes (columns):",
             _matrix(E.axes),
         ]
@@ -157,6 +160,8 @@ def analysis_to_json(
         }
     lo, hi = P.limits(direction)
     result: dict[str, Any] = {
+        "task": list(analysis.dynamics.task),
+        "unit": task_unit(analysis.dynamics.task),
         "xg": analysis.xg,
         "M": analysis.M,
         "rank": analysis.rank,

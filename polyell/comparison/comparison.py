@@ -25,6 +25,7 @@ from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.directions import directions_in
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
+from polyell.models.task import task_unit
 from polyell.validation import check_directions
 
 __all__ = ["COMPARED_KINDS", "SCORE_NAMES", "Comparison", "Scores", "compare"]
@@ -214,13 +215,24 @@ class Comparison:
 
     def to_markdown(self) -> str:
         """The comparison table in Markdown (rounded, units in the headers)."""
-        return format_scores_table(self.to_frame(), self.analysis.polytope.dim, "markdown")
+        return format_scores_table(
+            self.to_frame(), self.analysis.polytope.dim, "markdown", unit=self._unit
+        )
 
     def to_latex(self, caption: str | None = None, label: str | None = None) -> str:
         """The comparison table in LaTeX (booktabs), with an optional caption and label."""
         return format_scores_table(
-            self.to_frame(), self.analysis.polytope.dim, "latex", caption=caption, label=label
+            self.to_frame(),
+            self.analysis.polytope.dim,
+            "latex",
+            unit=self._unit,
+            caption=caption,
+            label=label,
         )
+
+    @property
+    def _unit(self) -> str:
+        return task_unit(self.analysis.dynamics.task)
 
     def to_csv(self, path: str | None = None) -> str:
         """The scores at full precision as CSV; also written to ``path`` if given."""

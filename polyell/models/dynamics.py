@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from polyell.errors import InputError
+from polyell.models.task import check_task
 from polyell.validation import check_array, check_spd
 
 __all__ = ["Dynamics"]
@@ -37,6 +39,9 @@ class Dynamics:
         Gravity torques [N m] (plus Coriolis and centrifugal torques for a moving robot).
     xdd_bias : array-like, shape (m,), optional
         Velocity-product acceleration ``Jdot qdot`` [m/s^2]; zero (default) at rest.
+    task : sequence of str, optional
+        Names of the m task rows (``x y z`` linear, ``wx wy wz`` angular), used for axis
+        labels and units; default :func:`~polyell.models.task.default_task`.
 
     Raises
     ------
@@ -56,9 +61,15 @@ class Dynamics:
     B: NDArray[np.float64]
     g: NDArray[np.float64]
     xdd_bias: NDArray[np.float64]
+    task: tuple[str, ...]
 
     def __init__(
-        self, J: ArrayLike, B: ArrayLike, g: ArrayLike, xdd_bias: ArrayLike | None = None
+        self,
+        J: ArrayLike,
+        B: ArrayLike,
+        g: ArrayLike,
+        xdd_bias: ArrayLike | None = None,
+        task: Sequence[str] | None = None,
     ) -> None:
         shape = ("K", "m", "n") if np.ndim(J) == 3 else ("m", "n")
         jacobian = check_array("J", J, shape, what="Jacobian entries")
@@ -74,6 +85,7 @@ class Dynamics:
             else check_array("xdd_bias", xdd_bias, (*batch, m))
         )
         object.__setattr__(self, "xdd_bias", bias)
+        object.__setattr__(self, "task", check_task(task, m))
         for array in (self.J, self.B, self.g, self.xdd_bias):
             array.flags.writeable = False
 
@@ -101,4 +113,6 @@ class Dynamics:
         """One configuration (an int) or a sub-batch (a slice) of a batch."""
         if self.batch_size is None:
             raise InputError("index", "a batched Dynamics (J of shape (K, m, n))", "a single one")
-        return Dynamics(self.J[index], self.B[index], self.g[index], self.xdd_bias[index])
+        return Dynamics(
+            self.J[index], self.B[index], self.g[index], self.xdd_bias[index], self.task
+        )

@@ -166,4 +166,4 @@ class PlanarArm:
         B = np.einsum("i,...iak,...ial->...kl", self.masses, com, com)
         B += np.einsum("i,ik,il->kl", self.inertia, angular, angular)
         g = self.gravity * np.einsum("i,...ik->...k", self.masses, com[..., 1, :])
-        return Dynamics(J=tip, B=B, g=g)
+        return Dynamics(J=tip, B=B, g=g, task=("x", "y"))

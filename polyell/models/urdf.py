@@ -179,6 +179,8 @@ class UrdfRobot:
         self._frame = (bodies or matches)[0]
         self.rows = _task_rows(task)
         self.task = task
+        #: The task rows by name, in order (x, z, wx, ...).
+        self.row_names = tuple(next(k for k, v in TASK_ROWS.items() if v == r) for r in self.rows)
         linear = any(r < 3 for r in self.rows)
         angular = any(r >= 3 for r in self.rows)
         if weights is None:
@@ -342,7 +344,8 @@ class UrdfRobot:
         terms = self._terms(
             np.atleast_2d(positions), None if velocities is None else np.atleast_2d(velocities)
         )
-        return Dynamics(*(t if positions.ndim == 2 else t[0] for t in terms))
+        J, B, g, bias = (t if positions.ndim == 2 else t[0] for t in terms)
+        return Dynamics(J, B, g, bias, task=self.row_names)
 
     def _terms(
         self, positions: NDArray[np.float64], velocities: NDArray[np.float64] | None

@@ -21,6 +21,7 @@ from polyell.figures import (
     save_figure,
 )
 from polyell.geometry.directions import default_direction_count
+from polyell.models.task import task_unit
 from polyell.report import format_analysis
 from polyell.studies.spec import StudySpec
 from polyell.studies.sweep import DEFAULT_SCORES, sweep
@@ -91,13 +92,14 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
             written += save_figure(figure, stem, spec.formats, spec.dpi)
     written.append(_write(folder / "numbers.md", "\n".join(numbers)))
     table = pd.concat(frames)
+    unit = task_unit(analysis.dynamics.task)  # the robot's task: the same at every point
     dimension_note = "the volume is r-dimensional, r the polytope's dimension"
     written.append(_write(folder / "comparison.csv", table.to_csv(index_label="ellipsoid")))
     written.append(
         _write(
             folder / "comparison.md",
-            f"# {spec.title}: comparison\n\nVolumes in (m/s^2)^r: {dimension_note}.\n\n"
-            + format_scores_table(table, None, "markdown"),
+            f"# {spec.title}: comparison\n\nVolumes in ({unit})^r: {dimension_note}.\n\n"
+            + format_scores_table(table, None, "markdown", unit=unit),
         )
     )
     written.append(
@@ -107,6 +109,7 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
                 table,
                 None,
                 "latex",
+                unit=unit,
                 caption=f"{spec.title}: scores of each ellipsoid "
                 f"against the exact polytope ({dimension_note}).",
                 label="tab:comparison",
