@@ -101,9 +101,17 @@ def test_parquet_dataset_resumes_and_refuses_other_arguments(tmp_path):
 
 
 KILLED_RUN = """
+import importlib
 import sys
+import time
 import numpy as np
 import polyell as pe
+sweep_module = importlib.import_module("polyell.studies.sweep")
+chunk = sweep_module._Job.chunk
+def slow_chunk(self, start, stop):  # every chunk takes a while: the kill lands midway
+    time.sleep(0.1)
+    return chunk(self, start, stop)
+sweep_module._Job.chunk = slow_chunk
 arm = pe.robots.load("chiacchio2000")
 grid = pe.grid(0.3, (-2.5, 2.5, 12), (-2.5, 2.5, 10))
 pe.sweep(arm, grid, out=sys.argv[1], chunk=4, mvie=True, scores=("coverage", "mvie_ratio"))
@@ -117,6 +125,7 @@ def test_a_killed_run_resumes_to_every_configuration_exactly_once(tmp_path):
     process = subprocess.Popen([sys.executable, str(script), str(out)])
     deadline = time.monotonic() + 120
     while len(list(out.glob("part-*.parquet"))) < 3 and time.monotonic() < deadline:
+        assert process.poll() is None, "the run ended before it could be killed"
         time.sleep(0.05)
     process.send_signal(signal.SIGKILL)
     process.wait()
