@@ -39,7 +39,12 @@ from polyell.geometry.subspace import (
 )
 from polyell.inverse import AffineMap, chiacchio_joint_map, classic_joint_map, torque_map
 from polyell.models.dynamics import Dynamics
-from polyell.validation import check_fraction, check_points, check_torque_limits
+from polyell.validation import (
+    check_fraction,
+    check_magnitudes,
+    check_points,
+    check_torque_limits,
+)
 
 __all__ = ["ELLIPSOID_KINDS", "Analysis", "InverseSolution", "analyze"]
 
@@ -154,6 +159,7 @@ class Analysis:
         J_Binv = solved.T
         self.M: NDArray[np.float64] = J_Binv * self.half_range
         self.xg: NDArray[np.float64] = dynamics.xdd_bias - J_Binv @ self._gravity_bias
+        check_magnitudes(self.M, self.xg)
         self.svd: RankRevealingSVD = rank_revealing_svd(self.M, rank_rtol)
         self.affine_rtol = check_fraction("affine_rtol", affine_rtol)
         self._ellipsoids: dict[str, Ellipsoid] = {}

@@ -17,6 +17,7 @@ __all__ = [
     "check_array",
     "check_directions",
     "check_fraction",
+    "check_magnitudes",
     "check_points",
     "check_spd",
     "check_torque_limits",
@@ -203,6 +204,53 @@ def check_fraction(name: str, value: object) -> float:
     ):
         raise InputError(name, "a relative tolerance in [0, 1)", repr(value))
     return float(value)
+
+
+def magnitude_limit(m: int) -> int:
+    """Largest ``log10`` of an acceleration magnitude accepted in an m-dimensional task.
+
+    Volumes are in (m/s^2)^r with r up to m, and squares of accelerations are formed, so
+    sizes within ``10^(+-min(140, 290 // m))`` keep every quantity representable.
+    """
+    return min(140, 290 // m)
+
+
+def check_magnitudes(M: NDArray[np.float64], xg: NDArray[np.float64]) -> None:
+    """Refuse accelerations too large or too small for floating point (issue 15).
+
+    Parameters
+    ----------
+    M : ndarray, shape (..., m, n)
+        Generators (eq. 14), one matrix or a batch.
+    xg : ndarray, shape (..., m)
+        Centres (eq. 8).
+
+    Raises
+    ------
+    InputError
+        If the largest entry of M or of xg (when non-zero) is outside
+        ``10^(+-magnitude_limit(m))``.
+    """
+    m = M.shape[-2]
+    limit = magnitude_limit(m)
+    high = 10.0**limit
+    sizes = {  # largest entries: no squares, which would overflow first
+        "the generators M (eq. 14)": np.max(np.abs(M), axis=(-2, -1)),
+        "the centre xg (eq. 8)": np.max(np.abs(xg), axis=-1),
+    }
+    for what, size in sizes.items():
+        bad = np.atleast_1d((size > high) | ((size > 0) & (size < 1.0 / high)))
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            where = f" (configuration {k} of the batch)" if np.ndim(size) else ""
+            raise InputError(
+                "dyn",
+                f"accelerations of size within 1e-{limit}..1e{limit} in a "
+                f"{m}-dimensional task, so that volumes in (unit)^{m} stay representable",
+                f"{what} of size {float(np.atleast_1d(size)[k]):.3g}{where}",
+                "express the task in other units: scale the rows of J (and Jdot qdot), or "
+                "the torque limits together with the gravity torques.",
+            )
 
 
 def check_points(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]:

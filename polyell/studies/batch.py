@@ -24,6 +24,7 @@ from polyell.geometry.limits import line_interval_in_ellipsoids
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.geometry.zonotope import DEPENDENT_RTOL, cross, subset_cofactors, subsets
 from polyell.models.dynamics import Dynamics
+from polyell.validation import check_magnitudes
 
 __all__ = ["batch_rows", "score_columns"]
 
@@ -205,6 +206,7 @@ def _block_rows(
     Binv_Jt = np.linalg.solve(B, np.swapaxes(J, -1, -2))  # (K, n, m); B is symmetric
     M = np.swapaxes(Binv_Jt, -1, -2) * half
     xg = xdd_bias - np.einsum("knm,kn->km", Binv_Jt, bias)
+    check_magnitudes(M, xg)
     U, s, Vt = np.linalg.svd(M, full_matrices=False)
     columns = {name: np.full(K, np.nan) for name in score_columns()}
     for kind in COMPARED_KINDS:
