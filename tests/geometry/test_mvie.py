@@ -104,3 +104,12 @@ def test_a_failed_mvie_is_a_record_not_an_exception(monkeypatch):
     assert frame["chiacchio_coverage"].notna().all()
     cmp = pe.compare(pe.analyze(arm.dynamics([0.1, 0.2, 0.3]), arm.tau_max), 8)
     assert not cmp["mvie"].defined and "injected" in cmp["mvie"].reason
+
+
+def test_kinova_six_dimensional_task_scores_everywhere():
+    """Issue 11: the Kinova 6-D task failed in 1 of 10 configurations (n = m = 6: exact)."""
+    robot = pe.robots.load("kinova", task=["x", "y", "z", "wx", "wy", "wz"], weights=[1] * 6)
+    low, high = robot.position_limits
+    for q in pe.random_configurations(10, low, high, seed=1).rows(0, 10):
+        cmp = pe.compare(pe.analyze(robot.dynamics(q), robot.tau_max), 16)
+        assert cmp["mvie"].defined and cmp["chiacchio"].mvie_ratio == 1.0
