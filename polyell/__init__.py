@@ -14,6 +14,7 @@ from polyell.errors import (
     PolyellError,
     ProjectedInputWarning,
     SolverError,
+    StorageError,
     UndefinedEllipsoidError,
     UnreachableAccelerationError,
 )
@@ -52,6 +53,7 @@ __all__ = [
     "ProjectedInputWarning",
     "Scores",
     "SolverError",
+    "StorageError",
     "UndefinedEllipsoidError",
     "UnreachableAccelerationError",
     "UrdfRobot",

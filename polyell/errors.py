@@ -13,6 +13,7 @@ __all__ = [
     "PolyellError",
     "ProjectedInputWarning",
     "SolverError",
+    "StorageError",
     "UndefinedEllipsoidError",
     "UnreachableAccelerationError",
 ]
@@ -66,6 +67,13 @@ class UnreachableAccelerationError(PolyellError, ValueError):
 
 class SolverError(PolyellError):
     """A numerical solver (linear program, log-det program) failed to return a solution."""
+
+
+class StorageError(PolyellError, OSError):
+    """A file of a study could not be written (a full disk, a size limit, permissions).
+
+    Nothing partial is left: every file is written to a temporary name and renamed.
+    """
 
 
 class MissingDependencyError(PolyellError, ImportError):

@@ -25,6 +25,7 @@ from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.directions import sphere_directions
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.models.task import row_label, task_unit
+from polyell.storage import write_atomically
 
 __all__ = [
     "STYLES",
@@ -339,14 +340,25 @@ def save_figure(
 ) -> list[Path]:
     """Save ``figure`` as ``stem.<format>`` for each format, at print resolution.
 
+    Each file is written under a temporary name and renamed (never half a file).
+
     Returns
     -------
     list of Path
         The files written.
+
+    Raises
+    ------
+    StorageError
+        If a file cannot be written.
     """
     paths = []
     for fmt in formats:
-        path = Path(f"{stem}.{fmt}")
-        figure.savefig(path, dpi=dpi, metadata={"CreationDate": None} if fmt == "pdf" else None)
+        metadata = {"CreationDate": None} if fmt == "pdf" else None
+
+        def save(name: str, fmt: str = fmt, metadata: dict[str, None] | None = metadata) -> None:
+            figure.savefig(name, format=fmt, dpi=dpi, metadata=metadata)
+
+        path = write_atomically(Path(f"{stem}.{fmt}"), save)
         paths.append(path)
     return paths

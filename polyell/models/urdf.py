@@ -13,6 +13,7 @@ configuration :math:`q` (and joint velocity :math:`\dot q`, zero by default):
 
 from __future__ import annotations
 
+import hashlib
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -153,6 +154,12 @@ class UrdfRobot:
             "payload": payload,
         }
         full = self._build(pin, urdf)
+        text = str(urdf) if str(urdf).lstrip().startswith("<") else Path(urdf).read_bytes()
+        #: SHA-256 of the URDF's text as loaded: what a resumed sweep checks, since the
+        #: robot pickles by its file's path (an edited file is another robot).
+        self.content_digest = hashlib.sha256(
+            text.encode() if isinstance(text, str) else text
+        ).hexdigest()
         locked = []
         for name in locked_joints:
             if not full.existJointName(name):

@@ -23,6 +23,7 @@ from polyell.figures import (
 from polyell.geometry.directions import default_direction_count
 from polyell.models.task import task_unit
 from polyell.report import format_analysis
+from polyell.storage import write_text_atomically
 from polyell.studies.spec import StudySpec
 from polyell.studies.sweep import DEFAULT_SCORES, sweep
 
@@ -41,11 +42,6 @@ def _prepare(out: str | Path) -> Path:
             "out", "a folder polyell can write to", f"{folder} ({exn.strerror})"
         ) from None
     return folder
-
-
-def _write(path: Path, text: str) -> Path:
-    path.write_text(text, encoding="utf-8")
-    return path
 
 
 def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
@@ -90,20 +86,22 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
         elif analysis.dynamics.m == 3:
             figure = plot_sets_3d(analysis, kinds=kinds, mvie=mvie, title=point.title or point.name)
             written += save_figure(figure, stem, spec.formats, spec.dpi)
-    written.append(_write(folder / "numbers.md", "\n".join(numbers)))
+    written.append(write_text_atomically(folder / "numbers.md", "\n".join(numbers)))
     table = pd.concat(frames)
     unit = task_unit(analysis.dynamics.task)  # the robot's task: the same at every point
     dimension_note = "the volume is r-dimensional, r the polytope's dimension"
-    written.append(_write(folder / "comparison.csv", table.to_csv(index_label="ellipsoid")))
     written.append(
-        _write(
+        write_text_atomically(folder / "comparison.csv", table.to_csv(index_label="ellipsoid"))
+    )
+    written.append(
+        write_text_atomically(
             folder / "comparison.md",
             f"# {spec.title}: comparison\n\nVolumes in ({unit})^r: {dimension_note}.\n\n"
             + format_scores_table(table, None, "markdown", unit=unit),
         )
     )
     written.append(
-        _write(
+        write_text_atomically(
             folder / "comparison.tex",
             format_scores_table(
                 table,
@@ -122,7 +120,7 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
 def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | None) -> list[Path]:
     model, configurations = spec.robot.model, spec.configurations()
     m = model.dynamics(configurations[0]).m
-    results = sweep(  # returns a frame without out=
+    dataset = sweep(  # a Parquet dataset in the study's folder: a killed study resumes
         model,
         configurations,
         spec.robot.tau_max,
@@ -133,21 +131,22 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
         scheduler=scheduler,
         chunk=spec.chunk,
         progress=progress,
+        out=folder / "results",
     )
-    assert isinstance(results, pd.DataFrame)
-    written = [_write(folder / "results.csv", results.to_csv(index=False))]
+    results = pd.read_parquet(dataset).sort_values("configuration").reset_index(drop=True)
+    written = [write_text_atomically(folder / "results.csv", results.to_csv(index=False))]
     summary = summarize(results)
     caption = f"{spec.title}: scores over {len(results)} configurations."
-    written.append(_write(folder / "summary.csv", summary.to_csv()))
+    written.append(write_text_atomically(folder / "summary.csv", summary.to_csv()))
     written.append(
-        _write(
+        write_text_atomically(
             folder / "summary.md",
             f"# {spec.title}: summary over {len(results)} configurations\n\n"
             + format_summary_table(summary, "markdown"),
         )
     )
     written.append(
-        _write(
+        write_text_atomically(
             folder / "summary.tex",
             format_summary_table(summary, "latex", caption=caption, label="tab:summary"),
         )
@@ -211,5 +210,7 @@ def run_study(
         "spec": spec.path.name,
         "files": sorted(p.name for p in written),
     }
-    written.append(_write(folder / "manifest.json", json.dumps(manifest, indent=2) + "\n"))
+    written.append(
+        write_text_atomically(folder / "manifest.json", json.dumps(manifest, indent=2) + "\n")
+    )
     return written

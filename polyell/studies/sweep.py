@@ -13,7 +13,6 @@ import hashlib
 import json
 import os
 import pickle
-import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,10 +25,19 @@ from tqdm import tqdm
 
 from polyell.analysis import analyze
 from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES, compare
-from polyell.errors import InputError, MissingDependencyError
+from polyell.errors import InputError, MissingDependencyError, StorageError
 from polyell.geometry.directions import sphere_directions
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.models.dynamics import Dynamics
+from polyell.storage import (
+    dataset_lock,
+    existing_parts,
+    part_is_complete,
+    part_path,
+    read_metadata,
+    write_atomically,
+    write_text_atomically,
+)
 from polyell.studies.batch import batch_rows
 from polyell.studies.cluster import local_cluster
 from polyell.studies.configurations import ConfigurationSet
@@ -101,28 +109,23 @@ def _scalar_rows(
     return values
 
 
-def _write_atomically(frame: pd.DataFrame, path: Path) -> Path:
-    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=".part-", suffix=".tmp")
-    os.close(handle)
-    try:
-        frame.to_parquet(temporary, index=False)
-        os.replace(temporary, path)
-    finally:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
-    return path
-
-
 def _run_chunk(job: _Job, index: int, chunk: int, out: str | None) -> Any:
     """Compute one chunk; write it (returning its path) or return the frame."""
     frame = job.chunk(index * chunk, min((index + 1) * chunk, job.size()))
     if out is None:
         return frame
-    return str(_write_atomically(frame, Path(out) / f"part-{index:06d}.parquet"))
+    path = part_path(Path(out), index)
+    return str(write_atomically(path, lambda name: frame.to_parquet(name, index=False)))
 
 
 def _fingerprint(job: _Job, chunk: int) -> str:
-    digest = hashlib.sha256(pickle.dumps((job, chunk), protocol=4))
+    """A digest of what determines the numbers.
+
+    The arguments, and the robot model's content: a URDF robot pickles by its path, so the
+    digest of its text is added (an edited URDF is a different sweep).
+    """
+    model = getattr(job.source, "content_digest", None)
+    digest = hashlib.sha256(pickle.dumps((job, chunk, model), protocol=4))
     return digest.hexdigest()
 
 
@@ -261,63 +264,105 @@ def sweep(
     job = _job(source, configurations, tau_max, tau_min, scores, directions, mvie, rank_rtol)
     count = -(-job.size() // chunk)
     todo = list(range(count))
-    folder = None
-    if out is not None:
-        try:
-            import pyarrow  # noqa: F401
-        except ImportError as exn:
-            raise MissingDependencyError(
-                "Writing Parquet needs pyarrow. Fix: pip install 'polyell[studies]'."
-            ) from exn
-        folder = Path(out)
+    if out is None:
+        return _execute(job, todo, chunk, None, scheduler, progress)
+    folder = Path(out)
+    try:
         folder.mkdir(parents=True, exist_ok=True)
-        meta = folder / "_sweep.json"  # "_" and "." files are not part of the dataset
-        fingerprint = _fingerprint(job, chunk)
-        if meta.exists():
-            recorded = json.loads(meta.read_text()).get("fingerprint")
-            if recorded != fingerprint:
-                raise InputError(
-                    "out",
-                    "an empty folder, or one holding a sweep with the same arguments",
-                    f"{folder} holds a different sweep",
-                    "choose another folder, or delete it to start over.",
-                )
-        else:
-            meta.write_text(
-                json.dumps(
-                    {"fingerprint": fingerprint, "chunks": count, "configurations": job.size()},
-                    indent=2,
-                )
-                + "\n"
-            )
-        todo = [i for i in todo if not (folder / f"part-{i:06d}.parquet").exists()]
-    target = None if folder is None else str(folder)
-    bar = tqdm(total=len(todo), unit="chunk", disable=not progress)
-    if scheduler is None:
-        results = []
-        for i in todo:
-            results.append(_run_chunk(job, i, chunk, target))
-            bar.update()
-    else:
-        client = _client(scheduler)
-        try:
-            from dask.distributed import as_completed
+    except OSError as exn:
+        raise InputError(
+            "out", "a folder polyell can create", f"{folder} ({exn.strerror})"
+        ) from None
+    with dataset_lock(folder):
+        todo = _resume(folder, job, chunk, count)
+        _execute(job, todo, chunk, folder, scheduler, progress)
+        unfinished = [i for i in range(count) if not _done(folder, job, chunk, i)]
+        if unfinished:  # pragma: no cover - a worker's write that vanished
+            raise StorageError(f"{len(unfinished)} parts of {folder} are missing after the run.")
+    return folder
 
-            scattered = client.scatter(job, broadcast=True)
-            futures = [
-                client.submit(_run_chunk, scattered, i, chunk, target, pure=False) for i in todo
-            ]
-            results = []
-            for future in as_completed(futures):
-                results.append(future.result())
+
+def _rows(job: _Job, chunk: int, index: int) -> int:
+    return min(chunk, job.size() - index * chunk)
+
+
+def _done(folder: Path, job: _Job, chunk: int, index: int) -> bool:
+    return part_is_complete(part_path(folder, index), _rows(job, chunk, index))
+
+
+def _resume(folder: Path, job: _Job, chunk: int, count: int) -> list[int]:
+    """Check the dataset's metadata (or write it) and list the chunks still to compute.
+
+    Parts are trusted only under a ``_sweep.json`` of the same fingerprint, within its
+    chunk count, and with a readable footer of the expected row count; a torn or
+    truncated part is computed again.
+    """
+    meta = folder / "_sweep.json"  # "_" and "." files are not part of the dataset
+    fingerprint = _fingerprint(job, chunk)
+    parts = existing_parts(folder)
+    if meta.exists():
+        if read_metadata(meta)["fingerprint"] != fingerprint:
+            raise InputError(
+                "out",
+                "an empty folder, or one holding a sweep with the same arguments",
+                f"{folder} holds a different sweep",
+                "choose another folder, or delete it to start over.",
+            )
+    elif parts:
+        raise InputError(
+            "out",
+            "a sweep dataset with its _sweep.json",
+            f"{len(parts)} part files in {folder} without one",
+            "delete the part files (their origin is unknown), or use another folder.",
+        )
+    else:
+        record = {"fingerprint": fingerprint, "chunks": count, "configurations": job.size()}
+        write_text_atomically(meta, json.dumps(record, indent=2) + "\n")
+    beyond = sorted(i for i in parts if i >= count)
+    if beyond:
+        raise InputError(
+            "out",
+            f"parts 0..{count - 1} of this sweep",
+            f"part {beyond[0]} in {folder}",
+            "delete the folder to start over.",
+        )
+    return [i for i in range(count) if not (i in parts and _done(folder, job, chunk, i))]
+
+
+def _execute(
+    job: _Job,
+    todo: list[int],
+    chunk: int,
+    folder: Path | None,
+    scheduler: str | None,
+    progress: bool,
+) -> pd.DataFrame:
+    """Run the chunks ``todo``: written to ``folder``, or returned as one frame."""
+    target = None if folder is None else str(folder)
+    results = []
+    with tqdm(total=len(todo), unit="chunk", disable=not progress) as bar:
+        if scheduler is None:
+            for i in todo:
+                results.append(_run_chunk(job, i, chunk, target))
                 bar.update()
-        finally:
-            cluster = client.cluster
-            client.close()
-            if scheduler == "processes" and cluster is not None:
-                cluster.close()
-    bar.close()
-    if folder is not None:
-        return folder
+        else:
+            client = _client(scheduler)
+            try:
+                from dask.distributed import as_completed
+
+                scattered = client.scatter(job, broadcast=True)
+                futures = [
+                    client.submit(_run_chunk, scattered, i, chunk, target, pure=False) for i in todo
+                ]
+                for future in as_completed(futures):
+                    results.append(future.result())
+                    bar.update()
+            finally:
+                cluster = client.cluster
+                client.close()
+                if scheduler == "processes" and cluster is not None:
+                    cluster.close()
     frames = [r for r in results if isinstance(r, pd.DataFrame)]
+    if not frames:
+        return pd.DataFrame()
     return pd.concat(frames).sort_values("configuration").reset_index(drop=True)
