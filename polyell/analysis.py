@@ -82,7 +82,7 @@ class InverseSolution(NamedTuple):
 
 
 def _check_kind(kind: object) -> EllipsoidKind:
-    if kind not in ELLIPSOID_KINDS:
+    if not isinstance(kind, str) or kind not in ELLIPSOID_KINDS:
         raise InputError(
             "kind",
             f"one of {', '.join(repr(k) for k in ELLIPSOID_KINDS)}",

@@ -11,6 +11,7 @@ import json
 import sys
 import warnings
 from collections.abc import Sequence
+from typing import NoReturn
 
 import numpy as np
 
@@ -37,8 +38,15 @@ def _floats(text: str) -> list[float]:
         raise argparse.ArgumentTypeError(str(exn)) from None
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse, with its errors on one line like the package's own."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"polyell: error: {message} (see '{self.prog} --help')\n")
+
+
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="polyell",
         description="Exact acceleration polytopes and dynamic manipulability ellipsoids "
         "(Chiacchio 2000), compared.",

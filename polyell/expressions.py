@@ -24,6 +24,8 @@ _BINARY: dict[type, Callable[[float, float], float]] = {
 }
 _FUNCTIONS: dict[str, Callable[[float], float]] = {"sqrt": math.sqrt}
 _NAMES = {"pi": math.pi}
+#: Longest expression accepted (a number typed with its derivation fits easily).
+MAX_EXPRESSION_LENGTH = 200
 
 
 def _value(node: ast.AST) -> float:
@@ -58,19 +60,30 @@ def evaluate(name: str, text: str | float | int) -> float:
     """
     if isinstance(text, bool):
         raise InputError(name, "a number or an expression like 'pi/2'", repr(text))
+    expected = "a number or an expression of numbers, pi, sqrt(), + - * / ** (e.g. '-pi/2')"
     if isinstance(text, int | float):
-        return float(text)
-    try:
-        return _value(ast.parse(str(text).strip(), mode="eval").body)
-    except (SyntaxError, ValueError, ZeroDivisionError, OverflowError):
-        raise InputError(
-            name,
-            "a number or an expression of numbers, pi, sqrt(), + - * / ** (e.g. '-pi/2')",
-            repr(text),
-        ) from None
+        value = float(text)
+    elif not isinstance(text, str) or len(text) > MAX_EXPRESSION_LENGTH:
+        shown = repr(text) if len(repr(text)) <= 60 else f"{repr(text)[:57]}..."
+        raise InputError(name, f"{expected}, of at most {MAX_EXPRESSION_LENGTH} characters", shown)
+    else:
+        try:
+            value = _value(ast.parse(text.strip(), mode="eval").body)
+        except (SyntaxError, ValueError, TypeError, ZeroDivisionError, OverflowError):
+            # TypeError: a complex power such as (-8)**0.5
+            raise InputError(name, expected, repr(text)) from None
+        except RecursionError:  # nesting too deep for the parser
+            raise InputError(name, f"{expected}, not nested so deeply", repr(text[:60])) from None
+    if not math.isfinite(value):
+        raise InputError(name, "a finite number", repr(text))
+    return value
 
 
 def evaluate_list(name: str, values: str | Sequence[str | float | int]) -> list[float]:
     """Evaluate a list of numbers/expressions, or one comma-separated string of them."""
+    if not isinstance(values, str | list | tuple):
+        raise InputError(
+            name, "a list of numbers or expressions", f"{type(values).__name__} {values!r}"
+        )
     items = values.split(",") if isinstance(values, str) else list(values)
     return [evaluate(f"{name}[{i}]", item) for i, item in enumerate(items)]

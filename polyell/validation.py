@@ -14,9 +14,11 @@ from numpy.typing import ArrayLike, NDArray
 from polyell.errors import InputError
 
 __all__ = [
+    "array_ndim",
     "check_array",
     "check_directions",
     "check_fraction",
+    "check_integer",
     "check_magnitudes",
     "check_points",
     "check_spd",
@@ -27,6 +29,10 @@ __all__ = [
 DIRECTION_NORM_RTOL = 1e-6
 #: Relative tolerance on the symmetry of an inertia matrix.
 SYMMETRY_RTOL = 1e-9
+#: Most directions a direction set may hold (a million 6-D directions take 48 MB).
+MAX_DIRECTIONS = 1_000_000
+#: Most values along one axis of a grid.
+MAX_AXIS_VALUES = 100_000_000
 
 
 def _describe(value: object) -> str:
@@ -42,9 +48,13 @@ def _as_finite_float(
     if value is None:  # np.array(None, dtype=float) would be a silent NaN
         raise InputError(name, expected(), "None")
     try:
-        array = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError):
+        raw = np.asarray(value)
+        complex_values = np.iscomplexobj(raw)
+        array = np.array(raw.real if complex_values else raw, dtype=np.float64)
+    except (TypeError, ValueError):  # a ragged list: "inhomogeneous shape"
         raise InputError(name, expected(), _describe(value)) from None
+    if complex_values:  # a float conversion would silently drop the imaginary part
+        raise InputError(name, expected(), f"complex values ({_describe(value)})")
     if not np.isfinite(array).all():
         bad = np.argwhere(~np.isfinite(array))[0]
         raise InputError(
@@ -193,6 +203,25 @@ def check_torque_limits(
             "each joint needs a torque range of positive width.",
         )
     return upper, lower
+
+
+def array_ndim(value: ArrayLike) -> int:
+    """``np.ndim(value)``, or -1 for a ragged nested list (check_array then says what is wrong)."""
+    try:
+        return int(np.ndim(value))
+    except ValueError:
+        return -1
+
+
+def check_integer(name: str, value: object, low: int, high: int) -> int:
+    """Check an integer in ``[low, high]`` (a Python or numpy integer, not a bool or float)."""
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int | np.integer)
+        or not (low <= int(value) <= high)
+    ):
+        raise InputError(name, f"an integer from {low:,} to {high:,}", _describe(value))
+    return int(value)
 
 
 def check_fraction(name: str, value: object) -> float:

@@ -240,7 +240,12 @@ API = [
         pe.InputError,
         "scores",
     ),
-    ("grid with no points", lambda t: pe.grid(0.0, (0.0, 1.0, 0), 0.0), pe.InputError, "num >= 1"),
+    (
+        "grid with no points",
+        lambda t: pe.grid(0.0, (0.0, 1.0, 0), 0.0),
+        pe.InputError,
+        "q2 num: expected an integer from 1",
+    ),
     (
         "random box upside down",
         lambda t: pe.random_configurations(3, [1.0], [0.0]),

@@ -8,6 +8,7 @@ from scipy.stats import norm, qmc
 
 from polyell.errors import InputError
 from polyell.geometry.subspace import AffineSubspace
+from polyell.validation import MAX_DIRECTIONS
 
 __all__ = ["default_direction_count", "directions_in", "sphere_directions"]
 
@@ -38,8 +39,10 @@ def sphere_directions(k: int, r: int) -> NDArray[np.float64]:
     ndarray, shape (k, r)
         Identical on every call.
     """
-    if not isinstance(k, int | np.integer) or k < 1:
-        raise InputError("directions", "a positive number of directions", repr(k))
+    if isinstance(k, bool) or not isinstance(k, int | np.integer) or not 1 <= k <= MAX_DIRECTIONS:
+        raise InputError(
+            "directions", f"a positive number of directions, at most {MAX_DIRECTIONS:,}", repr(k)
+        )
     if r == 0:
         return np.zeros((0, 0))
     if r == 1:

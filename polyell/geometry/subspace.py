@@ -16,7 +16,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.linalg import lapack
 
-from polyell.errors import InputError, SolverError
+from polyell.errors import SolverError
+from polyell.validation import check_fraction
 
 __all__ = [
     "AFFINE_RTOL",
@@ -94,13 +95,7 @@ def rank_revealing_svd(M: NDArray[np.float64], rtol: float = RANK_RTOL) -> RankR
     InputError
         If ``rtol`` is not in ``[0, 1)``.
     """
-    if not 0.0 <= rtol < 1.0:
-        raise InputError(
-            "rank_rtol",
-            "a relative tolerance in [0, 1)",
-            repr(rtol),
-            f"keep the default {RANK_RTOL:g} unless you know the data's precision.",
-        )
+    rtol = check_fraction("rank_rtol", rtol)
     m, n = M.shape
     # (an int flag: f2py converts a bool far more slowly)
     U, s, Vt, info = lapack.dgesdd(M, full_matrices=int(m > n))  # U is square either way

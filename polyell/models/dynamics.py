@@ -10,7 +10,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from polyell.errors import InputError
 from polyell.models.task import check_task
-from polyell.validation import check_array, check_spd
+from polyell.validation import array_ndim, check_array, check_spd
 
 __all__ = ["Dynamics"]
 
@@ -71,7 +71,7 @@ class Dynamics:
         xdd_bias: ArrayLike | None = None,
         task: Sequence[str] | None = None,
     ) -> None:
-        shape = ("K", "m", "n") if np.ndim(J) == 3 else ("m", "n")
+        shape = ("K", "m", "n") if array_ndim(J) == 3 else ("m", "n")
         jacobian = check_array("J", J, shape, what="Jacobian entries")
         *batch, m, n = jacobian.shape
         if m == 0 or n == 0:

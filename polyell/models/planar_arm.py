@@ -9,7 +9,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from polyell.errors import InputError
 from polyell.models.dynamics import Dynamics
-from polyell.validation import check_array, check_torque_limits
+from polyell.validation import array_ndim, check_array, check_torque_limits
 
 __all__ = ["PlanarArm"]
 
@@ -118,7 +118,7 @@ class PlanarArm:
         )
 
     def _check_q(self, q: ArrayLike, batch: bool = False) -> NDArray[np.float64]:
-        shape = ("K", self.n) if batch and np.ndim(q) == 2 else (self.n,)
+        shape = ("K", self.n) if batch and array_ndim(q) == 2 else (self.n,)
         return check_array("q", q, shape, what="joint angles [rad]")
 
     def forward_kinematics(self, q: ArrayLike) -> NDArray[np.float64]:

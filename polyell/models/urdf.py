@@ -27,7 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from polyell.errors import InputError, MissingDependencyError
 from polyell.models.dynamics import Dynamics
-from polyell.validation import check_array, check_spd, check_torque_limits
+from polyell.validation import array_ndim, check_array, check_spd, check_torque_limits
 
 __all__ = ["TASKS", "TASK_ROWS", "Payload", "UrdfRobot", "import_pinocchio"]
 
@@ -69,6 +69,13 @@ class Payload:
     inertia: Sequence[Sequence[float]] = ((0.0,) * 3,) * 3
 
 
+def _iterable(value: object, name: str) -> list[Any]:
+    """``list(value)``, or an InputError naming ``name`` when it is not a sequence."""
+    if not isinstance(value, list | tuple):
+        raise InputError(name, "a list", f"{type(value).__name__} {value!r}")
+    return list(value)
+
+
 def _task_rows(task: str | Sequence[str | int]) -> list[int]:
     if isinstance(task, str):
         if task not in TASKS:
@@ -78,11 +85,17 @@ def _task_rows(task: str | Sequence[str | int]) -> list[int]:
                 repr(task),
             )
         return [TASK_ROWS[name] for name in TASKS[task]]
+    if not isinstance(task, list | tuple):
+        raise InputError(
+            "task",
+            f"one of {list(TASKS)} or a list of rows among {list(TASK_ROWS)}",
+            f"{type(task).__name__} {task!r}",
+        )
     rows = []
     for item in task:
         if isinstance(item, str) and item in TASK_ROWS:
             rows.append(TASK_ROWS[item])
-        elif isinstance(item, int | np.integer) and 0 <= item < 6:
+        elif isinstance(item, int | np.integer) and not isinstance(item, bool) and 0 <= item < 6:
             rows.append(int(item))
         else:
             raise InputError(
@@ -141,6 +154,12 @@ class UrdfRobot:
         payload: Payload | None = None,
     ) -> None:
         pin = import_pinocchio()
+        if isinstance(locked_joints, str) or not all(
+            isinstance(name, str) for name in _iterable(locked_joints, "locked_joints")
+        ):
+            raise InputError("locked_joints", "a list of joint names", repr(locked_joints))
+        if not isinstance(tip, str):
+            raise InputError("tip", "a frame name", repr(tip))
         self._pin = pin
         self._arguments = {
             "urdf": urdf if str(urdf).lstrip().startswith("<") else str(urdf),
@@ -300,7 +319,7 @@ class UrdfRobot:
         -------
         ndarray, shape (model.nq,) or (K, model.nq)
         """
-        shape = ("K", self.nq) if np.ndim(q) == 2 else (self.nq,)
+        shape = ("K", self.nq) if array_ndim(q) == 2 else (self.nq,)
         angles = check_array("q", q, shape, what="joint positions [rad or m]")
         return self._configurations(np.atleast_2d(angles)).reshape(*angles.shape[:-1], -1)
 
@@ -341,7 +360,7 @@ class UrdfRobot:
         -------
         Dynamics
         """
-        shape = ("K", self.nq) if np.ndim(q) == 2 else (self.nq,)
+        shape = ("K", self.nq) if array_ndim(q) == 2 else (self.nq,)
         positions = check_array("q", q, shape, what="joint positions")
         velocities = (
             None if qd is None else check_array("qd", qd, positions.shape, what="joint velocities")
@@ -367,8 +386,9 @@ class UrdfRobot:
         for k, config in enumerate(configs):
             pin.computeJointJacobians(model, data, config)
             pin.updateFramePlacements(model, data)
-            J[k] = pin.getFrameJacobian(model, data, frame, world)
-            B[k] = pin.crba(model, data, config)
+            # (Pinocchio returns a 1-joint model's Jacobian and inertia with fewer axes)
+            J[k] = np.reshape(pin.getFrameJacobian(model, data, frame, world), (6, n))
+            B[k] = np.reshape(pin.crba(model, data, config), (n, n))
             if velocities is None:
                 g[k] = pin.computeGeneralizedGravity(model, data, config)
                 continue

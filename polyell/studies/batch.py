@@ -13,6 +13,8 @@ row equals ``compare(analyze(...)).to_row()``.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -138,6 +140,16 @@ RANK_BAND = 1e-2
 #: Configurations processed together: large enough to amortise numpy's per-call cost,
 #: small enough for the (block, facets, directions) arrays to stay in cache.
 BLOCK = 512
+#: Memory for the largest temporaries of a block, (block, facets, m + n) arrays: a 6-D
+#: task of a 20-joint arm has 15,504 facet pairs, so its blocks shrink to a few rows.
+BLOCK_MEMORY = 256 * 2**20
+
+
+def block_size(m: int, n: int) -> int:
+    """Rows per block: BLOCK, or fewer so that a block's temporaries fit BLOCK_MEMORY."""
+    facets = math.comb(n, m - 1) if m > 1 else 1
+    per_row = 8 * facets * (m + n) * 4  # float64; about four arrays of that shape at once
+    return max(1, min(BLOCK, BLOCK_MEMORY // per_row))
 
 
 def batch_rows(
@@ -171,8 +183,9 @@ def batch_rows(
     K = len(dyn)
     columns = {name: np.empty(K) for name in score_columns()}
     scalar = np.empty(K, dtype=bool)
-    for start in range(0, K, BLOCK):
-        block = slice(start, start + BLOCK)
+    size = block_size(dyn.m, dyn.n)
+    for start in range(0, K, size):
+        block = slice(start, start + size)
         values, scalar[block] = _block_rows(
             dyn.J[block],
             dyn.B[block],

@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from polyell.errors import InputError
-from polyell.validation import check_array
+from polyell.validation import MAX_AXIS_VALUES, array_ndim, check_array, check_integer
 
 __all__ = ["ConfigurationSet", "Grid", "RandomConfigurations", "grid", "random_configurations"]
 
@@ -65,8 +65,8 @@ class Grid(ConfigurationSet):
 def grid(*axes: float | tuple[float, float, int] | ArrayLike) -> Grid:
     """A grid of configurations, one argument per joint.
 
-    Each argument is a fixed value, a ``(start, stop, num)`` range (inclusive, like
-    ``numpy.linspace``) or an explicit array of values.
+    Each argument is a fixed value, a ``(start, stop, num)`` tuple (a range, inclusive,
+    like ``numpy.linspace``; ``num`` an integer) or explicit values as a list or array.
 
     Examples
     --------
@@ -75,17 +75,25 @@ def grid(*axes: float | tuple[float, float, int] | ArrayLike) -> Grid:
     >>> len(g), g.rows(0, 2).tolist()[1]
     (6, [1.5707963267948966, -3.141592653589793, 1.0])
     """
+    if not axes:
+        raise InputError("axes", "one value, range or array per joint", "none")
     values = []
     for i, axis in enumerate(axes):
-        if isinstance(axis, tuple) and len(axis) == 3 and isinstance(axis[2], int):
-            start, stop, num = axis
-            if num < 1:
+        if isinstance(axis, tuple):  # always a range: explicit values go as a list or array
+            if len(axis) != 3:
                 raise InputError(
-                    f"q{i + 1}", "a (start, stop, num) range with num >= 1", repr(axis)
+                    f"q{i + 1}",
+                    "a (start, stop, num) range; explicit values as a list or an array",
+                    repr(axis),
                 )
-            values.append(np.linspace(float(start), float(stop), num))
+            start, stop = check_array(f"q{i + 1}", axis[:2], (2,))
+            num = check_integer(f"q{i + 1} num", axis[2], 1, MAX_AXIS_VALUES)
+            values.append(np.linspace(start, stop, num))
         else:
-            values.append(np.atleast_1d(np.asarray(axis, dtype=float)))
+            shape: tuple[None, ...] = () if array_ndim(axis) == 0 else (None,)
+            values.append(np.atleast_1d(check_array(f"q{i + 1}", axis, shape)))
+            if values[-1].size == 0:
+                raise InputError(f"q{i + 1}", "at least one value", "an empty array")
     return Grid(values)
 
 
@@ -105,9 +113,9 @@ class RandomConfigurations(ConfigurationSet):
             raise InputError(
                 "low", "low <= high for every joint", f"low={self.low}, high={self.high}"
             )
-        if not isinstance(count, int | np.integer) or count < 1:
-            raise InputError("count", "a positive number of configurations", repr(count))
-        self.count, self.seed, self.n = int(count), int(seed), self.low.size
+        self.count = check_integer("count", count, 1, 2**62)
+        self.seed = check_integer("seed", seed, 0, 2**63 - 1)
+        self.n = self.low.size
 
     def __len__(self) -> int:
         return self.count

@@ -200,6 +200,13 @@ def run_study(
     InputError
         If ``out`` cannot be written.
     """
+    if scheduler is not None and not spec.is_batch:
+        raise InputError(
+            "scheduler",
+            "no scheduler for a study of points (they run in this process)",
+            repr(scheduler),
+            "drop --scheduler, or make it a [grid] or [random] study.",
+        )
     folder = _prepare(out)
     if spec.is_batch:
         written = _run_many(spec, folder, progress, scheduler)

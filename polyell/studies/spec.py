@@ -42,6 +42,8 @@ Numbers may be written as expressions: ``"pi/2"``, ``"sqrt(3)/2"``.
 
 from __future__ import annotations
 
+import math
+import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -56,7 +58,7 @@ from polyell.errors import InputError
 from polyell.expressions import evaluate, evaluate_list
 from polyell.models.planar_arm import PlanarArm
 from polyell.models.urdf import Payload, UrdfRobot
-from polyell.validation import check_torque_limits
+from polyell.validation import MAX_DIRECTIONS, check_array, check_integer, check_torque_limits
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -111,6 +113,50 @@ def _check_keys(where: str, table: object, valid: tuple[str, ...]) -> dict[str, 
     return table
 
 
+#: A point's name becomes part of file names: letters, digits, ``_ . -``, not leading ``.``.
+_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,63}")
+#: Most configurations of a grid or random study (all held in memory for its tables;
+#: larger sweeps go through pe.sweep(..., out=...)).
+MAX_STUDY_CONFIGURATIONS = 10_000_000
+
+
+def _string(where: str, value: object) -> str:
+    if not isinstance(value, str):
+        raise InputError(where, "a string", f"{type(value).__name__} {value!r}")
+    return value
+
+
+def _strings(where: str, value: object) -> tuple[str, ...]:
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        raise InputError(where, "a list of strings", f"{type(value).__name__} {value!r}")
+    return tuple(value)
+
+
+def _boolean(where: str, value: object) -> bool:
+    if not isinstance(value, bool):
+        raise InputError(where, "true or false", f"{type(value).__name__} {value!r}")
+    return value
+
+
+def _file_name(where: str, value: object) -> str:
+    """A name that can become part of a file name inside the output folder, and nothing else."""
+    name = _string(where, value)
+    if not _NAME.fullmatch(name):
+        raise InputError(
+            where,
+            "1-64 letters, digits, '_', '.' or '-', not starting with '.' (it names files)",
+            repr(name),
+            "no '/' or '..': nothing a study says may write outside the output folder.",
+        )
+    return name
+
+
+def _list(where: str, value: object) -> list[Any]:
+    if not isinstance(value, list):
+        raise InputError(where, "a list", f"{type(value).__name__} {value!r}")
+    return value
+
+
 @dataclass(frozen=True)
 class Robot:
     """A robot model with its torque limits, as described in a file."""
@@ -143,11 +189,12 @@ def _urdf_options(table: dict[str, Any], where: str) -> dict[str, Any]:
     """Keyword arguments of UrdfRobot from the optional keys of a robot table."""
     options: dict[str, Any] = {}
     if "tip" in table:
-        options["tip"] = str(table["tip"])
+        options["tip"] = _string(f"{where}.tip", table["tip"])
     if "task" in table:
-        options["task"] = table["task"]
+        task = table["task"]
+        options["task"] = task if isinstance(task, str) else _list(f"{where}.task", task)
     if "locked_joints" in table:
-        options["locked_joints"] = tuple(table["locked_joints"])
+        options["locked_joints"] = _strings(f"{where}.locked_joints", table["locked_joints"])
     if "gravity" in table:
         options["gravity"] = evaluate_list(f"{where}.gravity", table["gravity"])
     if "weights" in table:
@@ -156,13 +203,24 @@ def _urdf_options(table: dict[str, Any], where: str) -> dict[str, Any]:
         payload = _check_keys(f"{where}.payload", table["payload"], _PAYLOAD_KEYS)
         if "mass" not in payload:
             raise InputError(f"{where}.payload", "a 'mass' [kg]", "no such key")
+        inertia = _list(f"{where}.payload.inertia", payload.get("inertia", [[0, 0, 0]] * 3))
+        rows = [
+            evaluate_list(f"{where}.payload.inertia[{i}]", _list(f"{where}.payload.inertia", row))
+            for i, row in enumerate(inertia)
+        ]
         options["payload"] = Payload(
             evaluate(f"{where}.payload.mass", payload["mass"]),
-            tuple(evaluate_list(f"{where}.payload.com", payload.get("com", [0, 0, 0]))),
             tuple(
-                tuple(evaluate_list(f"{where}.payload.inertia[{i}]", row))
-                for i, row in enumerate(payload.get("inertia", [[0, 0, 0]] * 3))
+                check_array(
+                    f"{where}.payload.com",
+                    evaluate_list(
+                        f"{where}.payload.com",
+                        _list(f"{where}.payload.com", payload.get("com", [0, 0, 0])),
+                    ),
+                    (3,),
+                )
             ),
+            tuple(map(tuple, check_array(f"{where}.payload.inertia", rows, (3, 3)))),
         )
     return options
 
@@ -191,11 +249,11 @@ def robot_from_table(table: object, where: str = "robot", folder: Path | None = 
             raise InputError(where, "no URDF options for a planar arm", f"{sorted(options)}")
         model = _planar(table["planar"], f"{where}.planar")
     elif "library" in table:
-        model = robots.load(str(table["library"]), **options)
+        model = robots.load(_string(f"{where}.library", table["library"]), **options)
     else:
         if "tip" not in options:
             raise InputError(where, "a 'tip' frame name for a URDF robot", "no tip key")
-        path = Path(str(table["urdf"]))
+        path = Path(_string(f"{where}.urdf", table["urdf"]))
         if folder is not None and not path.is_absolute():
             path = folder / path
         model = UrdfRobot(path, **options)
@@ -303,7 +361,8 @@ def _point(table: object, index: int, n: int) -> Point:
     if inverse_at not in ("lo", "hi"):
         raise InputError(f"{where}.inverse_at", "'lo' or 'hi'", repr(inverse_at))
     end: Literal["lo", "hi"] = "lo" if inverse_at == "lo" else "hi"
-    return Point(str(table["name"]), q, direction, end, str(table.get("title", "")))
+    name = _file_name(f"{where}.name", table["name"])
+    return Point(name, q, direction, end, _string(f"{where}.title", table.get("title", "")))
 
 
 def _grid(table: object, n: int) -> tuple[GridAxis, ...]:
@@ -318,11 +377,9 @@ def _grid(table: object, n: int) -> tuple[GridAxis, ...]:
         value = table[name]
         if isinstance(value, dict):
             spec = _check_keys(f"grid.{name}", value, _RANGE_KEYS)
-            num = spec.get("num")
-            if not isinstance(num, int) or num < 1 or set(spec) != set(_RANGE_KEYS):
-                raise InputError(
-                    f"grid.{name}", "{ start, stop, num } with an integer num >= 1", repr(value)
-                )
+            if set(spec) != set(_RANGE_KEYS):
+                raise InputError(f"grid.{name}", "{ start, stop, num }", repr(value))
+            num = check_integer(f"grid.{name}.num", spec["num"], 1, MAX_STUDY_CONFIGURATIONS)
             values = np.linspace(
                 evaluate(f"grid.{name}.start", spec["start"]),
                 evaluate(f"grid.{name}.stop", spec["stop"]),
@@ -331,14 +388,23 @@ def _grid(table: object, n: int) -> tuple[GridAxis, ...]:
         else:
             values = np.array([evaluate(f"grid.{name}", value)])
         axes.append(GridAxis(name, values))
+    total = math.prod(axis.values.size for axis in axes)
+    if total > MAX_STUDY_CONFIGURATIONS:
+        raise InputError(
+            "grid",
+            f"at most {MAX_STUDY_CONFIGURATIONS:,} configurations in a study",
+            f"{total:,}",
+            "use pe.sweep(robot, pe.grid(...), out=folder) for larger sets (lazy, on disk).",
+        )
     return tuple(axes)
 
 
 def _random(table: object, robot: Robot) -> NDArray[np.float64]:
     table = _check_keys("random", table, _RANDOM_KEYS)
-    count = table.get("count")
-    if not isinstance(count, int) or count < 1:
-        raise InputError("random.count", "a positive integer", repr(count))
+    if "count" not in table:
+        raise InputError("random", "a 'count' of configurations", "no such key")
+    count = check_integer("random.count", table["count"], 1, MAX_STUDY_CONFIGURATIONS)
+    seed = check_integer("random.seed", table.get("seed", 0), 0, 2**63 - 1)
     model = robot.model
     limits = getattr(model, "position_limits", None)
     low, high = (
@@ -352,7 +418,7 @@ def _random(table: object, robot: Robot) -> NDArray[np.float64]:
         raise InputError(
             "random", f"low <= high with {model.n} entries each", f"low={low}, high={high}"
         )
-    rng = np.random.default_rng(int(table.get("seed", 0)))
+    rng = np.random.default_rng(seed)
     return rng.uniform(low, high, size=(count, model.n))
 
 
@@ -376,16 +442,21 @@ def load_study(path: str | Path) -> StudySpec:
             "exactly one of [[points]], [grid] and [random]",
             f"keys {sorted(data)}",
         )
-    points = tuple(_point(t, i, n) for i, t in enumerate(data.get("points", [])))
+    points = tuple(_point(t, i, n) for i, t in enumerate(_list("points", data.get("points", []))))
+    names = [point.name for point in points]
+    if len(set(names)) != len(names):
+        raise InputError("points", "distinct point names (they name files)", f"{names}")
+    if "points" in data and not points:
+        raise InputError("points", "at least one [[points]] table", "none")
     grid = _grid(data["grid"], n) if "grid" in data else ()
     samples_q = _random(data["random"], robot) if "random" in data else None
     compare = _check_keys("compare", data.get("compare", {}), _COMPARE_KEYS)
     output = _check_keys("output", data.get("output", {}), _OUTPUT_KEYS)
-    formats = tuple(output.get("formats", ("pdf", "png")))
+    formats = _strings("output.formats", output.get("formats", ["pdf", "png"]))
     if not formats or any(f not in _FORMATS for f in formats):
         raise InputError("output.formats", f"a list among {list(_FORMATS)}", repr(formats))
     valid_maps = [f"{kind}_{score}" for kind in COMPARED_KINDS for score in SCORE_NAMES]
-    maps = tuple(output.get("maps", ()))
+    maps = _strings("output.maps", output.get("maps", []))
     for name in maps:
         if name not in valid_maps:
             raise InputError(
@@ -398,7 +469,7 @@ def load_study(path: str | Path) -> StudySpec:
         raise InputError(
             "output.maps", "a grid with exactly two varying joints", f"{len(grid)} grid axes"
         )
-    histograms = tuple(output.get("histograms", ()))
+    histograms = _strings("output.histograms", output.get("histograms", []))
     for name in histograms:
         if name not in SCORE_NAMES:
             raise InputError(
@@ -408,19 +479,23 @@ def load_study(path: str | Path) -> StudySpec:
         raise InputError("output.histograms", "a grid or random study", "a study of points")
     return StudySpec(
         path=Path(path),
-        title=str(data.get("title", Path(path).stem)),
-        description=str(data.get("description", "")),
+        title=_string("title", data.get("title", Path(path).stem)),
+        description=_string("description", data.get("description", "")),
         robot=robot,
         points=points,
         grid=grid,
         samples_q=samples_q,
-        directions=compare.get("directions"),
-        mvie=bool(compare.get("mvie", True)),
-        samples=int(compare.get("samples", 2**13)),
-        seed=int(compare.get("seed", 0)),
-        chunk=int(compare.get("chunk", 20_000)),
+        directions=(
+            check_integer("compare.directions", compare["directions"], 1, MAX_DIRECTIONS)
+            if "directions" in compare
+            else None
+        ),
+        mvie=_boolean("compare.mvie", compare.get("mvie", True)),
+        samples=check_integer("compare.samples", compare.get("samples", 2**13), 2, 2**24),
+        seed=check_integer("compare.seed", compare.get("seed", 0), 0, 2**63 - 1),
+        chunk=check_integer("compare.chunk", compare.get("chunk", 20_000), 1, 10_000_000),
         formats=formats,
-        dpi=int(output.get("dpi", 300)),
+        dpi=check_integer("output.dpi", output.get("dpi", 300), 10, 2400),
         maps=maps,
         histograms=histograms,
     )

@@ -41,7 +41,12 @@ from polyell.storage import (
 from polyell.studies.batch import batch_rows
 from polyell.studies.cluster import local_cluster
 from polyell.studies.configurations import ConfigurationSet
-from polyell.validation import check_array, check_directions, check_torque_limits
+from polyell.validation import (
+    check_array,
+    check_directions,
+    check_integer,
+    check_torque_limits,
+)
 
 __all__ = ["DEFAULT_SCORES", "sweep"]
 
@@ -129,6 +134,10 @@ def _fingerprint(job: _Job, chunk: int) -> str:
     return digest.hexdigest()
 
 
+#: How long to wait for a Dask scheduler to answer.
+CONNECT_TIMEOUT = "10s"
+
+
 def _client(scheduler: str) -> Any:
     try:
         from dask.distributed import Client
@@ -139,7 +148,15 @@ def _client(scheduler: str) -> Any:
     if scheduler == "processes":
         return Client(local_cluster())
     if scheduler.startswith(("tcp://", "tls://", "inproc://")):
-        return Client(scheduler)
+        try:
+            return Client(scheduler, timeout=CONNECT_TIMEOUT)
+        except (OSError, TimeoutError) as exn:
+            raise InputError(
+                "scheduler",
+                "the address of a running Dask scheduler",
+                f"{scheduler}, silent for {CONNECT_TIMEOUT} ({exn.__class__.__name__})",
+                "start one with 'dask scheduler' (and workers), or use scheduler='processes'.",
+            ) from None
     raise InputError(
         "scheduler",
         "None, 'processes' or a Dask scheduler address (tcp://host:port)",
@@ -171,6 +188,10 @@ def _job(
             raise InputError("configurations", "a (K, n) array or pe.grid(...)", "None")
         if not isinstance(configurations, ConfigurationSet):
             configurations = check_array("configurations", configurations, ("K", n))
+            if len(configurations) == 0:
+                raise InputError(
+                    "configurations", "at least one configuration", "an empty (0, n) array"
+                )
         elif configurations.n != n:
             raise InputError("configurations", f"{n} joints", f"{configurations.n}")
         m = source.dynamics(
@@ -259,8 +280,7 @@ def sweep(
         robot), ``polytope_dim``, ``polytope_volume`` and the score columns; or the
         dataset folder with ``out=``.
     """
-    if not isinstance(chunk, int | np.integer) or chunk < 1:
-        raise InputError("chunk", "a positive number of configurations per chunk", repr(chunk))
+    chunk = check_integer("chunk", chunk, 1, 10_000_000)
     job = _job(source, configurations, tau_max, tau_min, scores, directions, mvie, rank_rtol)
     count = -(-job.size() // chunk)
     todo = list(range(count))

@@ -119,7 +119,7 @@ def test_urdf_robot_table_relative_to_the_study(tmp_path):
 @pytest.mark.parametrize(
     ("extra", "fragment"),
     [
-        ("[random]\ncount = 0\n", "random.count: expected a positive integer"),
+        ("[random]\ncount = 0\n", "random.count: expected an integer from 1 to 10,000,000"),
         ("[random]\ncount = 3\nlow = [0, 0]\n", "low <= high with 3 entries"),
         ('[random]\ncount = 3\n[output]\nhistograms = ["cover"]\n', "output.histograms"),
     ],

@@ -169,7 +169,7 @@ def test_dask_local_cluster_on_loopback_gives_the_same_rows(tmp_path):
     [
         ({"configurations": None}, "configurations: expected a (K, n) array"),
         ({"scheduler": "threads"}, "scheduler: expected None, 'processes'"),
-        ({"chunk": 0}, "chunk: expected a positive number"),
+        ({"chunk": 0}, "chunk: expected an integer from 1"),
         ({"scores": ("coverage", "beauty")}, "scores: expected names among"),
         ({"scores": ("mvie_ratio",)}, "no 'mvie_ratio' without mvie=True"),
         ({"configurations": np.zeros((3, 2))}, "configurations: expected an array"),
