@@ -118,15 +118,28 @@ pe.sweep(arm, grid, out=sys.argv[1], chunk=4, mvie=True, scores=("coverage", "mv
 """
 
 
-def test_a_killed_run_resumes_to_every_configuration_exactly_once(tmp_path):
+#: SIGKILL at seeded random moments: after 1 to 8 finished parts, plus 0 to 0.2 s.
+KILL_POINTS = [
+    (int(parts), float(delay))
+    for parts, delay in zip(
+        np.random.default_rng(9).integers(1, 9, 3),
+        np.random.default_rng(10).uniform(0.0, 0.2, 3),
+        strict=True,
+    )
+]
+
+
+@pytest.mark.parametrize(("parts", "delay"), KILL_POINTS)
+def test_a_killed_run_resumes_to_every_configuration_exactly_once(tmp_path, parts, delay):
     out = tmp_path / "killed"
     script = tmp_path / "run.py"
     script.write_text(textwrap.dedent(KILLED_RUN))
     process = subprocess.Popen([sys.executable, str(script), str(out)])
     deadline = time.monotonic() + 120
-    while len(list(out.glob("part-*.parquet"))) < 3 and time.monotonic() < deadline:
+    while len(list(out.glob("part-*.parquet"))) < parts and time.monotonic() < deadline:
         assert process.poll() is None, "the run ended before it could be killed"
-        time.sleep(0.05)
+        time.sleep(0.01)
+    time.sleep(delay)  # anywhere within a chunk: computing, or writing its part
     process.send_signal(signal.SIGKILL)
     process.wait()
     done = len(list(out.glob("part-*.parquet")))
