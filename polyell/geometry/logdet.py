@@ -27,7 +27,7 @@ from numpy.typing import NDArray
 
 from polyell.errors import SolverError
 
-__all__ = ["CentredEllipsoid", "centred_mvee"]
+__all__ = ["CentredEllipsoid", "centred_mvee", "centred_mvee_batch"]
 
 
 class CentredEllipsoid(NamedTuple):
@@ -88,83 +88,162 @@ def centred_mvee(
 
     Notes
     -----
-    Path following on :math:`-t \log\det X - \sum_i \log(1 - c_i^T X c_i)` by damped
-    Newton steps, t growing by a factor 16 per stage from a feasible multiple of the
-    identity.  After each stage the central path's duals :math:`\lambda_i = 1 / (t s_i)`
-    (slacks :math:`s_i`) give an upper bound on the optimum by Lagrangian duality; the
-    returned gap is that bound minus ``log det X``, not an estimate.  The method stops at
-    ``gap``, or where rounding (slacks of order 1 / t) stops the certificate improving.
+    :func:`centred_mvee_batch` for one problem (the same arithmetic as in a sweep).
     """
-    count, r = points.shape
+    shapes, gaps, iterations = centred_mvee_batch(
+        points[None], gap=gap, max_iterations=max_iterations
+    )
+    if not gaps[0] <= gap:
+        count, r = points.shape
+        raise SolverError(
+            f"centred_mvee: certified optimality gap {gaps[0]:.3g} after {iterations[0]} "
+            f"Newton steps (target {gap:.3g}) on {count} points in R^{r}."
+        )
+    return CentredEllipsoid(shapes[0], float(gaps[0]), int(iterations[0]))
+
+
+#: Growth of the barrier parameter t per stage of the path following.
+T_GROWTH = 50.0
+#: Newton decrement below which a point counts as centred for its t.
+CENTRED = 1e-6
+
+
+def centred_mvee_batch(
+    points: NDArray[np.float64], *, gap: float = 1e-8, max_iterations: int = 500
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int_]]:
+    r""":func:`centred_mvee` for K problems at once, vectorised over the batch.
+
+    Parameters
+    ----------
+    points : ndarray, shape (K, N, r)
+        K point sets (zero rows are allowed: no constraint).
+    gap : float, optional
+        Target bound on each optimality gap in ``log det X``.
+    max_iterations : int, optional
+        Newton steps allowed in all.
+
+    Returns
+    -------
+    shapes : ndarray, shape (K, r, r)
+        Each ``X`` scaled to touch its points (NaN where no feasible X was found).
+    gaps : ndarray, shape (K,)
+        Certified gaps; above ``gap`` (or NaN) where the method did not converge: the
+        caller decides (a sweep reports such rows as undefined).
+    iterations : ndarray of int, shape (K,)
+        Newton steps taken by each problem.
+
+    Notes
+    -----
+    Path following on :math:`-t \log\det X - \sum_i \log(1 - c_i^T X c_i)` in the
+    :math:`r (r + 1) / 2` entries of X, from a feasible multiple of the identity, with t
+    growing by :data:`T_GROWTH` per stage; Newton steps with a backtracking line search,
+    never shorter than the damped step :math:`1 / (1 + \lambda)` that self-concordance
+    guarantees (function values lose digits to the factor t).  At the end of each stage
+    the central path's duals bound the optimum (Lagrangian duality, see
+    :func:`_certify`); a problem stops at ``gap``, or when its certificate stops
+    improving (rounding).
+    """
+    K, count, r = points.shape
     basis = _symmetric_basis(r)
-    # Phi[i, k] = c_i^T E_k c_i: the constraints read Phi x <= 1 in the coordinates x of X.
-    Phi = np.einsum("ia,kab,ib->ik", points, basis, points)
-    # X = alpha I (x = alpha trace(E_k)), strictly feasible.
-    x = (0.5 / np.max(np.einsum("ia,ia->i", points, points))) * np.einsum("kaa->k", basis)
-    t = float(count)
-    best = CentredEllipsoid(np.eye(r), np.inf, 0)
-    iterations = 0
-    for iterations in range(1, max_iterations + 1):
-        X = np.einsum("k,kab->ab", x, basis)
-        slack = 1.0 - Phi @ x
-        X_inv_E = np.linalg.inv(X) @ basis  # (d, r, r)
-        gradient = -t * np.einsum("kaa->k", X_inv_E) + Phi.T @ (1.0 / slack)
-        hessian = t * np.einsum("kab,lba->kl", X_inv_E, X_inv_E) + (Phi.T / slack**2) @ Phi
+    flat = basis.reshape(-1, r * r)  # (d, r^2): X = (x @ flat).reshape(r, r)
+    trace = np.einsum("kaa->k", basis)
+    Phi = np.einsum("Kia,kab,Kib->Kik", points, basis, points)  # constraints: Phi x <= 1
+    norms = np.einsum("Kia,Kia->Ki", points, points).max(axis=1)
+    x = (0.5 / np.where(norms > 0, norms, 1.0))[:, None] * trace  # X = alpha I, feasible
+    t = np.full(K, float(count))
+    shapes, gaps = np.full((K, r, r), np.nan), np.full(K, np.inf)
+    iterations = np.zeros(K, dtype=int)
+    active = np.arange(K)
+    for _ in range(max_iterations):
+        if active.size == 0:
+            break
+        iterations[active] += 1
+        xa, Pa, ta = x[active], Phi[active], t[active]
+        slack = 1.0 - (Pa @ xa[..., None])[..., 0]
+        X_inv = np.linalg.inv((xa @ flat).reshape(-1, r, r))
+        # tr(X^-1 E_k) and tr(X^-1 E_k X^-1 E_l) = vec(E_k) . (X^-1 kron X^-1) vec(E_l)
+        kron = (X_inv[:, :, None, :, None] * X_inv[:, None, :, None, :]).reshape(-1, r * r, r * r)
+        PaT = np.swapaxes(Pa, 1, 2)
+        gradient = -ta[:, None] * (X_inv.reshape(-1, r * r) @ flat.T)
+        gradient += (PaT @ (1.0 / slack)[..., None])[..., 0]
+        hessian = ta[:, None, None] * (flat @ kron @ flat.T)
+        hessian += PaT @ (Pa * slack[..., None] ** -2)
         try:
-            step = -np.linalg.solve(hessian, gradient)
+            step = -np.linalg.solve(hessian, gradient[..., None])[..., 0]
         except np.linalg.LinAlgError as exn:
             raise SolverError(
                 f"centred_mvee: singular Newton system; the points do not span R^{r}."
             ) from exn
-        decrement = float(-gradient @ step)
-        if decrement <= 1e-6:  # centred for this t: certify, then move along the path
-            shape, certified = _certify(x, basis, Phi, points, slack, t)
-            if certified < best.gap:
-                best = CentredEllipsoid(shape, certified, iterations)
-            # Done at the target, or when rounding (slacks of order 1 / t) starts to spoil
-            # the dual estimate: the certificate no longer improves.
-            if certified <= gap or certified > best.gap:
-                break
-            t *= 16.0
-            continue
-        # Damped Newton (the barrier is self-concordant): no function values, which lose
-        # their last digits to the factor t; halve only to stay strictly feasible.
-        alpha = 1.0 if decrement <= 0.0625 else 1.0 / (1.0 + np.sqrt(decrement))
-        while True:
-            trial = x + alpha * step
-            if np.min(1.0 - Phi @ trial) > 0 and _is_positive_definite(
-                np.einsum("k,kab->ab", trial, basis)
-            ):
-                break
-            alpha *= 0.5
-            if alpha < 1e-12:
-                raise SolverError("centred_mvee: the Newton step cannot stay feasible.")
-        x = trial
-    if best.gap <= gap:
-        return best
-    raise SolverError(
-        f"centred_mvee: certified optimality gap {best.gap:.3g} after {iterations} Newton "
-        f"steps (target {gap:.3g}) on {count} points in R^{r}."
-    )
+        decrement = -np.einsum("Kk,Kk->K", gradient, step)
+        centred = decrement <= CENTRED
+        done = np.zeros(active.size, dtype=bool)
+        if centred.any():
+            c = np.flatnonzero(centred)
+            shape, certified = _certify(xa[c], basis, points[active[c]], slack[c], ta[c])
+            better = certified < gaps[active[c]]
+            shapes[active[c[better]]] = shape[better]
+            gaps[active[c[better]]] = certified[better]
+            done[c] = (certified <= gap) | ~better  # at the target, or rounding stalls it
+            t[active[c]] *= T_GROWTH
+        move = np.flatnonzero(~centred)
+        if move.size:
+            x[active[move]] = _line_search(
+                xa[move], step[move], decrement[move], Pa[move], ta[move], basis, slack[move]
+            )
+        active = active[~done]
+    return shapes, gaps, iterations
 
 
-def _is_positive_definite(X: NDArray[np.float64]) -> bool:
-    try:
-        np.linalg.cholesky(X)
-    except np.linalg.LinAlgError:
-        return False
-    return True
+#: Step lengths tried by the line search, longest first (then the damped length).
+_STEPS = 0.5 ** np.arange(12)
+
+
+def _line_search(
+    x: NDArray[np.float64],
+    step: NDArray[np.float64],
+    decrement: NDArray[np.float64],
+    Phi: NDArray[np.float64],
+    t: NDArray[np.float64],
+    basis: NDArray[np.float64],
+    slack: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    r"""Backtracking (Armijo) along Newton steps, accepting the damped step when reached.
+
+    The barrier is analytic along a step: with :math:`\mu_j` the eigenvalues of
+    :math:`L^{-1} \Delta X L^{-T}` (:math:`X = L L^T`) and :math:`a = \Phi \, \Delta x`,
+    :math:`f(\alpha) - f(0) = -t \sum_j \log(1 + \alpha \mu_j) - \sum_i \log(1 - \alpha
+    a_i / s_i)`, finite exactly where the step stays feasible; so every trial length is
+    evaluated at once, without factorising a trial X.
+    """
+    r = basis.shape[1]
+    X = (x @ basis.reshape(-1, r * r)).reshape(-1, r, r)
+    dX = (step @ basis.reshape(-1, r * r)).reshape(-1, r, r)
+    L_inv = np.linalg.inv(np.linalg.cholesky(X))
+    mu = np.linalg.eigvalsh(L_inv @ dX @ np.swapaxes(L_inv, 1, 2))  # (K, r)
+    ratio = (Phi @ step[..., None])[..., 0] / slack  # (K, N)
+    damped = 1.0 / (1.0 + np.sqrt(decrement))
+    steps = np.concatenate([np.broadcast_to(_STEPS, (len(x), _STEPS.size)), damped[:, None]], 1)
+    alpha = steps[:, :, None]  # (K, S, 1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        det_term = np.log1p(alpha * mu[:, None, :]).sum(axis=-1)  # (K, S)
+        barrier = np.log1p(-alpha * ratio[:, None, :]).sum(axis=-1)
+    change = -t[:, None] * det_term - barrier  # NaN or inf where infeasible
+    feasible = np.isfinite(change) & (np.min(mu, axis=1)[:, None] * steps > -1)
+    enough = change <= -0.01 * steps * decrement[:, None]
+    accept = feasible & (enough | (steps <= damped[:, None]))
+    first = np.argmax(accept, axis=1)  # the longest accepted length (0 if none: a stall)
+    length = np.where(accept.any(axis=1), steps[np.arange(len(x)), first], 0.0)
+    return x + length[:, None] * step
 
 
 def _certify(
     x: NDArray[np.float64],
     basis: NDArray[np.float64],
-    Phi: NDArray[np.float64],
     points: NDArray[np.float64],
     slack: NDArray[np.float64],
-    t: float,
-) -> tuple[NDArray[np.float64], float]:
-    r"""The best feasible X at hand, scaled to touch the points, and its certified gap.
+    t: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    r"""The best feasible X at hand for each problem, scaled to touch, and its certified gap.
 
     Any :math:`\lambda \ge 0` bounds the optimum: :math:`\log\det X^* \le -\log\det W
     - r \log(r / \sum_i \lambda_i)` with :math:`W = \sum_i \lambda_i c_i c_i^T`
@@ -172,26 +251,44 @@ def _certify(
     central path's :math:`1 / (t s_i)`, also with those of clearly inactive constraints
     set to zero (they only add N / t to the gap); each gives a candidate ``X = W^-1`` (the
     optimality condition) beside the primal iterate.
+
+    Parameters
+    ----------
+    x : ndarray, shape (K, d)
+    basis : ndarray, shape (d, r, r)
+    points : ndarray, shape (K, N, r)
+    slack : ndarray, shape (K, N)
+    t : ndarray, shape (K,)
+
+    Returns
+    -------
+    shapes : ndarray, shape (K, r, r)
+    gaps : ndarray, shape (K,)
     """
-    r = points.shape[1]
-    duals = 1.0 / (t * slack)
-    candidates = [np.einsum("k,kab->ab", x, basis)]
-    upper = np.inf
+    K, _, r = points.shape
+    with np.errstate(divide="ignore"):  # a slack of 0 (rounding): an infinite dual, unused
+        duals = 1.0 / (t[:, None] * slack)
+    candidates = [np.einsum("Kk,kab->Kab", x, basis)]
+    upper = np.full(K, np.inf)
     for threshold in (np.inf, 1e-2, 1e-4, 1e-6):
         kept = np.where(slack <= threshold, duals, 0.0)
-        W = (points.T * kept) @ points
+        W = np.einsum("Kia,Ki,Kib->Kab", points, kept, points)
         sign, logdet_W = np.linalg.slogdet(W)
-        if sign <= 0:
-            continue
-        upper = min(upper, -logdet_W - r * np.log(r / kept.sum()))
-        candidates.append(np.linalg.inv(W))
-    best, best_logdet = candidates[0], -np.inf
+        valid = sign > 0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            bound = -logdet_W - r * np.log(r / kept.sum(axis=1))
+        upper = np.where(valid, np.minimum(upper, bound), upper)
+        inverse = np.linalg.inv(np.where(valid[:, None, None], W, np.eye(r)))
+        candidates.append(np.where(valid[:, None, None], inverse, np.nan))
+    best, best_logdet = np.full((K, r, r), np.nan), np.full(K, -np.inf)
     for X in candidates:
-        X = 0.5 * (X + X.T)
-        if not _is_positive_definite(X):
-            continue
-        X /= np.max(np.einsum("ia,ab,ib->i", points, X, points))
-        logdet = np.linalg.slogdet(X)[1]
-        if logdet > best_logdet:
-            best, best_logdet = X, logdet
-    return best, float(upper - best_logdet)
+        X = 0.5 * (X + np.swapaxes(X, 1, 2))
+        finite = np.isfinite(X).all(axis=(1, 2))
+        X = np.where(finite[:, None, None], X, np.eye(r))
+        positive = finite & (np.linalg.eigvalsh(X)[:, 0] > 0)
+        X = X / np.einsum("Kia,Kab,Kib->Ki", points, X, points).max(axis=1)[:, None, None]
+        logdet = np.where(positive, np.linalg.slogdet(X)[1], -np.inf)
+        improve = logdet > best_logdet
+        best = np.where(improve[:, None, None], X, best)
+        best_logdet = np.where(improve, logdet, best_logdet)
+    return best, upper - best_logdet

@@ -30,7 +30,10 @@ from polyell.geometry.logdet import centred_mvee
 from polyell.geometry.polytope import Polytope
 from polyell.geometry.zonotope import zonotope_facets
 
-__all__ = ["MVIE_METHODS", "max_volume_inscribed_ellipsoid"]
+__all__ = ["MVIE_GAP", "MVIE_METHODS", "max_volume_inscribed_ellipsoid"]
+
+#: Certified gap in log det of the MVIE (its volume is within a relative MVIE_GAP / 2).
+MVIE_GAP = 1e-8
 
 #: ``"logdet"``: the dedicated Newton method of :func:`~polyell.geometry.logdet.centred_mvee`
 #: (the default); ``"cvxpy"``: the same program through cvxpy and Clarabel (a cross-check).
@@ -80,7 +83,7 @@ def _mvie(P: Polytope, method: str) -> Ellipsoid:
     facets = zonotope_facets(whitened)
     half = len(facets.normals) // 2  # one of each pair +-a: the same constraint
     points = facets.normals[:half] / facets.offsets[:half, None]
-    X = centred_mvee(points).shape if method == "logdet" else _shape_by_cvxpy(points)
+    X = centred_mvee(points, gap=MVIE_GAP).shape if method == "logdet" else _shape_by_cvxpy(points)
     # E = {xg + U1 Sigma X^(1/2) u}: axes and semi-axes from the SVD of Sigma X^(1/2).
     eigenvalues, eigenvectors = np.linalg.eigh(X)
     root = (eigenvectors * np.sqrt(eigenvalues)) @ eigenvectors.T

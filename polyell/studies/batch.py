@@ -23,6 +23,8 @@ from polyell.comparison.metrics import INSIDE_RTOL
 from polyell.geometry.convex_set import ATOL_RELATIVE
 from polyell.geometry.ellipsoid import unit_ball_volume
 from polyell.geometry.limits import line_interval_in_ellipsoids
+from polyell.geometry.logdet import centred_mvee_batch
+from polyell.geometry.mvie import MVIE_GAP
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.geometry.zonotope import DEPENDENT_RTOL, cross, subset_cofactors, subsets
 from polyell.models.dynamics import Dynamics
@@ -111,6 +113,41 @@ def _polytope_limits(
     return np.where(meets, upper, np.nan), meets
 
 
+def _mvie(U: Array, s: Array, Vt: Array) -> tuple[Array, Array, Array]:
+    """The maximum-volume inscribed ellipsoids of full-rank blocks (K, m, n), batched.
+
+    As :func:`~polyell.geometry.mvie.max_volume_inscribed_ellipsoid`: in whitened
+    coordinates P is the zonotope of the rows of V1^T; its facet pairs give the points of
+    :func:`~polyell.geometry.logdet.centred_mvee_batch`; E = {xg + U Sigma X^(1/2) u}.
+    n = m gives X = I (the new ellipsoid).  Rows whose gap is not certified are NaN.
+
+    Returns
+    -------
+    axes : ndarray, shape (K, m, m)
+    semi_axes : ndarray, shape (K, m)
+    witness : ndarray, shape (K,)
+        Largest row norm of V1 X^(1/2): the torque witness under the minimum-torque map.
+    """
+    K, m = s.shape
+    V1t = Vt[:, :m, :]
+    if Vt.shape[-1] == m:
+        root = np.broadcast_to(np.eye(m), (K, m, m))
+        shapes_ok = np.ones(K, dtype=bool)
+    else:
+        normals, offsets = _facets(V1t)
+        with np.errstate(invalid="ignore"):
+            points = np.where(np.isinf(offsets)[..., None], 0.0, normals / offsets[..., None])
+        shapes, gaps, _ = centred_mvee_batch(points, gap=MVIE_GAP)
+        shapes_ok = gaps <= MVIE_GAP
+        shapes = np.where(shapes_ok[:, None, None], shapes, np.eye(m))
+        eigenvalues, eigenvectors = np.linalg.eigh(shapes)
+        root = (eigenvectors * np.sqrt(eigenvalues)[:, None, :]) @ np.swapaxes(eigenvectors, -1, -2)
+    W, semi, _ = np.linalg.svd(s[:, :, None] * root)
+    witness = np.max(np.linalg.norm(np.swapaxes(V1t, -1, -2) @ root, axis=-1), axis=-1)
+    semi = np.where(shapes_ok[:, None], semi, np.nan)
+    return U[:, :, :m] @ W, semi, np.where(shapes_ok, witness, np.nan)
+
+
 def _direction_statistics(
     hi_e: Array, feasible_e: NDArray[np.bool_], hi_p: Array, feasible_p: NDArray[np.bool_]
 ) -> dict[str, Array]:
@@ -159,6 +196,7 @@ def batch_rows(
     directions: Array,
     *,
     rank_rtol: float = RANK_RTOL,
+    mvie: bool = False,
 ) -> tuple[dict[str, Array], NDArray[np.bool_]]:
     """Score columns of a batch, and which rows need the scalar path.
 
@@ -172,6 +210,9 @@ def batch_rows(
         Unit directions of the directional statistics.
     rank_rtol : float
         Rank tolerance, as in :func:`polyell.analyze`.
+    mvie : bool
+        Also score the maximum-volume inscribed ellipsoid (batched log-det solver) and
+        every ``mvie_ratio``; NaN otherwise.
 
     Returns
     -------
@@ -195,6 +236,7 @@ def batch_rows(
             tau_min,
             directions,
             rank_rtol,
+            mvie,
         )
         for name, column in values.items():
             columns[name][block] = column
@@ -210,6 +252,7 @@ def _block_rows(
     tau_min: Array,
     directions: Array,
     rank_rtol: float,
+    mvie: bool,
 ) -> tuple[dict[str, Array], NDArray[np.bool_]]:
     """:func:`batch_rows` for one block of configurations, on validated arrays."""
     K, m, n = J.shape
@@ -253,6 +296,11 @@ def _block_rows(
         "chiacchio": (U, s, None),
         "yoshikawa": (np.swapaxes(Vt_f, -1, -2)[:, :, ::-1], (1.0 / s_f)[:, ::-1], F),
     }
+    mvie_volume = np.full(len(M), np.nan)
+    if mvie:
+        axes_e, semi_e, witness_e = _mvie(U, s, Vt)
+        ellipsoids["mvie"] = (axes_e, semi_e, witness_e)
+        mvie_volume = unit_ball_volume(m) * np.prod(semi_e, axis=-1)
     rows: dict[str, Array] = {
         "polytope_dim": np.full(len(M), float(m)),
         "polytope_volume": volume_p,
@@ -260,6 +308,8 @@ def _block_rows(
     unit_ball = unit_ball_volume(m)
     inside = np.ones(len(M), dtype=bool)
     for kind, (axes, semi, torque_matrix) in ellipsoids.items():
+        defined = ~np.isnan(semi).any(axis=-1)
+        semi = np.where(defined[:, None], semi, 1.0)  # undefined rows: NaN scores below
         # The ellipsoid is centred like P, so a facet pair +-a has slack h for both.
         reach = np.linalg.norm((normals @ axes) * semi[:, None, :], axis=-1)
         with np.errstate(divide="ignore"):
@@ -270,12 +320,14 @@ def _block_rows(
         stats = _direction_statistics(hi_e, ~np.isnan(lo_e), hi_p, feasible_p)
         if torque_matrix is None:  # eq. 33/36: tau_n = M^+ (x - xg), zero at the centre
             witness = np.max(np.linalg.norm(Vt, axis=1), axis=-1)
+        elif kind == "mvie":  # the same map: M^+ U Sigma X^(1/2) u = V1 X^(1/2) u
+            witness = torque_matrix
         else:  # eq. 26: tau_n = L^-1 (B J^+ (x - Jdot qdot) + g - tau_c)
             offset = bias_ok / half - np.einsum("knm,km->kn", torque_matrix, xdd_bias)
             at_center = np.einsum("knm,km->kn", torque_matrix, xg) + offset
             spread = np.linalg.norm(torque_matrix @ (axes * semi[:, None, :]), axis=-1)
             witness = np.max(np.abs(at_center) + spread, axis=-1)
-        rows |= {
+        record = {
             f"{kind}_dimension": np.full(len(M), float(m)),
             f"{kind}_volume": volume,
             f"{kind}_inscribed_scale": scale,
@@ -284,7 +336,13 @@ def _block_rows(
             f"{kind}_overreach": np.zeros(len(M)),
             f"{kind}_overreach_stderr": np.zeros(len(M)),
             f"{kind}_witness_torque_max": witness,
+            f"{kind}_mvie_ratio": volume / mvie_volume,
         } | {f"{kind}_{key}": value for key, value in stats.items()}
+        if not defined.all():  # an MVIE not certified: undefined, as in compare
+            undefined = {"feasibility_mismatch": 0.0, "directions_used": 0.0}
+            for name, values in record.items():  # (every mvie_ratio is NaN there already)
+                values[~defined] = undefined.get(name[len(kind) + 1 :], np.nan)
+        rows |= record
     indices = np.flatnonzero(ok)
     for name, values in rows.items():
         columns[name][indices] = values

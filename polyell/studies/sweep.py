@@ -84,13 +84,14 @@ class _Job:
                 else self.configurations[start:stop]
             )
             dyn = self.source.dynamics(q)
-        if self.mvie:  # a log-det program per row: every row takes the scalar path
-            values = {name: np.full(len(dyn), np.nan) for name in self.columns}
-            scalar = np.ones(len(dyn), dtype=bool)
-        else:
-            values, scalar = batch_rows(
-                dyn, self.tau_max, self.tau_min, self.directions, rank_rtol=self.rank_rtol
-            )
+        values, scalar = batch_rows(
+            dyn,
+            self.tau_max,
+            self.tau_min,
+            self.directions,
+            rank_rtol=self.rank_rtol,
+            mvie=self.mvie,
+        )
         if scalar.any():
             for name, column in _scalar_rows(dyn, scalar, self).items():
                 values[name][scalar] = column[scalar]

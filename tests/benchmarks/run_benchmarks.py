@@ -276,6 +276,77 @@ print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, time.perf_counter() - 
 """
 
 
+def bench_mvie(repeats: int) -> list[str]:
+    """(e) The MVIE in sweeps: batched log-det solver against cvxpy + Clarabel, per core."""
+    from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
+
+    panda = pe.robots.load("panda")
+    Q = panda_configurations(4096, seed=12)
+    dyn = panda.dynamics(Q)
+    scores = ("coverage", "mvie_ratio")
+    polytopes = [pe.analyze(dyn[k], panda.tau_max).polytope for k in range(24)]
+
+    def batched() -> None:
+        pe.sweep(dyn, tau_max=panda.tau_max, mvie=True, scores=scores, chunk=4096)
+
+    def without() -> None:
+        pe.sweep(dyn, tau_max=panda.tau_max, scores=("coverage",), chunk=4096)
+
+    failures = set()
+
+    def by_cvxpy() -> None:
+        for k, P in enumerate(polytopes):
+            try:
+                max_volume_inscribed_ellipsoid(P, method="cvxpy")
+            except pe.SolverError:  # Clarabel "inaccurate": counted, and timed all the same
+                failures.add(k)
+
+    def one_by_one() -> None:
+        for P in polytopes:
+            max_volume_inscribed_ellipsoid(P)
+
+    with_mvie, no_mvie, cvx, single = timed_alternately(
+        [batched, without, by_cvxpy, one_by_one], max(3, repeats // 2)
+    )
+
+    def rate(times: list[float], k: int) -> str:
+        return summary([k / t for t in times], digits=4)
+
+    agreement = max(
+        abs(
+            max_volume_inscribed_ellipsoid(P).volume
+            / max_volume_inscribed_ellipsoid(P, method="cvxpy").volume
+            - 1.0
+        )
+        for k, P in enumerate(polytopes)
+        if k not in failures
+    )
+    speedup = (np.median(cvx) / len(polytopes)) / (np.median(with_mvie) / len(Q))
+    return [
+        "## (e) The MVIE in sweeps",
+        "",
+        "Panda, linear task: the maximum-volume inscribed ellipsoid by the batched log-barrier "
+        "solver of `pe.sweep` (whitened coordinates, certified gap 1e-8 in log det), against "
+        "the same program through cvxpy + Clarabel one configuration at a time (the path of "
+        "earlier versions), timed alternately.",
+        "",
+        "| path | configurations / s, median (min – max) |",
+        "|---|---|",
+        f"| sweep with MVIE scores, batched (4,096) | {rate(with_mvie, len(Q))} |",
+        f"| sweep without MVIE (the same 4,096) | {rate(no_mvie, len(Q))} |",
+        f"| MVIE alone, the dedicated solver one at a time (24) | {rate(single, len(polytopes))} |",
+        f"| MVIE alone, cvxpy + Clarabel one at a time (24) | {rate(cvx, len(polytopes))} |",
+        "",
+        f"Batched MVIE vs cvxpy: **{speedup:,.0f}×** "
+        f"(target: 5,000 configurations / s with the MVIE scores on one core). Largest "
+        f"relative volume difference to Clarabel: {agreement:.1e}, on the "
+        f"{len(polytopes) - len(failures)} of {len(polytopes)} configurations where Clarabel "
+        "certified an optimum (it stopped 'inaccurate' on the others; the dedicated solver "
+        "certified every one).",
+        "",
+    ]
+
+
 def bench_memory(counts: list[int]) -> list[str]:
     rows = []
     with tempfile.TemporaryDirectory() as folder:
@@ -311,6 +382,9 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=7)
     parser.add_argument("--memory", type=int, nargs="*", default=[100_000, 1_000_000])
     parser.add_argument("--out", default=str(REPO / "docs" / "performance.md"))
+    parser.add_argument(
+        "--sections", nargs="*", choices=["polytope", "limits", "sweep", "mvie"], default=None
+    )
     args = parser.parse_args()
     lines = [
         "# Performance",
@@ -321,7 +395,10 @@ def main() -> None:
         f"{args.repeats} repeats with the min – max spread, all measured side by side in one run.",
         "",
     ]
-    for section in (bench_polytope, bench_limits, bench_sweep):
+    parser_sections = {"polytope": bench_polytope, "limits": bench_limits, "sweep": bench_sweep}
+    parser_sections["mvie"] = bench_mvie
+    chosen = args.sections or list(parser_sections)
+    for section in (parser_sections[name] for name in chosen):
         lines += section(args.repeats)
         print(f"{section.__name__} done", file=sys.stderr)
     if args.memory:

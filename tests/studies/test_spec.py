@@ -36,7 +36,7 @@ def test_the_shipped_studies_parse():
     np.testing.assert_allclose(paper.robot.tau_max, [100, 30, 4])
     sweep = load_study(REPO / "studies" / "planar3r_sweep.toml")
     assert sweep.is_grid and sweep.configurations().shape == (61 * 61, 3)
-    assert not sweep.mvie
+    assert sweep.mvie and "chiacchio_mvie_ratio" in sweep.maps  # batched MVIE: cheap now
 
 
 def test_planar_robot_table_and_expressions(tmp_path):
