@@ -69,13 +69,6 @@ class Payload:
     inertia: Sequence[Sequence[float]] = ((0.0,) * 3,) * 3
 
 
-def _iterable(value: object, name: str) -> list[Any]:
-    """``list(value)``, or an InputError naming ``name`` when it is not a sequence."""
-    if not isinstance(value, list | tuple):
-        raise InputError(name, "a list", f"{type(value).__name__} {value!r}")
-    return list(value)
-
-
 def _task_rows(task: str | Sequence[str | int]) -> list[int]:
     if isinstance(task, str):
         if task not in TASKS:
@@ -154,8 +147,8 @@ class UrdfRobot:
         payload: Payload | None = None,
     ) -> None:
         pin = import_pinocchio()
-        if isinstance(locked_joints, str) or not all(
-            isinstance(name, str) for name in _iterable(locked_joints, "locked_joints")
+        if not isinstance(locked_joints, list | tuple) or not all(
+            isinstance(name, str) for name in locked_joints
         ):
             raise InputError("locked_joints", "a list of joint names", repr(locked_joints))
         if not isinstance(tip, str):
