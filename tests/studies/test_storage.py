@@ -12,6 +12,7 @@ import shutil
 import subprocess
 import sys
 import textwrap
+import time
 from pathlib import Path
 
 import numpy as np
@@ -35,6 +36,7 @@ if fsize >= 0:  # a full disk: writes past fsize bytes fail (SIGXFSZ ignored: EF
     signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
     resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, resource.RLIM_INFINITY))
 if go != "-":  # start together, and take a while per chunk, so that two runs overlap
+    open(f"{go}.ready{chunk}", "w").close()
     deadline = time.monotonic() + 60
     while not os.path.exists(go) and time.monotonic() < deadline:
         time.sleep(0.01)
@@ -75,7 +77,11 @@ def read(out: Path) -> pd.DataFrame:
 def test_two_sweeps_at_once_into_one_folder_never_mix(tmp_path):
     out, go = tmp_path / "shared", tmp_path / "go"
     runs = [child(tmp_path, out, chunk, go=str(go)) for chunk in (4, 5)]
-    go.touch()
+    deadline = time.monotonic() + TIMEOUT
+    while not all(Path(f"{go}.ready{chunk}").exists() for chunk in (4, 5)):
+        assert time.monotonic() < deadline and all(run.poll() is None for run in runs)
+        time.sleep(0.01)
+    go.touch()  # both are imported and waiting: they start within milliseconds
     results = [run.communicate(timeout=TIMEOUT) for run in runs]
     codes = [run.returncode for run in runs]
     assert sorted(codes) == [0, 3], results
