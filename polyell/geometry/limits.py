@@ -89,13 +89,14 @@ def line_interval_in_ellipsoids(
     lo, hi : ndarray, shape (K, k)
         Interval ends, NaN where the line misses the ellipsoid.
     """
-    p = np.einsum("km,Kmr->Kkr", directions, axes) / semi_axes[:, None, :]  # (K, k, r)
-    w = np.einsum("Km,Kmr->Kr", center, axes) / semi_axes  # (K, r)
-    length = np.sqrt(np.einsum("Kkr,Kkr->Kk", p, p))
-    p_hat = p / length[..., None]
-    along = np.einsum("Kkr,Kr->Kk", p_hat, w)
-    across = w[:, None, :] - along[..., None] * p_hat
-    discriminant = 1.0 - np.einsum("Kkr,Kkr->Kk", across, across)
+    # Laid out (K, r, k): the sums run over the short axis r, on contiguous rows of k.
+    p = np.matmul(np.swapaxes(axes, 1, 2), directions.T) / semi_axes[:, :, None]
+    w = np.matmul(center[:, None, :], axes)[:, 0, :, None] / semi_axes[:, :, None]
+    length = np.sqrt((p * p).sum(axis=1))  # (K, k)
+    p /= length[:, None, :]  # p-hat
+    along = (p * w).sum(axis=1)
+    across = w - along[:, None, :] * p
+    discriminant = 1.0 - (across * across).sum(axis=1)
     root = np.sqrt(np.where(discriminant >= 0, discriminant, np.nan))
     return (along - root) / length, (along + root) / length
 
