@@ -104,7 +104,9 @@ def format_analysis(
     end = float(getattr(limits["chiacchio"], inverse_at))
     if math.isnan(end):
         return "\n".join(lines)
-    xdd = end * direction
+    # The limits are along the direction as projected onto the affine set (rounded input
+    # at a singular configuration): so is the acceleration the inverse maps are applied to.
+    xdd = end * P.affine_set.meet_lines(direction[None], P.affine_rtol).projected[0]
     lines += ["", f"Inverse maps at xdd = {np.round(xdd, 5).tolist()} ({inverse_at} end, new):"]
     for kind, equation in (("chiacchio", "33/40"), ("yoshikawa", "26")):
         try:
