@@ -8,14 +8,16 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import warnings
 from collections.abc import Sequence
 from typing import NoReturn
 
 import numpy as np
+from numpy.typing import NDArray
 
-from polyell import robots
+from polyell import __version__, robots
 from polyell.analysis import analyze
 from polyell.comparison import compare
 from polyell.errors import InputError, PolyellError, ProjectedInputWarning
@@ -23,11 +25,33 @@ from polyell.expressions import evaluate_list
 from polyell.report import analysis_to_json, format_analysis
 from polyell.studies import load_robot_file, load_study, run_study
 from polyell.studies.spec import Robot
-from polyell.validation import check_torque_limits
+from polyell.validation import (
+    DIRECTION_NORM_RTOL,
+    check_directions,
+    check_points,
+    check_torque_limits,
+)
 
 __all__ = ["main"]
 
 PAPER_Q = "pi/2,-pi/2,-pi/2"
+#: Options whose value is a list of numbers, which may start with '-' (--q -pi/2,0,0).
+_LIST_OPTIONS = ("--q", "--tau-max", "--tau-min", "--direction")
+
+
+def _join_list_options(argv: Sequence[str]) -> list[str]:
+    """``--q -pi/2,0`` as ``--q=-pi/2,0``: argparse would take ``-pi/2,0`` for an option."""
+    joined: list[str] = []
+    items = list(argv)
+    i = 0
+    while i < len(items):
+        if items[i] in _LIST_OPTIONS and i + 1 < len(items) and items[i + 1].startswith("-"):
+            joined.append(f"{items[i]}={items[i + 1]}")
+            i += 2
+        else:
+            joined.append(items[i])
+            i += 1
+    return joined
 
 
 def _floats(text: str) -> list[float]:
@@ -51,6 +75,7 @@ def _parser() -> argparse.ArgumentParser:
         description="Exact acceleration polytopes and dynamic manipulability ellipsoids "
         "(Chiacchio 2000), compared.",
     )
+    parser.add_argument("--version", action="version", version=f"polyell {__version__}")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     run = commands.add_parser(
         "analyze",
@@ -65,15 +90,31 @@ def _parser() -> argparse.ArgumentParser:
         help=f"a library name ({', '.join(robots.names())}; all but the first need "
         "polyell[robots]) or a robot TOML file",
     )
-    run.add_argument("--q", type=_floats, default=_floats(PAPER_Q), help="joint angles [rad]")
-    run.add_argument("--tau-max", type=_floats, help="[N m], default: the robot's own")
-    run.add_argument("--tau-min", type=_floats, help="[N m], default -tau-max")
     run.add_argument(
+        "--q",
+        type=_floats,
+        default=None,
+        help=f"joint angles [rad, or deg with --deg]; default {PAPER_Q} for chiacchio2000, "
+        "required for every other robot",
+    )
+    run.add_argument("--deg", action="store_true", help="--q is in degrees")
+    run.add_argument("--tau-max", type=_floats, help="[N m], default: the robot's own")
+    run.add_argument("--tau-min", type=_floats, help="[N m], default -tau-max (or the robot's own)")
+    aim = run.add_mutually_exclusive_group()
+    aim.add_argument(
         "--direction",
         type=_floats,
         default=None,
-        help="unit task direction, default the first task axis (x); write "
-        "--direction=-0.5,0.866 for a leading '-'",
+        help="unit task direction, default the first task axis (x)",
+    )
+    aim.add_argument(
+        "--angle",
+        type=_floats,
+        default=None,
+        help="2-D tasks: the direction as an angle from the first axis [deg]",
+    )
+    run.add_argument(
+        "--normalize", action="store_true", help="scale --direction to unit length (said)"
     )
     run.add_argument(
         "--inverse-at", choices=("lo", "hi"), default="hi", help="end of the new interval"
@@ -106,28 +147,81 @@ def _robot(name: str, tau_max: list[float] | None, tau_min: list[float] | None) 
         if model.tau_max is None or model.tau_min is None:
             raise InputError("--tau-max", "torque limits for this robot", "none given")
         robot = Robot(model, model.tau_max, model.tau_min)
-    if tau_max is None:
+    if tau_max is None and tau_min is None:
         return robot
-    upper, lower = check_torque_limits(tau_max, tau_min, robot.model.n)
+    # --tau-min alone keeps the robot's own upper limits
+    upper, lower = check_torque_limits(
+        robot.tau_max if tau_max is None else tau_max, tau_min, robot.model.n
+    )
     return Robot(robot.model, upper, lower)
 
 
-def _analyze(args: argparse.Namespace) -> None:
+def _configuration(args: argparse.Namespace, robot: Robot) -> NDArray[np.float64]:
+    """``--q`` in radians: the paper's posture by default for its arm, else required."""
+    if args.q is None:
+        if args.robot != "chiacchio2000":
+            n = robot.model.n
+            raise InputError(
+                "--q",
+                f"{n} joint angles for {args.robot}",
+                "none",
+                f"e.g. --q {','.join(['0'] * n)} (radians; --deg for degrees).",
+            )
+        return np.array(_floats(PAPER_Q))
+    q = np.asarray(args.q, dtype=float)
+    return np.deg2rad(q) if args.deg else q
+
+
+def _direction(args: argparse.Namespace, m: int) -> tuple[NDArray[np.float64], str, list[str]]:
+    """The direction of the limits, its label, and notes on what was done to it."""
+    if args.angle is not None:
+        if m != 2 or len(args.angle) != 1:
+            raise InputError("--angle", "one angle [deg] for a 2-D task", f"{args.angle}, m = {m}")
+        angle = np.deg2rad(args.angle[0])
+        return np.array([np.cos(angle), np.sin(angle)]), "t", []
+    if args.direction is None:
+        return np.eye(m)[0], "x", []
+    direction = check_points("--direction", args.direction, m)
+    norm = float(np.linalg.norm(direction))
+    if not args.normalize and abs(norm - 1.0) > DIRECTION_NORM_RTOL:
+        raise InputError(
+            "--direction",
+            "a unit vector",
+            f"{args.direction} of norm {norm:.6g}",
+            "add --normalize to scale it to unit length, or give --angle DEG (2-D tasks).",
+        )
+    if norm == 0 or abs(norm - 1.0) <= 1e-12:
+        return check_directions("--direction", direction, m), "t", []  # or an InputError
+    unit = direction / norm
+    return unit, "t", [f"--direction normalised to {np.round(unit, 6).tolist()}"]
+
+
+def _analyze(args: argparse.Namespace) -> list[str]:
+    """Print the analysis and return notes for standard error.
+
+    Nothing is printed before everything has been computed: an error never follows a
+    partial result.
+    """
     robot = _robot(args.robot, args.tau_max, args.tau_min)
-    analysis = analyze(robot.model.dynamics(args.q), robot.tau_max, robot.tau_min)
-    m = analysis.dynamics.m
-    direction = np.eye(m)[0] if args.direction is None else np.asarray(args.direction)
+    q = _configuration(args, robot)
+    analysis = analyze(robot.model.dynamics(q), robot.tau_max, robot.tau_min)
+    direction, label, notes = _direction(args, analysis.dynamics.m)
     comparison = compare(analysis, mvie=not args.no_mvie)
     if args.json:
-        result = {"robot": args.robot, "q": list(args.q)}
+        result = {"robot": args.robot, "q": q.tolist()}
         result |= analysis_to_json(analysis, direction, comparison)
-        print(json.dumps(result, indent=2))
-        return
-    label = "x" if args.direction is None else "t"
-    print(f"{args.robot} at q = {np.round(args.q, 6).tolist()} rad")
-    print(format_analysis(analysis, direction, label, args.inverse_at))
-    print("\nScores against the polytope (pe.compare):\n")
-    print(comparison.to_markdown())
+        text = json.dumps(result, indent=2)
+    else:
+        text = "\n".join(
+            [
+                f"{args.robot} at q = {np.round(q, 6).tolist()} rad",
+                format_analysis(analysis, direction, label, args.inverse_at),
+                "\nScores against the polytope (pe.compare):\n",
+                comparison.to_markdown(),
+            ]
+        )
+    print(text)
+    return notes
 
 
 def _study(args: argparse.Namespace) -> None:
@@ -138,18 +232,24 @@ def _study(args: argparse.Namespace) -> None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
-    args = _parser().parse_args(argv)
+    args = _parser().parse_args(_join_list_options(sys.argv[1:] if argv is None else argv))
+    notes: list[str] = []
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", ProjectedInputWarning)
-            _analyze(args) if args.command == "analyze" else _study(args)
+            if args.command == "analyze":
+                notes = _analyze(args)
+            else:
+                _study(args)
     except PolyellError as exn:
         print(f"polyell: error: {exn}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # the reader left (polyell analyze | head): not an error
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     finally:  # rounded input that was projected: one note each, after the output
-        for note in dict.fromkeys(
-            str(w.message) for w in caught if issubclass(w.category, ProjectedInputWarning)
-        ):
+        notes += [str(w.message) for w in caught if issubclass(w.category, ProjectedInputWarning)]
+        for note in dict.fromkeys(notes):
             print(f"polyell: note: {note}", file=sys.stderr)
         for w in caught:
             if not issubclass(w.category, ProjectedInputWarning):

@@ -334,7 +334,7 @@ CLI = [
     (["analyze", "--tau-max", "1,0,1"], "tau_max: expected strictly positive"),
     (["analyze", "--robot", "kuka"], "name: expected one of"),
     (["analyze", "--robot", "missing.toml"], "an existing TOML file"),
-    (["analyze", "--direction", "1,1"], "unit direction vectors"),
+    (["analyze", "--direction", "1,1"], "add --normalize to scale it"),
     (["study", "missing.toml", "--out", "x"], "an existing TOML file"),
 ]
 

@@ -10,7 +10,6 @@ from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.stats import norm, qmc
 
 from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid
@@ -83,6 +82,8 @@ class Overlap(NamedTuple):
 
 def _uniform_in_ball(points: NDArray[np.float64]) -> NDArray[np.float64]:
     """Map points of (0, 1)^(r+1) to uniform points of the unit r-ball."""
+    from scipy.stats import norm  # here: scipy.stats takes half a second to import
+
     r = points.shape[1] - 1
     gaussian = norm.ppf(np.clip(points[:, :r], 1e-12, 1 - 1e-12))
     directions = gaussian / np.linalg.norm(gaussian, axis=1, keepdims=True)
@@ -122,6 +123,8 @@ def overlap(
         s = E.semi_axes[0]
         length = 0.0 if np.isnan(lo[0]) else max(0.0, min(hi[0], s) - max(lo[0], -s))
         return Overlap(length / P.volume, 1.0 - length / (2.0 * s), 0.0, 0.0)
+    from scipy.stats import qmc
+
     rng = np.random.default_rng(seed)
     shares = np.empty(replicates)
     for k in range(replicates):

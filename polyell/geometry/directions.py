@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.stats import norm, qmc
 
 from polyell.errors import InputError
 from polyell.geometry.subspace import AffineSubspace
@@ -57,6 +56,8 @@ def sphere_directions(k: int, r: int) -> NDArray[np.float64]:
         return np.column_stack(
             [radius * np.cos(i * _GOLDEN_ANGLE), radius * np.sin(i * _GOLDEN_ANGLE), z]
         )
+    from scipy.stats import norm, qmc  # here: scipy.stats takes half a second to import
+
     # The first k points of the sequence, drawn as a power of two (the size at which
     # scipy's Sobol' generator keeps its balance and issues no warning).
     exponent = max(0, int(k - 1).bit_length())

@@ -13,7 +13,6 @@ normalized torques, so they share nothing with the closed form built on the face
 
 from __future__ import annotations
 
-import cvxpy as cp
 import numpy as np
 from numpy.typing import NDArray
 
@@ -58,6 +57,8 @@ def polytope_limits_lp(
         If Clarabel returns anything but a certified optimum or infeasibility (an
         "inaccurate" status is not accepted as an answer).
     """
+    import cvxpy as cp  # here: cvxpy takes most of a second to import
+
     m, n = M.shape
     t = cp.Parameter(m)
     a = cp.Variable()

@@ -12,14 +12,6 @@ from polyell.comparison.comparison import SCORE_NAMES, compare
 from polyell.comparison.summary import format_summary_table, summarize
 from polyell.comparison.tables import ELLIPSOID_LABELS, format_scores_table
 from polyell.errors import InputError
-from polyell.figures import (
-    plot_directional_limits,
-    plot_score_histogram,
-    plot_score_map,
-    plot_sets,
-    plot_sets_3d,
-    save_figure,
-)
 from polyell.geometry.directions import default_direction_count
 from polyell.models.task import task_unit
 from polyell.report import format_analysis
@@ -45,6 +37,8 @@ def _prepare(out: str | Path) -> Path:
 
 
 def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
+    from polyell.figures import plot_directional_limits, plot_sets, plot_sets_3d, save_figure
+
     written: list[Path] = []
     numbers = [f"# {spec.title}: the numbers", ""]
     frames = []
@@ -118,6 +112,8 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
 
 
 def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | None) -> list[Path]:
+    from polyell.figures import plot_score_histogram, plot_score_map, save_figure
+
     model, configurations = spec.robot.model, spec.configurations()
     m = model.dynamics(configurations[0]).m
     dataset = sweep(  # a Parquet dataset in the study's folder: a killed study resumes
