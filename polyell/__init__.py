@@ -27,7 +27,7 @@ from polyell.geometry import (
     Polytope,
 )
 from polyell.models import Dynamics, Payload, PlanarArm, UrdfRobot
-from polyell.studies import grid, local_cluster, random_configurations, sweep
+from polyell.studies import grid, limits_along, local_cluster, random_configurations, sweep
 
 __version__ = "0.1.0"
 
@@ -61,6 +61,7 @@ __all__ = [
     "analyze",
     "compare",
     "grid",
+    "limits_along",
     "local_cluster",
     "random_configurations",
     "robots",

@@ -1,5 +1,6 @@
 """Scripted studies: TOML descriptions of robots and configurations, run to tables and figures."""
 
+from polyell.studies.along import limits_along
 from polyell.studies.cluster import local_cluster
 from polyell.studies.configurations import grid, random_configurations
 from polyell.studies.runner import run_study
@@ -9,6 +10,7 @@ from polyell.studies.sweep import sweep
 __all__ = [
     "StudySpec",
     "grid",
+    "limits_along",
     "load_robot_file",
     "load_study",
     "local_cluster",

@@ -1,0 +1,199 @@
+r"""Directional limits along a path: one direction per configuration, vectorised.
+
+A planner asks, for each configuration of a path and the path's tangent there, which
+accelerations along the tangent the arm can produce: the interval of the polytope (15) and
+of each ellipsoid (24).  :func:`limits_along` answers for a whole batch at once, equal row by
+row to ``analyze(dyn[k]).polytope.limits(t_k)`` and ``.ellipsoid(kind).limits(t_k)``.
+
+The ellipsoids are evaluated from triangular factors, never from their cores: with
+:math:`M^T = Q R` (QR), :math:`M^+ = Q R^{-T}`, so the new ellipsoid
+:math:`\{x : \|M^+ (x - \ddot x_g)\| \le 1\}` gives :math:`p = R^{-T} t`; the classic one,
+:math:`\{x : \|F (x - \ddot x_g)\| \le 1\}` with :math:`F = L^{-1} B J^+` and
+:math:`J^+ = Q_J R_J^{-T}`, gives :math:`p = F t`.  Configurations at or near a singular
+one (within the sweep's rank band) take the per-configuration path.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from polyell.analysis import ELLIPSOID_KINDS, analyze
+from polyell.errors import InputError, UndefinedEllipsoidError
+from polyell.geometry.convex_set import ATOL_RELATIVE
+from polyell.geometry.limits import DirectionalLimits
+from polyell.geometry.subspace import RANK_RTOL
+from polyell.models.dynamics import Dynamics
+from polyell.studies.batch import RANK_BAND, _facets, block_size
+from polyell.validation import check_array, check_directions, check_magnitudes, check_torque_limits
+
+__all__ = ["limits_along"]
+
+Array = NDArray[np.float64]
+SETS = ("polytope", *ELLIPSOID_KINDS)
+
+
+def limits_along(
+    source: Any,
+    configurations: ArrayLike | None,
+    directions: ArrayLike,
+    tau_max: ArrayLike | None = None,
+    tau_min: ArrayLike | None = None,
+    *,
+    rank_rtol: float = RANK_RTOL,
+) -> dict[str, DirectionalLimits]:
+    """Achievable accelerations along one unit direction per configuration.
+
+    Parameters
+    ----------
+    source : robot or Dynamics
+        A robot (``PlanarArm``, ``UrdfRobot``) with ``configurations``, or a batched
+        :class:`~polyell.Dynamics` (then ``configurations`` is None).
+    configurations : array-like, shape (K, n), or None
+        Joint configurations [rad].
+    directions : array-like, shape (K, m)
+        One unit task direction per configuration (e.g. a path's tangents).
+    tau_max, tau_min : array-like, shape (n,), optional
+        Torque limits; default the robot's own.
+    rank_rtol : float, optional
+        As in :func:`polyell.analyze`.
+
+    Returns
+    -------
+    dict of str to DirectionalLimits
+        ``"polytope"``, ``"chiacchio"`` and ``"yoshikawa"``: ``(lo, hi)`` of shape (K,),
+        NaN where the line misses the set (and for the classic ellipsoid where it is
+        undefined, at singular configurations).
+
+    Examples
+    --------
+    >>> import numpy as np, polyell as pe
+    >>> arm = pe.robots.load("chiacchio2000")
+    >>> q = [[np.pi / 2, -np.pi / 2, -np.pi / 2], [0.3, 0.2, 0.1]]
+    >>> out = pe.limits_along(arm, q, [[1.0, 0.0], [0.0, 1.0]])
+    >>> np.round(out["polytope"].hi, 3)
+    array([53.7  , 13.034])
+    """
+    dyn, upper, lower = _inputs(source, configurations, tau_max, tau_min)
+    T = check_directions("directions", directions, dyn.m)
+    if T.ndim != 2 or len(T) != len(dyn):
+        raise InputError(
+            "directions",
+            f"one unit direction per configuration, shape ({len(dyn)}, {dyn.m})",
+            f"shape {T.shape}",
+        )
+    lo = {name: np.full(len(dyn), np.nan) for name in SETS}
+    hi = {name: np.full(len(dyn), np.nan) for name in SETS}
+    size = block_size(dyn.m, dyn.n)
+    for start in range(0, len(dyn), size):
+        rows = slice(start, start + size)
+        scalar = _block(dyn[rows], upper, lower, T[rows], rank_rtol, lo, hi, start)
+        for k in np.flatnonzero(scalar) + start:  # (near-)singular: the exact path
+            analysis = analyze(dyn[int(k)], upper, lower, rank_rtol=rank_rtol)
+            lo["polytope"][k], hi["polytope"][k] = analysis.polytope.limits(T[k])
+            for kind in ELLIPSOID_KINDS:
+                try:
+                    lo[kind][k], hi[kind][k] = analysis.ellipsoid(kind).limits(T[k])
+                except UndefinedEllipsoidError:
+                    lo[kind][k] = hi[kind][k] = np.nan
+    return {name: DirectionalLimits(lo[name], hi[name]) for name in SETS}
+
+
+def _inputs(
+    source: Any, configurations: ArrayLike | None, tau_max: Any, tau_min: Any
+) -> tuple[Dynamics, Array, Array]:
+    """The batched dynamics and the checked torque limits."""
+    if isinstance(source, Dynamics):
+        if source.batch_size is None or configurations is not None:
+            raise InputError(
+                "source",
+                "a batched Dynamics without configurations, or a robot with them",
+                "a single Dynamics" if source.batch_size is None else "both",
+            )
+        dyn = source
+    elif hasattr(source, "dynamics"):
+        if configurations is None:
+            raise InputError("configurations", "a (K, n) array of joint angles", "None")
+        q = check_array("configurations", configurations, ("K", source.n))
+        if len(q) == 0:
+            raise InputError("configurations", "at least one configuration", "none")
+        dyn = source.dynamics(q)
+    else:
+        raise InputError("source", "a robot or a batched pe.Dynamics", type(source).__name__)
+    if tau_max is None:
+        tau_max, tau_min = getattr(source, "tau_max", None), getattr(source, "tau_min", None)
+        if tau_max is None:
+            raise InputError("tau_max", "torque limits (the source has none of its own)", "None")
+    upper, lower = check_torque_limits(tau_max, tau_min, dyn.n)
+    return dyn, upper, lower
+
+
+def _block(
+    dyn: Dynamics,
+    upper: Array,
+    lower: Array,
+    T: Array,
+    rank_rtol: float,
+    lo: dict[str, Array],
+    hi: dict[str, Array],
+    start: int,
+) -> NDArray[np.bool_]:
+    """Fill the full-rank rows of one block; return the rows left to the exact path."""
+    J, B = dyn.J, dyn.B
+    K, m, n = J.shape
+    half = 0.5 * (upper - lower)
+    Binv_Jt = np.linalg.solve(B, np.swapaxes(J, -1, -2))  # (K, n, m)
+    M = np.swapaxes(Binv_Jt, -1, -2) * half
+    xg = dyn.xdd_bias - np.einsum("knm,kn->km", Binv_Jt, dyn.g - 0.5 * (upper + lower))
+    check_magnitudes(M, xg)
+    s = np.linalg.svd(M, compute_uv=False)
+    scalar = ~(s[:, -1] > rank_rtol * (1.0 + RANK_BAND) * s[:, 0]) if m <= n else np.ones(K, bool)
+    ok = np.flatnonzero(~scalar)
+    if ok.size == 0:
+        return scalar
+    J, B, M, xg, T = J[ok], B[ok], M[ok], xg[ok], T[ok]
+    rows = ok + start
+    # The polytope: each facet pair +-a bounds a.(lambda t) to [a.xg - h, a.xg + h].
+    normals, h = _facets(M)
+    slope = np.einsum("kcm,km->kc", normals, T)
+    centre = np.einsum("kcm,km->kc", normals, xg)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ends = np.stack([(centre - h) / slope, (centre + h) / slope])  # (2, K, C)
+    parallel = slope == 0  # no bound, or an empty line if the origin is beyond the pair
+    lower_end = np.where(parallel, np.where(np.abs(centre) <= h, -np.inf, np.inf), ends.min(0))
+    upper_end = np.where(parallel, np.where(np.abs(centre) <= h, np.inf, -np.inf), ends.max(0))
+    a, b = lower_end.max(axis=1), upper_end.min(axis=1)
+    atol = ATOL_RELATIVE * np.maximum(
+        np.linalg.norm(M, axis=1).sum(axis=-1), np.linalg.norm(xg, axis=-1)
+    )
+    grazing = (a > b) & (a - b <= atol)
+    a, b = np.where(grazing, 0.5 * (a + b), a), np.where(grazing, 0.5 * (a + b), b)
+    empty = a > b
+    lo["polytope"][rows], hi["polytope"][rows] = (
+        np.where(empty, np.nan, a),
+        np.where(empty, np.nan, b),
+    )
+    # The new ellipsoid: M^+ = Q R^-T with M^T = Q R, so |M^+ y| = |R^-T y|.
+    pair = np.stack([T, xg], axis=-1)  # (K, m, 2): the direction and the centre
+    _, R = np.linalg.qr(np.swapaxes(M, -1, -2))
+    p, w = np.moveaxis(np.linalg.solve(np.swapaxes(R, -1, -2), pair), -1, 0)
+    lo["chiacchio"][rows], hi["chiacchio"][rows] = _ellipse_interval(p, w)
+    # The classic one: |F (x - xg)| <= 1, F = L^-1 B J^+ and J^+ = Q_J R_J^-T.
+    Q_J, R_J = np.linalg.qr(np.swapaxes(J, -1, -2))
+    F_pair = ((B @ Q_J) / half[:, None]) @ np.linalg.solve(np.swapaxes(R_J, -1, -2), pair)
+    p, w = np.moveaxis(F_pair, -1, 0)
+    lo["yoshikawa"][rows], hi["yoshikawa"][rows] = _ellipse_interval(p, w)
+    return scalar
+
+
+def _ellipse_interval(p: Array, w: Array) -> tuple[Array, Array]:
+    """``{a : |a p - w| <= 1}`` for rows of p and w (K, d), as in eq. (24) from factors."""
+    length = np.sqrt((p * p).sum(axis=1))
+    p_hat = p / length[:, None]
+    along = (p_hat * w).sum(axis=1)
+    across = w - along[:, None] * p_hat
+    discriminant = 1.0 - (across * across).sum(axis=1)
+    root = np.sqrt(np.where(discriminant >= 0, discriminant, np.nan))
+    return (along - root) / length, (along + root) / length
