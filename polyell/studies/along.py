@@ -86,7 +86,7 @@ def limits_along(
         )
     lo = {name: np.full(len(dyn), np.nan) for name in SETS}
     hi = {name: np.full(len(dyn), np.nan) for name in SETS}
-    size = block_size(dyn.m, dyn.n)
+    size = 8 * block_size(dyn.m, dyn.n)  # no (rows, facets, directions) arrays here
     for start in range(0, len(dyn), size):
         rows = slice(start, start + size)
         scalar = _block(dyn[rows], upper, lower, T[rows], rank_rtol, lo, hi, start)
@@ -148,12 +148,13 @@ def _block(
     M = np.swapaxes(Binv_Jt, -1, -2) * half
     xg = dyn.xdd_bias - np.einsum("knm,kn->km", Binv_Jt, dyn.g - 0.5 * (upper + lower))
     check_magnitudes(M, xg)
-    s = np.linalg.svd(M, compute_uv=False)
+    R = np.linalg.qr(np.swapaxes(M, -1, -2), mode="r")  # M^T = Q R: M's singular values
+    s = np.linalg.svd(R, compute_uv=False)
     scalar = ~(s[:, -1] > rank_rtol * (1.0 + RANK_BAND) * s[:, 0]) if m <= n else np.ones(K, bool)
     ok = np.flatnonzero(~scalar)
     if ok.size == 0:
         return scalar
-    J, B, M, xg, T = J[ok], B[ok], M[ok], xg[ok], T[ok]
+    J, B, M, R, xg, T = J[ok], B[ok], M[ok], R[ok], xg[ok], T[ok]
     rows = ok + start
     # The polytope: each facet pair +-a bounds a.(lambda t) to [a.xg - h, a.xg + h].
     normals, h = _facets(M)
@@ -177,7 +178,6 @@ def _block(
     )
     # The new ellipsoid: M^+ = Q R^-T with M^T = Q R, so |M^+ y| = |R^-T y|.
     pair = np.stack([T, xg], axis=-1)  # (K, m, 2): the direction and the centre
-    _, R = np.linalg.qr(np.swapaxes(M, -1, -2))
     p, w = np.moveaxis(np.linalg.solve(np.swapaxes(R, -1, -2), pair), -1, 0)
     lo["chiacchio"][rows], hi["chiacchio"][rows] = _ellipse_interval(p, w)
     # The classic one: |F (x - xg)| <= 1, F = L^-1 B J^+ and J^+ = Q_J R_J^-T.
