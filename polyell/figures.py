@@ -32,8 +32,10 @@ __all__ = [
     "plot_directional_limits",
     "plot_score_histogram",
     "plot_score_map",
+    "plot_score_series",
     "plot_sets",
     "plot_sets_3d",
+    "plot_tangent_limits",
     "save_figure",
 ]
 
@@ -332,6 +334,75 @@ def plot_score_histogram(
     ax.legend(fontsize="small")
     if title:
         ax.set_title(title, fontsize="medium")
+    return figure
+
+
+def plot_score_series(
+    results: pd.DataFrame,
+    score: str,
+    *,
+    kinds: Sequence[str] = ("chiacchio", "yoshikawa", "mvie"),
+    title: str | None = None,
+) -> Figure:
+    """One score of each candidate along a trajectory (against ``t``, or the sample index).
+
+    Parameters
+    ----------
+    results : DataFrame
+        One row per sample with ``<kind>_<score>`` columns (and ``t`` if the trajectory
+        has time).
+    score : str
+        A score name, e.g. ``"coverage"``.
+    kinds : sequence of str
+        Candidates to draw, those with columns in ``results``.
+    """
+    present = [kind for kind in kinds if f"{kind}_{score}" in results]
+    if not present:
+        raise InputError(
+            "score", f"a score with columns in the results, e.g. {list(results)[:4]}", repr(score)
+        )
+    x = results["t"] if "t" in results else results["configuration"]
+    figure = Figure(figsize=(6.0, 3.2), layout="constrained")
+    ax = figure.add_subplot()
+    for kind in present:
+        style = _style(kind)
+        ax.plot(
+            x,
+            results[f"{kind}_{score}"],
+            color=str(style["color"]),
+            linestyle=style["linestyle"],
+            label=style["label"],
+        )
+    ax.set_xlabel("t [s]" if "t" in results else "sample")
+    ax.set_ylabel(score.replace("_", " "))
+    ax.grid(True, color="0.9", linewidth=0.6)
+    ax.legend(fontsize="small")
+    if title:
+        ax.set_title(title, fontsize="medium")
+    return figure
+
+
+def plot_tangent_limits(results: pd.DataFrame, *, unit: str = "m/s$^2$") -> Figure:
+    """The achievable accelerations along the path's tangent: each set's interval over time."""
+    x = results["t"] if "t" in results else results["configuration"]
+    figure = Figure(figsize=(6.0, 3.4), layout="constrained")
+    ax = figure.add_subplot()
+    for name in ("polytope", "chiacchio", "yoshikawa"):
+        if f"tangent_{name}_hi" not in results:
+            continue
+        style = _style(name)
+        for end in ("lo", "hi"):
+            ax.plot(
+                x,
+                results[f"tangent_{name}_{end}"],
+                color=str(style["color"]),
+                linestyle=style["linestyle"],
+                label=style["label"] if end == "hi" else None,
+            )
+    ax.axhline(0.0, color="0.6", linewidth=0.6)
+    ax.set_xlabel("t [s]" if "t" in results else "sample")
+    ax.set_ylabel(f"along the tangent [{unit}]")
+    ax.legend(fontsize="small")
     return figure
 
 

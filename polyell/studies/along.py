@@ -148,7 +148,7 @@ def _block(
     M = np.swapaxes(Binv_Jt, -1, -2) * half
     xg = dyn.xdd_bias - np.einsum("knm,kn->km", Binv_Jt, dyn.g - 0.5 * (upper + lower))
     check_magnitudes(M, xg)
-    R = np.linalg.qr(np.swapaxes(M, -1, -2), mode="r")  # M^T = Q R: M's singular values
+    R: Array = np.asarray(np.linalg.qr(np.swapaxes(M, -1, -2), mode="r"))  # M^T = Q R
     s = np.linalg.svd(R, compute_uv=False)
     scalar = ~(s[:, -1] > rank_rtol * (1.0 + RANK_BAND) * s[:, 0]) if m <= n else np.ones(K, bool)
     ok = np.flatnonzero(~scalar)

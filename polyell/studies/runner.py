@@ -18,6 +18,7 @@ from polyell.report import format_analysis
 from polyell.storage import write_text_atomically
 from polyell.studies.spec import StudySpec
 from polyell.studies.sweep import DEFAULT_SCORES, sweep
+from polyell.studies.trajectory import tangent_limits
 
 __all__ = ["run_study"]
 
@@ -112,10 +113,18 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
 
 
 def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | None) -> list[Path]:
-    from polyell.figures import plot_score_histogram, plot_score_map, save_figure
+    from polyell.figures import (
+        plot_score_histogram,
+        plot_score_map,
+        plot_score_series,
+        plot_tangent_limits,
+        save_figure,
+    )
 
-    model, configurations = spec.robot.model, spec.configurations()
-    m = model.dynamics(configurations[0]).m
+    model = spec.robot.model
+    configurations = spec.trajectory if spec.trajectory is not None else spec.configurations()
+    first = model.dynamics(spec.configurations()[0])
+    m = first.m
     dataset = sweep(  # a Parquet dataset in the study's folder: a killed study resumes
         model,
         configurations,
@@ -130,6 +139,11 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
         out=folder / "results",
     )
     results = pd.read_parquet(dataset).sort_values("configuration").reset_index(drop=True)
+    tangent = spec.trajectory is not None and spec.trajectory.qd is not None
+    if tangent:  # the accelerations along the path, where the arm moves
+        assert spec.trajectory is not None
+        limits = tangent_limits(model, spec.trajectory, spec.robot.tau_max, spec.robot.tau_min)
+        results = results.assign(**limits)
     written = [write_text_atomically(folder / "results.csv", results.to_csv(index=False))]
     summary = summarize(results)
     caption = f"{spec.title}: scores over {len(results)} configurations."
@@ -164,6 +178,12 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
             title=f"{ELLIPSOID_LABELS[kind]}: {score.replace('_', ' ')}",
         )
         written += save_figure(figure, folder / f"map_{name}", spec.formats, spec.dpi)
+    for score in spec.series:
+        figure = plot_score_series(results, score, title=spec.title)
+        written += save_figure(figure, folder / f"series_{score}", spec.formats, spec.dpi)
+    if tangent:
+        figure = plot_tangent_limits(results, unit=task_unit(first.task, tex=True))
+        written += save_figure(figure, folder / "tangent_limits", spec.formats, spec.dpi)
     for score in spec.histograms:
         figure = plot_score_histogram(results, score, title=f"{spec.title}")
         written += save_figure(figure, folder / f"histogram_{score}", spec.formats, spec.dpi)

@@ -18,6 +18,9 @@ A study file::
     q1 = "pi/2"
     q2 = { start = "-pi", stop = "pi", num = 41 }
 
+    [trajectory]                 # ... or a path from a file: columns q1..qn, optionally
+    file = "path.csv"            # qd1..qdn and t (CSV, Parquet, .npy or .npz)
+
     [random]                     # ... or seeded uniform samples within the joint limits
     count = 300
     seed = 1
@@ -36,6 +39,7 @@ A study file::
     dpi = 300
     maps = ["chiacchio_coverage"]    # heat maps of a grid study (<ellipsoid>_<score>)
     histograms = ["coverage"]        # per score, both ellipsoids (grid or random study)
+    series = ["coverage"]            # scores along a trajectory, each candidate
 
 Numbers may be written as expressions: ``"pi/2"``, ``"sqrt(3)/2"``.
 """
@@ -58,6 +62,7 @@ from polyell.errors import InputError
 from polyell.expressions import evaluate, evaluate_list
 from polyell.models.planar_arm import PlanarArm
 from polyell.models.urdf import Payload, UrdfRobot
+from polyell.studies.trajectory import Trajectory, load_trajectory
 from polyell.validation import MAX_DIRECTIONS, check_array, check_integer, check_torque_limits
 
 if sys.version_info >= (3, 11):
@@ -75,7 +80,18 @@ __all__ = [
     "robot_from_table",
 ]
 
-_TOP_KEYS = ("title", "description", "robot", "points", "grid", "random", "compare", "output")
+_TOP_KEYS = (
+    "title",
+    "description",
+    "robot",
+    "points",
+    "grid",
+    "random",
+    "trajectory",
+    "compare",
+    "output",
+)
+_TRAJECTORY_KEYS = ("file",)
 _RANDOM_KEYS = ("count", "seed", "low", "high")
 _ROBOT_KEYS = (
     "library",
@@ -95,7 +111,7 @@ _PLANAR_KEYS = ("lengths", "masses", "com", "inertia", "gravity")
 _POINT_KEYS = ("name", "q", "direction", "inverse_at", "title")
 _RANGE_KEYS = ("start", "stop", "num")
 _COMPARE_KEYS = ("directions", "mvie", "samples", "seed", "chunk")
-_OUTPUT_KEYS = ("formats", "dpi", "maps", "histograms")
+_OUTPUT_KEYS = ("formats", "dpi", "maps", "histograms", "series")
 _FORMATS = ("pdf", "png", "svg")
 
 
@@ -315,6 +331,7 @@ class StudySpec:
     points: tuple[Point, ...] = ()
     grid: tuple[GridAxis, ...] = ()
     samples_q: NDArray[np.float64] | None = None
+    trajectory: Trajectory | None = None
     directions: int | None = None
     mvie: bool = True
     samples: int = 2**13
@@ -324,6 +341,7 @@ class StudySpec:
     dpi: int = 300
     maps: tuple[str, ...] = field(default_factory=tuple)
     histograms: tuple[str, ...] = field(default_factory=tuple)
+    series: tuple[str, ...] = field(default_factory=tuple)
 
     @property
     def is_grid(self) -> bool:
@@ -332,11 +350,13 @@ class StudySpec:
 
     @property
     def is_batch(self) -> bool:
-        """True for many configurations (a grid or random samples), False for points."""
-        return bool(self.grid) or self.samples_q is not None
+        """True for many configurations (a grid, random samples or a trajectory)."""
+        return bool(self.grid) or self.samples_q is not None or self.trajectory is not None
 
     def configurations(self) -> NDArray[np.float64]:
-        """All configurations of a grid (the last joint varying fastest) or random study."""
+        """All configurations: a grid's (the last joint fastest), random or a trajectory's."""
+        if self.trajectory is not None:
+            return self.trajectory.q
         if self.samples_q is not None:
             return self.samples_q
         mesh = np.meshgrid(*[axis.values for axis in self.grid], indexing="ij")
@@ -436,12 +456,19 @@ def load_study(path: str | Path) -> StudySpec:
         raise InputError(Path(path).name, "a [robot] table", "none")
     robot = robot_from_table(data["robot"], folder=Path(path).parent)
     n = robot.model.n
-    if sum(key in data for key in ("points", "grid", "random")) != 1:
+    if sum(key in data for key in ("points", "grid", "random", "trajectory")) != 1:
         raise InputError(
             Path(path).name,
-            "exactly one of [[points]], [grid] and [random]",
+            "exactly one of [[points]], [grid], [random] and [trajectory]",
             f"keys {sorted(data)}",
         )
+    trajectory = None
+    if "trajectory" in data:
+        table = _check_keys("trajectory", data["trajectory"], _TRAJECTORY_KEYS)
+        if "file" not in table:
+            raise InputError("trajectory", "a 'file' (CSV, Parquet, .npy or .npz)", "no file key")
+        file = Path(_string("trajectory.file", table["file"]))
+        trajectory = load_trajectory(file if file.is_absolute() else Path(path).parent / file, n)
     points = tuple(_point(t, i, n) for i, t in enumerate(_list("points", data.get("points", []))))
     names = [point.name for point in points]
     if len(set(names)) != len(names):
@@ -477,6 +504,13 @@ def load_study(path: str | Path) -> StudySpec:
             )
     if histograms and "points" in data:
         raise InputError("output.histograms", "a grid or random study", "a study of points")
+    default_series = ["coverage", "inscribed_scale"] if trajectory is not None else []
+    series = _strings("output.series", output.get("series", default_series))
+    for name in series:
+        if name not in SCORE_NAMES:
+            raise InputError("output.series", f"score names among {list(SCORE_NAMES)}", repr(name))
+    if series and trajectory is None:
+        raise InputError("output.series", "a [trajectory] study", "another kind of study")
     return StudySpec(
         path=Path(path),
         title=_string("title", data.get("title", Path(path).stem)),
@@ -485,6 +519,7 @@ def load_study(path: str | Path) -> StudySpec:
         points=points,
         grid=grid,
         samples_q=samples_q,
+        trajectory=trajectory,
         directions=(
             check_integer("compare.directions", compare["directions"], 1, MAX_DIRECTIONS)
             if "directions" in compare
@@ -498,4 +533,5 @@ def load_study(path: str | Path) -> StudySpec:
         dpi=check_integer("output.dpi", output.get("dpi", 300), 10, 2400),
         maps=maps,
         histograms=histograms,
+        series=series,
     )

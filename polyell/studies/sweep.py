@@ -41,6 +41,7 @@ from polyell.storage import (
 from polyell.studies.batch import batch_rows
 from polyell.studies.cluster import local_cluster
 from polyell.studies.configurations import ConfigurationSet
+from polyell.studies.trajectory import Trajectory
 from polyell.validation import (
     check_array,
     check_directions,
@@ -96,6 +97,8 @@ class _Job:
             for name, column in _scalar_rows(dyn, scalar, self).items():
                 values[name][scalar] = column[scalar]
         frame = pd.DataFrame({"configuration": np.arange(start, start + len(dyn))})
+        if isinstance(self.configurations, Trajectory) and self.configurations.t is not None:
+            frame["t"] = self.configurations.t[start:stop]
         if q is not None:
             frame = frame.join(pd.DataFrame(q, columns=[f"q{i + 1}" for i in range(q.shape[1])]))
         return frame.join(pd.DataFrame({name: values[name] for name in self.columns}))

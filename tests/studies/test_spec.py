@@ -37,6 +37,9 @@ def test_the_shipped_studies_parse():
     sweep = load_study(REPO / "studies" / "planar3r_sweep.toml")
     assert sweep.is_grid and sweep.configurations().shape == (61 * 61, 3)
     assert sweep.mvie and "chiacchio_mvie_ratio" in sweep.maps  # batched MVIE: cheap now
+    path = load_study(REPO / "studies" / "planar3r_path.toml")
+    assert path.trajectory is not None and path.trajectory.qd is not None
+    assert len(path.trajectory) == 81 and path.series
 
 
 def test_planar_robot_table_and_expressions(tmp_path):
@@ -76,7 +79,10 @@ def test_robot_file(tmp_path):
         (POINTS + "[output]\nformats = ['jpg']\n", "output.formats: expected a list among"),
         (POINTS + "[output]\nmaps = ['chiacchio_coverage']\n", "output.maps: expected a grid"),
         (POINTS + "[output]\nmaps = ['coverage']\n", "output.maps: expected names"),
-        (POINTS + "[grid]\nq1 = 0\n", "exactly one of [[points]], [grid] and [random]"),
+        (
+            POINTS + "[grid]\nq1 = 0\n",
+            "exactly one of [[points]], [grid], [random] and [trajectory]",
+        ),
         ("[robot]\nplanar = { lengths = [1] }\n[grid]\nq1 = 0\n", "a 'masses' list"),
         ("[robot]\nplanar = { lengths = [1], masses = [1] }\n[grid]\nq1 = 0\n", "torque limits"),
         ("[robot]\nlibrary = 'chiacchio2000'\n[grid]\nq1 = 0\nq2 = 0\n", "for every joint"),
