@@ -12,6 +12,7 @@ import os
 import sys
 import warnings
 from collections.abc import Sequence
+from pathlib import Path
 from typing import NoReturn
 
 import numpy as np
@@ -35,6 +36,14 @@ from polyell.validation import (
 __all__ = ["main"]
 
 PAPER_Q = "pi/2,-pi/2,-pi/2"
+#: The outputs a study's summary points to, with what they hold.
+MAIN_OUTPUTS = {
+    "numbers.md": "every number of each configuration (sets, limits, inverse maps)",
+    "comparison.md": "the scores of each ellipsoid (also .tex, .csv)",
+    "summary.md": "the scores' statistics over all configurations (also .tex, .csv)",
+    "results.csv": "one row of scores per configuration",
+    "manifest.json": "every file written",
+}
 #: Options whose value is a list of numbers, which may start with '-' (--q -pi/2,0,0).
 _LIST_OPTIONS = ("--q", "--tau-max", "--tau-min", "--direction")
 
@@ -209,7 +218,7 @@ def _analyze(args: argparse.Namespace) -> list[str]:
     comparison = compare(analysis, mvie=not args.no_mvie)
     if args.json:
         result = {"robot": args.robot, "q": q.tolist()}
-        result |= analysis_to_json(analysis, direction, comparison)
+        result |= analysis_to_json(analysis, direction, comparison, args.inverse_at)
         text = json.dumps(result, indent=2)
     else:
         text = "\n".join(
@@ -227,7 +236,11 @@ def _analyze(args: argparse.Namespace) -> list[str]:
 def _study(args: argparse.Namespace) -> None:
     spec = load_study(args.spec)
     written = run_study(spec, args.out, progress=not args.quiet, scheduler=args.scheduler)
+    names = {path.name for path in written}
+    main_files = [name for name in MAIN_OUTPUTS if name in names]
     print(f"{spec.title}: wrote {len(written)} files to {args.out}")
+    for name in main_files:
+        print(f"  {Path(args.out) / name}: {MAIN_OUTPUTS[name]}")
 
 
 def main(argv: Sequence[str] | None = None) -> int:

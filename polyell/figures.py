@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 from scipy.spatial import ConvexHull
 
 from polyell.analysis import Analysis
-from polyell.comparison.tables import ELLIPSOID_LABELS
+from polyell.comparison.tables import ELLIPSOID_LABELS, score_display
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.directions import sphere_directions
 from polyell.geometry.ellipsoid import Ellipsoid
@@ -130,10 +130,20 @@ def plot_sets(
     vertices = P.vertices if P.dim < 2 else np.vstack([P.vertices, P.vertices[:1]])
     # Segments (a singular configuration) lie on one line: the polytope is drawn wide and
     # light underneath, and every set marks its end points so that each stays readable.
-    segment = {"color": "0.75", "linewidth": 7.0, "marker": "s"} if P.dim < 2 else {}
+    # Segments (a singular configuration) share one line: layered solid strokes of
+    # decreasing width, each with its own end marks, so every set stays readable and the
+    # legend shows each stroke as drawn.
+    segment: dict[str, object] = {}
+    if P.dim < 2:
+        segment = {"color": "0.8", "linewidth": 9.0, "linestyle": "-"}
+        segment |= {"solid_capstyle": "butt", "marker": "s", "markersize": 9}
     ax.plot(*vertices.T, **(_style("polytope") | segment))  # type: ignore[arg-type]
+    widths = {"chiacchio": 3.2, "yoshikawa": 2.0, "mvie": 1.3}
     for kind, E in _ellipsoids(analysis, kinds, mvie).items():
-        ends = {"marker": "|", "markersize": 14} if E.rank < 2 else {}
+        ends: dict[str, object] = {}
+        if E.rank < 2:
+            ends = {"marker": "|", "markersize": 16, "markeredgewidth": 1.6}
+            ends |= {"linewidth": widths.get(kind, 1.3), "solid_capstyle": "butt"}
         ax.plot(*_ellipse_points(E).T, **(_style(kind) | ends))  # type: ignore[arg-type]
     ax.plot(
         *analysis.xg,
@@ -263,6 +273,7 @@ def plot_score_map(
     ylabel: str,
     label: str,
     title: str | None = None,
+    limits: tuple[float, float] | None = None,
 ) -> Figure:
     """Heat map of a score over a 2-D grid of configurations.
 
@@ -275,10 +286,16 @@ def plot_score_map(
         Grid coordinates.
     xlabel, ylabel, label : str
         Axis and colour-bar labels.
+    limits : (float, float), optional
+        The colour scale's range; give maps of one score the same one, so that their
+        colours compare.
     """
     figure = Figure(figsize=(5.0, 4.0), layout="constrained")
     ax = figure.add_subplot()
-    mesh = ax.pcolormesh(x, y, np.ma.masked_invalid(values), cmap="cividis", shading="nearest")
+    vmin, vmax = limits if limits is not None else (None, None)
+    mesh = ax.pcolormesh(
+        x, y, np.ma.masked_invalid(values), cmap="cividis", shading="nearest", vmin=vmin, vmax=vmax
+    )
     figure.colorbar(mesh, ax=ax, label=label)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
@@ -313,7 +330,8 @@ def plot_score_histogram(
         raise InputError(
             "score", f"a score with columns in the results, e.g. {list(results)[:4]}", repr(score)
         )
-    values = [results[f"{kind}_{score}"].to_numpy(dtype=float) for kind in present]
+    name, factor = score_display(score)
+    values = [factor * results[f"{kind}_{score}"].to_numpy(dtype=float) for kind in present]
     finite = [v[np.isfinite(v)] for v in values]
     edges = np.histogram_bin_edges(np.concatenate(finite), bins=bins).tolist()
     figure = Figure(figsize=(5.0, 3.6), layout="constrained")
@@ -329,7 +347,7 @@ def plot_score_histogram(
             linewidth=1.6,
             label=f"{style['label']} (median {np.median(data):.3g})",
         )
-    ax.set_xlabel(score.replace("_", " "))
+    ax.set_xlabel(name)
     ax.set_ylabel("configurations")
     ax.legend(fontsize="small")
     if title:
@@ -362,19 +380,20 @@ def plot_score_series(
             "score", f"a score with columns in the results, e.g. {list(results)[:4]}", repr(score)
         )
     x = results["t"] if "t" in results else results["configuration"]
+    name, factor = score_display(score)
     figure = Figure(figsize=(6.0, 3.2), layout="constrained")
     ax = figure.add_subplot()
     for kind in present:
         style = _style(kind)
         ax.plot(
             x,
-            results[f"{kind}_{score}"],
+            factor * results[f"{kind}_{score}"],
             color=str(style["color"]),
             linestyle=style["linestyle"],
             label=style["label"],
         )
     ax.set_xlabel("t [s]" if "t" in results else "sample")
-    ax.set_ylabel(score.replace("_", " "))
+    ax.set_ylabel(name)
     ax.grid(True, color="0.9", linewidth=0.6)
     ax.legend(fontsize="small")
     if title:

@@ -8,7 +8,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from polyell.analysis import ELLIPSOID_KINDS, Analysis
+from polyell.analysis import ELLIPSOID_KINDS, Analysis, InverseSolution
 from polyell.comparison import Comparison
 from polyell.errors import UndefinedEllipsoidError
 from polyell.models.task import task_unit
@@ -29,6 +29,29 @@ def _matrix(a: NDArray[np.float64], indent: str = "    ") -> str:
 
 def _interval(lo: float, hi: float) -> str:
     return "empty" if np.isnan(lo) else f"[{lo:.5g}, {hi:.5g}]"
+
+
+def inverse_at_end(
+    analysis: Analysis, direction: NDArray[np.float64], inverse_at: Literal["lo", "hi"]
+) -> tuple[NDArray[np.float64] | None, dict[str, InverseSolution]]:
+    """Both inverse maps at one end of the new ellipsoid's interval along ``direction``.
+
+    Returns the acceleration (None where the interval is empty) and the solutions of the
+    definitions defined here.  The direction is the one the limits used: projected onto
+    the affine set when it was typed rounded (a singular configuration).
+    """
+    P = analysis.polytope
+    end = float(getattr(analysis.ellipsoid("chiacchio").limits(direction), inverse_at))
+    if math.isnan(end):
+        return None, {}
+    xdd = end * P.affine_set.meet_lines(direction[None], P.affine_rtol).projected[0]
+    solutions: dict[str, InverseSolution] = {}
+    for kind in ELLIPSOID_KINDS:
+        try:
+            solutions[kind] = analysis.inverse(xdd, kind=kind)
+        except UndefinedEllipsoidError:
+            continue
+    return xdd, solutions
 
 
 def format_analysis(
@@ -101,20 +124,14 @@ def format_analysis(
     lines += [
         f"  {name:<10} {_interval(float(lo), float(hi))}" for name, (lo, hi) in limits.items()
     ]
-    end = float(getattr(limits["chiacchio"], inverse_at))
-    if math.isnan(end):
+    xdd, solutions = inverse_at_end(analysis, direction, inverse_at)
+    if xdd is None:
         return "\n".join(lines)
-    # The limits are along the direction as projected onto the affine set (rounded input
-    # at a singular configuration): so is the acceleration the inverse maps are applied to.
-    xdd = end * P.affine_set.meet_lines(direction[None], P.affine_rtol).projected[0]
     lines += ["", f"Inverse maps at xdd = {np.round(xdd, 5).tolist()} ({inverse_at} end, new):"]
-    for kind, equation in (("chiacchio", "33/40"), ("yoshikawa", "26")):
-        try:
-            solution = analysis.inverse(xdd, kind=kind)
-        except UndefinedEllipsoidError:
-            continue
+    equations = {"chiacchio": "33/40", "yoshikawa": "26"}
+    for name, solution in solutions.items():
         lines += [
-            f"  {kind} (eq. {equation}): qdd = {np.round(solution.qdd, 5).tolist()}",
+            f"  {name} (eq. {equations[name]}): qdd = {np.round(solution.qdd, 5).tolist()}",
             f"    tau_n = {np.round(solution.tau_n, 5).tolist()}, "
             f"|tau_n| = {float(solution.torque_norm):.5g}, "
             f"max |tau_n_i| = {float(np.max(np.abs(solution.tau_n))):.5g}",
@@ -138,9 +155,12 @@ def _plain(value: Any) -> Any:
 
 
 def analysis_to_json(
-    analysis: Analysis, direction: NDArray[np.float64], comparison: Comparison | None = None
+    analysis: Analysis,
+    direction: NDArray[np.float64],
+    comparison: Comparison | None = None,
+    inverse_at: Literal["lo", "hi"] = "hi",
 ) -> dict[str, Any]:
-    """The analysis (and, if given, its scores) as a JSON-ready dictionary."""
+    """Everything :func:`format_analysis` shows (and the scores, if given), JSON-ready."""
     P = analysis.polytope
     ellipsoids: dict[str, Any] = {}
     for kind in ELLIPSOID_KINDS:
@@ -169,6 +189,8 @@ def analysis_to_json(
         "rank": analysis.rank,
         "singular_values": analysis.svd.singular_values,
         "direction": direction,
+        "tau_max": analysis.tau_max,
+        "tau_min": analysis.tau_min,
         "polytope": {
             "dim": P.dim,
             "volume": P.volume,
@@ -180,6 +202,10 @@ def analysis_to_json(
             "limits": [lo, hi],
         },
         "ellipsoids": ellipsoids,
+    }
+    xdd, solutions = inverse_at_end(analysis, direction, inverse_at)
+    result["inverse"] = {"at": inverse_at, "xdd": xdd} | {
+        kind: {"qdd": solution.qdd, "tau_n": solution.tau_n} for kind, solution in solutions.items()
     }
     if comparison is not None:
         result["scores"] = {kind: r.as_dict() for kind, r in comparison.records.items()}

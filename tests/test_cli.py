@@ -6,7 +6,6 @@ import sys
 
 import pytest
 
-import polyell as pe
 from polyell.cli import main
 
 
@@ -113,69 +112,3 @@ def test_help_everywhere(capsys):
             main(argv)
         assert info.value.code == 0
     assert "--out" in capsys.readouterr().out
-
-
-# --- the command line where it surprised (issue 13) ------------------------------------------
-
-
-def test_version(capsys):
-    with pytest.raises(SystemExit) as info:
-        main(["--version"])
-    assert info.value.code == 0 and capsys.readouterr().out.strip() == f"polyell {pe.__version__}"
-
-
-def test_negative_leading_values_and_degrees(capsys):
-    assert main(["analyze", "--q", "-pi/2,0,0", "--no-mvie"]) == 0
-    radians = capsys.readouterr().out
-    assert "at q = [-1.570796, 0.0, 0.0] rad" in radians
-    assert main(["analyze", "--q", "-90,0,0", "--deg", "--no-mvie"]) == 0
-    assert capsys.readouterr().out == radians  # the same analysis
-    assert main(["analyze", "--tau-max", "100,30,4", "--tau-min", "-50,-10,-2", "--no-mvie"]) == 0
-
-
-def test_tau_min_alone_keeps_the_robots_upper_limits(capsys):
-    assert main(["analyze", "--tau-min", "-50,-10,-2", "--no-mvie", "--json"]) == 0
-    alone = json.loads(capsys.readouterr().out)
-    assert (
-        main(["analyze", "--tau-max", "100,30,4", "--tau-min", "-50,-10,-2", "--no-mvie", "--json"])
-        == 0
-    )
-    both = json.loads(capsys.readouterr().out)
-    assert alone["xg"] == both["xg"] and alone["xg"] != [0.0, -12.392]
-
-
-def test_a_robot_other_than_the_papers_needs_its_q(capsys):
-    assert main(["analyze", "--robot", "ur5", "--no-mvie"]) == 2
-    err = capsys.readouterr().err
-    assert "--q: expected 6 joint angles for ur5" in err and "--q 0,0,0,0,0,0" in err
-
-
-def test_direction_normalised_or_as_an_angle(capsys):
-    assert main(["analyze", "--direction", "1,1", "--normalize", "--no-mvie"]) == 0
-    captured = capsys.readouterr()
-    assert "along t = [0.707107, 0.707107]" in captured.out
-    assert "polyell: note: --direction normalised to [0.707107, 0.707107]" in captured.err
-    assert main(["analyze", "--angle", "45", "--no-mvie"]) == 0
-    assert "along t = [0.707107, 0.707107]" in capsys.readouterr().out
-    assert main(["analyze", "--direction", "1,1", "--no-mvie"]) == 2
-    assert capsys.readouterr().out == ""  # nothing printed before the error
-
-
-def test_a_closed_pipe_is_not_an_error():
-    run = subprocess.run(
-        f"{sys.executable} -m polyell.cli analyze --no-mvie | head -2",
-        shell=True,
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    assert run.stdout.count("\n") == 2 and "Error" not in run.stderr, run.stderr
-
-
-def test_import_leaves_the_heavy_libraries_alone():
-    code = (
-        "import sys, polyell\n"
-        "print(sorted(m for m in ('cvxpy', 'matplotlib', 'scipy.stats') if m in sys.modules))"
-    )
-    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
-    assert run.stdout.strip() == "[]", run.stdout + run.stderr

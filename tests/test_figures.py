@@ -1,13 +1,17 @@
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 from matplotlib.figure import Figure
 
 import polyell as pe
+from polyell.comparison.summary import format_summary_table, summarize
 from polyell.figures import (
     plot_directional_limits,
+    plot_score_histogram,
     plot_score_map,
+    plot_score_series,
     plot_sets,
     plot_sets_3d,
     save_figure,
@@ -53,3 +57,70 @@ def test_dimension_checks():
         plot_sets(random_problem(0, 3, 5))
     with pytest.raises(pe.InputError, match="a 3-D task space"):
         plot_sets_3d(paper_analysis(PAPER_Q_REDUNDANT))
+
+
+def test_singular_figure_legend_shows_each_stroke_as_drawn():
+    """Issue 13: polytope, new ellipsoid and MVIE lie on one segment; each stays legible."""
+    analysis = paper_analysis(PAPER_Q_SINGULAR)
+    mvie = pe.compare(analysis, 8).mvie
+    ax = plot_sets(analysis, kinds=("chiacchio", "mvie"), mvie=mvie).axes[0]
+    drawn = {line.get_label(): line for line in ax.get_lines()}
+    legend = ax.get_legend()
+    handles = dict(
+        zip([t.get_text() for t in legend.get_texts()], legend.legend_handles, strict=True)
+    )
+    for label in ("polytope (15)", "new (eq. 32/38)", "MVIE"):
+        line, handle = drawn[label], handles[label]
+        assert handle.get_linestyle() == line.get_linestyle(), label
+        assert handle.get_linewidth() == line.get_linewidth(), label
+        assert handle.get_color() == line.get_color(), label
+    widths = [
+        drawn[label].get_linewidth() for label in ("polytope (15)", "new (eq. 32/38)", "MVIE")
+    ]
+    assert widths == sorted(widths, reverse=True)  # layered: each visible above the one below
+    assert drawn["polytope (15)"].get_linestyle() == "-"  # a solid band, not long dashes
+
+
+def test_percent_scores_are_percent_in_every_display():
+    results = pd.DataFrame(
+        {
+            "configuration": range(4),
+            "chiacchio_coverage": [0.2, 0.4, 0.5, 0.6],
+            "yoshikawa_coverage": [0.1, 0.2, 0.3, 0.35],
+        }
+    )
+    figure = plot_score_histogram(results, "coverage")
+    assert figure.axes[0].get_xlabel() == "coverage [%]"
+    patches = figure.axes[0].patches
+    assert max(p.get_path().vertices[:, 0].max() for p in patches) == pytest.approx(60.0)
+    series = plot_score_series(results, "coverage").axes[0]
+    assert series.get_ylabel() == "coverage [%]"
+    assert series.get_lines()[0].get_ydata().max() == pytest.approx(60.0)
+    table = format_summary_table(summarize(results), "markdown")
+    assert "new (eq. 32/38): coverage [%]" in table and "|   42.5 |" in table  # mean 0.425
+
+
+def test_maps_of_one_score_share_a_colour_scale(tmp_path, monkeypatch):
+    import polyell.figures as figures
+
+    scales = {}
+    original = figures.plot_score_map
+
+    def record(values, x, y, **options):
+        scales[options["title"]] = options["limits"]
+        return original(values, x, y, **options)
+
+    monkeypatch.setattr(figures, "plot_score_map", record)
+    spec = tmp_path / "grid.toml"
+    spec.write_text(
+        '[robot]\nlibrary = "chiacchio2000"\n[grid]\nq1 = 0.3\n'
+        "q2 = { start = -1, stop = 1, num = 4 }\nq3 = { start = -1, stop = 1, num = 5 }\n"
+        '[compare]\ndirections = 16\nmvie = false\n[output]\nformats = ["png"]\ndpi = 20\n'
+        'maps = ["chiacchio_coverage", "yoshikawa_coverage", "chiacchio_inscribed_scale"]\n'
+    )
+    pe.studies.run_study(pe.studies.load_study(spec), tmp_path / "out")
+    coverage = [limits for title, limits in scales.items() if "coverage" in title]
+    assert len(coverage) == 2 and coverage[0] == coverage[1]
+    results = pd.read_csv(tmp_path / "out" / "results.csv")
+    both = 100 * results[["chiacchio_coverage", "yoshikawa_coverage"]].to_numpy()
+    assert coverage[0] == pytest.approx((np.nanmin(both), np.nanmax(both)))

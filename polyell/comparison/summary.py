@@ -7,7 +7,7 @@ from typing import Literal
 import pandas as pd
 
 from polyell.comparison.comparison import COMPARED_KINDS
-from polyell.comparison.tables import ELLIPSOID_LABELS, render_table
+from polyell.comparison.tables import ELLIPSOID_LABELS, render_table, score_display
 
 __all__ = ["SUMMARY_SCORES", "format_summary_table", "summarize"]
 
@@ -72,11 +72,19 @@ def format_summary_table(
     caption: str | None = None,
     label: str | None = None,
 ) -> str:
-    """Render :func:`summarize` output with 4 significant digits."""
+    """Render :func:`summarize` output with 4 significant digits.
+
+    Percent scores (coverage, overreach, directional errors) are shown in percent, as in
+    the comparison tables (:data:`~polyell.comparison.tables.PERCENT_SCORES`).
+    """
     table = summary.copy()
+    displays = [score_display(score) for _, score in table.index]
+    for column in table.columns:
+        if column != "defined":
+            table[column] = table[column] * [factor for _, factor in displays]
     table.index = [
-        f"{ELLIPSOID_LABELS.get(kind, kind)}: {score.replace('_', ' ')}"
-        for kind, score in table.index
+        f"{ELLIPSOID_LABELS.get(kind, kind)}: {name}"
+        for (kind, _), (name, _) in zip(table.index, displays, strict=True)
     ]
     for column in table.columns:
         table[column] = [f"{int(v)}" if column == "defined" else f"{v:.4g}" for v in table[column]]

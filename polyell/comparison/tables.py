@@ -8,7 +8,14 @@ from typing import Literal
 import numpy as np
 import pandas as pd
 
-__all__ = ["ELLIPSOID_LABELS", "SCORE_ROWS", "format_scores_table", "render_table"]
+__all__ = [
+    "ELLIPSOID_LABELS",
+    "PERCENT_SCORES",
+    "SCORE_ROWS",
+    "format_scores_table",
+    "render_table",
+    "score_display",
+]
 
 #: Column headers of the ellipsoids.
 ELLIPSOID_LABELS = {
@@ -57,6 +64,17 @@ SCORE_ROWS: tuple[tuple[str, str, str, Callable[[float], str], str | None], ...]
         None,
     ),
 )
+
+
+#: Scores shown in percent wherever they are shown (tables, summaries, figures); the
+#: data (Scores, CSV, Parquet, JSON) keep them as fractions.
+PERCENT_SCORES = frozenset(row[0] for row in SCORE_ROWS if row[3] is _percent)
+
+
+def score_display(score: str) -> tuple[str, float]:
+    """The label and the factor a score is displayed with: ``("coverage [%]", 100.0)``."""
+    name = score.replace("_", " ")
+    return (f"{name} [%]", 100.0) if score in PERCENT_SCORES else (name, 1.0)
 
 
 def _cell(

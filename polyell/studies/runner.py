@@ -5,12 +5,13 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from polyell.analysis import analyze
 from polyell.comparison.comparison import SCORE_NAMES, compare
 from polyell.comparison.summary import format_summary_table, summarize
-from polyell.comparison.tables import ELLIPSOID_LABELS, format_scores_table
+from polyell.comparison.tables import ELLIPSOID_LABELS, format_scores_table, score_display
 from polyell.errors import InputError
 from polyell.geometry.directions import default_direction_count
 from polyell.models.task import task_unit
@@ -162,20 +163,31 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
         )
     )
     varying = [axis for axis in spec.grid if axis.values.size > 1]
+    # Maps of one score share one colour scale, so that colours compare across candidates.
+    scales: dict[str, tuple[float, float]] = {}
+    for name in spec.maps:
+        score = name.split("_", 1)[1]
+        finite = results[name].to_numpy(dtype=float)
+        finite = finite[np.isfinite(finite)] * score_display(score)[1]
+        if finite.size:
+            low, high = scales.get(score, (np.inf, -np.inf))
+            scales[score] = (min(low, finite.min()), max(high, finite.max()))
     for name in spec.maps:
         if len(varying) != 2:
             break
         x_axis, y_axis = varying[1], varying[0]  # the last joint varies fastest: columns
-        values = results[name].to_numpy().reshape(y_axis.values.size, x_axis.values.size)
         kind, score = name.split("_", 1)
+        label, factor = score_display(score)
+        values = factor * results[name].to_numpy().reshape(y_axis.values.size, x_axis.values.size)
         figure = plot_score_map(
             values,
             x_axis.values,
             y_axis.values,
             xlabel=f"${x_axis.name[0]}_{x_axis.name[1:]}$ [rad]",
             ylabel=f"${y_axis.name[0]}_{y_axis.name[1:]}$ [rad]",
-            label=f"{score.replace('_', ' ')}",
-            title=f"{ELLIPSOID_LABELS[kind]}: {score.replace('_', ' ')}",
+            label=label,
+            title=f"{ELLIPSOID_LABELS[kind]}: {label}",
+            limits=scales.get(score),
         )
         written += save_figure(figure, folder / f"map_{name}", spec.formats, spec.dpi)
     for score in spec.series:

@@ -26,7 +26,7 @@ from tqdm import tqdm
 from polyell.analysis import analyze
 from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES, compare
 from polyell.errors import InputError, MissingDependencyError, StorageError
-from polyell.geometry.directions import sphere_directions
+from polyell.geometry.directions import default_direction_count, sphere_directions
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.models.dynamics import Dynamics
 from polyell.storage import (
@@ -174,7 +174,7 @@ def _job(
     tau_max: ArrayLike | None,
     tau_min: ArrayLike | None,
     scores: Sequence[str],
-    directions: int | ArrayLike,
+    directions: int | ArrayLike | None,
     mvie: bool,
     rank_rtol: float,
 ) -> _Job:
@@ -215,6 +215,8 @@ def _job(
         raise InputError(
             "scores", "no 'mvie_ratio' without mvie=True", "'mvie_ratio'", "pass mvie=True (slow)."
         )
+    if directions is None:  # the default of pe.compare: rows equal compare(...) as they are
+        directions = default_direction_count(m)
     count = int(directions) if isinstance(directions, int | np.integer) else None
     T = (
         sphere_directions(count, m)
@@ -233,7 +235,7 @@ def sweep(
     tau_min: ArrayLike | None = None,
     *,
     scores: Sequence[str] = DEFAULT_SCORES,
-    directions: int | ArrayLike = 64,
+    directions: int | ArrayLike | None = None,
     out: str | os.PathLike[str] | None = None,
     scheduler: str | None = None,
     chunk: int = 20_000,
@@ -255,10 +257,11 @@ def sweep(
         Torque limits; default the robot's own.
     scores : sequence of str
         Score names (:data:`polyell.SCORE_NAMES`); columns ``<kind>_<score>``.
-    directions : int or array-like (k, m)
+    directions : int, array-like (k, m) or None
         The directional-statistics set, exactly as :func:`polyell.compare` takes it: a count
         of the default near-uniform set (at a singular configuration, drawn in its affine
-        set), or unit vectors used at every configuration.
+        set), or unit vectors used at every configuration; default, as in
+        :func:`polyell.compare`, 360 in 2-D and 1,000 in 3-D (fewer, e.g. 64, are faster).
     out : path, optional
         A folder for a Parquet dataset, one ``part-NNNNNN.parquet`` per chunk; the
         function then returns the folder.  Restarting with the same arguments resumes.

@@ -183,8 +183,10 @@ def bench_sweep(repeats: int) -> list[str]:
     dyn = panda.dynamics(half)
     batched, in_process = timed_alternately(
         [
-            lambda: pe.sweep(dyn, scores=scores, tau_max=panda.tau_max, chunk=10_000),
-            lambda: pe.sweep(panda, half, scores=scores, chunk=10_000),
+            lambda: pe.sweep(
+                dyn, scores=scores, tau_max=panda.tau_max, chunk=10_000, directions=64
+            ),
+            lambda: pe.sweep(panda, half, scores=scores, chunk=10_000, directions=64),
         ],
         repeats,
     )
@@ -194,10 +196,18 @@ def bench_sweep(repeats: int) -> list[str]:
 
         def run() -> None:
             if not parquet:  # the frames come back to this process
-                pe.sweep(panda, Q, scores=scores, chunk=10_000, scheduler=address)
+                pe.sweep(panda, Q, scores=scores, chunk=10_000, scheduler=address, directions=64)
                 return
             with tempfile.TemporaryDirectory() as folder:  # the workers write the parts
-                pe.sweep(panda, Q, scores=scores, chunk=10_000, scheduler=address, out=folder)
+                pe.sweep(
+                    panda,
+                    Q,
+                    scores=scores,
+                    chunk=10_000,
+                    scheduler=address,
+                    out=folder,
+                    directions=64,
+                )
 
         return run
 
@@ -208,8 +218,10 @@ def bench_sweep(repeats: int) -> list[str]:
         )
         Qm = Q[:60]
         address = double.scheduler_address
-        mvie_serial = timed(lambda: pe.sweep(panda, Qm, mvie=True, chunk=30), 1)
-        mvie_dask = timed(lambda: pe.sweep(panda, Qm, mvie=True, chunk=30, scheduler=address), 1)
+        mvie_serial = timed(lambda: pe.sweep(panda, Qm, mvie=True, chunk=30, directions=64), 1)
+        mvie_dask = timed(
+            lambda: pe.sweep(panda, Qm, mvie=True, chunk=30, scheduler=address, directions=64), 1
+        )
     options = {"threads_per_worker": 1, "processes": True, "host": "127.0.0.1"}
     with LocalCluster(n_workers=1, dashboard_address=None, **options) as default:
         default_worker = timed(on(default), max(3, repeats // 2))
@@ -271,7 +283,8 @@ panda = pe.robots.load("panda")
 low, high = panda.position_limits
 count = int(sys.argv[2])
 start = time.perf_counter()
-pe.sweep(panda, pe.random_configurations(count, low, high, seed=7), out=sys.argv[1], chunk=20_000)
+pe.sweep(panda, pe.random_configurations(count, low, high, seed=7), out=sys.argv[1], chunk=20_000,
+         directions=64)
 print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, time.perf_counter() - start)
 """
 
@@ -287,10 +300,10 @@ def bench_mvie(repeats: int) -> list[str]:
     polytopes = [pe.analyze(dyn[k], panda.tau_max).polytope for k in range(24)]
 
     def batched() -> None:
-        pe.sweep(dyn, tau_max=panda.tau_max, mvie=True, scores=scores, chunk=4096)
+        pe.sweep(dyn, tau_max=panda.tau_max, mvie=True, scores=scores, chunk=4096, directions=64)
 
     def without() -> None:
-        pe.sweep(dyn, tau_max=panda.tau_max, scores=("coverage",), chunk=4096)
+        pe.sweep(dyn, tau_max=panda.tau_max, scores=("coverage",), chunk=4096, directions=64)
 
     failures = set()
 
@@ -391,6 +404,34 @@ def bench_along(repeats: int) -> list[str]:
     ]
 
 
+def bench_startup(repeats: int) -> list[str]:
+    """(g) Start-up of the command line (a fresh process each time)."""
+    polyell = str(Path(sys.executable).parent / "polyell")
+    commands = {
+        "`python -c pass` (the interpreter alone)": [sys.executable, "-c", "pass"],
+        "`polyell --help`": [polyell, "--help"],
+        "`polyell analyze --no-mvie`": [polyell, "analyze", "--no-mvie"],
+        "`polyell analyze` (with the MVIE)": [polyell, "analyze"],
+    }
+
+    def runner(command: list[str]):
+        return lambda: subprocess.run(command, check=True, capture_output=True)
+
+    times = timed_alternately([runner(c) for c in commands.values()], repeats)
+    rows = [f"| {name} | {summary(t, 1e3)} |" for name, t in zip(commands, times, strict=True)]
+    return [
+        "## (g) Start-up of the command line",
+        "",
+        "Each command in a fresh process, timed alternately; cvxpy, scipy.stats and "
+        "matplotlib are imported only where they are used.",
+        "",
+        "| command | ms, median (min – max) |",
+        "|---|---|",
+        *rows,
+        "",
+    ]
+
+
 def bench_memory(counts: list[int]) -> list[str]:
     rows = []
     with tempfile.TemporaryDirectory() as folder:
@@ -429,7 +470,7 @@ def main() -> None:
     parser.add_argument(
         "--sections",
         nargs="*",
-        choices=["polytope", "limits", "sweep", "mvie", "along"],
+        choices=["polytope", "limits", "sweep", "mvie", "along", "startup"],
         default=None,
     )
     args = parser.parse_args()
@@ -445,6 +486,7 @@ def main() -> None:
     parser_sections = {"polytope": bench_polytope, "limits": bench_limits, "sweep": bench_sweep}
     parser_sections["mvie"] = bench_mvie
     parser_sections["along"] = bench_along
+    parser_sections["startup"] = bench_startup
     chosen = args.sections or list(parser_sections)
     for section in (parser_sections[name] for name in chosen):
         lines += section(args.repeats)
