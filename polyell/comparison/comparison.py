@@ -6,10 +6,9 @@ import dataclasses
 import io
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from polyell.analysis import ELLIPSOID_KINDS, Analysis, EllipsoidKind
@@ -27,6 +26,9 @@ from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
 from polyell.models.task import task_unit
 from polyell.validation import check_directions
+
+if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
+    import pandas as pd
 
 __all__ = ["COMPARED_KINDS", "SCORE_NAMES", "Comparison", "Scores", "compare"]
 
@@ -211,6 +213,8 @@ class Comparison:
 
     def to_frame(self) -> pd.DataFrame:
         """One row per ellipsoid, one column per score (full precision)."""
+        import pandas as pd
+
         return pd.DataFrame([r.as_dict() for r in self.records.values()]).set_index("kind")
 
     def to_markdown(self) -> str:

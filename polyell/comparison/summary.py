@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-from typing import Literal
-
-import pandas as pd
+from typing import TYPE_CHECKING, Literal
 
 from polyell.comparison.comparison import COMPARED_KINDS
 from polyell.comparison.tables import ELLIPSOID_LABELS, render_table, score_display
+
+if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
+    import pandas as pd
 
 __all__ = ["SUMMARY_SCORES", "format_summary_table", "summarize"]
 
@@ -60,6 +61,8 @@ def summarize(results: pd.DataFrame, scores: tuple[str, ...] = SUMMARY_SCORES) -
                 "median": finite.median(),
                 "max": finite.max(),
             }
+    import pandas as pd
+
     summary = pd.DataFrame.from_dict(rows, orient="index", columns=list(_STATISTICS))
     summary.index = pd.MultiIndex.from_tuples(summary.index, names=["ellipsoid", "score"])
     return summary

@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
-import pandas as pd
+
+if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
+    import pandas as pd
 
 __all__ = [
     "ELLIPSOID_LABELS",
@@ -129,6 +131,8 @@ def format_scores_table(
             ELLIPSOID_LABELS.get(str(kind), str(kind)): _cell(row, score, fmt, stderr, pm)
             for kind, row in frame.iterrows()
         }
+    import pandas as pd
+
     return render_table(pd.DataFrame.from_dict(rows, orient="index"), style, caption, label)
 
 

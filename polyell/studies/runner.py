@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 
 from polyell.analysis import analyze
 from polyell.comparison.comparison import SCORE_NAMES, compare
@@ -20,6 +20,9 @@ from polyell.storage import write_text_atomically
 from polyell.studies.spec import StudySpec
 from polyell.studies.sweep import DEFAULT_SCORES, sweep
 from polyell.studies.trajectory import tangent_limits
+
+if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
+    pass
 
 __all__ = ["run_study"]
 
@@ -83,6 +86,8 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
             figure = plot_sets_3d(analysis, kinds=kinds, mvie=mvie, title=point.title or point.name)
             written += save_figure(figure, stem, spec.formats, spec.dpi)
     written.append(write_text_atomically(folder / "numbers.md", "\n".join(numbers)))
+    import pandas as pd
+
     table = pd.concat(frames)
     unit = task_unit(analysis.dynamics.task)  # the robot's task: the same at every point
     dimension_note = "the volume is r-dimensional, r the polytope's dimension"
@@ -139,6 +144,8 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
         progress=progress,
         out=folder / "results",
     )
+    import pandas as pd
+
     results = pd.read_parquet(dataset).sort_values("configuration").reset_index(drop=True)
     tangent = spec.trajectory is not None and spec.trajectory.qd is not None
     if tangent:  # the accelerations along the path, where the arm moves

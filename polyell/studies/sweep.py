@@ -16,10 +16,9 @@ import pickle
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 from tqdm import tqdm
 
@@ -48,6 +47,9 @@ from polyell.validation import (
     check_integer,
     check_torque_limits,
 )
+
+if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
+    import pandas as pd
 
 __all__ = ["DEFAULT_SCORES", "sweep"]
 
@@ -96,6 +98,8 @@ class _Job:
         if scalar.any():
             for name, column in _scalar_rows(dyn, scalar, self).items():
                 values[name][scalar] = column[scalar]
+        import pandas as pd
+
         frame = pd.DataFrame({"configuration": np.arange(start, start + len(dyn))})
         if isinstance(self.configurations, Trajectory) and self.configurations.t is not None:
             frame["t"] = self.configurations.t[start:stop]
@@ -389,6 +393,8 @@ def _execute(
                 client.close()
                 if scheduler == "processes" and cluster is not None:
                     cluster.close()
+    import pandas as pd
+
     frames = [r for r in results if isinstance(r, pd.DataFrame)]
     if not frames:
         return pd.DataFrame()
