@@ -229,11 +229,9 @@ def tangent_limits(
     moving = speed > 1e-12 * np.maximum(1.0, np.abs(velocity).max())
     T = np.where(moving[:, None], velocity / np.where(moving, speed, 1.0)[:, None], 0.0)
     T[~moving, 0] = 1.0  # a placeholder direction; its rows are NaN below
-    limits = (
-        limits_along(dyn, None, T, tau_max, tau_min)
-        if tau_max is not None
-        else (limits_along(dyn, None, T, source.tau_max, source.tau_min))
-    )
+    if tau_max is None:  # the robot's own, as everywhere
+        tau_max, tau_min = source.tau_max, source.tau_min
+    limits = limits_along(dyn, None, T, tau_max, tau_min)
     columns = {}
     for name, (lo, hi) in limits.items():
         columns[f"tangent_{name}_lo"] = np.where(moving, lo, np.nan)
