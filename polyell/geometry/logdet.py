@@ -103,7 +103,7 @@ def centred_mvee(
 
 
 #: Growth of the barrier parameter t per stage of the path following.
-T_GROWTH = 50.0
+T_GROWTH = 200.0
 #: Newton decrement below which a point counts as centred for its t.
 CENTRED = 1e-6
 
@@ -150,7 +150,7 @@ def centred_mvee_batch(
     Phi = np.einsum("Kia,kab,Kib->Kik", points, basis, points)  # constraints: Phi x <= 1
     norms = np.einsum("Kia,Kia->Ki", points, points).max(axis=1)
     x = (0.5 / np.where(norms > 0, norms, 1.0))[:, None] * trace  # X = alpha I, feasible
-    t = np.full(K, float(count))
+    t = np.full(K, 10.0 * count)
     shapes, gaps = np.full((K, r, r), np.nan), np.full(K, np.inf)
     iterations = np.zeros(K, dtype=int)
     active = np.arange(K)
@@ -222,17 +222,28 @@ def _line_search(
     mu = np.linalg.eigvalsh(L_inv @ dX @ np.swapaxes(L_inv, 1, 2))  # (K, r)
     ratio = (Phi @ step[..., None])[..., 0] / slack  # (K, N)
     damped = 1.0 / (1.0 + np.sqrt(decrement))
-    steps = np.concatenate([np.broadcast_to(_STEPS, (len(x), _STEPS.size)), damped[:, None]], 1)
-    alpha = steps[:, :, None]  # (K, S, 1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        det_term = np.log1p(alpha * mu[:, None, :]).sum(axis=-1)  # (K, S)
-        barrier = np.log1p(-alpha * ratio[:, None, :]).sum(axis=-1)
-    change = -t[:, None] * det_term - barrier  # NaN or inf where infeasible
-    feasible = np.isfinite(change) & (np.min(mu, axis=1)[:, None] * steps > -1)
-    enough = change <= -0.01 * steps * decrement[:, None]
-    accept = feasible & (enough | (steps <= damped[:, None]))
-    first = np.argmax(accept, axis=1)  # the longest accepted length (0 if none: a stall)
-    length = np.where(accept.any(axis=1), steps[np.arange(len(x)), first], 0.0)
+
+    def accepted(steps: NDArray[np.float64], rows: NDArray[np.int_]) -> NDArray[np.bool_]:
+        """Which lengths ``steps`` (k, S) of the problems ``rows`` pass (k, S)."""
+        alpha = steps[:, :, None]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            det_term = np.log1p(alpha * mu[rows, None, :]).sum(axis=-1)
+            barrier = np.log1p(-alpha * ratio[rows, None, :]).sum(axis=-1)
+        change = -t[rows, None] * det_term - barrier  # NaN or inf where infeasible
+        feasible = np.isfinite(change) & (np.min(mu[rows], axis=1)[:, None] * steps > -1)
+        enough = change <= -0.01 * steps * decrement[rows, None]
+        return feasible & (enough | (steps <= damped[rows, None]))
+
+    everyone = np.arange(len(x))
+    length = np.where(accepted(np.ones((len(x), 1)), everyone)[:, 0], 1.0, np.nan)
+    rest = np.flatnonzero(np.isnan(length))  # the full step failed: the whole ladder
+    if rest.size:
+        steps = np.concatenate(
+            [np.broadcast_to(_STEPS, (rest.size, _STEPS.size)), damped[rest, None]], axis=1
+        )
+        accept = accepted(steps, rest)
+        first = np.argmax(accept, axis=1)  # the longest accepted length (0 if none: a stall)
+        length[rest] = np.where(accept.any(axis=1), steps[np.arange(rest.size), first], 0.0)
     return x + length[:, None] * step
 
 
@@ -270,7 +281,7 @@ def _certify(
         duals = 1.0 / (t[:, None] * slack)
     candidates = [np.einsum("Kk,kab->Kab", x, basis)]
     upper = np.full(K, np.inf)
-    for threshold in (np.inf, 1e-2, 1e-4, 1e-6):
+    for threshold in (np.inf, 1e-4):
         kept = np.where(slack <= threshold, duals, 0.0)
         W = np.einsum("Kia,Ki,Kib->Kab", points, kept, points)
         sign, logdet_W = np.linalg.slogdet(W)
