@@ -199,13 +199,17 @@ class Comparison:
         )
 
     def to_row(self) -> dict[str, float]:
-        """One flat record: ``polytope_dim``, ``polytope_volume`` and ``<kind>_<score>``.
+        """One flat record of the polytope's numbers and every ``<kind>_<score>``.
 
-        The column naming of study results (e.g. ``chiacchio_coverage``).
+        ``polytope_dim``, ``polytope_volume``, the isotropic radii ``polytope_ball_radius``
+        (about xg) and ``polytope_origin_radius`` (about the origin), then the column naming
+        of study results (e.g. ``chiacchio_coverage``).
         """
         row: dict[str, float] = {
             "polytope_dim": float(self.analysis.polytope.dim),
             "polytope_volume": self.analysis.polytope.volume,
+            "polytope_ball_radius": self.analysis.polytope.ball_radius,
+            "polytope_origin_radius": self.analysis.polytope.origin_radius,
         }
         for kind, record in self.records.items():
             row.update({f"{kind}_{name}": float(getattr(record, name)) for name in SCORE_NAMES})

@@ -142,6 +142,29 @@ class Polytope(ConvexSet):
         """Volume in the affine set (r-dimensional; 1 for a single point) [(m/s^2)^r]."""
         return zonotope_volume(self._coordinate_generators)
 
+    @cached_property
+    def ball_radius(self) -> float:
+        """Radius of the largest ball about the centre ``xg`` inside P, in its affine set.
+
+        ``min_i (b_i - a_i . xg)`` over the unit facet normals: the acceleration P allows in
+        every direction of its affine set around ``xg`` [m/s^2]; 0 for a single point.
+        """
+        if self.dim == 0:
+            return 0.0
+        return float(np.min(self.b - self.A @ self.center))
+
+    @cached_property
+    def origin_radius(self) -> float:
+        """Radius of the largest ball about the origin inside P, in its affine set.
+
+        ``min_i b_i``: the acceleration available in every direction from rest against
+        gravity [m/s^2].  NaN where the origin is not in P (the arm cannot even keep still)
+        or, at a singular configuration, not on its affine set.
+        """
+        if self.dim == 0 or not self.contains(np.zeros(self.ambient_dim)):
+            return float("nan")
+        return float(max(0.0, np.min(self.b)))
+
     def halfspaces(
         self, method: Literal["zonotope", "cdd"] = "zonotope"
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

@@ -37,7 +37,7 @@ Array = NDArray[np.float64]
 
 def score_columns() -> list[str]:
     """The score columns of a results row, in order (``Comparison.to_row``)."""
-    columns = ["polytope_dim", "polytope_volume"]
+    columns = ["polytope_dim", "polytope_volume", "polytope_ball_radius", "polytope_origin_radius"]
     return columns + [f"{kind}_{name}" for kind in COMPARED_KINDS for name in SCORE_NAMES]
 
 
@@ -146,6 +146,15 @@ def _mvie(U: Array, s: Array, Vt: Array) -> tuple[Array, Array, Array]:
     witness = np.max(np.linalg.norm(np.swapaxes(V1t, -1, -2) @ root, axis=-1), axis=-1)
     semi = np.where(shapes_ok[:, None], semi, np.nan)
     return U[:, :, :m] @ W, semi, np.where(shapes_ok, witness, np.nan)
+
+
+def _origin_radius(normals: Array, h: Array, xg: Array, atol: Array) -> Array:
+    """Largest ball about the origin inside each P: ``min (h - |a . xg|)``.
+
+    NaN outside P, beyond the membership tolerance ``atol`` of ``Polytope.contains``.
+    """
+    distance = np.min(h - np.abs(np.einsum("kcm,km->kc", normals, xg)), axis=-1)
+    return np.where(distance >= -atol, np.maximum(distance, 0.0), np.nan)
 
 
 def _direction_statistics(
@@ -304,6 +313,9 @@ def _block_rows(
     rows: dict[str, Array] = {
         "polytope_dim": np.full(len(M), float(m)),
         "polytope_volume": volume_p,
+        # Isotropic radii: the facet pair +-a (offset h about xg) is at h - |a.xg| from 0.
+        "polytope_ball_radius": np.min(h, axis=-1),
+        "polytope_origin_radius": _origin_radius(normals, h, xg, atol),
     }
     unit_ball = unit_ball_volume(m)
     inside = np.ones(len(M), dtype=bool)

@@ -228,7 +228,8 @@ def _job(
         else np.atleast_2d(check_directions("directions", directions, m))
     )
     kinds = COMPARED_KINDS if mvie else COMPARED_KINDS[:2]
-    columns = ("polytope_dim", "polytope_volume", *(f"{k}_{s}" for k in kinds for s in scores))
+    polytope = ("polytope_dim", "polytope_volume", "polytope_ball_radius", "polytope_origin_radius")
+    columns = (*polytope, *(f"{k}_{s}" for k in kinds for s in scores))
     return _Job(source, configurations, upper, lower, T, count, columns, mvie, rank_rtol)
 
 
@@ -288,7 +289,8 @@ def sweep(
     -------
     DataFrame or Path
         One row per configuration: ``configuration`` (its index), ``q1``..``qn`` (for a
-        robot), ``polytope_dim``, ``polytope_volume`` and the score columns; or the
+        robot), ``polytope_dim``, ``polytope_volume``, ``polytope_ball_radius``,
+        ``polytope_origin_radius`` and the score columns; or the
         dataset folder with ``out=``.
     """
     chunk = check_integer("chunk", chunk, 1, 10_000_000)
