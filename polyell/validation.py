@@ -23,6 +23,7 @@ __all__ = [
     "check_points",
     "check_spd",
     "check_torque_limits",
+    "source_torque_limits",
 ]
 
 #: Relative tolerance on the unit norm of a direction.
@@ -280,6 +281,17 @@ def check_magnitudes(M: NDArray[np.float64], xg: NDArray[np.float64]) -> None:
                 "express the task in other units: scale the rows of J (and Jdot qdot), or "
                 "the torque limits together with the gravity torques.",
             )
+
+
+def source_torque_limits(
+    source: object, tau_max: ArrayLike | None, tau_min: ArrayLike | None, n: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Torque limits given, or else the source's own (a robot's ``tau_max``, ``tau_min``)."""
+    if tau_max is None:
+        tau_max, tau_min = getattr(source, "tau_max", None), getattr(source, "tau_min", None)
+        if tau_max is None:
+            raise InputError("tau_max", "torque limits (the source has none of its own)", "None")
+    return check_torque_limits(tau_max, tau_min, n)
 
 
 def check_points(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]:

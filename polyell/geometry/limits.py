@@ -7,7 +7,12 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["DirectionalLimits", "line_interval_in_ellipsoids", "line_interval_in_halfspaces"]
+__all__ = [
+    "DirectionalLimits",
+    "line_interval_in_ellipsoids",
+    "line_interval_in_halfspaces",
+    "unit_ball_interval",
+]
 
 
 def line_interval_in_halfspaces(
@@ -92,10 +97,26 @@ def line_interval_in_ellipsoids(
     # Laid out (K, r, k): the sums run over the short axis r, on contiguous rows of k.
     p = np.matmul(np.swapaxes(axes, 1, 2), directions.T) / semi_axes[:, :, None]
     w = np.matmul(center[:, None, :], axes)[:, 0, :, None] / semi_axes[:, :, None]
-    length = np.sqrt((p * p).sum(axis=1))  # (K, k)
-    p /= length[:, None, :]  # p-hat
-    along = (p * w).sum(axis=1)
-    across = w - along[:, None, :] * p
+    return unit_ball_interval(p, w)
+
+
+def unit_ball_interval(
+    p: NDArray[np.float64], w: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``{a : |a p - w| <= 1}``: eq. (24) in the frame where the ellipsoid is the unit ball.
+
+    The vector components run along axis 1 of ``p`` and ``w`` (``w`` broadcasts against
+    ``p``); the roots are taken as ``(p̂ . w ± sqrt(1 - |w_⊥|²)) / |p|``, without cancellation.
+
+    Returns
+    -------
+    lo, hi : ndarray
+        The shape of ``p`` without axis 1; NaN where the line misses the ball.
+    """
+    length = np.sqrt((p * p).sum(axis=1))
+    p_hat = p / np.expand_dims(length, 1)
+    along = (p_hat * w).sum(axis=1)
+    across = w - np.expand_dims(along, 1) * p_hat
     discriminant = 1.0 - (across * across).sum(axis=1)
     root = np.sqrt(np.where(discriminant >= 0, discriminant, np.nan))
     return (along - root) / length, (along + root) / length

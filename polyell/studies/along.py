@@ -23,11 +23,11 @@ from numpy.typing import ArrayLike, NDArray
 from polyell.analysis import ELLIPSOID_KINDS, analyze
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.convex_set import ATOL_RELATIVE
-from polyell.geometry.limits import DirectionalLimits
+from polyell.geometry.limits import DirectionalLimits, unit_ball_interval
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.models.dynamics import Dynamics
 from polyell.studies.batch import RANK_BAND, _facets, block_size
-from polyell.validation import check_array, check_directions, check_magnitudes, check_torque_limits
+from polyell.validation import check_array, check_directions, check_magnitudes, source_torque_limits
 
 __all__ = ["limits_along"]
 
@@ -122,12 +122,7 @@ def _inputs(
         dyn = source.dynamics(q)
     else:
         raise InputError("source", "a robot or a batched pe.Dynamics", type(source).__name__)
-    if tau_max is None:
-        tau_max, tau_min = getattr(source, "tau_max", None), getattr(source, "tau_min", None)
-        if tau_max is None:
-            raise InputError("tau_max", "torque limits (the source has none of its own)", "None")
-    upper, lower = check_torque_limits(tau_max, tau_min, dyn.n)
-    return dyn, upper, lower
+    return (dyn, *source_torque_limits(source, tau_max, tau_min, dyn.n))
 
 
 def _block(
@@ -179,21 +174,10 @@ def _block(
     # The new ellipsoid: M^+ = Q R^-T with M^T = Q R, so |M^+ y| = |R^-T y|.
     pair = np.stack([T, xg], axis=-1)  # (K, m, 2): the direction and the centre
     p, w = np.moveaxis(np.linalg.solve(np.swapaxes(R, -1, -2), pair), -1, 0)
-    lo["chiacchio"][rows], hi["chiacchio"][rows] = _ellipse_interval(p, w)
+    lo["chiacchio"][rows], hi["chiacchio"][rows] = unit_ball_interval(p, w)
     # The classic one: |F (x - xg)| <= 1, F = L^-1 B J^+ and J^+ = Q_J R_J^-T.
     Q_J, R_J = np.linalg.qr(np.swapaxes(J, -1, -2))
     F_pair = ((B @ Q_J) / half[:, None]) @ np.linalg.solve(np.swapaxes(R_J, -1, -2), pair)
     p, w = np.moveaxis(F_pair, -1, 0)
-    lo["yoshikawa"][rows], hi["yoshikawa"][rows] = _ellipse_interval(p, w)
+    lo["yoshikawa"][rows], hi["yoshikawa"][rows] = unit_ball_interval(p, w)
     return scalar
-
-
-def _ellipse_interval(p: Array, w: Array) -> tuple[Array, Array]:
-    """``{a : |a p - w| <= 1}`` for rows of p and w (K, d), as in eq. (24) from factors."""
-    length = np.sqrt((p * p).sum(axis=1))
-    p_hat = p / length[:, None]
-    along = (p_hat * w).sum(axis=1)
-    across = w - along[:, None] * p_hat
-    discriminant = 1.0 - (across * across).sum(axis=1)
-    root = np.sqrt(np.where(discriminant >= 0, discriminant, np.nan))
-    return (along - root) / length, (along + root) / length

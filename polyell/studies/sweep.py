@@ -45,7 +45,7 @@ from polyell.validation import (
     check_array,
     check_directions,
     check_integer,
-    check_torque_limits,
+    source_torque_limits,
 )
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
@@ -207,11 +207,7 @@ def _job(
             if isinstance(configurations, ConfigurationSet)
             else configurations[0]
         ).m
-    if tau_max is None:
-        tau_max, tau_min = getattr(source, "tau_max", None), getattr(source, "tau_min", None)
-        if tau_max is None:
-            raise InputError("tau_max", "torque limits (the source has none of its own)", "None")
-    upper, lower = check_torque_limits(tau_max, tau_min, n)
+    upper, lower = source_torque_limits(source, tau_max, tau_min, n)
     unknown = sorted(set(scores) - set(SCORE_NAMES))
     if unknown:
         raise InputError("scores", f"names among {list(SCORE_NAMES)}", f"unknown {unknown}")

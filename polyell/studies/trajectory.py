@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 from polyell.errors import InputError
 from polyell.studies.along import limits_along
 from polyell.studies.configurations import ConfigurationSet
+from polyell.validation import source_torque_limits
 
 __all__ = ["Trajectory", "load_trajectory", "tangent_limits"]
 
@@ -229,9 +230,8 @@ def tangent_limits(
     moving = speed > 1e-12 * np.maximum(1.0, np.abs(velocity).max())
     T = np.where(moving[:, None], velocity / np.where(moving, speed, 1.0)[:, None], 0.0)
     T[~moving, 0] = 1.0  # a placeholder direction; its rows are NaN below
-    if tau_max is None:  # the robot's own, as everywhere
-        tau_max, tau_min = source.tau_max, source.tau_min
-    limits = limits_along(dyn, None, T, tau_max, tau_min)
+    upper, lower = source_torque_limits(source, tau_max, tau_min, dyn.n)
+    limits = limits_along(dyn, None, T, upper, lower)
     columns = {}
     for name, (lo, hi) in limits.items():
         columns[f"tangent_{name}_lo"] = np.where(moving, lo, np.nan)
