@@ -12,9 +12,14 @@ the D-optimal design problem.  Read with :math:`c_i = a_i / h_i` for the facet p
 :math:`\pm a_i^T y \le h_i` of a centrally symmetric polytope, the same X is the shape of
 its maximum-volume inscribed ellipsoid :math:`\{X^{1/2} u : \|u\| \le 1\}` (polarity).
 
-The constraints are linear in X, so a log-barrier Newton method in the
-:math:`r (r + 1) / 2` entries of X converges in a few dozen small steps, and its dual
-certificate bounds the distance to the optimum.
+Its Lagrangian dual is :math:`\min_{\lambda \ge 0} -\log\det W(\lambda) + \sum_i
+\lambda_i - r` with :math:`W(\lambda) = \sum_i \lambda_i c_i c_i^T`, and the primal point
+that goes with a dual one is :math:`X = W(\lambda)^{-1}`.  A primal-dual interior-point
+method in :math:`\lambda` (Mehrotra's predictor-corrector) keeps that pairing exact, so the
+only conditions left are :math:`\lambda \ge 0`, the slacks :math:`s_i = 1 - c_i^T X c_i
+\ge 0` and complementarity; the duality gap is :math:`\sum_i \lambda_i s_i`, a certificate
+at every iterate.  About a dozen iterations reach a gap of 1e-8, each with one
+:math:`r (r + 1) / 2`-square linear system.
 """
 
 from __future__ import annotations
@@ -29,6 +34,8 @@ from polyell.errors import SolverError
 
 __all__ = ["CentredEllipsoid", "centred_mvee", "centred_mvee_batch"]
 
+Array = NDArray[np.float64]
+
 
 class CentredEllipsoid(NamedTuple):
     """The solution of :func:`centred_mvee`.
@@ -41,27 +48,16 @@ class CentredEllipsoid(NamedTuple):
         Certified bound on ``log det X* - log det X`` (X* the exact optimum): the
         volume of ``{y : y^T X y <= 1}`` is within a factor ``exp(gap / 2)`` of the least.
     iterations : int
-        Newton steps taken.
+        Interior-point iterations taken.
     """
 
-    shape: NDArray[np.float64]
+    shape: Array
     gap: float
     iterations: int
 
 
-@lru_cache(maxsize=8)
-def _symmetric_basis(r: int) -> NDArray[np.float64]:
-    """Basis ``E_k`` (d, r, r) of the symmetric matrices, d = r (r + 1) / 2."""
-    rows, cols = np.triu_indices(r)
-    basis = np.zeros((rows.size, r, r))
-    basis[np.arange(rows.size), rows, cols] = 1.0
-    basis[np.arange(rows.size), cols, rows] = 1.0
-    basis.flags.writeable = False
-    return basis
-
-
 def centred_mvee(
-    points: NDArray[np.float64], *, gap: float = 1e-8, max_iterations: int = 500
+    points: Array, *, gap: float = 1e-8, max_iterations: int = 100
 ) -> CentredEllipsoid:
     r"""The minimum-volume ellipsoid centred at 0 that contains the points and their negatives.
 
@@ -73,7 +69,7 @@ def centred_mvee(
     gap : float, optional
         Target bound on the optimality gap in ``log det X``.
     max_iterations : int, optional
-        Newton steps allowed in all.
+        Interior-point iterations allowed.
 
     Returns
     -------
@@ -97,20 +93,30 @@ def centred_mvee(
         count, r = points.shape
         raise SolverError(
             f"centred_mvee: certified optimality gap {gaps[0]:.3g} after {iterations[0]} "
-            f"Newton steps (target {gap:.3g}) on {count} points in R^{r}."
+            f"iterations (target {gap:.3g}) on {count} points in R^{r}."
         )
     return CentredEllipsoid(shapes[0], float(gaps[0]), int(iterations[0]))
 
 
-#: Growth of the barrier parameter t per stage of the path following.
-T_GROWTH = 200.0
-#: Newton decrement below which a point counts as centred for its t.
-CENTRED = 1e-6
+#: Neighbourhood of the central path kept by every step: lambda_i s_i >= NEIGHBOURHOOD * mu.
+NEIGHBOURHOOD = 1e-2
+#: Fraction of the way to the boundary lambda >= 0 that a step may go.
+TO_BOUNDARY = 0.99
+#: Centring parameter of the fallback step, taken where Mehrotra's step is shorter than
+#: SHORT_STEP.
+CENTRING = 0.3
+SHORT_STEP = 0.2
+#: Iterations without a better certificate after which a problem stops (rounding).
+STALL = 8
+#: Step lengths tried, as fractions of the longest step.
+_FRACTIONS: Array = 0.8 ** np.arange(40.0)
+#: How many of them Mehrotra's step tries before the centring step takes over.
+MEHROTRA_TRIALS = 2
 
 
 def centred_mvee_batch(
-    points: NDArray[np.float64], *, gap: float = 1e-8, max_iterations: int = 500
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int_]]:
+    points: Array, *, gap: float = 1e-8, max_iterations: int = 100
+) -> tuple[Array, Array, NDArray[np.int_]]:
     r""":func:`centred_mvee` for K problems at once, vectorised over the batch.
 
     Parameters
@@ -120,186 +126,220 @@ def centred_mvee_batch(
     gap : float, optional
         Target bound on each optimality gap in ``log det X``.
     max_iterations : int, optional
-        Newton steps allowed in all.
+        Interior-point iterations allowed.
 
     Returns
     -------
     shapes : ndarray, shape (K, r, r)
-        Each ``X`` scaled to touch its points (NaN where no feasible X was found).
+        Each ``X`` scaled to touch its points.
     gaps : ndarray, shape (K,)
-        Certified gaps; above ``gap`` (or NaN) where the method did not converge: the
-        caller decides (a sweep reports such rows as undefined).
+        Certified gaps; above ``gap`` where the method did not converge (it stops when
+        the gap has not improved for :data:`STALL` iterations: rounding): the caller decides (a
+        sweep reports such rows as undefined).
     iterations : ndarray of int, shape (K,)
-        Newton steps taken by each problem.
+        Iterations taken by each problem.
+
+    Raises
+    ------
+    SolverError
+        If the points of a problem do not span R^r.
 
     Notes
     -----
-    Path following on :math:`-t \log\det X - \sum_i \log(1 - c_i^T X c_i)` in the
-    :math:`r (r + 1) / 2` entries of X, from a feasible multiple of the identity, with t
-    growing by :data:`T_GROWTH` per stage; Newton steps with a backtracking line search,
-    never shorter than the damped step :math:`1 / (1 + \lambda)` that self-concordance
-    guarantees (function values lose digits to the factor t).  At the end of each stage
-    the central path's duals bound the optimum (Lagrangian duality, see
-    :func:`_certify`); a problem stops at ``gap``, or when its certificate stops
-    improving (rounding).
+    Newton's equations for :math:`\lambda_i s_i(\lambda) = \sigma \mu` are
+    :math:`(\Lambda^{-1} S + G) \Delta\lambda = \sigma \mu / \lambda - s` with
+    :math:`G_{ij} = (c_i^T X c_j)^2` (the derivative of the slacks), solved in the
+    :math:`r (r + 1) / 2` entries of a symmetric matrix (Woodbury): :math:`(H_W +
+    \Phi^T \Lambda S^{-1} \Phi) z = \Phi^T (\Lambda S^{-1} \rho)`, :math:`\Delta\lambda =
+    \Lambda S^{-1} (\rho - \Phi z)`, with :math:`H_W` the Hessian of :math:`-\log\det` at
+    :math:`X = W^{-1}` and :math:`\Phi_{ik} = c_i^T E_k c_i`.  Steps keep
+    :math:`\lambda > 0`, the exact (not linearised) slacks positive and every
+    :math:`\lambda_i s_i \ge` :data:`NEIGHBOURHOOD` times their mean.  The certificate is
+    the Lagrangian bound with the best scaling of :math:`\lambda`:
+    :math:`r \log\big((1 - \min_i s_i)(1 + \lambda^T s / r)\big) \le \lambda^T s`.
     """
-    K, count, r = points.shape
+    K, _, r = points.shape
     basis = _symmetric_basis(r)
-    flat = basis.reshape(-1, r * r)  # (d, r^2): X = (x @ flat).reshape(r, r)
-    trace = np.einsum("kaa->k", basis)
-    Phi = np.einsum("Kia,kab,Kib->Kik", points, basis, points)  # constraints: Phi x <= 1
-    norms = np.einsum("Kia,Kia->Ki", points, points).max(axis=1)
-    x = (0.5 / np.where(norms > 0, norms, 1.0))[:, None] * trace  # X = alpha I, feasible
-    t = np.full(K, 10.0 * count)
+    Phi = np.einsum("Kia,kab,Kib->Kik", points, basis, points)  # (K, N, d)
+    # Start: lambda = kappa on every point, kappa twice the largest leverage c_i^T (C^T C)^-1
+    # c_i (<= 1), so that every slack is at least 1/2.
+    present = np.einsum("Kia,Kia->Ki", points, points) > 0
+    try:
+        leverage = np.einsum(
+            "Kia,Kab,Kib->Ki", points, np.linalg.inv(np.swapaxes(points, 1, 2) @ points), points
+        )
+    except np.linalg.LinAlgError as exn:
+        raise SolverError(f"centred_mvee: the points do not span R^{r}.") from exn
+    lam = np.where(present, 2.0 * leverage.max(axis=1)[:, None], 1.0)
+    w, y, slack = _inverse_and_slacks(Phi, lam)
     shapes, gaps = np.full((K, r, r), np.nan), np.full(K, np.inf)
-    iterations = np.zeros(K, dtype=int)
+    iterations, stalled = np.zeros(K, dtype=int), np.zeros(K, dtype=int)
     active = np.arange(K)
-    for _ in range(max_iterations):
-        if active.size == 0:
+    while active.size:
+        lam_a, s = lam[active], slack[active]
+        certified = r * np.log1p(-s.min(axis=1)) + r * np.log1p((lam_a * s).sum(axis=1) / r)
+        better = certified < gaps[active]
+        improved = active[better]
+        gaps[improved] = certified[better]
+        shapes[improved] = _matrices(y[improved] / (1.0 - s[better].min(axis=1))[:, None], r)
+        stalled[active] = np.where(better, 0, stalled[active] + 1)
+        stop = certified <= gap
+        stop |= (stalled[active] >= STALL) | (iterations[active] >= max_iterations)
+        active = active[~stop]
+        if not active.size:
             break
         iterations[active] += 1
-        xa, Pa, ta = x[active], Phi[active], t[active]
-        slack = 1.0 - (Pa @ xa[..., None])[..., 0]
-        X_inv = np.linalg.inv((xa @ flat).reshape(-1, r, r))
-        # tr(X^-1 E_k) and tr(X^-1 E_k X^-1 E_l) = vec(E_k) . (X^-1 kron X^-1) vec(E_l)
-        kron = (X_inv[:, :, None, :, None] * X_inv[:, None, :, None, :]).reshape(-1, r * r, r * r)
-        PaT = np.swapaxes(Pa, 1, 2)
-        gradient = -ta[:, None] * (X_inv.reshape(-1, r * r) @ flat.T)
-        gradient += (PaT @ (1.0 / slack)[..., None])[..., 0]
-        hessian = ta[:, None, None] * (flat @ kron @ flat.T)
-        hessian += PaT @ (Pa * slack[..., None] ** -2)
-        try:
-            step = -np.linalg.solve(hessian, gradient[..., None])[..., 0]
-        except np.linalg.LinAlgError as exn:
-            raise SolverError(
-                f"centred_mvee: singular Newton system; the points do not span R^{r}."
-            ) from exn
-        decrement = -np.einsum("Kk,Kk->K", gradient, step)
-        centred = decrement <= CENTRED
-        done = np.zeros(active.size, dtype=bool)
-        if centred.any():
-            c = np.flatnonzero(centred)
-            shape, certified = _certify(xa[c], basis, points[active[c]], slack[c], ta[c])
-            better = certified < gaps[active[c]]
-            shapes[active[c[better]]] = shape[better]
-            gaps[active[c[better]]] = certified[better]
-            done[c] = (certified <= gap) | ~better  # at the target, or rounding stalls it
-            t[active[c]] *= T_GROWTH
-        move = np.flatnonzero(~centred)
-        if move.size:
-            x[active[move]] = _line_search(
-                xa[move], step[move], decrement[move], Pa[move], ta[move], basis, slack[move]
-            )
-        active = active[~done]
+        lam[active], w[active], y[active], slack[active] = _iteration(
+            Phi[active], lam[active], w[active], slack[active], r
+        )
     return shapes, gaps, iterations
 
 
-#: Step lengths tried by the line search, longest first (then the damped length).
-_STEPS = 0.5 ** np.arange(12)
+def _iteration(
+    Phi: Array, lam: Array, w: Array, s: Array, r: int
+) -> tuple[Array, Array, Array, Array]:
+    """One predictor-corrector step for every problem: the new lambda, W, X and slacks."""
+    W = _matrices(w, r)
+    flat = _symmetric_basis(r).reshape(-1, r * r)
+    mu = (lam * s).mean(axis=1)
+    D = lam / s  # Lambda S^-1
+    kron = (W[:, :, None, :, None] * W[:, None, :, None, :]).reshape(-1, r * r, r * r)
+    PhiT = np.swapaxes(Phi, 1, 2)
+    H = flat @ kron @ flat.T + PhiT @ (Phi * D[..., None])
 
+    def direction(rho: Array) -> tuple[Array, Array]:
+        """Delta lambda and the linearised Delta s for the right-hand side rho (K, N)."""
+        z = np.linalg.solve(H, (PhiT @ (D * rho)[..., None]))[..., 0]
+        step = D * (rho - (Phi @ z[..., None])[..., 0])
+        return step, rho - step / D
 
-def _line_search(
-    x: NDArray[np.float64],
-    step: NDArray[np.float64],
-    decrement: NDArray[np.float64],
-    Phi: NDArray[np.float64],
-    t: NDArray[np.float64],
-    basis: NDArray[np.float64],
-    slack: NDArray[np.float64],
-) -> NDArray[np.float64]:
-    r"""Backtracking (Armijo) along Newton steps, accepting the damped step when reached.
-
-    The barrier is analytic along a step: with :math:`\mu_j` the eigenvalues of
-    :math:`L^{-1} \Delta X L^{-T}` (:math:`X = L L^T`) and :math:`a = \Phi \, \Delta x`,
-    :math:`f(\alpha) - f(0) = -t \sum_j \log(1 + \alpha \mu_j) - \sum_i \log(1 - \alpha
-    a_i / s_i)`, finite exactly where the step stays feasible; so every trial length is
-    evaluated at once, without factorising a trial X.
-    """
-    r = basis.shape[1]
-    X = (x @ basis.reshape(-1, r * r)).reshape(-1, r, r)
-    dX = (step @ basis.reshape(-1, r * r)).reshape(-1, r, r)
-    L_inv = np.linalg.inv(np.linalg.cholesky(X))
-    mu = np.linalg.eigvalsh(L_inv @ dX @ np.swapaxes(L_inv, 1, 2))  # (K, r)
-    ratio = (Phi @ step[..., None])[..., 0] / slack  # (K, N)
-    damped = 1.0 / (1.0 + np.sqrt(decrement))
-
-    def accepted(steps: NDArray[np.float64], rows: NDArray[np.int_]) -> NDArray[np.bool_]:
-        """Which lengths ``steps`` (k, S) of the problems ``rows`` pass (k, S)."""
-        alpha = steps[:, :, None]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            det_term = np.log1p(alpha * mu[rows, None, :]).sum(axis=-1)
-            barrier = np.log1p(-alpha * ratio[rows, None, :]).sum(axis=-1)
-        change = -t[rows, None] * det_term - barrier  # NaN or inf where infeasible
-        feasible = np.isfinite(change) & (np.min(mu[rows], axis=1)[:, None] * steps > -1)
-        enough = change <= -0.01 * steps * decrement[rows, None]
-        return feasible & (enough | (steps <= damped[rows, None]))
-
-    everyone = np.arange(len(x))
-    length = np.where(accepted(np.ones((len(x), 1)), everyone)[:, 0], 1.0, np.nan)
-    rest = np.flatnonzero(np.isnan(length))  # the full step failed: the whole ladder
-    if rest.size:
-        steps = np.concatenate(
-            [np.broadcast_to(_STEPS, (rest.size, _STEPS.size)), damped[rest, None]], axis=1
+    d_lam, d_s = direction(-s)  # predictor: sigma = 0
+    length = np.minimum(_to_boundary(lam, d_lam), _to_boundary(s, d_s))
+    mu_predicted = ((lam + length[:, None] * d_lam) * (s + length[:, None] * d_s)).mean(axis=1)
+    sigma = np.clip((mu_predicted / mu) ** 3, 0.0, 1.0)
+    d_lam, d_s = direction((sigma * mu)[:, None] / lam - s - d_lam * d_s / lam)
+    length, new = _step(Phi, lam, d_lam, s, d_s, _FRACTIONS[:MEHROTRA_TRIALS])
+    short = length < SHORT_STEP
+    if short.any():  # a centring step where Mehrotra's is short
+        rows = np.flatnonzero(short)
+        # on the neighbourhood's edge: back to the central path (sigma = 1)
+        jammed = (lam * s).min(axis=1) < 2 * NEIGHBOURHOOD * mu
+        sigma_c = np.where(jammed, 1.0, CENTRING)
+        centring, d_s = direction((sigma_c * mu)[:, None] / lam - s)
+        length_c, new_c = _step(
+            Phi[rows], lam[rows], centring[rows], s[rows], d_s[rows], _FRACTIONS
         )
-        accept = accepted(steps, rest)
-        first = np.argmax(accept, axis=1)  # the longest accepted length (0 if none: a stall)
-        length[rest] = np.where(accept.any(axis=1), steps[np.arange(rest.size), first], 0.0)
-    return x + length[:, None] * step
+        use = length_c > length[rows]
+        length[rows[use]] = length_c[use]
+        d_lam[rows[use]] = centring[rows[use]]
+        for array, update in zip(new, new_c, strict=True):
+            array[rows[use]] = update[use]
+    return lam + length[:, None] * d_lam, *new
 
 
-def _certify(
-    x: NDArray[np.float64],
-    basis: NDArray[np.float64],
-    points: NDArray[np.float64],
-    slack: NDArray[np.float64],
-    t: NDArray[np.float64],
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    r"""The best feasible X at hand for each problem, scaled to touch, and its certified gap.
+def _step(
+    Phi: Array, lam: Array, d_lam: Array, s: Array, d_s: Array, fractions: Array
+) -> tuple[Array, tuple[Array, Array, Array]]:
+    """The longest step along d_lam that stays in the neighbourhood (0 if none does).
 
-    Any :math:`\lambda \ge 0` bounds the optimum: :math:`\log\det X^* \le -\log\det W
-    - r \log(r / \sum_i \lambda_i)` with :math:`W = \sum_i \lambda_i c_i c_i^T`
-    (Lagrangian duality, with the best scaling of :math:`\lambda`).  The duals are the
-    central path's :math:`1 / (t s_i)`, also with those of clearly inactive constraints
-    set to zero (they only add N / t to the gap); each gives a candidate ``X = W^-1`` (the
-    optimality condition) beside the primal iterate.
-
-    Parameters
-    ----------
-    x : ndarray, shape (K, d)
-    basis : ndarray, shape (d, r, r)
-    points : ndarray, shape (K, N, r)
-    slack : ndarray, shape (K, N)
-    t : ndarray, shape (K,)
-
-    Returns
-    -------
-    shapes : ndarray, shape (K, r, r)
-    gaps : ndarray, shape (K,)
+    The slacks are concave in lambda, so their linearisation ``s + length * d_s`` bounds
+    them from above and limits the first trial; shorter lengths follow where the exact
+    slacks say no.  Returns the length and, at the new lambda, W, X and the exact slacks
+    (the next iteration's, as in :func:`_inverse_and_slacks`).
     """
-    K, _, r = points.shape
-    with np.errstate(divide="ignore"):  # a slack of 0 (rounding): an infinite dual, unused
-        duals = 1.0 / (t[:, None] * slack)
-    candidates = [np.einsum("Kk,kab->Kab", x, basis)]
-    upper = np.full(K, np.inf)
-    for threshold in (np.inf, 1e-4):
-        kept = np.where(slack <= threshold, duals, 0.0)
-        W = np.einsum("Kia,Ki,Kib->Kab", points, kept, points)
-        sign, logdet_W = np.linalg.slogdet(W)
-        valid = sign > 0
-        with np.errstate(divide="ignore", invalid="ignore"):
-            bound = -logdet_W - r * np.log(r / kept.sum(axis=1))
-        upper = np.where(valid, np.minimum(upper, bound), upper)
-        inverse = np.linalg.inv(np.where(valid[:, None, None], W, np.eye(r)))
-        candidates.append(np.where(valid[:, None, None], inverse, np.nan))
-    best, best_logdet = np.full((K, r, r), np.nan), np.full(K, -np.inf)
-    for X in candidates:
-        X = 0.5 * (X + np.swapaxes(X, 1, 2))
-        finite = np.isfinite(X).all(axis=(1, 2))
-        X = np.where(finite[:, None, None], X, np.eye(r))
-        positive = finite & (np.linalg.eigvalsh(X)[:, 0] > 0)
-        X = X / np.einsum("Kia,Kab,Kib->Ki", points, X, points).max(axis=1)[:, None, None]
-        logdet = np.where(positive, np.linalg.slogdet(X)[1], -np.inf)
-        improve = logdet > best_logdet
-        best = np.where(improve[:, None, None], X, best)
-        best_logdet = np.where(improve, logdet, best_logdet)
-    return best, upper - best_logdet
+    K, count, d = Phi.shape
+    longest = TO_BOUNDARY * np.minimum(_to_boundary(lam, d_lam), _to_boundary(s, d_s))
+    length = np.zeros(K)
+    w, y, slack = np.empty((K, d)), np.empty((K, d)), np.empty((K, count))
+    todo = np.arange(K)
+    for fraction in fractions:
+        trial = lam[todo] + (fraction * longest[todo])[:, None] * d_lam[todo]
+        w_t, y_t, s_t = _inverse_and_slacks(Phi[todo], trial)
+        product = s_t * trial
+        inside = (s_t.min(axis=-1) > 0) & (
+            product.min(axis=-1) >= NEIGHBOURHOOD * product.mean(axis=-1)
+        )
+        rows = todo[inside]
+        length[rows] = fraction * longest[rows]
+        w[rows], y[rows], slack[rows] = w_t[inside], y_t[inside], s_t[inside]
+        todo = todo[~inside]
+        if not todo.size:
+            break
+    if todo.size:  # no step: stay (the stall counter ends the problem)
+        w[todo], y[todo], slack[todo] = _inverse_and_slacks(Phi[todo], lam[todo])
+    return length, (w, y, slack)
+
+
+def _inverse_and_slacks(Phi: Array, lam: Array) -> tuple[Array, Array, Array]:
+    """W(lambda) and X = W^-1 by their upper triangles (K, d), and the slacks (K, N).
+
+    With ``Phi_ik = c_i^T E_k c_i``: ``W = sum_k w_k E_k`` for ``w = lambda Phi / m`` (m the
+    multiplicity of entry k: 2 off the diagonal) and ``c_i^T X c_i = Phi_i . x``.
+    """
+    d = Phi.shape[-1]
+    r = _dimension(d)
+    w = (lam[:, None, :] @ Phi)[:, 0] / _multiplicity(r)
+    y = _symmetric_inverse(w, r)
+    return w, y, 1.0 - (Phi @ y[..., None])[..., 0]
+
+
+def _symmetric_inverse(w: Array, r: int) -> Array:
+    """The upper triangle of the inverse of symmetric matrices given by theirs (K, d).
+
+    Cofactors for r <= 3 (a sweep's tasks: one call costs a few elementwise operations
+    instead of one LAPACK call per matrix); LAPACK otherwise.
+    """
+    if r == 1:
+        return 1.0 / w
+    if r == 2:
+        a, b, d = w.T
+        return np.stack([d, -b, a], axis=-1) / (a * d - b * b)[:, None]
+    if r == 3:
+        a, b, c, d, e, f = w.T
+        first_row = [d * f - e * e, c * e - b * f, b * e - c * d]
+        rest = [a * f - c * c, b * c - a * e, a * d - b * b]
+        cofactors = np.stack([*first_row, *rest], axis=-1)
+        determinant = a * cofactors[:, 0] + b * cofactors[:, 1] + c * cofactors[:, 2]
+        inverse: Array = cofactors / determinant[:, None]
+        return inverse
+    rows, cols = np.triu_indices(r)
+    general: Array = np.linalg.inv(_matrices(w, r))[:, rows, cols]
+    return general
+
+
+def _matrices(v: Array, r: int) -> Array:
+    """Symmetric matrices (K, r, r) from their upper triangles (K, d)."""
+    index = np.zeros((r, r), dtype=int)
+    rows, cols = np.triu_indices(r)
+    index[rows, cols] = index[cols, rows] = np.arange(rows.size)
+    return v[:, index]
+
+
+def _dimension(d: int) -> int:
+    """The size r of symmetric matrices with d = r (r + 1) / 2 entries in a triangle."""
+    return round((np.sqrt(8 * d + 1) - 1) / 2)
+
+
+@lru_cache(maxsize=8)
+def _multiplicity(r: int) -> Array:
+    """1 for the diagonal entries of the upper triangle, 2 off it."""
+    rows, cols = np.triu_indices(r)
+    return np.where(rows == cols, 1.0, 2.0)
+
+
+def _to_boundary(value: Array, delta: Array) -> Array:
+    """Largest length in (0, 1] keeping ``value + length * delta >= 0`` (rows)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(delta < 0, -delta / value, 0.0)
+    return 1.0 / np.maximum(ratio.max(axis=-1), 1.0)
+
+
+@lru_cache(maxsize=8)
+def _symmetric_basis(r: int) -> Array:
+    """Basis ``E_k`` (d, r, r) of the symmetric matrices, d = r (r + 1) / 2."""
+    rows, cols = np.triu_indices(r)
+    basis = np.zeros((rows.size, r, r))
+    basis[np.arange(rows.size), rows, cols] = 1.0
+    basis[np.arange(rows.size), cols, rows] = 1.0
+    basis.flags.writeable = False
+    return basis

@@ -35,8 +35,9 @@ __all__ = ["MVIE_GAP", "MVIE_METHODS", "max_volume_inscribed_ellipsoid"]
 #: Certified gap in log det of the MVIE (its volume is within a relative MVIE_GAP / 2).
 MVIE_GAP = 1e-8
 
-#: ``"logdet"``: the dedicated Newton method of :func:`~polyell.geometry.logdet.centred_mvee`
-#: (the default); ``"cvxpy"``: the same program through cvxpy and Clarabel (a cross-check).
+#: ``"logdet"``: the dedicated primal-dual interior-point method of
+#: :func:`~polyell.geometry.logdet.centred_mvee` (the default); ``"cvxpy"``: the same
+#: program through cvxpy and Clarabel (a cross-check).
 MVIE_METHODS = ("logdet", "cvxpy")
 
 

@@ -338,8 +338,9 @@ def bench_mvie(repeats: int) -> list[str]:
     return [
         "## (e) The MVIE in sweeps",
         "",
-        "Panda, linear task: the maximum-volume inscribed ellipsoid by the batched log-barrier "
-        "solver of `pe.sweep` (whitened coordinates, certified gap 1e-8 in log det), against "
+        "Panda, linear task: the maximum-volume inscribed ellipsoid by the batched primal-dual "
+        "interior-point solver of `pe.sweep` (whitened coordinates, certified gap 1e-8 in log "
+        "det), against "
         "the same program through cvxpy + Clarabel one configuration at a time (the path of "
         "earlier versions), timed alternately.",
         "",
