@@ -303,7 +303,7 @@ def _symmetric_inverse(w: Array, r: int) -> Array:
         inverse: Array = cofactors / determinant[:, None]
         return inverse
     rows, cols = np.triu_indices(r)
-    general: Array = np.linalg.inv(_matrices(w, r))[:, rows, cols]
+    general: Array = np.linalg.inv(_matrices(w, r))[:, rows, cols].astype(float)
     return general
 
 
