@@ -274,8 +274,9 @@ def sweep(
     chunk : int
         Configurations per task (and per Parquet file).
     mvie : bool
-        Also compute the maximum-volume inscribed ellipsoid at every configuration (a
-        log-det program each: about 1000 times slower; parallelise with ``scheduler``).
+        Also compute the maximum-volume inscribed ellipsoid at every configuration
+        (batched interior-point solver: about 5 times slower than without, see
+        ``docs/performance.md``).
     rank_rtol : float
         Rank tolerance, as in :func:`polyell.analyze`.
     progress : bool
