@@ -7,7 +7,14 @@ exact task-space acceleration polytope.
 
 from polyell import robots
 from polyell.analysis import ELLIPSOID_KINDS, Analysis, InverseSolution, analyze
-from polyell.comparison import COMPARED_KINDS, SCORE_NAMES, Comparison, Scores, compare
+from polyell.comparison import (
+    COMPARED_KINDS,
+    SCORE_NAMES,
+    Candidate,
+    Comparison,
+    Scores,
+    compare,
+)
 from polyell.errors import (
     InputError,
     MissingDependencyError,
@@ -39,6 +46,7 @@ __all__ = [
     "SCORE_NAMES",
     "AffineSubspace",
     "Analysis",
+    "Candidate",
     "Comparison",
     "DirectionalLimits",
     "Dynamics",

@@ -128,7 +128,12 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--inverse-at", choices=("lo", "hi"), default="hi", help="end of the new interval"
     )
-    run.add_argument("--no-mvie", action="store_true", help="skip the log-det program")
+    run.add_argument(
+        "--no-mvie", action="store_true", help="skip the maximum-volume inscribed ellipsoid"
+    )
+    run.add_argument(
+        "--no-outer", action="store_true", help="skip the minimum-volume enclosing ellipsoid"
+    )
     run.add_argument("--json", action="store_true", help="print JSON instead of text")
     study = commands.add_parser(
         "study",
@@ -215,7 +220,7 @@ def _analyze(args: argparse.Namespace) -> list[str]:
     q = _configuration(args, robot)
     analysis = analyze(robot.model.dynamics(q), robot.tau_max, robot.tau_min)
     direction, label, notes = _direction(args, analysis.dynamics.m)
-    comparison = compare(analysis, mvie=not args.no_mvie)
+    comparison = compare(analysis, mvie=not args.no_mvie, outer=not args.no_outer)
     if args.json:
         result = {"robot": args.robot, "q": q.tolist()}
         result |= analysis_to_json(analysis, direction, comparison, args.inverse_at)

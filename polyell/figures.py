@@ -8,7 +8,7 @@ machines without a display.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -45,18 +45,36 @@ STYLES = {
     "chiacchio": {"color": "black", "linestyle": "-", "linewidth": 1.4},
     "yoshikawa": {"color": "black", "linestyle": ":", "linewidth": 1.6},
     "mvie": {"color": "0.55", "linestyle": "-.", "linewidth": 1.2},
+    "outer": {"color": "0.3", "linestyle": (0, (7, 2)), "linewidth": 1.0},
 }
+#: Styles of user-defined candidates, in the order they are drawn.
+CANDIDATE_STYLES = (
+    {"color": "0.15", "linestyle": (0, (1, 1)), "linewidth": 1.8},
+    {"color": "0.45", "linestyle": (0, (5, 1, 1, 1, 1, 1)), "linewidth": 1.2},
+    {"color": "0.65", "linestyle": "-", "linewidth": 2.4},
+    {"color": "0.25", "linestyle": (0, (3, 3)), "linewidth": 1.4},
+)
 
 
-def _style(kind: str) -> dict[str, object]:
-    style = dict(STYLES[kind])
+def _style(kind: str, kinds: Sequence[str] = ()) -> dict[str, object]:
+    """The line style of a set; a candidate's by its place among the others in ``kinds``."""
+    if kind in STYLES:
+        style = dict(STYLES[kind])
+    else:
+        others = [k for k in kinds if k not in STYLES]
+        index = others.index(kind) if kind in others else 0
+        style = dict(CANDIDATE_STYLES[index % len(CANDIDATE_STYLES)])
     style.setdefault("label", ELLIPSOID_LABELS.get(kind, kind))
     return style
 
 
 def _ellipsoids(
-    analysis: Analysis, kinds: Sequence[str], mvie: Ellipsoid | None
+    analysis: Analysis,
+    kinds: Sequence[str],
+    mvie: Ellipsoid | None,
+    extra: Mapping[str, Ellipsoid] | None,
 ) -> dict[str, Ellipsoid]:
+    """The ellipsoids to draw: ``kinds`` of the analysis (and the MVIE), then ``extra``."""
     found: dict[str, Ellipsoid] = {}
     for kind in kinds:
         if kind == "mvie":
@@ -68,7 +86,7 @@ def _ellipsoids(
             found[kind] = analysis.ellipsoid(kind)  # type: ignore[arg-type]
         except UndefinedEllipsoidError:
             continue  # undefined here (singular configuration): nothing to draw
-    return found
+    return found | dict(extra or {})
 
 
 def _ellipse_points(E: Ellipsoid, k: int = 721) -> NDArray[np.float64]:
@@ -94,6 +112,7 @@ def plot_sets(
     *,
     kinds: Sequence[str] = ("chiacchio", "yoshikawa"),
     mvie: Ellipsoid | None = None,
+    extra: Mapping[str, Ellipsoid] | None = None,
     unit: str | None = None,
     title: str | None = None,
 ) -> Figure:
@@ -112,6 +131,9 @@ def plot_sets(
         undefined one is skipped.
     mvie : Ellipsoid, optional
         The maximum-volume inscribed ellipsoid, when ``"mvie"`` is in ``kinds``.
+    extra : mapping of str to Ellipsoid, optional
+        More sets by name: the outer ellipsoid (``Comparison.outer``) or candidates
+        (``Comparison.ellipsoid(name)``).
     unit : str, optional
         Axis unit; default the task's (m/s^2 for linear rows, rad/s^2 for angular ones).
     title : str, optional
@@ -139,12 +161,13 @@ def plot_sets(
         segment |= {"solid_capstyle": "butt", "marker": "s", "markersize": 9}
     ax.plot(*vertices.T, **(_style("polytope") | segment))  # type: ignore[arg-type]
     widths = {"chiacchio": 3.2, "yoshikawa": 2.0, "mvie": 1.3}
-    for kind, E in _ellipsoids(analysis, kinds, mvie).items():
+    drawn = _ellipsoids(analysis, kinds, mvie, extra)
+    for kind, E in drawn.items():
         ends: dict[str, object] = {}
         if E.rank < 2:
             ends = {"marker": "|", "markersize": 16, "markeredgewidth": 1.6}
             ends |= {"linewidth": widths.get(kind, 1.3), "solid_capstyle": "butt"}
-        ax.plot(*_ellipse_points(E).T, **(_style(kind) | ends))  # type: ignore[arg-type]
+        ax.plot(*_ellipse_points(E).T, **(_style(kind, list(drawn)) | ends))  # type: ignore[arg-type]
     ax.plot(
         *analysis.xg,
         marker="+",
@@ -189,11 +212,15 @@ def plot_sets_3d(
     *,
     kinds: Sequence[str] = ("chiacchio", "yoshikawa"),
     mvie: Ellipsoid | None = None,
+    extra: Mapping[str, Ellipsoid] | None = None,
     unit: str | None = None,
     title: str | None = None,
     view: tuple[float, float] = (25.0, -60.0),
 ) -> Figure:
-    """The polytope (translucent faces) and ellipsoids (wireframes) of a 3-D task space."""
+    """The polytope (translucent faces) and ellipsoids (wireframes) of a 3-D task space.
+
+    Arguments as for :func:`plot_sets`; the view is ``(elevation, azimuth)`` in degrees.
+    """
     if analysis.dynamics.m != 3:
         raise InputError(
             "analysis", "a 3-D task space", f"m = {analysis.dynamics.m}", "use plot_sets."
@@ -209,8 +236,9 @@ def plot_sets_3d(
         ax.add_collection3d(faces)
     else:
         ax.plot(*P.vertices.T, "o", color="0.35", label="polytope vertices (15)")
-    for kind, E in _ellipsoids(analysis, kinds, mvie).items():
-        style = _style(kind)
+    drawn = _ellipsoids(analysis, kinds, mvie, extra)
+    for kind, E in drawn.items():
+        style = _style(kind, list(drawn))
         ax.plot_wireframe(
             *_ellipsoid_surface(E),
             rstride=4,
@@ -222,7 +250,11 @@ def plot_sets_3d(
         )
     ax.plot(*analysis.xg, "+", color="black", markersize=9, label=r"centre $\ddot x_g$")
     ax.plot(0.0, 0.0, 0.0, "o", color="black", markerfacecolor="white", label="origin")
-    bounds = np.vstack([P.vertices, np.zeros((1, 3))])
+    reach = [np.linalg.norm(E.axes * E.semi_axes, axis=1) for E in drawn.values()]
+    boxes = [
+        np.vstack([E.center - r, E.center + r]) for E, r in zip(drawn.values(), reach, strict=True)
+    ]
+    bounds = np.vstack([P.vertices, np.zeros((1, 3)), *boxes])
     ax.auto_scale_xyz(*[(b.min(), b.max()) for b in bounds.T])
     ax.set_box_aspect(np.ptp(bounds, axis=0) + 1e-12)
     ax.view_init(*view)
@@ -238,6 +270,7 @@ def plot_directional_limits(
     *,
     kinds: Sequence[str] = ("chiacchio", "yoshikawa"),
     mvie: Ellipsoid | None = None,
+    extra: Mapping[str, Ellipsoid] | None = None,
     directions: int = 720,
     unit: str | None = None,
     title: str | None = None,
@@ -254,10 +287,11 @@ def plot_directional_limits(
     order = np.argsort(angles)
     figure = Figure(figsize=(4.5, 4.5), layout="constrained")
     ax = figure.add_subplot(projection="polar")
-    sets = {"polytope": analysis.polytope, **_ellipsoids(analysis, kinds, mvie)}
+    sets = {"polytope": analysis.polytope, **_ellipsoids(analysis, kinds, mvie, extra)}
     for name, S in sets.items():
         hi = S.limits(T).hi[order]
-        ax.plot(angles[order], np.where(hi > 0, hi, np.nan), **_style(name))  # type: ignore[arg-type]
+        style = _style(name, list(sets))
+        ax.plot(angles[order], np.where(hi > 0, hi, np.nan), **style)  # type: ignore[arg-type]
     unit = unit or task_unit(analysis.dynamics.task, tex=True)
     ax.set_title(title or f"upper limit along each direction [{unit}]", fontsize="medium")
     ax.legend(fontsize="small", loc="lower left", bbox_to_anchor=(-0.1, -0.12))
@@ -337,7 +371,7 @@ def plot_score_histogram(
     figure = Figure(figsize=(5.0, 3.6), layout="constrained")
     ax = figure.add_subplot()
     for kind, data in zip(present, finite, strict=True):
-        style = _style(kind)
+        style = _style(kind, present)
         ax.hist(
             data,
             bins=edges,
@@ -384,7 +418,7 @@ def plot_score_series(
     figure = Figure(figsize=(6.0, 3.2), layout="constrained")
     ax = figure.add_subplot()
     for kind in present:
-        style = _style(kind)
+        style = _style(kind, present)
         ax.plot(
             x,
             factor * results[f"{kind}_{score}"],

@@ -110,7 +110,12 @@ def check_array(
 
 
 def check_spd(
-    name: str, value: ArrayLike, n: int, batch: tuple[int, ...] = ()
+    name: str,
+    value: ArrayLike,
+    n: int | str,
+    batch: tuple[int, ...] = (),
+    *,
+    fix: str = "an inertia matrix has strictly positive eigenvalues; check masses and inertias.",
 ) -> NDArray[np.float64]:
     """Check symmetric positive-definite (n, n) matrices, such as inertia matrices.
 
@@ -120,10 +125,12 @@ def check_spd(
         Argument name used in error messages.
     value : array-like, shape batch + (n, n)
         The matrix, or a stack of them.
-    n : int
-        Expected size.
+    n : int or str
+        Expected size, or a label (any square size).
     batch : tuple of int, optional
         Leading (batch) shape.
+    fix : str, optional
+        How to repair a matrix that is not positive definite.
 
     Returns
     -------
@@ -137,6 +144,8 @@ def check_spd(
         ``SYMMETRY_RTOL``, or not positive definite.
     """
     matrix = check_array(name, value, (*batch, n, n))
+    if matrix.shape[-1] != matrix.shape[-2]:
+        raise InputError(name, f"a square ({n}, {n}) matrix", f"shape {matrix.shape}")
     transposed = np.swapaxes(matrix, -1, -2)
     scale = np.max(np.abs(matrix)) if matrix.size else 0.0
     asymmetry = np.max(np.abs(matrix - transposed)) if matrix.size else 0.0
@@ -145,7 +154,7 @@ def check_spd(
             name,
             "a symmetric matrix",
             f"max |B - B^T| = {asymmetry:.3g} (max |B| = {scale:.3g})",
-            "pass the joint-space inertia matrix, which is symmetric.",
+            "pass a symmetric matrix (the inertia matrix is one).",
         )
     matrix = 0.5 * (matrix + transposed)
     try:
@@ -158,7 +167,7 @@ def check_spd(
             name,
             "a positive-definite matrix",
             f"smallest eigenvalue {np.min(smallest):.6g}{at}",
-            "an inertia matrix has strictly positive eigenvalues; check masses and inertias.",
+            fix,
         ) from None
     return matrix
 

@@ -1,5 +1,6 @@
 """Comparison: scores of the ellipsoids against the exact polytope, and their tables."""
 
+from polyell.comparison.candidates import Candidate
 from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES, Comparison, Scores, compare
 
-__all__ = ["COMPARED_KINDS", "SCORE_NAMES", "Comparison", "Scores", "compare"]
+__all__ = ["COMPARED_KINDS", "SCORE_NAMES", "Candidate", "Comparison", "Scores", "compare"]

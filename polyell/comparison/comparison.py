@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import io
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
@@ -11,10 +12,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from polyell.analysis import ELLIPSOID_KINDS, Analysis, EllipsoidKind
+from polyell.analysis import Analysis, EllipsoidKind
+from polyell.comparison.candidates import BUILT_IN_KINDS, Candidate, check_candidates
 from polyell.comparison.metrics import (
     check_same_affine_set,
     direction_errors,
+    enclosing_scale,
     inscribed_scale,
     overlap,
     witness_torque_max,
@@ -24,6 +27,7 @@ from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.directions import directions_in
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
+from polyell.geometry.outer import min_volume_enclosing_ellipsoid
 from polyell.models.task import task_unit
 from polyell.validation import check_directions
 
@@ -32,8 +36,9 @@ if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
 
 __all__ = ["COMPARED_KINDS", "SCORE_NAMES", "Comparison", "Scores", "compare"]
 
-#: The ellipsoids a comparison scores: both definitions and the maximum-volume inscribed one.
-COMPARED_KINDS = (*ELLIPSOID_KINDS, "mvie")
+#: The ellipsoids every comparison scores: both definitions, the maximum-volume inscribed
+#: one and the minimum-volume enclosing (outer) one; user-defined candidates follow them.
+COMPARED_KINDS = BUILT_IN_KINDS
 
 
 @dataclass(frozen=True)
@@ -43,7 +48,7 @@ class Scores:
     Attributes
     ----------
     kind : str
-        ``"chiacchio"``, ``"yoshikawa"`` or ``"mvie"``.
+        ``"chiacchio"``, ``"yoshikawa"``, ``"mvie"``, ``"outer"`` or a candidate's name.
     defined : bool
         False where the definition does not exist at this configuration (then every
         score is NaN and ``reason`` says why).
@@ -55,12 +60,21 @@ class Scores:
         Volume of the ellipsoid in its affine set [(m/s^2)^r].
     inscribed_scale : float
         Largest k with ``c + k (E - c)`` inside P; >= 1 iff E is inside P.
+    enclosing_scale : float
+        Smallest k with P inside ``c + k (E - c)``; <= 1 iff E contains P (the outer
+        ellipsoid: exactly 1).
     coverage, overreach : float
-        ``vol(E & P) / vol(P)`` and ``vol(E \ P) / vol(E)``.
+        ``vol(E & P) / vol(P)`` and ``vol(E \ P) / vol(E)``; for an ellipsoid containing
+        P (the outer one) coverage is 1 and overreach ``1 - vol(P) / vol(E)``, how much it
+        overstates.
     coverage_stderr, overreach_stderr : float
         Standard errors of those two (0 when exact).
     mvie_ratio : float
-        ``vol(E) / vol(E*)`` with E* the maximum-volume inscribed ellipsoid.
+        ``vol(E) / vol(E*)`` with E* the maximum-volume inscribed ellipsoid (the inner
+        optimum).
+    outer_ratio : float
+        ``vol(E) / vol(E_outer)`` with E_outer the minimum-volume enclosing ellipsoid (the
+        outer optimum).
     direction_error_mean, direction_error_max, direction_error_rms : float
         Mean, max and RMS of ``|hi_E - hi_P| / |hi_P|`` over the directions.
     direction_bias : float
@@ -71,8 +85,8 @@ class Scores:
         Directions that entered the directional statistics.
     witness_torque_max : float
         Max ``|tau_n|_inf`` over E's boundary mapped by the definition's own inverse
-        (eq. 26 for yoshikawa, eq. 33/40 for chiacchio and the MVIE); > 1 means that
-        inverse breaks the torque limits somewhere on E.
+        (eq. 26 for yoshikawa, eq. 33/40 for chiacchio, the MVIE, the outer ellipsoid and
+        candidates); > 1 means that inverse breaks the torque limits somewhere on E.
     """
 
     kind: str
@@ -81,11 +95,13 @@ class Scores:
     dimension: float = np.nan
     volume: float = np.nan
     inscribed_scale: float = np.nan
+    enclosing_scale: float = np.nan
     coverage: float = np.nan
     coverage_stderr: float = np.nan
     overreach: float = np.nan
     overreach_stderr: float = np.nan
     mvie_ratio: float = np.nan
+    outer_ratio: float = np.nan
     direction_error_mean: float = np.nan
     direction_error_max: float = np.nan
     direction_error_rms: float = np.nan
@@ -106,7 +122,7 @@ SCORE_NAMES = tuple(
 
 
 class Comparison:
-    """Scores of both ellipsoid definitions and of the MVIE against the polytope.
+    """Scores of both ellipsoid definitions, the MVIE, the outer ellipsoid and candidates.
 
     Build it with :func:`compare`.  ``cmp["chiacchio"]`` is a :class:`Scores`.
 
@@ -115,6 +131,8 @@ class Comparison:
     analysis : Analysis
     directions : ndarray, shape (k, m)
         The unit directions of the directional statistics.
+    kinds : tuple of str
+        The scored ellipsoids: :data:`COMPARED_KINDS`, then the candidates' names.
     """
 
     def __init__(
@@ -125,13 +143,17 @@ class Comparison:
         samples: int = 2**13,
         seed: int = 0,
         mvie: bool = True,
+        outer: bool = True,
+        candidates: tuple[Candidate, ...] = (),
     ) -> None:
         self.analysis = analysis
         self.directions = directions
         self._samples = samples
         self._seed = seed
-        self._with_mvie = mvie
-        self.records: dict[str, Scores] = {kind: self._score(kind) for kind in COMPARED_KINDS}
+        self._computed = {"mvie": mvie, "outer": outer}
+        self._candidates = {c.name: c for c in candidates}
+        self.kinds: tuple[str, ...] = (*COMPARED_KINDS, *self._candidates)
+        self.records: dict[str, Scores] = {kind: self._score(kind) for kind in self.kinds}
 
     def __getitem__(self, kind: str) -> Scores:
         if kind not in self.records:
@@ -147,27 +169,37 @@ class Comparison:
         return max_volume_inscribed_ellipsoid(self.analysis.polytope)
 
     @cached_property
+    def outer(self) -> Ellipsoid:
+        """The minimum-volume enclosing ellipsoid (the floor for enclosing ones)."""
+        return min_volume_enclosing_ellipsoid(self.analysis.polytope)
+
+    @cached_property
     def polytope_limits(self) -> Any:
         """Directional limits of the polytope on :attr:`directions`."""
         return self.analysis.polytope.limits(self.directions)
 
     def ellipsoid(self, kind: str) -> Ellipsoid:
         """The ellipsoid scored under ``kind`` (raises where it is undefined)."""
-        return self.mvie if kind == "mvie" else self.analysis.ellipsoid(kind)  # type: ignore[arg-type]
+        if kind == "mvie":
+            return self.mvie
+        if kind == "outer":
+            return self.outer
+        if kind in self._candidates:
+            return self._candidates[kind].ellipsoid(self.analysis)
+        return self.analysis.ellipsoid(kind)  # type: ignore[arg-type]
 
-    @cached_property
-    def _mvie_volume(self) -> float:
-        """Volume of the MVIE, NaN where it was not computed or could not be."""
-        if not self._with_mvie:
+    def _optimum_volume(self, kind: str) -> float:
+        """Volume of the MVIE or of the outer ellipsoid, NaN where not computed or failed."""
+        if not self._computed[kind]:
             return np.nan
         try:
-            return self.mvie.volume
+            return self.ellipsoid(kind).volume
         except SolverError:
             return np.nan
 
     def _score(self, kind: str) -> Scores:
-        if kind == "mvie" and not self._with_mvie:
-            return Scores(kind=kind, defined=False, reason="not computed (mvie=False)")
+        if not self._computed.get(kind, True):
+            return Scores(kind=kind, defined=False, reason=f"not computed ({kind}=False)")
         try:
             E = self.ellipsoid(kind)
         except (UndefinedEllipsoidError, SolverError) as exn:
@@ -184,11 +216,13 @@ class Comparison:
             dimension=float(E.rank),
             volume=E.volume,
             inscribed_scale=inscribed_scale(E, P),
+            enclosing_scale=enclosing_scale(E, P),
             coverage=shares.coverage,
             coverage_stderr=shares.coverage_stderr,
             overreach=shares.overreach,
             overreach_stderr=shares.overreach_stderr,
-            mvie_ratio=E.volume / self._mvie_volume,
+            mvie_ratio=E.volume / self._optimum_volume("mvie"),
+            outer_ratio=E.volume / self._optimum_volume("outer"),
             direction_error_mean=errors.mean,
             direction_error_max=errors.max,
             direction_error_rms=errors.rms,
@@ -260,8 +294,10 @@ def compare(
     samples: int = 2**13,
     seed: int = 0,
     mvie: bool = True,
+    outer: bool = True,
+    candidates: Sequence[Candidate] = (),
 ) -> Comparison:
-    """Score both ellipsoid definitions and the MVIE against the exact polytope.
+    """Score both ellipsoid definitions, the MVIE, the outer ellipsoid and candidates.
 
     Parameters
     ----------
@@ -277,8 +313,13 @@ def compare(
     seed : int, optional
         Seed of those estimates.
     mvie : bool, optional
-        Whether to compute the maximum-volume inscribed ellipsoid (a log-det program, the
-        slowest part); without it the ``"mvie"`` record and every ``mvie_ratio`` are NaN.
+        Whether to compute the maximum-volume inscribed ellipsoid (a log-det program);
+        without it the ``"mvie"`` record and every ``mvie_ratio`` are NaN.
+    outer : bool, optional
+        Whether to compute the minimum-volume enclosing ellipsoid (the same program on the
+        vertices); without it the ``"outer"`` record and every ``outer_ratio`` are NaN.
+    candidates : sequence of Candidate, optional
+        User-defined ellipsoids, scored after the built-in ones under their names.
 
     Returns
     -------
@@ -302,4 +343,9 @@ def compare(
         T = directions_in(affine_set, None if directions is None else int(directions))
     else:
         T = np.atleast_2d(check_directions("directions", directions, affine_set.ambient_dim))
-    return Comparison(analysis, T, samples=samples, seed=seed, mvie=mvie)
+    found = check_candidates(candidates)
+    for candidate in found:
+        candidate.check_sizes(analysis.dynamics.m, analysis.dynamics.n)
+    return Comparison(
+        analysis, T, samples=samples, seed=seed, mvie=mvie, outer=outer, candidates=found
+    )

@@ -23,15 +23,17 @@ __all__ = [
     "Overlap",
     "check_same_affine_set",
     "direction_errors",
+    "enclosing_scale",
     "inscribed_scale",
     "overlap",
     "witness_torque_max",
 ]
 
 
-#: An ellipsoid whose inscribed scale is at least ``1 - INSIDE_RTOL`` is inside the polytope:
-#: one that touches a facet (scale exactly 1, as the new ellipsoid can) must not be sent to
-#: a Monte Carlo estimate by a rounding error of 1e-16.
+#: An ellipsoid whose inscribed scale is at least ``1 - INSIDE_RTOL`` is inside the polytope
+#: (one whose enclosing scale is at most ``1 + INSIDE_RTOL`` contains it): one that touches
+#: (scale exactly 1, as the new ellipsoid and the outer one do) must not be sent to a Monte
+#: Carlo estimate by a rounding error of 1e-16.
 INSIDE_RTOL = 1e-9
 
 
@@ -59,6 +61,19 @@ def inscribed_scale(E: Ellipsoid, P: Polytope) -> float:
     if E.rank == 0:
         return float("inf") if np.all(slack >= -P.atol) else float("-inf")
     return float(np.min(slack / reach))
+
+
+def enclosing_scale(E: Ellipsoid, P: Polytope) -> float:
+    """Smallest ``k`` with ``P`` inside ``c + k (E - c)``.
+
+    The largest ``|diag(s)^-1 U^T (v - c)|`` over the vertices v of ``P``: at most 1 iff
+    ``E`` contains ``P`` (the outer ellipsoid touches: exactly 1), the counterpart of
+    :func:`inscribed_scale`.  A point ellipsoid gives 0 (if P is that point) or ``inf``.
+    """
+    offsets = P.vertices - E.center
+    if E.rank == 0:
+        return 0.0 if np.all(np.linalg.norm(offsets, axis=1) <= P.atol) else float("inf")
+    return float(np.max(np.linalg.norm((offsets @ E.axes) / E.semi_axes, axis=1)))
 
 
 class Overlap(NamedTuple):
@@ -96,7 +111,9 @@ def overlap(
     """Coverage and overreach of ``E`` with respect to ``P``.
 
     Exact when ``E`` is inside ``P`` (``inscribed_scale >= 1 - INSIDE_RTOL``: coverage is
-    ``vol(E) / vol(P)``, overreach 0) and in one dimension (intervals).  Otherwise the share
+    ``vol(E) / vol(P)``, overreach 0), when ``E`` contains ``P`` (``enclosing_scale <= 1 +
+    INSIDE_RTOL``: coverage 1, overreach ``1 - vol(P) / vol(E)``) and in one dimension
+    (intervals).  Otherwise the share
     of ``E`` inside ``P`` is estimated by randomized quasi-Monte Carlo: ``replicates``
     independently scrambled Sobol' sets of ``samples`` points each, mapped uniformly into
     ``E``; the standard error is that of the replicate means.
@@ -117,6 +134,8 @@ def overlap(
         return Overlap(inside, 1.0 - inside, 0.0, 0.0)
     if inscribed_scale(E, P) >= 1.0 - INSIDE_RTOL:
         return Overlap(E.volume / P.volume, 0.0, 0.0, 0.0)
+    if enclosing_scale(E, P) <= 1.0 + INSIDE_RTOL:
+        return Overlap(1.0, 1.0 - P.volume / E.volume, 0.0, 0.0)
     if E.rank == 1:
         axis = E.axes[:, 0]
         lo, hi = line_interval_in_halfspaces(P.A, P.b - P.A @ E.center, axis[None], P.atol)

@@ -2,28 +2,52 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import TYPE_CHECKING, Literal
 
-from polyell.comparison.comparison import COMPARED_KINDS
-from polyell.comparison.tables import ELLIPSOID_LABELS, render_table, score_display
+from polyell.comparison.comparison import SCORE_NAMES
+from polyell.comparison.tables import ellipsoid_label, render_table, score_display
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
 
-__all__ = ["SUMMARY_SCORES", "format_summary_table", "summarize"]
+__all__ = ["SUMMARY_SCORES", "format_summary_table", "result_kinds", "split_column", "summarize"]
 
 #: Scores summarised over a study by default.
 SUMMARY_SCORES = (
     "inscribed_scale",
+    "enclosing_scale",
     "coverage",
     "overreach",
     "mvie_ratio",
+    "outer_ratio",
     "direction_error_mean",
     "direction_error_max",
     "direction_bias",
     "witness_torque_max",
 )
 _STATISTICS = ("defined", "mean", "std", "min", "median", "max")
+
+
+def split_column(column: str) -> tuple[str, str] | None:
+    """``(kind, score)`` of a ``<kind>_<score>`` column (a candidate's name may hold '_').
+
+    None for other columns (``configuration``, ``q1``, ``polytope_volume``, ...).
+    """
+    for score in sorted(SCORE_NAMES, key=len, reverse=True):  # coverage_stderr first
+        if column.endswith(f"_{score}") and column[: -len(score) - 1] not in ("", "polytope"):
+            return column[: -len(score) - 1], score
+    return None
+
+
+def result_kinds(columns: Iterable[str]) -> list[str]:
+    """The ellipsoids with ``<kind>_<score>`` columns, in column order (candidates too)."""
+    found: list[str] = []
+    for column in columns:
+        split = split_column(column)
+        if split is not None and split[0] not in found:
+            found.append(split[0])
+    return found
 
 
 def summarize(results: pd.DataFrame, scores: tuple[str, ...] = SUMMARY_SCORES) -> pd.DataFrame:
@@ -44,7 +68,7 @@ def summarize(results: pd.DataFrame, scores: tuple[str, ...] = SUMMARY_SCORES) -
         ``max``; NaN values (undefined ellipsoids) are left out of the statistics.
     """
     rows = {}
-    for kind in COMPARED_KINDS:
+    for kind in result_kinds(results.columns):
         for score in scores:
             column = f"{kind}_{score}"
             if column not in results:
@@ -86,7 +110,7 @@ def format_summary_table(
         if column != "defined":
             table[column] = table[column] * [factor for _, factor in displays]
     table.index = [
-        f"{ELLIPSOID_LABELS.get(kind, kind)}: {name}"
+        f"{ellipsoid_label(kind, style == 'latex')}: {name}"
         for (kind, _), (name, _) in zip(table.index, displays, strict=True)
     ]
     for column in table.columns:

@@ -14,6 +14,7 @@ __all__ = [
     "ELLIPSOID_LABELS",
     "PERCENT_SCORES",
     "SCORE_ROWS",
+    "ellipsoid_label",
     "format_scores_table",
     "render_table",
     "score_display",
@@ -24,7 +25,14 @@ ELLIPSOID_LABELS = {
     "chiacchio": "new (eq. 32/38)",
     "yoshikawa": "classic (eq. 27)",
     "mvie": "MVIE",
+    "outer": "outer (min. volume)",
 }
+
+
+def ellipsoid_label(kind: str, latex: bool = False) -> str:
+    """The column header of an ellipsoid; a candidate's is its name (LaTeX-escaped)."""
+    label = ELLIPSOID_LABELS.get(kind, kind)
+    return label.replace("_", r"\_") if latex else label
 
 
 def _significant(value: float) -> str:
@@ -44,9 +52,11 @@ SCORE_ROWS: tuple[tuple[str, str, str, Callable[[float], str], str | None], ...]
     ("dimension", "dimension r", "dimension $r$", _count, None),
     ("volume", "volume [{u}]", r"volume [${u}$]", _significant, None),
     ("inscribed_scale", "inscribed scale", "inscribed scale", _significant, None),
+    ("enclosing_scale", "enclosing scale", "enclosing scale", _significant, None),
     ("coverage", "coverage [%]", r"coverage [\%]", _percent, "coverage_stderr"),
     ("overreach", "overreach [%]", r"overreach [\%]", _percent, "overreach_stderr"),
     ("mvie_ratio", "volume / MVIE volume", "volume / MVIE volume", _significant, None),
+    ("outer_ratio", "volume / outer volume", "volume / outer volume", _significant, None),
     (
         "direction_error_mean",
         "direction error, mean [%]",
@@ -128,7 +138,7 @@ def format_scores_table(
     for score, md_label, tex_label, fmt, stderr in SCORE_ROWS:
         name = (tex_label if latex else md_label).format(u=volume_unit)
         rows[name] = {
-            ELLIPSOID_LABELS.get(str(kind), str(kind)): _cell(row, score, fmt, stderr, pm)
+            ellipsoid_label(str(kind), latex): _cell(row, score, fmt, stderr, pm)
             for kind, row in frame.iterrows()
         }
     import pandas as pd

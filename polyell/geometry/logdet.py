@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from polyell.errors import SolverError
 
-__all__ = ["CentredEllipsoid", "centred_mvee", "centred_mvee_batch"]
+__all__ = ["CentredEllipsoid", "centred_mvee", "centred_mvee_batch", "centred_mvee_by_cvxpy"]
 
 Array = NDArray[np.float64]
 
@@ -96,6 +96,40 @@ def centred_mvee(
             f"iterations (target {gap:.3g}) on {count} points in R^{r}."
         )
     return CentredEllipsoid(shapes[0], float(gaps[0]), int(iterations[0]))
+
+
+def centred_mvee_by_cvxpy(points: Array, what: str) -> Array:
+    """The shape X of :func:`centred_mvee` by cvxpy and Clarabel (an independent solver).
+
+    ``max log det S`` s.t. ``||S c_i|| <= 1`` with ``S = X^(1/2)``, then X scaled to touch.
+
+    Parameters
+    ----------
+    points : ndarray, shape (N, r)
+    what : str
+        What the problem computes, for the error message.
+
+    Raises
+    ------
+    SolverError
+        If Clarabel fails or stops short of an optimum.
+    """
+    import cvxpy as cp
+
+    r = points.shape[1]
+    S = cp.Variable((r, r), PSD=True)
+    problem = cp.Problem(cp.Maximize(cp.log_det(S)), [cp.norm(S @ points.T, axis=0) <= 1])
+    try:
+        problem.solve(solver=cp.CLARABEL)
+    except cp.error.SolverError as exn:
+        raise SolverError(f"Clarabel failed on the log-det program of {what}: {exn}") from exn
+    if problem.status != cp.OPTIMAL:
+        raise SolverError(
+            f"Clarabel returned status {problem.status!r} for {what}; its scores are unknown."
+        )
+    S_value = np.asarray(S.value)
+    X: Array = S_value @ S_value.T
+    return X / np.max(np.einsum("ia,ab,ib->i", points, X, points))
 
 
 #: Neighbourhood of the central path kept by every step: lambda_i s_i >= NEIGHBOURHOOD * mu.

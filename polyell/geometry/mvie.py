@@ -22,11 +22,10 @@ from __future__ import annotations
 from typing import Literal
 
 import numpy as np
-from numpy.typing import NDArray
 
-from polyell.errors import InputError, SolverError
+from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid
-from polyell.geometry.logdet import centred_mvee
+from polyell.geometry.logdet import centred_mvee, centred_mvee_by_cvxpy
 from polyell.geometry.polytope import Polytope
 from polyell.geometry.zonotope import zonotope_facets
 
@@ -84,30 +83,12 @@ def _mvie(P: Polytope, method: str) -> Ellipsoid:
     facets = zonotope_facets(whitened)
     half = len(facets.normals) // 2  # one of each pair +-a: the same constraint
     points = facets.normals[:half] / facets.offsets[:half, None]
-    X = centred_mvee(points, gap=MVIE_GAP).shape if method == "logdet" else _shape_by_cvxpy(points)
+    if method == "logdet":
+        X = centred_mvee(points, gap=MVIE_GAP).shape
+    else:
+        X = centred_mvee_by_cvxpy(points, "the maximum-volume inscribed ellipsoid")
     # E = {xg + U1 Sigma X^(1/2) u}: axes and semi-axes from the SVD of Sigma X^(1/2).
     eigenvalues, eigenvectors = np.linalg.eigh(X)
     root = (eigenvectors * np.sqrt(eigenvalues)) @ eigenvectors.T
     W, semi_axes, _ = np.linalg.svd(svd.sigma[:, None] * root)
     return Ellipsoid(P.center, svd.U1 @ W, semi_axes, kind="mvie")
-
-
-def _shape_by_cvxpy(points: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``max log det X`` s.t. ``||X^(1/2) c_i|| <= 1`` by cvxpy and Clarabel, X scaled to touch."""
-    import cvxpy as cp
-
-    r = points.shape[1]
-    S = cp.Variable((r, r), PSD=True)  # S = X^(1/2)
-    problem = cp.Problem(cp.Maximize(cp.log_det(S)), [cp.norm(S @ points.T, axis=0) <= 1])
-    try:
-        problem.solve(solver=cp.CLARABEL)
-    except cp.error.SolverError as exn:
-        raise SolverError(f"Clarabel failed on the log-det program of the MVIE: {exn}") from exn
-    if problem.status != cp.OPTIMAL:
-        raise SolverError(
-            f"Clarabel returned status {problem.status!r} for the maximum-volume inscribed "
-            "ellipsoid; its scores are unknown."
-        )
-    S_value = np.asarray(S.value)
-    X = S_value @ S_value.T
-    return X / np.max(np.einsum("ia,ab,ib->i", points, X, points))

@@ -26,7 +26,8 @@ from polyell.geometry.convex_set import ATOL_RELATIVE
 from polyell.geometry.limits import DirectionalLimits, unit_ball_interval
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.models.dynamics import Dynamics
-from polyell.studies.batch import RANK_BAND, _facets, block_size
+from polyell.studies.batch import RANK_BAND, block_size
+from polyell.studies.block_sets import facets
 from polyell.validation import check_array, check_directions, check_magnitudes, source_torque_limits
 
 __all__ = ["limits_along"]
@@ -152,7 +153,7 @@ def _block(
     J, B, M, R, xg, T = J[ok], B[ok], M[ok], R[ok], xg[ok], T[ok]
     rows = ok + start
     # The polytope: each facet pair +-a bounds a.(lambda t) to [a.xg - h, a.xg + h].
-    normals, h = _facets(M)
+    normals, h = facets(M)
     slope = np.einsum("kcm,km->kc", normals, T)
     centre = np.einsum("kcm,km->kc", normals, xg)
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -14,20 +14,28 @@ row equals ``compare(analyze(...)).to_row()``.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
+from polyell.comparison.candidates import Candidate
 from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES
 from polyell.comparison.metrics import INSIDE_RTOL
 from polyell.geometry.convex_set import ATOL_RELATIVE
 from polyell.geometry.ellipsoid import unit_ball_volume
 from polyell.geometry.limits import line_interval_in_ellipsoids
-from polyell.geometry.logdet import centred_mvee_batch
-from polyell.geometry.mvie import MVIE_GAP
 from polyell.geometry.subspace import RANK_RTOL
-from polyell.geometry.zonotope import DEPENDENT_RTOL, cross, subset_cofactors, subsets
+from polyell.geometry.zonotope import cross, subsets
 from polyell.models.dynamics import Dynamics
+from polyell.studies.block_sets import (
+    candidate_ellipsoid,
+    facets,
+    log_det_ellipsoid,
+    vertex_count,
+    vertex_signs,
+)
 from polyell.validation import check_magnitudes
 
 __all__ = ["batch_rows", "score_columns"]
@@ -35,32 +43,36 @@ __all__ = ["batch_rows", "score_columns"]
 Array = NDArray[np.float64]
 
 
-def score_columns() -> list[str]:
+def score_columns(candidates: Sequence[Candidate] = ()) -> list[str]:
     """The score columns of a results row, in order (``Comparison.to_row``)."""
     columns = ["polytope_dim", "polytope_volume", "polytope_ball_radius", "polytope_origin_radius"]
-    return columns + [f"{kind}_{name}" for kind in COMPARED_KINDS for name in SCORE_NAMES]
+    kinds = (*COMPARED_KINDS, *(c.name for c in candidates))
+    return columns + [f"{kind}_{name}" for kind in kinds for name in SCORE_NAMES]
 
 
-def _facets(M: Array) -> tuple[Array, Array]:
-    """Unit facet normals a (K, C, m), one of each +-pair, and offsets h = sum |a . g_i|.
+@dataclass(frozen=True)
+class BatchOptions:
+    """What a batch computes beyond both ellipsoid definitions.
 
-    As in :func:`~polyell.geometry.zonotope.zonotope_facets`: cross products of unit
-    generators, a subset dependent when theirs is at most ``DEPENDENT_RTOL`` long (its
-    normal is then zero and its offset infinite: no constraint).
+    Attributes
+    ----------
+    mvie, outer : bool
+        Score the maximum-volume inscribed / minimum-volume enclosing ellipsoid (batched
+        log-det solver) and every ``mvie_ratio`` / ``outer_ratio``; NaN otherwise.
+    vertices : bool
+        Enumerate the vertices (needed by ``outer`` and by every ``enclosing_scale``, NaN
+        otherwise; an ellipsoid neither inside nor around P then takes the scalar path).
+    candidates : tuple of Candidate
+        User-defined ellipsoids.
+    rank_rtol : float
+        Rank tolerance, as in :func:`polyell.analyze`.
     """
-    K, m = M.shape[:2]
-    if m == 1:
-        return np.ones((K, 1, 1)), np.abs(M).sum(axis=-1)
-    with np.errstate(divide="ignore", invalid="ignore"):  # a zero generator: NaN, dependent
-        unit = M / np.sqrt((M * M).sum(axis=1))[:, None, :]
-    normals = subset_cofactors(unit)  # (K, C, m)
-    size = np.sqrt((normals * normals).sum(axis=-1))
-    dependent = ~(size > DEPENDENT_RTOL)
-    normals = np.where(
-        dependent[..., None], 0.0, normals / np.where(dependent, 1.0, size)[..., None]
-    )
-    offsets = np.abs(normals @ M).sum(axis=-1)
-    return normals, np.where(dependent, np.inf, offsets)
+
+    mvie: bool = False
+    outer: bool = False
+    vertices: bool = False
+    candidates: tuple[Candidate, ...] = ()
+    rank_rtol: float = RANK_RTOL
 
 
 def _zonotope_volume(M: Array) -> Array:
@@ -113,41 +125,6 @@ def _polytope_limits(
     return np.where(meets, upper, np.nan), meets
 
 
-def _mvie(U: Array, s: Array, Vt: Array) -> tuple[Array, Array, Array]:
-    """The maximum-volume inscribed ellipsoids of full-rank blocks (K, m, n), batched.
-
-    As :func:`~polyell.geometry.mvie.max_volume_inscribed_ellipsoid`: in whitened
-    coordinates P is the zonotope of the rows of V1^T; its facet pairs give the points of
-    :func:`~polyell.geometry.logdet.centred_mvee_batch`; E = {xg + U Sigma X^(1/2) u}.
-    n = m gives X = I (the new ellipsoid).  Rows whose gap is not certified are NaN.
-
-    Returns
-    -------
-    axes : ndarray, shape (K, m, m)
-    semi_axes : ndarray, shape (K, m)
-    witness : ndarray, shape (K,)
-        Largest row norm of V1 X^(1/2): the torque witness under the minimum-torque map.
-    """
-    K, m = s.shape
-    V1t = Vt[:, :m, :]
-    if Vt.shape[-1] == m:
-        root = np.broadcast_to(np.eye(m), (K, m, m))
-        shapes_ok = np.ones(K, dtype=bool)
-    else:
-        normals, offsets = _facets(V1t)
-        with np.errstate(invalid="ignore"):
-            points = np.where(np.isinf(offsets)[..., None], 0.0, normals / offsets[..., None])
-        shapes, gaps, _ = centred_mvee_batch(points, gap=MVIE_GAP)
-        shapes_ok = gaps <= MVIE_GAP
-        shapes = np.where(shapes_ok[:, None, None], shapes, np.eye(m))
-        eigenvalues, eigenvectors = np.linalg.eigh(shapes)
-        root = (eigenvectors * np.sqrt(eigenvalues)[:, None, :]) @ np.swapaxes(eigenvectors, -1, -2)
-    W, semi, _ = np.linalg.svd(s[:, :, None] * root)
-    witness = np.max(np.linalg.norm(np.swapaxes(V1t, -1, -2) @ root, axis=-1), axis=-1)
-    semi = np.where(shapes_ok[:, None], semi, np.nan)
-    return U[:, :, :m] @ W, semi, np.where(shapes_ok, witness, np.nan)
-
-
 def _origin_radius(normals: Array, h: Array, xg: Array, atol: Array) -> Array:
     """Largest ball about the origin inside each P: ``min (h - |a . xg|)``.
 
@@ -191,10 +168,12 @@ BLOCK = 512
 BLOCK_MEMORY = 256 * 2**20
 
 
-def block_size(m: int, n: int) -> int:
+def block_size(m: int, n: int, vertices: bool = False) -> int:
     """Rows per block: BLOCK, or fewer so that a block's temporaries fit BLOCK_MEMORY."""
-    facets = math.comb(n, m - 1) if m > 1 else 1
-    per_row = 8 * facets * (m + n) * 4  # float64; about four arrays of that shape at once
+    count = math.comb(n, m - 1) if m > 1 else 1
+    per_row = 8 * count * (m + n) * 4  # float64; about four arrays of that shape at once
+    if vertices:  # the vertex codes (sorted in place) and the sign vectors
+        per_row += 8 * count * 2 ** (m - 1) * 3 + 8 * vertex_count(m, n) * (n + 2 * m)
     return max(1, min(BLOCK, BLOCK_MEMORY // per_row))
 
 
@@ -203,9 +182,7 @@ def batch_rows(
     tau_max: Array,
     tau_min: Array,
     directions: Array,
-    *,
-    rank_rtol: float = RANK_RTOL,
-    mvie: bool = False,
+    options: BatchOptions = BatchOptions(),
 ) -> tuple[dict[str, Array], NDArray[np.bool_]]:
     """Score columns of a batch, and which rows need the scalar path.
 
@@ -217,11 +194,8 @@ def batch_rows(
         Torque limits [N m].
     directions : ndarray, shape (k, m)
         Unit directions of the directional statistics.
-    rank_rtol : float
-        Rank tolerance, as in :func:`polyell.analyze`.
-    mvie : bool
-        Also score the maximum-volume inscribed ellipsoid (batched log-det solver) and
-        every ``mvie_ratio``; NaN otherwise.
+    options : BatchOptions
+        The optional sets and scores, and the rank tolerance.
 
     Returns
     -------
@@ -231,9 +205,9 @@ def batch_rows(
         Rows to compute with ``compare(analyze(dyn[k]))``.
     """
     K = len(dyn)
-    columns = {name: np.empty(K) for name in score_columns()}
+    columns = {name: np.empty(K) for name in score_columns(options.candidates)}
     scalar = np.empty(K, dtype=bool)
-    size = block_size(dyn.m, dyn.n)
+    size = block_size(dyn.m, dyn.n, options.vertices)
     for start in range(0, K, size):
         block = slice(start, start + size)
         values, scalar[block] = _block_rows(
@@ -244,8 +218,7 @@ def batch_rows(
             tau_max,
             tau_min,
             directions,
-            rank_rtol,
-            mvie,
+            options,
         )
         for name, column in values.items():
             columns[name][block] = column
@@ -260,8 +233,7 @@ def _block_rows(
     tau_max: Array,
     tau_min: Array,
     directions: Array,
-    rank_rtol: float,
-    mvie: bool,
+    options: BatchOptions,
 ) -> tuple[dict[str, Array], NDArray[np.bool_]]:
     """:func:`batch_rows` for one block of configurations, on validated arrays."""
     K, m, n = J.shape
@@ -273,8 +245,8 @@ def _block_rows(
     xg = xdd_bias - np.einsum("knm,kn->km", Binv_Jt, bias)
     check_magnitudes(M, xg)
     U, s, Vt = np.linalg.svd(M, full_matrices=False)
-    columns = {name: np.full(K, np.nan) for name in score_columns()}
-    for kind in COMPARED_KINDS:
+    columns = {name: np.full(K, np.nan) for name in score_columns(options.candidates)}
+    for kind in (*COMPARED_KINDS, *(c.name for c in options.candidates)):
         columns[f"{kind}_feasibility_mismatch"][:] = 0.0
         columns[f"{kind}_directions_used"][:] = 0.0
     if m > n:
@@ -282,34 +254,53 @@ def _block_rows(
     # The rank decision is the scalar path's (Analysis computes M by a Cholesky solve and
     # its own SVD; both agree with these to rounding, not bit for bit): rows within
     # RANK_BAND of the threshold go there, so that one computation decides their rank.
-    scalar = ~(s[:, -1] > rank_rtol * (1.0 + RANK_BAND) * s[:, 0])
+    scalar = ~(s[:, -1] > options.rank_rtol * (1.0 + RANK_BAND) * s[:, 0])
+    normals, h = facets(M)
+    signs = None
+    if options.vertices:  # rows not in general position: the scalar path enumerates
+        signs, generic = vertex_signs(M, normals)
+        scalar |= ~generic
     ok = ~scalar
     if not ok.any():
         return columns, scalar
     J, B, M, xg, U, s, Vt = J[ok], B[ok], M[ok], xg[ok], U[ok], s[ok], Vt[ok]
-    bias_ok, xdd_bias = bias[ok], xdd_bias[ok]
+    bias_ok, xdd_bias, normals, h = bias[ok], xdd_bias[ok], normals[ok], h[ok]
+    V1t = Vt[:, :m, :]
+    vertices = None if signs is None else signs[ok] @ np.swapaxes(M, 1, 2)  # about xg
 
-    normals, h = _facets(M)
     volume_p = _zonotope_volume(M)
     atol = ATOL_RELATIVE * np.maximum(
         np.linalg.norm(M, axis=1).sum(axis=-1), np.linalg.norm(xg, axis=-1)
     )
     hi_p, feasible_p = _polytope_limits(normals, h, xg, directions, atol)
 
-    # Classic ellipsoid from F = L^-1 B J^+ (its core is F^T F), as in Analysis.ellipsoid.
-    U_j, s_j, Vt_j = np.linalg.svd(J, full_matrices=False)  # J^+ as in jacobian_pseudoinverse
-    J_pinv = (np.swapaxes(Vt_j, -1, -2) / s_j[:, None, :]) @ np.swapaxes(U_j, -1, -2)
-    F = (B @ J_pinv) / half[:, None]
-    _, s_f, Vt_f = np.linalg.svd(F, full_matrices=False)
-    ellipsoids = {
-        "chiacchio": (U, s, None),
-        "yoshikawa": (np.swapaxes(Vt_f, -1, -2)[:, :, ::-1], (1.0 / s_f)[:, ::-1], F),
+    # Every scored set as (axes, semi-axes, witness, centre or None for xg).
+    ellipsoids: dict[str, tuple[Array, Array, Array, Array | None]] = {
+        "chiacchio": (U, s, np.max(np.linalg.norm(Vt, axis=1), axis=-1), None),
+        "yoshikawa": _classic(J, B, half, xg, bias_ok, xdd_bias),
     }
-    mvie_volume = np.full(len(M), np.nan)
-    if mvie:
-        axes_e, semi_e, witness_e = _mvie(U, s, Vt)
-        ellipsoids["mvie"] = (axes_e, semi_e, witness_e)
-        mvie_volume = unit_ball_volume(m) * np.prod(semi_e, axis=-1)
+    parallelotope = n == m
+    if options.mvie:
+        whitened_normals, offsets = facets(V1t)
+        with np.errstate(invalid="ignore"):
+            points = np.where(
+                np.isinf(offsets)[..., None], 0.0, whitened_normals / offsets[..., None]
+            )
+        mvie = log_det_ellipsoid(U, s, V1t, None if parallelotope else points, enclosing=False)
+        ellipsoids["mvie"] = (*mvie, None)
+    if options.outer:
+        assert signs is not None
+        points = signs[ok] @ np.swapaxes(V1t, 1, 2)  # the vertices, whitened
+        outer = log_det_ellipsoid(U, s, V1t, None if parallelotope else points, enclosing=True)
+        ellipsoids["outer"] = (*outer, None)
+    for candidate in options.candidates:
+        ellipsoids[candidate.name] = candidate_ellipsoid(candidate, M, xg, U, s, V1t)
+
+    unit_ball = unit_ball_volume(m)
+    optimum = {
+        kind: unit_ball * np.prod(ellipsoids[kind][1], axis=-1) if kind in ellipsoids else None
+        for kind in ("mvie", "outer")
+    }
     rows: dict[str, Array] = {
         "polytope_dim": np.full(len(M), float(m)),
         "polytope_volume": volume_p,
@@ -317,49 +308,71 @@ def _block_rows(
         "polytope_ball_radius": np.min(h, axis=-1),
         "polytope_origin_radius": _origin_radius(normals, h, xg, atol),
     }
-    unit_ball = unit_ball_volume(m)
-    inside = np.ones(len(M), dtype=bool)
-    for kind, (axes, semi, torque_matrix) in ellipsoids.items():
-        defined = ~np.isnan(semi).any(axis=-1)
+    exact = np.ones(len(M), dtype=bool)
+    for kind, (axes, semi, witness, center) in ellipsoids.items():
+        defined = np.asarray(~np.isnan(semi).any(axis=-1), dtype=bool)
         semi = np.where(defined[:, None], semi, 1.0)  # undefined rows: NaN scores below
-        # The ellipsoid is centred like P, so a facet pair +-a has slack h for both.
+        shift = np.zeros_like(xg) if center is None else center - xg
+        # A facet pair +-a with offset h about xg leaves h -+ a.shift on either side.
         reach = np.linalg.norm((normals @ axes) * semi[:, None, :], axis=-1)
         with np.errstate(divide="ignore"):
-            scale = np.min(h / reach, axis=-1)
-        inside &= scale >= 1.0 - INSIDE_RTOL
+            scale = np.min((h - np.abs(np.einsum("kcm,km->kc", normals, shift))) / reach, axis=-1)
+        enclosing = np.full(len(M), np.nan)
+        if vertices is not None:
+            local = np.stack([vertices - shift[:, None, :], -vertices - shift[:, None, :]])
+            enclosing = np.max(
+                np.linalg.norm((local @ axes) / semi[:, None, :], axis=-1), axis=(0, 2)
+            )
         volume = unit_ball * np.prod(semi, axis=-1)
-        lo_e, hi_e = line_interval_in_ellipsoids(xg, axes, semi, directions)
+        inside = scale >= 1.0 - INSIDE_RTOL
+        around = ~inside & (enclosing <= 1.0 + INSIDE_RTOL)
+        exact &= inside | around | ~defined
+        lo_e, hi_e = line_interval_in_ellipsoids(xg + shift, axes, semi, directions)
         stats = _direction_statistics(hi_e, ~np.isnan(lo_e), hi_p, feasible_p)
-        if torque_matrix is None:  # eq. 33/36: tau_n = M^+ (x - xg), zero at the centre
-            witness = np.max(np.linalg.norm(Vt, axis=1), axis=-1)
-        elif kind == "mvie":  # the same map: M^+ U Sigma X^(1/2) u = V1 X^(1/2) u
-            witness = torque_matrix
-        else:  # eq. 26: tau_n = L^-1 (B J^+ (x - Jdot qdot) + g - tau_c)
-            offset = bias_ok / half - np.einsum("knm,km->kn", torque_matrix, xdd_bias)
-            at_center = np.einsum("knm,km->kn", torque_matrix, xg) + offset
-            spread = np.linalg.norm(torque_matrix @ (axes * semi[:, None, :]), axis=-1)
-            witness = np.max(np.abs(at_center) + spread, axis=-1)
         record = {
             f"{kind}_dimension": np.full(len(M), float(m)),
             f"{kind}_volume": volume,
             f"{kind}_inscribed_scale": scale,
-            f"{kind}_coverage": volume / volume_p,
+            f"{kind}_enclosing_scale": enclosing,
+            f"{kind}_coverage": np.where(around, 1.0, volume / volume_p),
             f"{kind}_coverage_stderr": np.zeros(len(M)),
-            f"{kind}_overreach": np.zeros(len(M)),
+            f"{kind}_overreach": np.where(around, 1.0 - volume_p / volume, 0.0),
             f"{kind}_overreach_stderr": np.zeros(len(M)),
             f"{kind}_witness_torque_max": witness,
-            f"{kind}_mvie_ratio": volume / mvie_volume,
         } | {f"{kind}_{key}": value for key, value in stats.items()}
+        for name, volumes in optimum.items():
+            record[f"{kind}_{name}_ratio"] = (
+                np.full(len(M), np.nan) if volumes is None else volume / volumes
+            )
         if not defined.all():  # an MVIE not certified: undefined, as in compare
             undefined = {"feasibility_mismatch": 0.0, "directions_used": 0.0}
-            for name, values in record.items():  # (every mvie_ratio is NaN there already)
+            for name, values in record.items():  # (every ratio to it is NaN there already)
                 values[~defined] = undefined.get(name[len(kind) + 1 :], np.nan)
         rows |= record
     indices = np.flatnonzero(ok)
     for name, values in rows.items():
         columns[name][indices] = values
-    scalar[indices[~inside]] = True  # an ellipsoid not inside P to rounding: exact path
+    scalar[indices[~exact]] = True  # neither inside nor around P to rounding: exact path
     for name in columns:
         if name not in ("polytope_dim",):
-            columns[name][indices[~inside]] = np.nan
+            columns[name][indices[~exact]] = np.nan
     return columns, scalar
+
+
+def _classic(
+    J: Array, B: Array, half: Array, xg: Array, bias: Array, xdd_bias: Array
+) -> tuple[Array, Array, Array, None]:
+    """The classic ellipsoid from F = L^-1 B J^+ (its core is F^T F), as in Analysis.
+
+    Its witness maps the boundary by eq. 26, ``tau_n = L^-1 (B J^+ (x - Jdot qdot) + g -
+    tau_c)``.
+    """
+    U_j, s_j, Vt_j = np.linalg.svd(J, full_matrices=False)  # J^+ as in jacobian_pseudoinverse
+    J_pinv = (np.swapaxes(Vt_j, -1, -2) / s_j[:, None, :]) @ np.swapaxes(U_j, -1, -2)
+    F = (B @ J_pinv) / half[:, None]
+    _, s_f, Vt_f = np.linalg.svd(F, full_matrices=False)
+    axes, semi = np.swapaxes(Vt_f, -1, -2)[:, :, ::-1], (1.0 / s_f)[:, ::-1]
+    offset = bias / half - np.einsum("knm,km->kn", F, xdd_bias)
+    at_center = np.einsum("knm,km->kn", F, xg) + offset
+    spread = np.linalg.norm(F @ (axes * semi[:, None, :]), axis=-1)
+    return axes, semi, np.max(np.abs(at_center) + spread, axis=-1), None

@@ -10,15 +10,20 @@ import numpy as np
 
 from polyell.analysis import analyze
 from polyell.comparison.comparison import SCORE_NAMES, compare
-from polyell.comparison.summary import format_summary_table, summarize
-from polyell.comparison.tables import ELLIPSOID_LABELS, format_scores_table, score_display
+from polyell.comparison.summary import (
+    format_summary_table,
+    result_kinds,
+    split_column,
+    summarize,
+)
+from polyell.comparison.tables import ellipsoid_label, format_scores_table, score_display
 from polyell.errors import InputError
 from polyell.geometry.directions import default_direction_count
 from polyell.models.task import task_unit
 from polyell.report import format_analysis
 from polyell.storage import write_text_atomically
 from polyell.studies.spec import StudySpec
-from polyell.studies.sweep import DEFAULT_SCORES, sweep
+from polyell.studies.sweep import sweep
 from polyell.studies.trajectory import tangent_limits
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
@@ -52,7 +57,13 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
             spec.robot.model.dynamics(point.q), spec.robot.tau_max, spec.robot.tau_min
         )
         cmp = compare(
-            analysis, spec.directions, samples=spec.samples, seed=spec.seed, mvie=spec.mvie
+            analysis,
+            spec.directions,
+            samples=spec.samples,
+            seed=spec.seed,
+            mvie=spec.mvie,
+            outer=spec.outer,
+            candidates=spec.candidates,
         )
         q_text = ", ".join(f"{v:.6g}" for v in point.q)
         numbers += [
@@ -69,21 +80,32 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
             cmp.to_markdown(),
         ]
         frame = cmp.to_frame()
-        frame.index = [f"{point.name}: {ELLIPSOID_LABELS[k]}" for k in frame.index]
+        frame.index = [f"{point.name}: {ellipsoid_label(k)}" for k in frame.index]
         frames.append(frame)
         stem = folder / f"sets_{point.name}"
-        mvie = cmp.mvie if spec.mvie else None
-        kinds = ("chiacchio", "yoshikawa", "mvie") if spec.mvie else ("chiacchio", "yoshikawa")
+        mvie = cmp.mvie if spec.mvie and cmp["mvie"].defined else None
+        kinds = (
+            ("chiacchio", "yoshikawa", "mvie") if mvie is not None else ("chiacchio", "yoshikawa")
+        )
+        extra = {
+            kind: cmp.ellipsoid(kind)
+            for kind in cmp.kinds[3:]  # the outer ellipsoid (if computed) and candidates
+            if cmp[kind].defined
+        }
         if analysis.dynamics.m == 2:
-            figure = plot_sets(analysis, kinds=kinds, mvie=mvie, title=point.title or point.name)
+            figure = plot_sets(
+                analysis, kinds=kinds, mvie=mvie, extra=extra, title=point.title or point.name
+            )
             written += save_figure(figure, stem, spec.formats, spec.dpi)
             if analysis.polytope.dim == 2:
-                figure = plot_directional_limits(analysis, kinds=kinds, mvie=mvie)
+                figure = plot_directional_limits(analysis, kinds=kinds, mvie=mvie, extra=extra)
                 written += save_figure(
                     figure, folder / f"limits_{point.name}", spec.formats, spec.dpi
                 )
         elif analysis.dynamics.m == 3:
-            figure = plot_sets_3d(analysis, kinds=kinds, mvie=mvie, title=point.title or point.name)
+            figure = plot_sets_3d(
+                analysis, kinds=kinds, mvie=mvie, extra=extra, title=point.title or point.name
+            )
             written += save_figure(figure, stem, spec.formats, spec.dpi)
     written.append(write_text_atomically(folder / "numbers.md", "\n".join(numbers)))
     import pandas as pd
@@ -136,9 +158,11 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
         configurations,
         spec.robot.tau_max,
         spec.robot.tau_min,
-        scores=SCORE_NAMES if spec.mvie else DEFAULT_SCORES,
+        scores=_scores(spec),
         directions=spec.directions or default_direction_count(m),
         mvie=spec.mvie,
+        outer=spec.outer,
+        candidates=spec.candidates,
         scheduler=scheduler,
         chunk=spec.chunk,
         progress=progress,
@@ -169,11 +193,12 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
             format_summary_table(summary, "latex", caption=caption, label="tab:summary"),
         )
     )
+    kinds = result_kinds(results.columns)
     varying = [axis for axis in spec.grid if axis.values.size > 1]
     # Maps of one score share one colour scale, so that colours compare across candidates.
     scales: dict[str, tuple[float, float]] = {}
     for name in spec.maps:
-        score = name.split("_", 1)[1]
+        _, score = _split(name)
         finite = results[name].to_numpy(dtype=float)
         finite = finite[np.isfinite(finite)] * score_display(score)[1]
         if finite.size:
@@ -183,7 +208,7 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
         if len(varying) != 2:
             break
         x_axis, y_axis = varying[1], varying[0]  # the last joint varies fastest: columns
-        kind, score = name.split("_", 1)
+        kind, score = _split(name)
         label, factor = score_display(score)
         values = factor * results[name].to_numpy().reshape(y_axis.values.size, x_axis.values.size)
         figure = plot_score_map(
@@ -193,20 +218,34 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
             xlabel=f"${x_axis.name[0]}_{x_axis.name[1:]}$ [rad]",
             ylabel=f"${y_axis.name[0]}_{y_axis.name[1:]}$ [rad]",
             label=label,
-            title=f"{ELLIPSOID_LABELS[kind]}: {label}",
+            title=f"{ellipsoid_label(kind)}: {label}",
             limits=scales.get(score),
         )
         written += save_figure(figure, folder / f"map_{name}", spec.formats, spec.dpi)
     for score in spec.series:
-        figure = plot_score_series(results, score, title=spec.title)
+        figure = plot_score_series(results, score, kinds=kinds, title=spec.title)
         written += save_figure(figure, folder / f"series_{score}", spec.formats, spec.dpi)
     if tangent:
         figure = plot_tangent_limits(results, unit=task_unit(first.task, tex=True))
         written += save_figure(figure, folder / "tangent_limits", spec.formats, spec.dpi)
     for score in spec.histograms:
-        figure = plot_score_histogram(results, score, title=f"{spec.title}")
+        measured = [kind for kind in kinds if kind not in ("mvie", "outer")]  # not the optima
+        figure = plot_score_histogram(results, score, kinds=measured, title=f"{spec.title}")
         written += save_figure(figure, folder / f"histogram_{score}", spec.formats, spec.dpi)
     return written
+
+
+def _split(column: str) -> tuple[str, str]:
+    """(kind, score) of a map's column (validated when the study was loaded)."""
+    split = split_column(column)
+    assert split is not None
+    return split
+
+
+def _scores(spec: StudySpec) -> tuple[str, ...]:
+    """Every score the study's options allow (the ratios need their optimum computed)."""
+    skipped = {"mvie_ratio": not spec.mvie, "outer_ratio": not spec.outer}
+    return tuple(name for name in SCORE_NAMES if not skipped.get(name, False))
 
 
 def run_study(

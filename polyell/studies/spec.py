@@ -57,6 +57,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polyell import robots
+from polyell.comparison.candidates import Candidate, check_candidates
 from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES
 from polyell.errors import InputError
 from polyell.expressions import evaluate, evaluate_list
@@ -89,8 +90,10 @@ _TOP_KEYS = (
     "random",
     "trajectory",
     "compare",
+    "candidates",
     "output",
 )
+_CANDIDATE_KEYS = ("name", "weighting", "core", "center")
 _TRAJECTORY_KEYS = ("file",)
 _RANDOM_KEYS = ("count", "seed", "low", "high")
 _ROBOT_KEYS = (
@@ -110,7 +113,7 @@ _PAYLOAD_KEYS = ("mass", "com", "inertia")
 _PLANAR_KEYS = ("lengths", "masses", "com", "inertia", "gravity")
 _POINT_KEYS = ("name", "q", "direction", "inverse_at", "title")
 _RANGE_KEYS = ("start", "stop", "num")
-_COMPARE_KEYS = ("directions", "mvie", "samples", "seed", "chunk")
+_COMPARE_KEYS = ("directions", "mvie", "outer", "samples", "seed", "chunk")
 _OUTPUT_KEYS = ("formats", "dpi", "maps", "histograms", "series")
 _FORMATS = ("pdf", "png", "svg")
 
@@ -334,6 +337,8 @@ class StudySpec:
     trajectory: Trajectory | None = None
     directions: int | None = None
     mvie: bool = True
+    outer: bool = True
+    candidates: tuple[Candidate, ...] = ()
     samples: int = 2**13
     seed: int = 0
     chunk: int = 20_000
@@ -442,6 +447,33 @@ def _random(table: object, robot: Robot) -> NDArray[np.float64]:
     return rng.uniform(low, high, size=(count, model.n))
 
 
+def _matrix(where: str, value: object) -> NDArray[np.float64]:
+    """A square matrix: a list of rows, or a list of numbers (its diagonal)."""
+    rows = _list(where, value)
+    if rows and all(isinstance(row, list) for row in rows):
+        return np.array([evaluate_list(f"{where}[{i}]", row) for i, row in enumerate(rows)])
+    return np.diag(evaluate_list(where, rows))
+
+
+def _candidate(table: object, index: int) -> Candidate:
+    where = f"candidates[{index}]"
+    candidate = _check_keys(where, table, _CANDIDATE_KEYS)
+    if "name" not in candidate:
+        raise InputError(where, "a 'name' (it prefixes the candidate's columns)", "no such key")
+    name = _string(f"{where}.name", candidate["name"])
+    matrices = {
+        key: _matrix(f"{where}.{key}", candidate[key])
+        for key in ("weighting", "core")
+        if key in candidate
+    }
+    center = (
+        np.array(evaluate_list(f"{where}.center", candidate["center"]))
+        if "center" in candidate
+        else None
+    )
+    return Candidate(name, center=center, **matrices)
+
+
 def load_study(path: str | Path) -> StudySpec:
     """Parse and check a study file.
 
@@ -482,7 +514,13 @@ def load_study(path: str | Path) -> StudySpec:
     formats = _strings("output.formats", output.get("formats", ["pdf", "png"]))
     if not formats or any(f not in _FORMATS for f in formats):
         raise InputError("output.formats", f"a list among {list(_FORMATS)}", repr(formats))
-    valid_maps = [f"{kind}_{score}" for kind in COMPARED_KINDS for score in SCORE_NAMES]
+    candidates = check_candidates(
+        tuple(
+            _candidate(t, i) for i, t in enumerate(_list("candidates", data.get("candidates", [])))
+        )
+    )
+    kinds = (*COMPARED_KINDS, *(candidate.name for candidate in candidates))
+    valid_maps = [f"{kind}_{score}" for kind in kinds for score in SCORE_NAMES]
     maps = _strings("output.maps", output.get("maps", []))
     for name in maps:
         if name not in valid_maps:
@@ -526,6 +564,8 @@ def load_study(path: str | Path) -> StudySpec:
             else None
         ),
         mvie=_boolean("compare.mvie", compare.get("mvie", True)),
+        outer=_boolean("compare.outer", compare.get("outer", True)),
+        candidates=candidates,
         samples=check_integer("compare.samples", compare.get("samples", 2**13), 2, 2**24),
         seed=check_integer("compare.seed", compare.get("seed", 0), 0, 2**63 - 1),
         chunk=check_integer("compare.chunk", compare.get("chunk", 20_000), 1, 10_000_000),

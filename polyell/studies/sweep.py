@@ -14,7 +14,7 @@ import json
 import os
 import pickle
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -23,6 +23,7 @@ from numpy.typing import ArrayLike, NDArray
 from tqdm import tqdm
 
 from polyell.analysis import analyze
+from polyell.comparison.candidates import Candidate, check_candidates
 from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES, compare
 from polyell.errors import InputError, MissingDependencyError, StorageError
 from polyell.geometry.directions import default_direction_count, sphere_directions
@@ -37,7 +38,7 @@ from polyell.storage import (
     write_atomically,
     write_text_atomically,
 )
-from polyell.studies.batch import batch_rows
+from polyell.studies.batch import BatchOptions, batch_rows
 from polyell.studies.cluster import local_cluster
 from polyell.studies.configurations import ConfigurationSet
 from polyell.studies.trajectory import Trajectory
@@ -53,8 +54,9 @@ if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
 
 __all__ = ["DEFAULT_SCORES", "sweep"]
 
-#: Scores a sweep computes by default: everything but the MVIE's (see ``mvie=True``).
-DEFAULT_SCORES = tuple(name for name in SCORE_NAMES if name != "mvie_ratio")
+#: Scores a sweep computes by default: everything but the ratios to the MVIE and to the outer
+#: ellipsoid (see ``mvie=True``, ``outer=True``).
+DEFAULT_SCORES = tuple(name for name in SCORE_NAMES if name not in ("mvie_ratio", "outer_ratio"))
 
 
 @dataclass(frozen=True)
@@ -68,8 +70,7 @@ class _Job:
     directions: NDArray[np.float64]
     direction_count: int | None  # the user's count, for the scalar path; None for vectors
     columns: tuple[str, ...]
-    mvie: bool
-    rank_rtol: float
+    options: BatchOptions
 
     def size(self) -> int:
         if self.configurations is None:
@@ -92,8 +93,7 @@ class _Job:
             self.tau_max,
             self.tau_min,
             self.directions,
-            rank_rtol=self.rank_rtol,
-            mvie=self.mvie,
+            self.options,
         )
         if scalar.any():
             for name, column in _scalar_rows(dyn, scalar, self).items():
@@ -114,9 +114,16 @@ def _scalar_rows(
     """``compare(analyze(...)).to_row()`` for the flagged rows (NaN elsewhere)."""
     values = {name: np.full(len(dyn), np.nan) for name in job.columns}
     for k in np.flatnonzero(rows):
-        analysis = analyze(dyn[int(k)], job.tau_max, job.tau_min, rank_rtol=job.rank_rtol)
+        options = job.options
+        analysis = analyze(dyn[int(k)], job.tau_max, job.tau_min, rank_rtol=options.rank_rtol)
         directions = job.directions if job.direction_count is None else job.direction_count
-        row = compare(analysis, directions, mvie=job.mvie).to_row()
+        row = compare(
+            analysis,
+            directions,
+            mvie=options.mvie,
+            outer=options.outer,
+            candidates=options.candidates,
+        ).to_row()
         for name in job.columns:
             values[name][k] = row[name]
     return values
@@ -179,8 +186,7 @@ def _job(
     tau_min: ArrayLike | None,
     scores: Sequence[str],
     directions: int | ArrayLike | None,
-    mvie: bool,
-    rank_rtol: float,
+    options: BatchOptions,
 ) -> _Job:
     if isinstance(source, Dynamics):
         if source.batch_size is None:
@@ -211,10 +217,16 @@ def _job(
     unknown = sorted(set(scores) - set(SCORE_NAMES))
     if unknown:
         raise InputError("scores", f"names among {list(SCORE_NAMES)}", f"unknown {unknown}")
-    if "mvie_ratio" in scores and not mvie:
-        raise InputError(
-            "scores", "no 'mvie_ratio' without mvie=True", "'mvie_ratio'", "pass mvie=True (slow)."
-        )
+    for kind, wanted in (("mvie", options.mvie), ("outer", options.outer)):
+        if f"{kind}_ratio" in scores and not wanted:
+            raise InputError(
+                "scores",
+                f"no '{kind}_ratio' without {kind}=True",
+                f"'{kind}_ratio'",
+                f"pass {kind}=True.",
+            )
+    for candidate in options.candidates:
+        candidate.check_sizes(m, n)
     if directions is None:  # the default of pe.compare: rows equal compare(...) as they are
         directions = default_direction_count(m)
     count = int(directions) if isinstance(directions, int | np.integer) else None
@@ -223,10 +235,13 @@ def _job(
         if count is not None
         else np.atleast_2d(check_directions("directions", directions, m))
     )
-    kinds = COMPARED_KINDS if mvie else COMPARED_KINDS[:2]
+    computed = {"mvie": options.mvie, "outer": options.outer}
+    kinds = [kind for kind in COMPARED_KINDS if computed.get(kind, True)]
+    kinds += [candidate.name for candidate in options.candidates]
     polytope = ("polytope_dim", "polytope_volume", "polytope_ball_radius", "polytope_origin_radius")
     columns = (*polytope, *(f"{k}_{s}" for k in kinds for s in scores))
-    return _Job(source, configurations, upper, lower, T, count, columns, mvie, rank_rtol)
+    options = replace(options, vertices=options.outer or "enclosing_scale" in scores)
+    return _Job(source, configurations, upper, lower, T, count, columns, options)
 
 
 def sweep(
@@ -241,10 +256,12 @@ def sweep(
     scheduler: str | None = None,
     chunk: int = 20_000,
     mvie: bool = False,
+    outer: bool = False,
+    candidates: Sequence[Candidate] = (),
     rank_rtol: float = RANK_RTOL,
     progress: bool = False,
 ) -> pd.DataFrame | Path:
-    """Score both ellipsoids at many configurations.
+    """Score both ellipsoids, and optionally the MVIE, the outer ellipsoid and candidates.
 
     Parameters
     ----------
@@ -277,6 +294,13 @@ def sweep(
         Also compute the maximum-volume inscribed ellipsoid at every configuration
         (batched interior-point solver: about 5 times slower than without, see
         ``docs/performance.md``).
+    outer : bool
+        Also compute the minimum-volume enclosing (outer) ellipsoid at every configuration
+        (the same solver on the vertices) and every ``outer_ratio``.
+    candidates : sequence of Candidate
+        User-defined ellipsoids (:class:`polyell.Candidate`), scored like the built-in
+        ones under ``<name>_<score>``.  One that is neither inside nor around P at a
+        configuration takes the scalar path there (Monte Carlo coverage: slower).
     rank_rtol : float
         Rank tolerance, as in :func:`polyell.analyze`.
     progress : bool
@@ -291,7 +315,9 @@ def sweep(
         dataset folder with ``out=``.
     """
     chunk = check_integer("chunk", chunk, 1, 10_000_000)
-    job = _job(source, configurations, tau_max, tau_min, scores, directions, mvie, rank_rtol)
+    options = BatchOptions(mvie=bool(mvie), outer=bool(outer), rank_rtol=rank_rtol)
+    options = replace(options, candidates=check_candidates(candidates))
+    job = _job(source, configurations, tau_max, tau_min, scores, directions, options)
     count = -(-job.size() // chunk)
     todo = list(range(count))
     if out is None:

@@ -9,7 +9,12 @@ import pandas as pd
 import pytest
 
 import polyell as pe
-from polyell.comparison.metrics import inscribed_scale, overlap, witness_torque_max
+from polyell.comparison.metrics import (
+    enclosing_scale,
+    inscribed_scale,
+    overlap,
+    witness_torque_max,
+)
 from polyell.comparison.tables import format_scores_table
 from polyell.geometry.directions import sphere_directions
 from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
@@ -86,6 +91,9 @@ def test_coverage_and_overreach_equal_monte_carlo(paper, factor):
     assert estimate.overreach == pytest.approx(overreach, abs=5e-3)
     if factor == 1.0:  # inside: exact
         assert estimate.coverage_stderr == 0.0 and estimate.overreach == 0.0
+    elif enclosing_scale(E, P) <= 1.0:  # around P (factor 2): exact, coverage 1
+        assert estimate.coverage == 1.0 and estimate.overreach_stderr == 0.0
+        assert estimate.overreach == pytest.approx(1.0 - P.volume / E.volume, rel=1e-12)
     else:
         assert 0 < estimate.coverage_stderr < 2e-3 and estimate.overreach > 0.01
 

@@ -20,17 +20,24 @@ ARM = pe.robots.load("chiacchio2000")
 
 
 def assert_rows_equal_compare(
-    frame: pd.DataFrame, dynamics, tau_max, tau_min, directions, mvie=False
+    frame: pd.DataFrame, dynamics, tau_max, tau_min, directions, mvie=False, candidates=()
 ):
     for _, row in frame.iterrows():
         k = int(row["configuration"])
         expected = pe.compare(
-            pe.analyze(dynamics(k), tau_max, tau_min), directions, mvie=mvie
+            pe.analyze(dynamics(k), tau_max, tau_min),
+            directions,
+            mvie=mvie,
+            outer=mvie,
+            candidates=candidates,
         ).to_row()
+        assert set(frame.columns) - set(expected) <= {"configuration", "q1", "q2", "q3", "t"} | {
+            f"q{i}" for i in range(1, 8)
+        }
         for name in frame.columns.intersection(list(expected)):
-            # The MVIE is determined to its certified gap (1e-8 in log det): a batch and a
-            # single solve may stop at different points within it.
-            rtol = 1e-7 if "mvie" in name else 1e-9
+            # The MVIE and the outer ellipsoid are determined to their certified gap (1e-8
+            # in log det): a batch and a single solve may stop at different points within it.
+            rtol = 1e-7 if "mvie" in name or "outer" in name else 1e-9
             np.testing.assert_allclose(
                 row[name], expected[name], rtol=rtol, atol=1e-12, err_msg=f"{name} at {k}"
             )
@@ -58,25 +65,31 @@ def test_random_panda_sweep_equals_compare():
     assert_rows_equal_compare(frame, lambda k: panda.dynamics(q[k]), panda.tau_max, None, 32)
 
 
-def test_batched_mvie_scores_equal_compare():
+def test_batched_mvie_and_outer_scores_equal_compare():
     """The batched log-det solver and the one of compare (its K = 1 case) agree row by row,
-    at singular configurations (the scalar path) and at random Panda ones."""
+    for the MVIE and the outer ellipsoid, at singular configurations (the scalar path) and at
+    random Panda ones."""
     g = pe.grid(np.pi / 2, (-np.pi, np.pi, 7), (-np.pi, np.pi, 7))
-    frame = pe.sweep(ARM, g, mvie=True, scores=pe.SCORE_NAMES, chunk=20)
-    assert frame["mvie_mvie_ratio"].eq(1.0).all()
+    frame = pe.sweep(ARM, g, mvie=True, outer=True, scores=pe.SCORE_NAMES, chunk=20)
+    assert frame["mvie_mvie_ratio"].eq(1.0).all() and frame["outer_outer_ratio"].eq(1.0).all()
+    assert np.allclose(frame["outer_enclosing_scale"], 1.0, atol=1e-12)
+    assert np.allclose(frame["outer_coverage"], 1.0, rtol=1e-12)
     q = g.rows(0, 49)
     assert_rows_equal_compare(frame, lambda k: ARM.dynamics(q[k]), ARM.tau_max, None, None, True)
     panda = pe.robots.load("panda")
     low, high = panda.position_limits
     configurations = pe.random_configurations(30, low, high, seed=8)
-    frame = pe.sweep(panda, configurations, mvie=True, scores=pe.SCORE_NAMES, directions=16)
+    frame = pe.sweep(
+        panda, configurations, mvie=True, outer=True, scores=pe.SCORE_NAMES, directions=16
+    )
     q = configurations.rows(0, 30)
     assert frame["chiacchio_mvie_ratio"].between(0.05, 1.0).all()
+    assert (frame["mvie_outer_ratio"] > 3.0**-1.5).all()  # John: vol(outer) <= 3^(3/2) vol(MVIE)
     assert_rows_equal_compare(frame, lambda k: panda.dynamics(q[k]), panda.tau_max, None, 16, True)
 
 
 def test_a_batched_mvie_that_is_not_certified_is_undefined_in_its_row(monkeypatch):
-    batch_module = sys.modules["polyell.studies.batch"]
+    batch_module = sys.modules["polyell.studies.block_sets"]
     solve = batch_module.centred_mvee_batch
 
     def second_row_fails(points, **options):
