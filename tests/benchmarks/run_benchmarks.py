@@ -305,6 +305,17 @@ def bench_mvie(repeats: int) -> list[str]:
     def without() -> None:
         pe.sweep(dyn, tau_max=panda.tau_max, scores=("coverage",), chunk=4096, directions=64)
 
+    def with_outer() -> None:
+        pe.sweep(
+            dyn,
+            tau_max=panda.tau_max,
+            mvie=True,
+            outer=True,
+            scores=(*scores, "outer_ratio", "enclosing_scale"),
+            chunk=4096,
+            directions=64,
+        )
+
     failures = set()
 
     def by_cvxpy() -> None:
@@ -318,8 +329,8 @@ def bench_mvie(repeats: int) -> list[str]:
         for P in polytopes:
             max_volume_inscribed_ellipsoid(P)
 
-    with_mvie, no_mvie, cvx, single = timed_alternately(
-        [batched, without, by_cvxpy, one_by_one], max(3, repeats // 2)
+    with_mvie, no_mvie, both, cvx, single = timed_alternately(
+        [batched, without, with_outer, by_cvxpy, one_by_one], max(3, repeats // 2)
     )
 
     def rate(times: list[float], k: int) -> str:
@@ -348,6 +359,7 @@ def bench_mvie(repeats: int) -> list[str]:
         "|---|---|",
         f"| sweep with MVIE scores, batched (4,096) | {rate(with_mvie, len(Q))} |",
         f"| sweep without MVIE (the same 4,096) | {rate(no_mvie, len(Q))} |",
+        f"| sweep with MVIE and outer ellipsoid, enclosing scales (4,096) | {rate(both, len(Q))} |",
         f"| MVIE alone, the dedicated solver one at a time (24) | {rate(single, len(polytopes))} |",
         f"| MVIE alone, cvxpy + Clarabel one at a time (24) | {rate(cvx, len(polytopes))} |",
         "",
