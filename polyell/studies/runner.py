@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -27,7 +27,9 @@ from polyell.studies.sweep import sweep
 from polyell.studies.trajectory import tangent_limits
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
-    pass
+    import pandas as pd
+
+    from polyell.studies.spec import GridAxis
 
 __all__ = ["run_study"]
 
@@ -52,6 +54,7 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
     written: list[Path] = []
     numbers = [f"# {spec.title}: the numbers", ""]
     frames = []
+    report: list[tuple[str, Any]] = []
     for point in spec.points:
         analysis = analyze(
             spec.robot.model.dynamics(point.q), spec.robot.tau_max, spec.robot.tau_min
@@ -82,6 +85,13 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
         frame = cmp.to_frame()
         frame.index = [f"{point.name}: {ellipsoid_label(k)}" for k in frame.index]
         frames.append(frame)
+        if "html" in spec.formats:
+            from polyell.interactive import interactive_sets
+
+            heading = f"{point.name}{': ' + point.title if point.title else ''}"
+            if analysis.dynamics.m in (2, 3):
+                report.append((heading, interactive_sets(cmp)))
+            report.append((f"{point.name}: scores (fractions; volumes in the task's units)", frame))
         stem = folder / f"sets_{point.name}"
         mvie = cmp.mvie if spec.mvie and cmp["mvie"].defined else None
         kinds = (
@@ -96,18 +106,22 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
             figure = plot_sets(
                 analysis, kinds=kinds, mvie=mvie, extra=extra, title=point.title or point.name
             )
-            written += save_figure(figure, stem, spec.formats, spec.dpi)
+            written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
             if analysis.polytope.dim == 2:
                 figure = plot_directional_limits(analysis, kinds=kinds, mvie=mvie, extra=extra)
                 written += save_figure(
-                    figure, folder / f"limits_{point.name}", spec.formats, spec.dpi
+                    figure, folder / f"limits_{point.name}", spec.figure_formats, spec.dpi
                 )
         elif analysis.dynamics.m == 3:
             figure = plot_sets_3d(
                 analysis, kinds=kinds, mvie=mvie, extra=extra, title=point.title or point.name
             )
-            written += save_figure(figure, stem, spec.formats, spec.dpi)
+            written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
     written.append(write_text_atomically(folder / "numbers.md", "\n".join(numbers)))
+    if report:
+        from polyell.interactive import write_report
+
+        written.append(write_report(folder / "report.html", spec.title, report))
     import pandas as pd
 
     table = pd.concat(frames)
@@ -221,18 +235,52 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
             title=f"{ellipsoid_label(kind)}: {label}",
             limits=scales.get(score),
         )
-        written += save_figure(figure, folder / f"map_{name}", spec.formats, spec.dpi)
+        written += save_figure(figure, folder / f"map_{name}", spec.figure_formats, spec.dpi)
     for score in spec.series:
         figure = plot_score_series(results, score, kinds=kinds, title=spec.title)
-        written += save_figure(figure, folder / f"series_{score}", spec.formats, spec.dpi)
+        written += save_figure(figure, folder / f"series_{score}", spec.figure_formats, spec.dpi)
     if tangent:
         figure = plot_tangent_limits(results, unit=task_unit(first.task, tex=True))
-        written += save_figure(figure, folder / "tangent_limits", spec.formats, spec.dpi)
+        written += save_figure(figure, folder / "tangent_limits", spec.figure_formats, spec.dpi)
+    measured = [kind for kind in kinds if kind not in ("mvie", "outer")]  # not the optima
     for score in spec.histograms:
-        measured = [kind for kind in kinds if kind not in ("mvie", "outer")]  # not the optima
         figure = plot_score_histogram(results, score, kinds=measured, title=f"{spec.title}")
-        written += save_figure(figure, folder / f"histogram_{score}", spec.formats, spec.dpi)
+        written += save_figure(figure, folder / f"histogram_{score}", spec.figure_formats, spec.dpi)
+    if "html" in spec.formats:
+        written.append(_many_report(spec, folder, results, summary, varying, measured))
     return written
+
+
+def _many_report(
+    spec: StudySpec,
+    folder: Path,
+    results: pd.DataFrame,
+    summary: pd.DataFrame,
+    varying: list[GridAxis],
+    measured: list[str],
+) -> Path:
+    """The interactive report of a grid, random or trajectory study (``formats`` "html")."""
+    from polyell.interactive import (
+        interactive_histogram,
+        interactive_map,
+        interactive_series,
+        write_report,
+    )
+
+    sections: list[tuple[str, Any]] = []
+    if len(varying) == 2:
+        for name in spec.maps:
+            kind, score = _split(name)
+            heading = f"{ellipsoid_label(kind)}: {score_display(score)[0]}"
+            sections.append(
+                (heading, interactive_map(results, name, varying[1].name, varying[0].name))
+            )
+    for score in spec.series:
+        sections.append((score_display(score)[0], interactive_series(results, score)))
+    for score in spec.histograms:
+        sections.append((score_display(score)[0], interactive_histogram(results, score, measured)))
+    sections.append((f"Summary over {len(results)} configurations (fractions)", summary))
+    return write_report(folder / "report.html", spec.title, sections)
 
 
 def _split(column: str) -> tuple[str, str]:

@@ -115,7 +115,8 @@ _POINT_KEYS = ("name", "q", "direction", "inverse_at", "title")
 _RANGE_KEYS = ("start", "stop", "num")
 _COMPARE_KEYS = ("directions", "mvie", "outer", "samples", "seed", "chunk")
 _OUTPUT_KEYS = ("formats", "dpi", "maps", "histograms", "series")
-_FORMATS = ("pdf", "png", "svg")
+#: Figure formats, and "html": one self-contained interactive report (extra [interactive]).
+_FORMATS = ("pdf", "png", "svg", "html")
 
 
 def _check_keys(where: str, table: object, valid: tuple[str, ...]) -> dict[str, Any]:
@@ -347,6 +348,11 @@ class StudySpec:
     maps: tuple[str, ...] = field(default_factory=tuple)
     histograms: tuple[str, ...] = field(default_factory=tuple)
     series: tuple[str, ...] = field(default_factory=tuple)
+
+    @property
+    def figure_formats(self) -> tuple[str, ...]:
+        """The static figure formats (all but ``"html"``)."""
+        return tuple(f for f in self.formats if f != "html")
 
     @property
     def is_grid(self) -> bool:

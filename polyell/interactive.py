@@ -1,0 +1,459 @@
+"""Interactive views (plotly): the sets in 2-D and 3-D, score maps and histograms, reports.
+
+Every function returns a ``plotly.graph_objects.Figure`` (shown inline in a notebook);
+:func:`write_report` puts several into one self-contained HTML file that works offline
+(plotly's JavaScript is embedded once, nothing is fetched).  Needs the extra
+``polyell[interactive]`` (plotly), imported here only.
+
+Traces are grouped per set, so clicking a legend entry toggles that set; hovering shows its
+values (coordinates, volume and scores, or a configuration and every score of a map).
+"""
+
+from __future__ import annotations
+
+import html
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from polyell.comparison.comparison import Comparison
+from polyell.comparison.summary import result_kinds, split_column
+from polyell.comparison.tables import ellipsoid_label, score_display
+from polyell.errors import InputError, MissingDependencyError
+from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.polytope import Polytope
+from polyell.models.task import task_unit
+from polyell.storage import write_text_atomically
+
+if TYPE_CHECKING:  # plotly and pandas are imported where they are used (start-up time)
+    import pandas as pd
+    import plotly.graph_objects as go
+
+__all__ = [
+    "COLORS",
+    "interactive_histogram",
+    "interactive_map",
+    "interactive_series",
+    "interactive_sets",
+    "write_report",
+]
+
+#: One colour per set (the static figures are greyscale; here colour separates the sets).
+COLORS = {
+    "polytope": "#555555",
+    "chiacchio": "#1f77b4",
+    "yoshikawa": "#d62728",
+    "mvie": "#2ca02c",
+    "outer": "#9467bd",
+}
+_CANDIDATE_COLORS = ("#ff7f0e", "#8c564b", "#e377c2", "#17becf", "#bcbd22")
+#: Scores shown when hovering over an ellipsoid.
+_HOVER_SCORES = ("inscribed_scale", "enclosing_scale", "coverage", "mvie_ratio", "outer_ratio")
+
+
+def _plain_label(row: str) -> str:
+    """A plain-text axis label (plotly shows no TeX offline): ẍ for x, ω̇x for wx."""
+    if row.startswith("w"):
+        return "\u03c9\u0307" + row[1:]
+    return row[0] + "\u0308" + row[1:]
+
+
+def _plotly() -> Any:
+    try:
+        import plotly.graph_objects as go
+    except ImportError as exn:
+        raise MissingDependencyError(
+            "Interactive views need plotly. Fix: pip install 'polyell[interactive]'."
+        ) from exn
+    return go
+
+
+def _color(kind: str, kinds: Sequence[str]) -> str:
+    if kind in COLORS:
+        return COLORS[kind]
+    others = [k for k in kinds if k not in COLORS]
+    index = others.index(kind) if kind in others else 0
+    return _CANDIDATE_COLORS[index % len(_CANDIDATE_COLORS)]
+
+
+def _ellipse_curve(E: Ellipsoid, k: int = 241) -> NDArray[np.float64]:
+    """Points along the boundary of a rank-1 or rank-2 ellipsoid (k, m)."""
+    if E.rank == 1:
+        return E.center + np.outer([-1.0, 1.0], E.semi_axes[0] * E.axes[:, 0])
+    angles = np.linspace(0.0, 2.0 * np.pi, k)
+    circle = np.column_stack([np.cos(angles), np.sin(angles)])
+    return E.center + (circle * E.semi_axes[:2]) @ E.axes[:, :2].T
+
+
+def _ellipsoid_mesh(E: Ellipsoid, k: int = 24) -> tuple[NDArray[np.float64], NDArray[np.int_]]:
+    """A triangulated surface of a full-rank 3-D ellipsoid: vertices (V, 3), faces (F, 3)."""
+    theta = np.linspace(0.0, np.pi, k + 1)[1:-1]
+    phi = np.linspace(0.0, 2.0 * np.pi, 2 * k, endpoint=False)
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    unit = np.column_stack(
+        [(np.sin(t) * np.cos(p)).ravel(), (np.sin(t) * np.sin(p)).ravel(), np.cos(t).ravel()]
+    )
+    unit = np.vstack([[0.0, 0.0, 1.0], unit, [0.0, 0.0, -1.0]])
+    rings, around = len(theta), len(phi)
+    faces = []
+    index = lambda i, j: 1 + i * around + (j % around)  # noqa: E731 - a two-index helper
+    for j in range(around):
+        faces.append((0, index(0, j), index(0, j + 1)))
+        faces.append((len(unit) - 1, index(rings - 1, j + 1), index(rings - 1, j)))
+        for i in range(rings - 1):
+            faces.append((index(i, j), index(i + 1, j), index(i + 1, j + 1)))
+            faces.append((index(i, j), index(i + 1, j + 1), index(i, j + 1)))
+    vertices = E.center + (unit * E.semi_axes) @ E.axes.T
+    return vertices, np.array(faces)
+
+
+def _polytope_mesh(P: Polytope) -> tuple[NDArray[np.float64], NDArray[np.int_]]:
+    """The boundary of a 3-D polytope (or a planar one, in 3-D) as triangles."""
+    from scipy.spatial import ConvexHull
+
+    vertices = P.vertices
+    if P.dim == 3:
+        return vertices, ConvexHull(vertices).simplices
+    basis = P.affine_set.basis  # a polygon in a plane: fan-triangulate its ordered hull
+    hull = ConvexHull((vertices - P.center) @ basis).vertices
+    faces = [(hull[0], hull[i], hull[i + 1]) for i in range(1, len(hull) - 1)]
+    return vertices, np.array(faces)
+
+
+def _hover_text(kind: str, comparison: Comparison, unit: str) -> str:
+    record = comparison[kind]
+    lines = [f"<b>{html.escape(ellipsoid_label(kind))}</b>"]
+    lines.append(f"volume {record.volume:.4g} ({unit})^{int(record.dimension)}")
+    for score in _HOVER_SCORES:
+        value = getattr(record, score)
+        if np.isfinite(value):
+            name, factor = score_display(score)
+            lines.append(f"{name} {factor * value:.4g}")
+    return "<br>".join(lines)
+
+
+def interactive_sets(
+    comparison: Comparison, kinds: Sequence[str] | None = None, *, title: str | None = None
+) -> go.Figure:
+    """The polytope and the ellipsoids of a comparison, rotatable (3-D) or zoomable (2-D).
+
+    Parameters
+    ----------
+    comparison : Comparison
+        From :func:`polyell.compare`; its sets are drawn in its task frame.
+    kinds : sequence of str, optional
+        Which ellipsoids; default every defined one (both definitions, the MVIE, the outer
+        ellipsoid, candidates).
+    title : str, optional
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+        One legend entry per set (click to hide or show it); hover for the values.
+
+    Raises
+    ------
+    InputError
+        For a task space other than 2-D or 3-D.
+    """
+    go = _plotly()
+    analysis = comparison.analysis
+    m = analysis.dynamics.m
+    if m not in (2, 3):
+        raise InputError("comparison", "a 2-D or 3-D task space", f"m = {m}")
+    chosen = [k for k in (kinds or comparison.kinds) if comparison[k].defined]
+    unit = task_unit(analysis.dynamics.task)
+    labels = [_plain_label(row) for row in analysis.dynamics.task]
+    P = analysis.polytope
+    figure = go.Figure()
+    vertex_text = [
+        "<br>".join(f"{label} {value:.4g} {unit}" for label, value in zip(labels, v, strict=True))
+        for v in P.vertices
+    ]
+    polytope_name = f"polytope (15), volume {P.volume:.4g} ({unit})^{P.dim}"
+    if m == 2:
+        outline = P.vertices if P.dim < 2 else np.vstack([P.vertices, P.vertices[:1]])
+        figure.add_trace(
+            go.Scatter(
+                x=outline[:, 0],
+                y=outline[:, 1],
+                mode="lines+markers",
+                name=polytope_name,
+                line={"color": COLORS["polytope"], "dash": "dash", "width": 3},
+                text=vertex_text + vertex_text[:1],
+                hoverinfo="text",
+            )
+        )
+    else:
+        vertices, faces = _polytope_mesh(P) if P.dim >= 2 else (P.vertices, np.zeros((0, 3)))
+        if len(faces):
+            figure.add_trace(
+                go.Mesh3d(
+                    x=vertices[:, 0],
+                    y=vertices[:, 1],
+                    z=vertices[:, 2],
+                    i=faces[:, 0],
+                    j=faces[:, 1],
+                    k=faces[:, 2],
+                    color=COLORS["polytope"],
+                    opacity=0.25,
+                    name=polytope_name,
+                    legendgroup="polytope",
+                    showlegend=True,
+                    hoverinfo="skip",
+                )
+            )
+        figure.add_trace(
+            go.Scatter3d(
+                x=P.vertices[:, 0],
+                y=P.vertices[:, 1],
+                z=P.vertices[:, 2],
+                mode="markers",
+                marker={"size": 3, "color": COLORS["polytope"]},
+                name="polytope vertices",
+                legendgroup="polytope",
+                showlegend=not len(faces),
+                text=vertex_text,
+                hoverinfo="text",
+            )
+        )
+    for kind in chosen:
+        E = comparison.ellipsoid(kind)
+        color, text = _color(kind, chosen), _hover_text(kind, comparison, unit)
+        name = ellipsoid_label(kind)
+        if m == 2 or E.rank < 3:
+            curve = _ellipse_curve(E)
+            if m == 2:
+                trace = go.Scatter(x=curve[:, 0], y=curve[:, 1], mode="lines")
+            else:
+                trace = go.Scatter3d(x=curve[:, 0], y=curve[:, 1], z=curve[:, 2], mode="lines")
+            trace.update(name=name, line={"color": color, "width": 3}, text=text, hoverinfo="text")
+            figure.add_trace(trace)
+            continue
+        vertices, faces = _ellipsoid_mesh(E)
+        figure.add_trace(
+            go.Mesh3d(
+                x=vertices[:, 0],
+                y=vertices[:, 1],
+                z=vertices[:, 2],
+                i=faces[:, 0],
+                j=faces[:, 1],
+                k=faces[:, 2],
+                color=color,
+                opacity=0.35,
+                name=name,
+                showlegend=True,
+                hovertext=text,
+                hoverinfo="text",
+            )
+        )
+    centre = analysis.xg
+    marker = {"symbol": "cross", "color": "black", "size": 6}
+    if m == 2:
+        figure.add_trace(
+            go.Scatter(
+                x=[centre[0]], y=[centre[1]], mode="markers", marker=marker, name="centre xg"
+            )
+        )
+        figure.update_yaxes(scaleanchor="x", scaleratio=1)
+        figure.update_layout(
+            xaxis_title=f"{labels[0]} [{unit}]", yaxis_title=f"{labels[1]} [{unit}]"
+        )
+    else:
+        figure.add_trace(
+            go.Scatter3d(
+                x=[centre[0]],
+                y=[centre[1]],
+                z=[centre[2]],
+                mode="markers",
+                marker=marker,
+                name="centre xg",
+            )
+        )
+        figure.update_layout(
+            scene={
+                "aspectmode": "data",
+                "xaxis_title": f"{labels[0]} [{unit}]",
+                "yaxis_title": f"{labels[1]} [{unit}]",
+                "zaxis_title": f"{labels[2]} [{unit}]",
+            }
+        )
+    figure.update_layout(title=title, template="plotly_white", legend={"itemclick": "toggle"})
+    return figure
+
+
+def interactive_map(
+    results: pd.DataFrame,
+    column: str,
+    x: str,
+    y: str,
+    *,
+    title: str | None = None,
+) -> go.Figure:
+    """A heat map of one score over a grid of two joints, every score on hover.
+
+    Parameters
+    ----------
+    results : DataFrame
+        One row per configuration of a grid (``pe.sweep``), with the joint columns.
+    column : str
+        The score column mapped, e.g. ``"chiacchio_coverage"``.
+    x, y : str
+        The joint columns along the horizontal and vertical axes (e.g. ``"q3"``, ``"q2"``).
+    """
+    go = _plotly()
+    for name in (column, x, y):
+        if name not in results:
+            raise InputError("results", f"a column {name!r}", f"columns {list(results)[:8]}...")
+    table = results.sort_values([y, x])
+    xs, ys = np.unique(table[x].to_numpy()), np.unique(table[y].to_numpy())
+    if len(xs) * len(ys) != len(table):
+        raise InputError("results", f"a full grid over ({x}, {y})", f"{len(table)} rows")
+    split = split_column(column)
+    label, factor = score_display(split[1] if split else column)
+    z = factor * table[column].to_numpy(dtype=float).reshape(len(ys), len(xs))
+    shown = [c for c in table.columns if c.startswith(("configuration", "q", "polytope_"))]
+    shown += [c for c in table.columns if c not in shown and c != "t"]
+    data = table[shown].to_numpy(dtype=float).reshape(len(ys), len(xs), len(shown))
+    template = "<br>".join(f"{c} %{{customdata[{i}]:.4g}}" for i, c in enumerate(shown))
+    figure = go.Figure(
+        go.Heatmap(
+            x=xs,
+            y=ys,
+            z=z,
+            customdata=data,
+            hovertemplate=template + "<extra></extra>",
+            colorscale="Cividis",
+            colorbar={"title": label},
+        )
+    )
+    figure.update_layout(
+        title=title or column,
+        xaxis_title=f"{x} [rad]",
+        yaxis_title=f"{y} [rad]",
+        template="plotly_white",
+    )
+    return figure
+
+
+def interactive_histogram(
+    results: pd.DataFrame,
+    score: str,
+    kinds: Sequence[str] | None = None,
+    *,
+    title: str | None = None,
+) -> go.Figure:
+    """Overlaid histograms of one score over a study, one per ellipsoid (toggle in the legend)."""
+    go = _plotly()
+    chosen = [k for k in (kinds or result_kinds(results.columns)) if f"{k}_{score}" in results]
+    if not chosen:
+        raise InputError("score", "a score with columns in the results", repr(score))
+    label, factor = score_display(score)
+    figure = go.Figure()
+    for kind in chosen:
+        values = factor * results[f"{kind}_{score}"].to_numpy(dtype=float)
+        figure.add_trace(
+            go.Histogram(
+                x=values[np.isfinite(values)],
+                name=ellipsoid_label(kind),
+                opacity=0.6,
+                marker_color=_color(kind, chosen),
+            )
+        )
+    figure.update_layout(
+        barmode="overlay",
+        title=title,
+        xaxis_title=label,
+        yaxis_title="configurations",
+        template="plotly_white",
+    )
+    return figure
+
+
+def interactive_series(
+    results: pd.DataFrame,
+    score: str,
+    kinds: Sequence[str] | None = None,
+    *,
+    title: str | None = None,
+) -> go.Figure:
+    """One score of each ellipsoid along a trajectory (against ``t``, or the sample index)."""
+    go = _plotly()
+    chosen = [k for k in (kinds or result_kinds(results.columns)) if f"{k}_{score}" in results]
+    if not chosen:
+        raise InputError("score", "a score with columns in the results", repr(score))
+    label, factor = score_display(score)
+    x = results["t"] if "t" in results else results["configuration"]
+    figure = go.Figure()
+    for kind in chosen:
+        figure.add_trace(
+            go.Scatter(
+                x=x,
+                y=factor * results[f"{kind}_{score}"],
+                mode="lines",
+                name=ellipsoid_label(kind),
+                line={"color": _color(kind, chosen)},
+            )
+        )
+    figure.update_layout(
+        title=title,
+        xaxis_title="t [s]" if "t" in results else "sample",
+        yaxis_title=label,
+        template="plotly_white",
+        hovermode="x unified",
+    )
+    return figure
+
+
+def write_report(path: str | Path, title: str, sections: Sequence[tuple[str, Any]]) -> Path:
+    """One self-contained HTML file: a title and sections of figures, tables or text.
+
+    Parameters
+    ----------
+    path : str or Path
+    title : str
+    sections : sequence of (heading, content)
+        ``content`` is a plotly figure, a pandas DataFrame (a table) or a string (a
+        paragraph of plain text).
+
+    Returns
+    -------
+    Path
+        The file, written atomically.  plotly's JavaScript is inlined once: the page makes
+        no network request.
+    """
+    import pandas as pd
+
+    go = _plotly()
+    parts: list[str] = []
+    first = True
+    for heading, content in sections:
+        parts.append(f"<h2>{html.escape(heading)}</h2>")
+        if isinstance(content, go.Figure):
+            parts.append(
+                content.to_html(
+                    full_html=False,
+                    include_plotlyjs=first,
+                    include_mathjax=False,
+                    config={"displaylogo": False},
+                )
+            )
+            first = False
+        elif isinstance(content, pd.DataFrame):
+            parts.append(content.to_html(float_format=lambda v: f"{v:.4g}", border=0))
+        else:
+            parts.append(f"<p>{html.escape(str(content))}</p>")
+    style = (
+        "body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}"
+        "table{border-collapse:collapse;font-size:0.85em}"
+        "td,th{padding:0.2em 0.6em;text-align:right;border-bottom:1px solid #ddd}"
+    )
+    page = (
+        "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
+        f"<title>{html.escape(title)}</title><style>{style}</style></head><body>"
+        f"<h1>{html.escape(title)}</h1>{''.join(parts)}</body></html>\n"
+    )
+    return write_text_atomically(Path(path), page)

@@ -1,0 +1,152 @@
+"""Interactive views (issue 14): plotly figures of the sets, maps and histograms, and a
+self-contained HTML report checked in a real headless browser (no network request, no
+console error, the sets drawn)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import polyell as pe
+from browser import coloured_share, load
+from reference import PAPER_ARM, PAPER_TAU_MAX, paper_analysis
+
+pytest.importorskip("plotly")
+from polyell.interactive import (  # noqa: E402 - after the skip
+    interactive_histogram,
+    interactive_map,
+    interactive_sets,
+    write_report,
+)
+
+REDUNDANT = np.array([np.pi / 2, -np.pi / 2, -np.pi / 2])
+
+
+def test_2d_sets_trace_the_exact_polytope_and_every_ellipsoid():
+    cmp = pe.compare(
+        paper_analysis(REDUNDANT), 64, candidates=[pe.Candidate("w", weighting=np.eye(3) * 2)]
+    )
+    figure = interactive_sets(cmp)
+    names = [trace.name for trace in figure.data]
+    assert names[0].startswith("polytope")
+    assert len(figure.data) == 1 + 5 + 1  # polytope, 4 built-ins and the candidate, centre
+    polygon = np.column_stack([figure.data[0].x, figure.data[0].y])
+    np.testing.assert_allclose(polygon[:-1], cmp.analysis.polytope.vertices)
+    for trace, kind in zip(figure.data[1:6], cmp.kinds, strict=True):  # on each boundary
+        E = cmp.ellipsoid(kind)
+        points = np.column_stack([trace.x, trace.y])
+        norms = np.linalg.norm(((points - E.center) @ E.axes) / E.semi_axes, axis=1)
+        np.testing.assert_allclose(norms, 1.0, rtol=1e-9)
+        assert f"{100 * cmp[kind].coverage:.4g}" in trace.text
+
+
+def test_3d_sets_are_meshes_on_the_boundaries():
+    robot = pe.robots.load("panda")
+    cmp = pe.compare(pe.analyze(robot.dynamics([0, -0.5, 0, -2, 0, 1.6, 0.8]), robot.tau_max), 64)
+    figure = interactive_sets(cmp)
+    P = cmp.analysis.polytope
+    hull = figure.data[0]
+    vertices = np.column_stack([hull.x, hull.y, hull.z])
+    assert np.all(vertices @ P.A.T <= P.b + 1e-9)  # the hull's points are P's vertices
+    for trace in figure.data[2:-1]:
+        kind = next(k for k in cmp.kinds if pe.comparison.tables.ellipsoid_label(k) == trace.name)
+        E = cmp.ellipsoid(kind)
+        points = np.column_stack([trace.x, trace.y, trace.z])
+        norms = np.linalg.norm(((points - E.center) @ E.axes) / E.semi_axes, axis=1)
+        np.testing.assert_allclose(norms, 1.0, rtol=1e-9)
+
+
+def test_singular_sets_are_segments():
+    cmp = pe.compare(pe.analyze(PAPER_ARM.dynamics([np.pi / 6, 0, 0]), PAPER_TAU_MAX), 16)
+    figure = interactive_sets(cmp)
+    assert all(len(trace.x) == 2 for trace in figure.data[:-1])  # the classic one is absent
+    assert "classic" not in " ".join(trace.name for trace in figure.data)
+
+
+def test_map_and_histogram_hover_every_score():
+    grid = pe.grid(np.pi / 2, (-np.pi, np.pi, 5), (-np.pi, np.pi, 4))
+    results = pe.sweep(PAPER_ARM, grid, PAPER_TAU_MAX, directions=16)
+    figure = interactive_map(results, "chiacchio_coverage", "q3", "q2")
+    heat = figure.data[0]
+    assert np.asarray(heat.z).shape == (5, 4)
+    assert "chiacchio_inscribed_scale" in heat.hovertemplate
+    row = results.sort_values(["q2", "q3"]).iloc[6]
+    assert heat.z[1][2] == pytest.approx(100 * row["chiacchio_coverage"], nan_ok=True)
+    histogram = interactive_histogram(results, "coverage")
+    assert [t.name for t in histogram.data][:2] == ["new (eq. 32/38)", "classic (eq. 27)"]
+    with pytest.raises(pe.InputError, match="full grid"):
+        interactive_map(results.iloc[:-1], "chiacchio_coverage", "q3", "q2")
+
+
+def test_report_loads_offline_without_errors_and_draws_the_sets(tmp_path):
+    cmp = pe.compare(paper_analysis(REDUNDANT), 64)
+    robot = pe.robots.load("panda")
+    cmp3 = pe.compare(pe.analyze(robot.dynamics([0, -0.5, 0, -2, 0, 1.6, 0.8]), robot.tau_max), 64)
+    page = write_report(
+        tmp_path / "report.html",
+        "polyell report",
+        [
+            ("redundant configuration", interactive_sets(cmp)),
+            ("Panda", interactive_sets(cmp3)),
+            ("scores", cmp.to_frame()),
+        ],
+    )
+    visit = load(
+        page,
+        tmp_path / "report.png",
+        {
+            "plots": "document.querySelectorAll('.js-plotly-plot').length",
+            "traces": "[...document.querySelectorAll('.js-plotly-plot')].map(p => p.data.length)",
+            "paths": "document.querySelectorAll('.js-plotly-plot path.js-line').length",
+        },
+        wait_for=".js-plotly-plot .main-svg",
+    )
+    assert visit.requests == []  # nothing fetched: plotly is inlined
+    assert visit.errors == []
+    assert visit.values["plots"] == 2 and visit.values["traces"] == [6, 7]
+    assert visit.values["paths"] >= 5  # the 2-D polygon and four ellipses, drawn
+    assert coloured_share(visit.screenshot) > 0.002  # coloured curves on the page
+
+
+GRID_STUDY = """
+title = "grid"
+[robot]
+library = "chiacchio2000"
+[grid]
+q1 = "pi/2"
+q2 = { start = "-pi", stop = "pi", num = 7 }
+q3 = { start = "-pi", stop = "pi", num = 6 }
+[compare]
+directions = 16
+[[candidates]]
+name = "heavy_wrist"
+weighting = [1, 1, 4]
+[output]
+formats = ["html"]
+maps = ["chiacchio_coverage", "heavy_wrist_mvie_ratio"]
+histograms = ["coverage"]
+"""
+
+
+def test_study_html_report_works_offline_in_a_browser(tmp_path):
+    from polyell.studies import load_study, run_study
+
+    path = tmp_path / "grid.toml"
+    path.write_text(GRID_STUDY)
+    written = run_study(load_study(path), tmp_path / "out")
+    names = {p.name for p in written}
+    assert "report.html" in names and not any(n.endswith((".png", ".pdf")) for n in names)
+    visit = load(
+        tmp_path / "out" / "report.html",
+        tmp_path / "shot.png",
+        {
+            "plots": "document.querySelectorAll('.js-plotly-plot').length",
+            "heatmaps": "[...document.querySelectorAll('.js-plotly-plot')]"
+            ".filter(p => p.data[0].type === 'heatmap').length",
+            "tables": "document.querySelectorAll('table').length",
+        },
+        wait_for=".js-plotly-plot .main-svg",
+    )
+    assert visit.requests == [] and visit.errors == []
+    assert visit.values == {"plots": 3, "heatmaps": 2, "tables": 1}
+    assert coloured_share(visit.screenshot) > 0.02  # the heat map's colours on screen
