@@ -43,7 +43,7 @@ def chromium() -> str:
 class PageVisit:
     """What happened when a page was loaded."""
 
-    requests: list[str] = field(default_factory=list)  # every URL but the page's own file
+    requests: list[str] = field(default_factory=list)  # every URL that is not a local file
     errors: list[str] = field(default_factory=list)  # console errors and page exceptions
     screenshot: Path | None = None
     values: dict[str, object] = field(default_factory=dict)  # results of the checks
@@ -58,6 +58,7 @@ def load(page_path: Path, screenshot: Path, checks: dict[str, str], wait_for: st
 
     visit = PageVisit()
     own = page_path.resolve().as_uri()
+    folder = page_path.resolve().parent.as_uri()
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=chromium(), args=CHROMIUM_ARGS)
         try:
@@ -65,7 +66,7 @@ def load(page_path: Path, screenshot: Path, checks: dict[str, str], wait_for: st
 
             def route(r):
                 url = r.request.url
-                if url == own or url.startswith(("data:", "blob:")):
+                if url.startswith((folder, "data:", "blob:")):
                     r.continue_()
                     return
                 visit.requests.append(url)
