@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
+
 from browser import load
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"

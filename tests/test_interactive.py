@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from browser import coloured_share, load
 
 import polyell as pe
+from browser import coloured_share, load
 from reference import PAPER_ARM, PAPER_TAU_MAX, paper_analysis
 
 pytest.importorskip("plotly")
