@@ -42,6 +42,7 @@ MAIN_OUTPUTS = {
     "comparison.md": "the scores of each ellipsoid (also .tex, .csv)",
     "summary.md": "the scores' statistics over all configurations (also .tex, .csv)",
     "results.csv": "one row of scores per configuration",
+    "report.html": "the interactive report (open it in a browser; works offline)",
     "manifest.json": "every file written",
 }
 #: Options whose value is a list of numbers, which may start with '-' (--q -pi/2,0,0).
@@ -135,6 +136,12 @@ def _parser() -> argparse.ArgumentParser:
         "--no-outer", action="store_true", help="skip the minimum-volume enclosing ellipsoid"
     )
     run.add_argument("--json", action="store_true", help="print JSON instead of text")
+    run.add_argument(
+        "--mesh",
+        default=None,
+        metavar="FILE",
+        help="also write the sets as meshes: FILE.obj (one file) or FILE.ply (one per set)",
+    )
     study = commands.add_parser(
         "study",
         help="run a study from a TOML file and write its tables and figures",
@@ -221,6 +228,10 @@ def _analyze(args: argparse.Namespace) -> list[str]:
     analysis = analyze(robot.model.dynamics(q), robot.tau_max, robot.tau_min)
     direction, label, notes = _direction(args, analysis.dynamics.m)
     comparison = compare(analysis, mvie=not args.no_mvie, outer=not args.no_outer)
+    if args.mesh is not None:
+        from polyell.export import export_comparison
+
+        notes = [*notes, *(f"wrote {path}" for path in export_comparison(comparison, args.mesh))]
     if args.json:
         result = {"robot": args.robot, "q": q.tolist()}
         result |= analysis_to_json(analysis, direction, comparison, args.inverse_at)

@@ -23,8 +23,8 @@ from polyell.comparison.comparison import Comparison
 from polyell.comparison.summary import result_kinds, split_column
 from polyell.comparison.tables import ellipsoid_label, score_display
 from polyell.errors import InputError, MissingDependencyError
+from polyell.export import mesh
 from polyell.geometry.ellipsoid import Ellipsoid
-from polyell.geometry.polytope import Polytope
 from polyell.models.task import task_unit
 from polyell.storage import write_text_atomically
 
@@ -86,41 +86,6 @@ def _ellipse_curve(E: Ellipsoid, k: int = 241) -> NDArray[np.float64]:
     angles = np.linspace(0.0, 2.0 * np.pi, k)
     circle = np.column_stack([np.cos(angles), np.sin(angles)])
     return E.center + (circle * E.semi_axes[:2]) @ E.axes[:, :2].T
-
-
-def _ellipsoid_mesh(E: Ellipsoid, k: int = 24) -> tuple[NDArray[np.float64], NDArray[np.int_]]:
-    """A triangulated surface of a full-rank 3-D ellipsoid: vertices (V, 3), faces (F, 3)."""
-    theta = np.linspace(0.0, np.pi, k + 1)[1:-1]
-    phi = np.linspace(0.0, 2.0 * np.pi, 2 * k, endpoint=False)
-    t, p = np.meshgrid(theta, phi, indexing="ij")
-    unit = np.column_stack(
-        [(np.sin(t) * np.cos(p)).ravel(), (np.sin(t) * np.sin(p)).ravel(), np.cos(t).ravel()]
-    )
-    unit = np.vstack([[0.0, 0.0, 1.0], unit, [0.0, 0.0, -1.0]])
-    rings, around = len(theta), len(phi)
-    faces = []
-    index = lambda i, j: 1 + i * around + (j % around)  # noqa: E731 - a two-index helper
-    for j in range(around):
-        faces.append((0, index(0, j), index(0, j + 1)))
-        faces.append((len(unit) - 1, index(rings - 1, j + 1), index(rings - 1, j)))
-        for i in range(rings - 1):
-            faces.append((index(i, j), index(i + 1, j), index(i + 1, j + 1)))
-            faces.append((index(i, j), index(i + 1, j + 1), index(i, j + 1)))
-    vertices = E.center + (unit * E.semi_axes) @ E.axes.T
-    return vertices, np.array(faces)
-
-
-def _polytope_mesh(P: Polytope) -> tuple[NDArray[np.float64], NDArray[np.int_]]:
-    """The boundary of a 3-D polytope (or a planar one, in 3-D) as triangles."""
-    from scipy.spatial import ConvexHull
-
-    vertices = P.vertices
-    if P.dim == 3:
-        return vertices, ConvexHull(vertices).simplices
-    basis = P.affine_set.basis  # a polygon in a plane: fan-triangulate its ordered hull
-    hull = ConvexHull((vertices - P.center) @ basis).vertices
-    faces = [(hull[0], hull[i], hull[i + 1]) for i in range(1, len(hull) - 1)]
-    return vertices, np.array(faces)
 
 
 def _hover_text(kind: str, comparison: Comparison, unit: str) -> str:
@@ -188,7 +153,7 @@ def interactive_sets(
             )
         )
     else:
-        vertices, faces = _polytope_mesh(P) if P.dim >= 2 else (P.vertices, np.zeros((0, 3)))
+        vertices, faces, _ = mesh(P)
         if len(faces):
             figure.add_trace(
                 go.Mesh3d(
@@ -233,7 +198,7 @@ def interactive_sets(
             trace.update(name=name, line={"color": color, "width": 3}, text=text, hoverinfo="text")
             figure.add_trace(trace)
             continue
-        vertices, faces = _ellipsoid_mesh(E)
+        vertices, faces, _ = mesh(E)
         figure.add_trace(
             go.Mesh3d(
                 x=vertices[:, 0],

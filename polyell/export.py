@@ -1,0 +1,239 @@
+"""Meshes of the polytope and the ellipsoids (OBJ, PLY) for Blender, RViz or meshcat.
+
+Coordinates are in the task frame and the task's units (m/s^2, rad/s^2 or weighted units,
+written in each file's header).  A 3-D set of full rank is a closed triangle mesh with
+outward normals (counter-clockwise faces); a flat one (a polygon or an ellipse in a plane,
+or any set of a 2-D task, drawn in the plane z = 0) is a fan of triangles; a segment (a
+singular configuration) is a line element; a point, a single vertex.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from polyell.comparison.comparison import Comparison
+from polyell.errors import InputError
+from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.polytope import Polytope
+from polyell.models.task import task_unit
+from polyell.storage import write_text_atomically
+
+__all__ = ["Mesh", "comparison_meshes", "export_comparison", "mesh", "write_obj", "write_ply"]
+
+#: Rings of latitude of an ellipsoid's mesh (twice as many meridians).
+RESOLUTION = 24
+
+
+class Mesh(NamedTuple):
+    """A set as a mesh in 3-D task coordinates.
+
+    Attributes
+    ----------
+    vertices : ndarray, shape (V, 3)
+    faces : ndarray of int, shape (F, 3)
+        Triangles (counter-clockwise seen from outside for a closed mesh).
+    lines : ndarray of int, shape (L, 2)
+        Line elements (a segment).
+    """
+
+    vertices: NDArray[np.float64]
+    faces: NDArray[np.int_]
+    lines: NDArray[np.int_]
+
+
+def _lift(points: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Points of a 2-D task drawn in the plane z = 0."""
+    return points if points.shape[1] == 3 else np.column_stack([points, np.zeros(len(points))])
+
+
+def _fan(count: int, first: int = 0) -> NDArray[np.int_]:
+    """Triangles of a convex polygon whose vertices are ``first .. first + count - 1`` in order."""
+    return np.array([(first, first + i, first + i + 1) for i in range(1, count - 1)], dtype=int)
+
+
+def _orient(vertices: NDArray[np.float64], faces: NDArray[np.int_]) -> NDArray[np.int_]:
+    """Turn each triangle of a closed convex mesh to face away from its centroid."""
+    centre = vertices.mean(axis=0)
+    a, b, c = (vertices[faces[:, i]] for i in range(3))
+    outward = np.einsum("ij,ij->i", np.cross(b - a, c - a), a - centre) > 0
+    return np.where(outward[:, None], faces, faces[:, ::-1])
+
+
+def _ellipsoid_surface(E: Ellipsoid, k: int) -> tuple[NDArray[np.float64], NDArray[np.int_]]:
+    """A triangulated surface of a full-rank 3-D ellipsoid: vertices (V, 3), faces (F, 3)."""
+    theta = np.linspace(0.0, np.pi, k + 1)[1:-1]
+    phi = np.linspace(0.0, 2.0 * np.pi, 2 * k, endpoint=False)
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    unit = np.column_stack(
+        [(np.sin(t) * np.cos(p)).ravel(), (np.sin(t) * np.sin(p)).ravel(), np.cos(t).ravel()]
+    )
+    unit = np.vstack([[0.0, 0.0, 1.0], unit, [0.0, 0.0, -1.0]])
+    rings, around = len(theta), len(phi)
+    faces = []
+    index = lambda i, j: 1 + i * around + (j % around)  # noqa: E731 - a two-index helper
+    for j in range(around):
+        faces.append((0, index(0, j), index(0, j + 1)))
+        faces.append((len(unit) - 1, index(rings - 1, j + 1), index(rings - 1, j)))
+        for i in range(rings - 1):
+            faces.append((index(i, j), index(i + 1, j), index(i + 1, j + 1)))
+            faces.append((index(i, j), index(i + 1, j + 1), index(i, j + 1)))
+    vertices = E.center + (unit * E.semi_axes) @ E.axes.T
+    return vertices, np.array(faces)
+
+
+def mesh(S: Polytope | Ellipsoid, resolution: int = RESOLUTION) -> Mesh:
+    """The mesh of a polytope or an ellipsoid of a 2-D or 3-D task space.
+
+    Parameters
+    ----------
+    S : Polytope or Ellipsoid
+    resolution : int, optional
+        Rings of latitude of an ellipsoid (its boundary curve has ``8 * resolution``
+        points when it is flat); a polytope is exact.
+
+    Raises
+    ------
+    InputError
+        For a task space of another dimension.
+    """
+    m = S.ambient_dim
+    if m not in (2, 3):
+        raise InputError("set", "a set of a 2-D or 3-D task space", f"m = {m}")
+    none = np.zeros((0, 3), dtype=int)
+    rank = S.dim if isinstance(S, Polytope) else S.rank
+    if isinstance(S, Polytope):
+        vertices = S.vertices
+        if rank == 3:
+            from scipy.spatial import ConvexHull
+
+            faces = _orient(vertices, ConvexHull(vertices).simplices)
+            return Mesh(vertices, faces, np.zeros((0, 2), dtype=int))
+        if rank == 2:  # a polygon: its vertices in order around it
+            basis = S.affine_set.basis if m == 3 else np.eye(2)
+            local = (vertices - S.center) @ basis
+            vertices = vertices[np.argsort(np.arctan2(local[:, 1], local[:, 0]))]
+            return Mesh(_lift(vertices), _fan(len(vertices)), np.zeros((0, 2), dtype=int))
+    else:
+        if rank == 3:
+            vertices, faces = _ellipsoid_surface(S, resolution)
+            return Mesh(vertices, _orient(vertices, faces), np.zeros((0, 2), dtype=int))
+        if rank == 2:
+            angles = np.linspace(0.0, 2.0 * np.pi, 8 * resolution, endpoint=False)
+            circle = np.column_stack([np.cos(angles), np.sin(angles)])
+            vertices = S.center + (circle * S.semi_axes) @ S.axes.T
+            return Mesh(_lift(vertices), _fan(len(vertices)), np.zeros((0, 2), dtype=int))
+        if rank == 1:
+            vertices = S.center + np.outer([-1.0, 1.0], S.semi_axes[0] * S.axes[:, 0])
+        else:
+            vertices = S.center[None, :]
+    lines = np.array([[0, 1]]) if len(vertices) == 2 else np.zeros((0, 2), dtype=int)
+    return Mesh(_lift(np.asarray(vertices)), none, lines)
+
+
+def comparison_meshes(comparison: Comparison, resolution: int = RESOLUTION) -> dict[str, Mesh]:
+    """The polytope and every defined ellipsoid of a comparison, by name."""
+    meshes = {"polytope": mesh(comparison.analysis.polytope, resolution)}
+    for kind in comparison.kinds:
+        if comparison[kind].defined:
+            meshes[kind] = mesh(comparison.ellipsoid(kind), resolution)
+    return meshes
+
+
+def _header(unit: str, task: tuple[str, ...] | None) -> list[str]:
+    from polyell import __version__
+
+    frame = ", ".join(task) if task else "x, y, z"
+    return [
+        f"polyell {__version__}: acceleration sets in the task frame ({frame})",
+        f"units: {unit} on every axis",
+    ]
+
+
+def write_obj(
+    path: str | Path,
+    meshes: Mapping[str, Mesh],
+    *,
+    unit: str = "m/s^2",
+    task: tuple[str, ...] | None = None,
+) -> Path:
+    """Write meshes as one Wavefront OBJ file, one object (``o name``) per set.
+
+    Parameters
+    ----------
+    path : str or Path
+    meshes : mapping of str to Mesh
+        E.g. :func:`comparison_meshes`.
+    unit : str, optional
+        The task's unit (``task_unit(analysis.dynamics.task)``), written in the header.
+    task : tuple of str, optional
+        The task rows (the frame's axes), written in the header.
+
+    Returns
+    -------
+    Path
+        The file, written atomically.
+    """
+    lines = [f"# {text}" for text in _header(unit, task)]
+    offset = 1  # OBJ indices start at 1 and run over the whole file
+    for name, item in meshes.items():
+        lines.append(f"o {name}")
+        lines += [f"v {x:.17g} {y:.17g} {z:.17g}" for x, y, z in item.vertices]
+        lines += [f"f {a + offset} {b + offset} {c + offset}" for a, b, c in item.faces]
+        lines += [f"l {a + offset} {b + offset}" for a, b in item.lines]
+        if not len(item.faces) and not len(item.lines):
+            lines += [f"p {offset + i}" for i in range(len(item.vertices))]
+        offset += len(item.vertices)
+    return write_text_atomically(Path(path), "\n".join(lines) + "\n")
+
+
+def write_ply(
+    path: str | Path,
+    item: Mesh,
+    *,
+    name: str = "set",
+    unit: str = "m/s^2",
+    task: tuple[str, ...] | None = None,
+) -> Path:
+    """Write one mesh as an ASCII PLY file (vertices, faces and edges)."""
+    header = ["ply", "format ascii 1.0"]
+    header += [f"comment {text}" for text in [f"set: {name}", *_header(unit, task)]]
+    header += [f"element vertex {len(item.vertices)}", *(f"property double {a}" for a in "xyz")]
+    header += [f"element face {len(item.faces)}", "property list uchar int vertex_indices"]
+    if len(item.lines):
+        header += [
+            f"element edge {len(item.lines)}",
+            "property int vertex1",
+            "property int vertex2",
+        ]
+    body = [f"{x:.17g} {y:.17g} {z:.17g}" for x, y, z in item.vertices]
+    body += [f"3 {a} {b} {c}" for a, b, c in item.faces]
+    body += [f"{a} {b}" for a, b in item.lines]
+    return write_text_atomically(Path(path), "\n".join([*header, "end_header", *body]) + "\n")
+
+
+def export_comparison(
+    comparison: Comparison, path: str | Path, resolution: int = RESOLUTION
+) -> list[Path]:
+    """Every set of a comparison: one OBJ file (``.obj``) or one PLY file per set (``.ply``).
+
+    A PLY path ``sets.ply`` gives ``sets_polytope.ply``, ``sets_chiacchio.ply``, ...
+    """
+    target = Path(path)
+    meshes = comparison_meshes(comparison, resolution)
+    task = comparison.analysis.dynamics.task
+    unit = task_unit(task)
+    if target.suffix == ".obj":
+        return [write_obj(target, meshes, unit=unit, task=task)]
+    if target.suffix == ".ply":
+        return [
+            write_ply(
+                target.with_name(f"{target.stem}_{name}.ply"), item, name=name, unit=unit, task=task
+            )
+            for name, item in meshes.items()
+        ]
+    raise InputError("path", "a file name ending in .obj or .ply", repr(str(path)))
