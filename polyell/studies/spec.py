@@ -63,6 +63,7 @@ from polyell.errors import InputError
 from polyell.expressions import evaluate, evaluate_list
 from polyell.models.planar_arm import PlanarArm
 from polyell.models.urdf import Payload, UrdfRobot
+from polyell.studies.file_format import keys
 from polyell.studies.trajectory import Trajectory, load_trajectory
 from polyell.validation import MAX_DIRECTIONS, check_array, check_integer, check_torque_limits
 
@@ -81,40 +82,17 @@ __all__ = [
     "robot_from_table",
 ]
 
-_TOP_KEYS = (
-    "title",
-    "description",
-    "robot",
-    "points",
-    "grid",
-    "random",
-    "trajectory",
-    "compare",
-    "candidates",
-    "output",
-)
-_CANDIDATE_KEYS = ("name", "weighting", "core", "center")
-_TRAJECTORY_KEYS = ("file",)
-_RANDOM_KEYS = ("count", "seed", "low", "high")
-_ROBOT_KEYS = (
-    "library",
-    "planar",
-    "urdf",
-    "tip",
-    "task",
-    "locked_joints",
-    "gravity",
-    "weights",
-    "payload",
-    "tau_max",
-    "tau_min",
-)
-_PAYLOAD_KEYS = ("mass", "com", "inertia")
-_PLANAR_KEYS = ("lengths", "masses", "com", "inertia", "gravity")
-_POINT_KEYS = ("name", "q", "direction", "inverse_at", "title")
+_TOP_KEYS = keys("top")
+_CANDIDATE_KEYS = keys("candidates")
+_TRAJECTORY_KEYS = keys("trajectory")
+_RANDOM_KEYS = keys("random")
+_ROBOT_KEYS = keys("robot")
+_PAYLOAD_KEYS = keys("payload")
+_PLANAR_KEYS = keys("planar")
+_POINT_KEYS = keys("points")
 _RANGE_KEYS = ("start", "stop", "num")
-_COMPARE_KEYS = ("directions", "mvie", "outer", "samples", "seed", "chunk")
-_OUTPUT_KEYS = ("formats", "dpi", "maps", "histograms", "series")
+_COMPARE_KEYS = keys("compare")
+_OUTPUT_KEYS = keys("output")
 #: Figure formats, and "html": one self-contained interactive report (extra [interactive]).
 _FORMATS = ("pdf", "png", "svg", "html")
 
