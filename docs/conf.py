@@ -10,7 +10,7 @@ copyright = "2026, polyell developers"
 release = polyell.__version__
 
 extensions = [
-    "myst_parser",
+    "myst_nb",  # MyST Markdown, and notebooks executed at every build (they cannot rot)
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.napoleon",
@@ -20,7 +20,10 @@ extensions = [
     # (the default would load it from a CDN). The package's folder name has hyphens.
     "sphinx-mathjax-offline",
 ]
-source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
+source_suffix = {".md": "myst-nb", ".rst": "restructuredtext", ".ipynb": "myst-nb"}
+nb_execution_mode = "force"
+nb_execution_raise_on_error = True  # a notebook that fails fails the build
+nb_execution_timeout = 600
 myst_enable_extensions = ["dollarmath", "amsmath"]
 myst_heading_anchors = 3
 exclude_patterns = ["_build", "tutorials/*.py"]

@@ -58,7 +58,6 @@ def load(page_path: Path, screenshot: Path, checks: dict[str, str], wait_for: st
 
     visit = PageVisit()
     own = page_path.resolve().as_uri()
-    folder = page_path.resolve().parent.as_uri()
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=chromium(), args=CHROMIUM_ARGS)
         try:
@@ -66,7 +65,7 @@ def load(page_path: Path, screenshot: Path, checks: dict[str, str], wait_for: st
 
             def route(r):
                 url = r.request.url
-                if url.startswith((folder, "data:", "blob:")):
+                if url.startswith(("file:", "data:", "blob:")):  # local: not the network
                     r.continue_()
                     return
                 visit.requests.append(url)

@@ -1,5 +1,6 @@
-"""The documentation renders offline (issue 14): built here, opened in headless Chromium
-without network, its mathematics typeset by the packaged MathJax."""
+"""The documentation renders offline (issue 14): built here (the notebooks executed by the
+build), opened in headless Chromium without network, its mathematics typeset by the
+packaged MathJax."""
 
 from __future__ import annotations
 
@@ -26,7 +27,9 @@ def site(tmp_path_factory) -> Path:
     return out
 
 
-@pytest.mark.parametrize("page", ["theory.html", "index.html"])
+@pytest.mark.parametrize(
+    "page", ["theory.html", "index.html", "notebooks/paper.html", "notebooks/candidates.html"]
+)
 def test_pages_render_their_mathematics_without_network(site, tmp_path, page):
     visit = load(
         site / page,
@@ -35,11 +38,14 @@ def test_pages_render_their_mathematics_without_network(site, tmp_path, page):
             "typeset": "document.querySelectorAll('mjx-container').length",
             "raw": r"(document.body.innerText.match(/\\\(|\\\[/g) || []).length",
             "errors": "document.querySelectorAll('mjx-merror').length",
+            "figures": "[...document.images].filter(i => i.complete && i.naturalWidth > 0).length",
         },
-        wait_for="mjx-container" if page == "theory.html" else "body",
+        wait_for="body" if page == "index.html" else "mjx-container",
     )
     assert visit.requests == [], visit.requests  # MathJax and its fonts come from _static
     assert visit.errors == []
     if page == "theory.html":
         assert visit.values["typeset"] > 50  # every formula of the theory page
+    if page.startswith("notebooks/"):  # executed: its figure is there and loads
+        assert visit.values["figures"] >= 1 and visit.values["typeset"] >= 4
     assert visit.values["raw"] == 0 and visit.values["errors"] == 0
