@@ -12,6 +12,7 @@ values (coordinates, volume and scores, or a configuration and every score of a 
 from __future__ import annotations
 
 import html
+import re
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -252,51 +253,102 @@ def interactive_sets(
 
 def interactive_map(
     results: pd.DataFrame,
-    column: str,
+    columns: str | Sequence[str],
     x: str,
     y: str,
     *,
     title: str | None = None,
 ) -> go.Figure:
-    """A heat map of one score over a grid of two joints, every score on hover.
+    """Heat maps of scores over a grid of two joints, the configuration and scores on hover.
 
     Parameters
     ----------
     results : DataFrame
         One row per configuration of a grid (``pe.sweep``), with the joint columns.
-    column : str
-        The score column mapped, e.g. ``"chiacchio_coverage"``.
+    columns : str or sequence of str
+        The score columns mapped, e.g. ``"chiacchio_coverage"``; with several, a menu
+        switches between them (one colour scale per score, shared by the ellipsoids).
     x, y : str
         The joint columns along the horizontal and vertical axes (e.g. ``"q3"``, ``"q2"``).
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+        Hovering over a cell shows its configuration, the polytope's numbers and every
+        score of the mapped ellipsoid.
     """
     go = _plotly()
-    for name in (column, x, y):
+    mapped = [columns] if isinstance(columns, str) else list(columns)
+    for name in (*mapped, x, y):
         if name not in results:
             raise InputError("results", f"a column {name!r}", f"columns {list(results)[:8]}...")
     table = results.sort_values([y, x])
     xs, ys = np.unique(table[x].to_numpy()), np.unique(table[y].to_numpy())
     if len(xs) * len(ys) != len(table):
         raise InputError("results", f"a full grid over ({x}, {y})", f"{len(table)} rows")
-    split = split_column(column)
-    label, factor = score_display(split[1] if split else column)
-    z = factor * table[column].to_numpy(dtype=float).reshape(len(ys), len(xs))
-    shown = [c for c in table.columns if c.startswith(("configuration", "q", "polytope_"))]
-    shown += [c for c in table.columns if c not in shown and c != "t"]
-    data = table[shown].to_numpy(dtype=float).reshape(len(ys), len(xs), len(shown))
-    template = "<br>".join(f"{c} %{{customdata[{i}]:.4g}}" for i, c in enumerate(shown))
+    common = [
+        c
+        for c in table.columns
+        if c == "configuration" or re.fullmatch(r"q\d+", c) or c.startswith("polytope_")
+    ]
+    split = {c: parts for c in table.columns if (parts := split_column(c)) is not None}
+    scores = list(split)
+    shown = common + scores
+    # float32: the hover shows 4 digits, and the page is half the size
+    data = table[shown].to_numpy(dtype=np.float32).reshape(len(ys), len(xs), len(shown))
+
+    def hover(column: str) -> str:
+        kind = split[column][0]
+        rows = [c for c in shown if c in common or split[c][0] == kind]
+        return "<br>".join(f"{c} %{{customdata[{shown.index(c)}]:.4g}}" for c in rows)
+
+    views = []
+    for column in mapped:
+        if column not in split:
+            raise InputError("columns", "score columns <ellipsoid>_<score>", repr(column))
+        kind, score = split[column]
+        label, factor = score_display(score)
+        same = [c for c in mapped if split[c][1] == score]
+        values = factor * table[same].to_numpy(dtype=float)
+        finite = values[np.isfinite(values)]
+        low, high = (finite.min(), finite.max()) if finite.size else (0.0, 1.0)
+        z = factor * table[column].to_numpy(dtype=float).reshape(len(ys), len(xs))
+        views.append((f"{ellipsoid_label(kind)}: {label}", z, low, high, label, hover(column)))
+    name, z, low, high, label, template = views[0]
     figure = go.Figure(
         go.Heatmap(
             x=xs,
             y=ys,
             z=z,
+            zmin=low,
+            zmax=high,
             customdata=data,
             hovertemplate=template + "<extra></extra>",
             colorscale="Cividis",
-            colorbar={"title": label},
+            colorbar={"title": {"text": label}},
         )
     )
+    if len(views) > 1:
+        buttons = [
+            {
+                "label": view[0],
+                "method": "update",
+                "args": [
+                    {
+                        "z": [view[1]],
+                        "zmin": [view[2]],
+                        "zmax": [view[3]],
+                        "colorbar.title.text": view[4],
+                        "hovertemplate": [view[5] + "<extra></extra>"],
+                    },
+                    {"title.text": title or view[0]},
+                ],
+            }
+            for view in views
+        ]
+        figure.update_layout(updatemenus=[{"buttons": buttons, "x": 0.0, "y": 1.15}])
     figure.update_layout(
-        title=title or column,
+        title=title or name,
         xaxis_title=f"{x} [rad]",
         yaxis_title=f"{y} [rad]",
         template="plotly_white",

@@ -41,6 +41,9 @@ def part_path(folder: Path, index: int) -> Path:
 def write_atomically(path: Path, write: Callable[[str], Any]) -> Path:
     """Write ``path`` through ``write(temporary_name)``, then rename it into place.
 
+    The file gets the permissions of a file created normally (``0o666`` less the umask):
+    a temporary file alone would be private (``0o600``).
+
     Raises
     ------
     StorageError
@@ -51,6 +54,7 @@ def write_atomically(path: Path, write: Callable[[str], Any]) -> Path:
     os.close(handle)
     try:
         write(temporary)
+        os.chmod(temporary, 0o666 & ~_umask())
         os.replace(temporary, path)
     except OSError as exn:
         raise StorageError(
@@ -61,6 +65,13 @@ def write_atomically(path: Path, write: Callable[[str], Any]) -> Path:
         if os.path.exists(temporary):
             os.unlink(temporary)
     return path
+
+
+def _umask() -> int:
+    """The process's umask (read by setting it and setting it back)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
 
 
 def write_text_atomically(path: Path, text: str) -> Path:

@@ -72,6 +72,16 @@ def test_map_and_histogram_hover_every_score():
     assert "chiacchio_inscribed_scale" in heat.hovertemplate
     row = results.sort_values(["q2", "q3"]).iloc[6]
     assert heat.z[1][2] == pytest.approx(100 * row["chiacchio_coverage"], nan_ok=True)
+    both = interactive_map(results, ["chiacchio_coverage", "yoshikawa_coverage"], "q3", "q2")
+    menu = both.layout.updatemenus[0].buttons
+    assert [b.label for b in menu] == [
+        "new (eq. 32/38): coverage [%]",
+        "classic (eq. 27): coverage [%]",
+    ]
+    assert "yoshikawa_inscribed_scale" in menu[1].args[0]["hovertemplate"][0]
+    assert "chiacchio_inscribed_scale" not in menu[1].args[0]["hovertemplate"][0]
+    shared = np.nanmax(100 * results[["chiacchio_coverage", "yoshikawa_coverage"]].to_numpy())
+    assert menu[0].args[0]["zmax"][0] == menu[1].args[0]["zmax"][0] == pytest.approx(shared)
     histogram = interactive_histogram(results, "coverage")
     assert [t.name for t in histogram.data][:2] == ["new (eq. 32/38)", "classic (eq. 27)"]
     with pytest.raises(pe.InputError, match="full grid"):
@@ -148,5 +158,5 @@ def test_study_html_report_works_offline_in_a_browser(tmp_path):
         wait_for=".js-plotly-plot .main-svg",
     )
     assert visit.requests == [] and visit.errors == []
-    assert visit.values == {"plots": 3, "heatmaps": 2, "tables": 1}
+    assert visit.values == {"plots": 2, "heatmaps": 1, "tables": 1}  # maps share a menu
     assert coloured_share(visit.screenshot) > 0.02  # the heat map's colours on screen

@@ -268,13 +268,9 @@ def _many_report(
     )
 
     sections: list[tuple[str, Any]] = []
-    if len(varying) == 2:
-        for name in spec.maps:
-            kind, score = _split(name)
-            heading = f"{ellipsoid_label(kind)}: {score_display(score)[0]}"
-            sections.append(
-                (heading, interactive_map(results, name, varying[1].name, varying[0].name))
-            )
+    if len(varying) == 2 and spec.maps:  # one figure, a menu over the maps
+        figure = interactive_map(results, spec.maps, varying[1].name, varying[0].name)
+        sections.append(("Heat maps (choose the score in the menu)", figure))
     for score in spec.series:
         sections.append((score_display(score)[0], interactive_series(results, score)))
     for score in spec.histograms:

@@ -227,3 +227,19 @@ def test_a_study_on_a_full_disk_ends_in_one_line(tmp_path):
     assert run.returncode == 2
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("polyell: error: Could not write"), run.stderr
+
+
+def test_outputs_get_the_permissions_of_normal_files(tmp_path):
+    """Atomic writes go through a private temporary file; the result must not stay 0600."""
+    import os
+
+    from polyell.storage import write_text_atomically
+
+    old = os.umask(0o022)
+    try:
+        path = write_text_atomically(tmp_path / "table.md", "x")
+        assert path.stat().st_mode & 0o777 == 0o644
+        os.umask(0o077)
+        assert write_text_atomically(tmp_path / "private.md", "y").stat().st_mode & 0o777 == 0o600
+    finally:
+        os.umask(old)
