@@ -2,8 +2,8 @@
 
 Every function returns a ``plotly.graph_objects.Figure`` (shown inline in a notebook);
 :func:`write_report` puts several into one self-contained HTML file that works offline
-(plotly's JavaScript is embedded once, nothing is fetched).  Needs the extra
-``polyell[interactive]`` (plotly), imported here only.
+(plotly's JavaScript is embedded once, nothing is fetched).  plotly is imported here only,
+when a figure is made (start-up time).
 
 Traces are grouped per set, so clicking a legend entry toggles that set; hovering shows its
 values (coordinates, volume and scores, or a configuration and every score of a map).
@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 from polyell.comparison.comparison import Comparison
 from polyell.comparison.summary import result_kinds, split_column
 from polyell.comparison.tables import ellipsoid_label, score_display
-from polyell.errors import InputError, MissingDependencyError
+from polyell.errors import InputError
 from polyell.export import mesh
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.models.task import task_unit
@@ -63,12 +63,9 @@ def _plain_label(row: str) -> str:
 
 
 def _plotly() -> Any:
-    try:
-        import plotly.graph_objects as go
-    except ImportError as exn:
-        raise MissingDependencyError(
-            "Interactive views need plotly. Fix: pip install 'polyell[interactive]'."
-        ) from exn
+    """Plotly's graph objects, imported on first use."""
+    import plotly.graph_objects as go
+
     return go
 
 

@@ -93,7 +93,7 @@ _POINT_KEYS = keys("points")
 _RANGE_KEYS = ("start", "stop", "num")
 _COMPARE_KEYS = keys("compare")
 _OUTPUT_KEYS = keys("output")
-#: Figure formats, and "html": one self-contained interactive report (extra [interactive]).
+#: Figure formats, and "html": one self-contained interactive report (plotly).
 _FORMATS = ("pdf", "png", "svg", "html")
 
 
