@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polyell.comparison.comparison import Comparison
+from polyell.comparison.comparison import SCORE_NAMES, Comparison
 from polyell.comparison.summary import result_kinds, split_column
 from polyell.comparison.tables import ellipsoid_label, score_display
 from polyell.errors import InputError
@@ -353,6 +353,19 @@ def interactive_map(
     return figure
 
 
+def _kinds_with(results: pd.DataFrame, score: str, kinds: Sequence[str] | None) -> list[str]:
+    """The ellipsoids (``kinds``, default all) with a ``<kind>_<score>`` column."""
+    chosen = [k for k in (kinds or result_kinds(results.columns)) if f"{k}_{score}" in results]
+    if not chosen:
+        raise InputError(
+            "score",
+            "a score with columns in the results",
+            repr(score),
+            f"one of {list(SCORE_NAMES)}",
+        )
+    return chosen
+
+
 def interactive_histogram(
     results: pd.DataFrame,
     score: str,
@@ -362,9 +375,7 @@ def interactive_histogram(
 ) -> go.Figure:
     """Overlaid histograms of one score over a study, one per ellipsoid (toggle in the legend)."""
     go = _plotly()
-    chosen = [k for k in (kinds or result_kinds(results.columns)) if f"{k}_{score}" in results]
-    if not chosen:
-        raise InputError("score", "a score with columns in the results", repr(score))
+    chosen = _kinds_with(results, score, kinds)
     label, factor = score_display(score)
     figure = go.Figure()
     for kind in chosen:
@@ -396,9 +407,7 @@ def interactive_series(
 ) -> go.Figure:
     """One score of each ellipsoid along a trajectory (against ``t``, or the sample index)."""
     go = _plotly()
-    chosen = [k for k in (kinds or result_kinds(results.columns)) if f"{k}_{score}" in results]
-    if not chosen:
-        raise InputError("score", "a score with columns in the results", repr(score))
+    chosen = _kinds_with(results, score, kinds)
     label, factor = score_display(score)
     x = results["t"] if "t" in results else results["configuration"]
     figure = go.Figure()
