@@ -104,10 +104,11 @@ def vertex_signs(M: Array, normals: Array) -> tuple[Array, NDArray[np.bool_]]:
     if n > MAX_VERTEX_GENERATORS:
         return np.zeros((K, V, n)), np.zeros(K, dtype=bool)
     corner_codes, in_subset = _facet_corner_codes(n, m)
-    unit = M / np.linalg.norm(M, axis=1)[:, None, :]
+    with np.errstate(divide="ignore", invalid="ignore"):  # a zero generator: dependent rows
+        unit = M / np.linalg.norm(M, axis=1)[:, None, :]
     products = normals @ unit  # (K, C, n)
     off = ~in_subset[None]
-    generic = ~np.any(off & (np.abs(products) <= SIGN_RTOL), axis=(1, 2))
+    generic = ~np.any(off & ~(np.abs(products) > SIGN_RTOL), axis=(1, 2))  # NaN: not generic
     generic &= ~np.any((normals == 0).all(axis=-1), axis=1)  # a dependent subset
     bits = np.int64(1) << np.arange(n, dtype=np.int64)
     base = np.where(off & (products > 0), bits, 0).sum(axis=-1)  # (K, C)
