@@ -1,10 +1,13 @@
-"""Write ``docs/study_format.md`` from the format's table (``polyell.studies.file_format``)."""
+"""Write ``docs/study_format.md`` and the JSON Schemas from ``polyell.studies.file_format``."""
 
+import json
 from pathlib import Path
 
-from polyell.studies.file_format import reference_page
+from polyell.studies.file_format import json_schema, reference_page
 
 if __name__ == "__main__":
-    target = Path(__file__).with_suffix(".md")
-    target.write_text(reference_page())
-    print("regenerated", target)
+    here = Path(__file__).parent
+    (here / "study_format.md").write_text(reference_page())
+    for kind in ("study", "robot"):
+        (here / f"{kind}.schema.json").write_text(json.dumps(json_schema(kind), indent=2) + "\n")
+    print("regenerated", here / "study_format.md", "and the JSON Schemas")

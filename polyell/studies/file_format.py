@@ -8,8 +8,9 @@ checks that it is current and that every example parses).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
-__all__ = ["TABLES", "Key", "Table", "keys", "reference_page"]
+__all__ = ["TABLES", "Key", "Table", "json_schema", "keys", "reference_page"]
 
 
 @dataclass(frozen=True)
@@ -412,7 +413,10 @@ def reference_page() -> str:
         "A study is a TOML file run by `polyell study FILE --out DIR` (or",
         "`pe.studies.run_study(pe.studies.load_study(FILE), DIR)`). Numbers may be",
         'expressions of numbers, `pi`, `sqrt()` and `+ - * / **` written as strings (`"-pi/2"`).',
-        "Unknown keys are refused with the list of valid ones.",
+        "Unknown keys are refused with the list of valid ones. The same table gives JSON",
+        "Schemas for editors that check TOML (e.g. Even Better TOML, with",
+        "`#:schema ./study.schema.json` as the first line): `docs/study.schema.json` and",
+        "`docs/robot.schema.json`.",
         "",
     ]
     for table in TABLES.values():
@@ -424,3 +428,86 @@ def reference_page() -> str:
             lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
         lines += ["", "```toml", table.example, "```", ""]
     return "\n".join(lines)
+
+
+_NUMBER: dict[str, Any] = {"type": ["number", "string"], "description": "a number or an expression"}
+_VALUE_SCHEMAS: dict[str, dict[str, Any]] = {
+    "string": {"type": "string"},
+    "integer": {"type": "integer"},
+    "boolean": {"type": "boolean"},
+    "number": _NUMBER,
+    "list of strings": {"type": "array", "items": {"type": "string"}},
+    "string or list of strings": {
+        "oneOf": [{"type": "string"}, {"type": "array", "items": {"type": "string"}}]
+    },
+    _NUMBERS: {"type": ["array", "string"], "items": _NUMBER},
+    "3 x 3 list of lists": {"type": "array", "items": {"type": "array", "items": _NUMBER}},
+    "number or { start, stop, num }": {
+        "oneOf": [
+            _NUMBER,
+            {
+                "type": "object",
+                "properties": {"start": _NUMBER, "stop": _NUMBER, "num": {"type": "integer"}},
+                "required": ["start", "stop", "num"],
+                "additionalProperties": False,
+            },
+        ]
+    },
+}
+_MATRIX: dict[str, Any] = {
+    "type": "array",
+    "items": {"oneOf": [_NUMBER, {"type": "array", "items": _NUMBER}]},
+}
+#: The table a table-valued key holds.
+_SUBTABLES = {
+    "robot": "robot",
+    "planar": "planar",
+    "payload": "payload",
+    "points": "points",
+    "grid": "grid",
+    "random": "random",
+    "trajectory": "trajectory",
+    "compare": "compare",
+    "candidates": "candidates",
+    "output": "output",
+}
+
+
+def _table_schema(name: str) -> dict[str, object]:
+    table = TABLES[name]
+    if name == "grid":
+        return {
+            "type": "object",
+            "description": table.description,
+            "patternProperties": {"^q[1-9][0-9]*$": _VALUE_SCHEMAS[table.keys[0].type]},
+            "additionalProperties": False,
+        }
+    properties: dict[str, object] = {}
+    for key in table.keys:
+        if key.type in ("table", "array of tables"):
+            inner = _table_schema(_SUBTABLES[key.name])
+            value = {"type": "array", "items": inner} if key.type != "table" else inner
+        elif key.type.startswith("matrix"):
+            value = _MATRIX
+        else:
+            value = _VALUE_SCHEMAS[key.type]
+        properties[key.name] = {**value, "description": key.description}
+    return {
+        "type": "object",
+        "description": table.description,
+        "properties": properties,
+        "required": [key.name for key in table.keys if key.default == _REQUIRED],
+        "additionalProperties": False,
+    }
+
+
+def json_schema(kind: str = "study") -> dict[str, object]:
+    """A JSON Schema (draft 2020-12) of study files (``"study"``) or robot files (``"robot"``).
+
+    For editors that check TOML against a schema (e.g. Even Better TOML, with
+    ``#:schema ./study.schema.json`` on the first line); the parser's checks go further
+    (values, sizes, names).
+    """
+    schema = _table_schema("top" if kind == "study" else "robot")
+    title = "polyell study file" if kind == "study" else "polyell robot file"
+    return {"$schema": "https://json-schema.org/draft/2020-12/schema", "title": title, **schema}

@@ -76,3 +76,27 @@ def test_every_key_of_a_leaf_table_appears_in_its_example():
         for key in keys(name):
             if key not in exclusive.get(name, set()):
                 assert f"{key} =" in table.example, f"{key} of {table.name}"
+
+
+def test_json_schemas_are_current_and_accept_every_shipped_file():
+    import json
+
+    jsonschema = pytest.importorskip("jsonschema")
+    import tomllib
+
+    from polyell.studies.file_format import json_schema
+
+    for kind in ("study", "robot"):
+        committed = json.loads((ROOT / "docs" / f"{kind}.schema.json").read_text())
+        assert committed == json_schema(kind), "regenerate with: python docs/study_format.py"
+    study = json_schema("study")
+    jsonschema.Draft202012Validator.check_schema(study)
+    for path in sorted((ROOT / "studies").glob("*.toml")):
+        jsonschema.validate(tomllib.loads(path.read_text()), study)
+    for table in TABLES.values():
+        jsonschema.validate(tomllib.loads(table.example), study)
+    bad = tomllib.loads(TABLES["compare"].example.replace("samples", "sample"))
+    with pytest.raises(jsonschema.ValidationError, match="sample"):
+        jsonschema.validate(bad, study)
+    robot = tomllib.loads('library = "panda"\ntask = ["x", "z"]\ntau_max = [1, 2, "3"]\n')
+    jsonschema.validate(robot, json_schema("robot"))
