@@ -349,3 +349,31 @@ def test_fuzz_api(tmp_path):
             pass
         except Exception as exn:
             raise AssertionError(f"call {calls.index(call)} with {value!r}: {exn!r}") from exn
+
+
+def test_fuzz_candidates(tmp_path):
+    """200 seeded mutations of a [[candidates]] table: a comparison, or a PolyellError."""
+    rng = np.random.default_rng(12)
+    good = {"name": '"w"', "weighting": "[1, 1, 4]", "core": "[[1e-3, 0], [0, 2e-3]]"}
+    extra = [[1, 0, 0], [[1, 0], [0, -1]], [[1, 2], [2, 1]], [[1, 0], [0, 1], [0, 0]], "w w", "x1"]
+    outcomes = {"scored": 0, "refused": 0}
+    analysis = paper_analysis(PAPER_Q_REDUNDANT)
+    for case in range(200):
+        table = {"name": good["name"]}
+        table |= {"weighting": good["weighting"]} if rng.random() < 0.5 else {"core": good["core"]}
+        key = ["name", "weighting", "core", "center"][rng.integers(4)]
+        pool = GARBAGE + extra
+        table[key] = toml_value(pool[rng.integers(len(pool))])
+        path = tmp_path / f"c{case}.toml"
+        body = "\n".join(f"{k} = {v}" for k, v in table.items())
+        path.write_text(POINTS + "[[candidates]]\n" + body + "\n")
+        try:
+            spec = load_study(path)
+            pe.compare(analysis, 8, mvie=False, outer=False, candidates=spec.candidates)
+        except pe.PolyellError:
+            outcomes["refused"] += 1
+            continue
+        except Exception as exn:
+            raise AssertionError(f"{key} = {table[key]}: {exn!r}") from exn
+        outcomes["scored"] += 1
+    assert outcomes["scored"] > 0 and outcomes["refused"] > 50, outcomes

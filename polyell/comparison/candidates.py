@@ -137,13 +137,13 @@ class Candidate:
         if self.weighting is not None and self.weighting.shape[0] != n:
             raise InputError(
                 f"{self.name}.weighting",
-                f"an ({n}, {n}) weighting for this {n}-joint arm",
+                f"a ({n}, {n}) weighting for this {n}-joint arm",
                 f"shape {self.weighting.shape}",
             )
         if self.core is not None and self.core.shape[0] != m:
             raise InputError(
                 f"{self.name}.core",
-                f"an ({m}, {m}) core for this {m}-D task",
+                f"a ({m}, {m}) core for this {m}-D task",
                 f"shape {self.core.shape}",
             )
 

@@ -435,7 +435,11 @@ def _matrix(where: str, value: object) -> NDArray[np.float64]:
     """A square matrix: a list of rows, or a list of numbers (its diagonal)."""
     rows = _list(where, value)
     if rows and all(isinstance(row, list) for row in rows):
-        return np.array([evaluate_list(f"{where}[{i}]", row) for i, row in enumerate(rows)])
+        matrix = [evaluate_list(f"{where}[{i}]", row) for i, row in enumerate(rows)]
+        if any(len(row) != len(matrix) for row in matrix):
+            lengths = [len(row) for row in matrix]
+            raise InputError(where, f"{len(matrix)} rows of {len(matrix)} numbers", f"{lengths}")
+        return np.array(matrix)
     return np.diag(evaluate_list(where, rows))
 
 

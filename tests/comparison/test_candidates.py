@@ -190,6 +190,9 @@ def test_study_file_candidates_appear_in_every_output(tmp_path):
         ("[[candidates]]\nweighting = [1, 1, 1]\n", "a 'name'"),
         ('[[candidates]]\nname = "a"\nweight = [1, 1, 1]\n', "keys among"),
         ('[[candidates]]\nname = "Bad"\nweighting = [1, 1, 1]\n', "lower-case identifier"),
+        ('[[candidates]]\nname = "a"\nweighting = [[1, 2], [3]]\n', r"2 rows of 2 numbers"),
+        ('[[candidates]]\nname = "a"\nweighting = {x = 1}\n', "a list"),
+        ('[[candidates]]\nname = "a"\nweighting = [1e400, 1, 1]\n', "finite"),
         (
             '[[candidates]]\nname = "a"\nweighting = [1, "x", 1]\n',
             r"candidates\[0\].weighting\[1\]",
