@@ -3,12 +3,15 @@ r"""Scores of many configurations at once: the vectorised path behind :func:`pol
 For K configurations sharing (m, n) every step of :func:`polyell.compare` is done with
 batched linear algebra: M and x_g (eq. 8, 14), the SVD of M (eq. 35), the closed-form
 zonotope facets and volume, both ellipsoids (from the SVDs of M and of
-F = L^-1 B J^+), inscribed scales, directional limits (rays against facets, eq. 24), the
-directional statistics and the exact torque witnesses.  Both definitions always lie inside
-the polytope (E_yoshikawa within E_chiacchio within P), so coverage is the exact volume
-ratio.  Configurations this path does not cover -- a rank below m (singular), an
-ellipsoid not inside P to rounding -- are returned as a mask for the scalar path, so every
-row equals ``compare(analyze(...)).to_row()``.
+F = L^-1 B J^+), the MVIE, the outer ellipsoid and user-defined candidates
+(:mod:`polyell.studies.block_sets`), inscribed and enclosing scales, directional limits
+(rays against facets, eq. 24), the directional statistics and the exact torque witnesses.
+Both definitions always lie inside the polytope (E_yoshikawa within E_chiacchio within P)
+and the outer ellipsoid around it, so coverage and overreach are exact.  Configurations
+this path does not cover -- a rank below m (singular), vertices not in general position
+(when they are needed), an ellipsoid neither inside nor around P to rounding -- are
+returned as a mask for the scalar path, so every row equals
+``compare(analyze(...)).to_row()``.
 """
 
 from __future__ import annotations
