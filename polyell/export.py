@@ -123,12 +123,10 @@ def mesh(S: Polytope | Ellipsoid, resolution: int = RESOLUTION) -> Mesh:
             vertices, faces = _ellipsoid_surface(S, resolution)
             return Mesh(vertices, _orient(vertices, faces), np.zeros((0, 2), dtype=int))
         if rank == 2:
-            angles = np.linspace(0.0, 2.0 * np.pi, 8 * resolution, endpoint=False)
-            circle = np.column_stack([np.cos(angles), np.sin(angles)])
-            vertices = S.center + (circle * S.semi_axes) @ S.axes.T
+            vertices = S.boundary_curve(8 * resolution)
             return Mesh(_lift(vertices), _fan(len(vertices)), np.zeros((0, 2), dtype=int))
         if rank == 1:
-            vertices = S.center + np.outer([-1.0, 1.0], S.semi_axes[0] * S.axes[:, 0])
+            vertices = S.boundary_curve(2)
         else:
             vertices = S.center[None, :]
     lines = np.array([[0, 1]]) if len(vertices) == 2 else np.zeros((0, 2), dtype=int)

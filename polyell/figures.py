@@ -89,14 +89,6 @@ def _ellipsoids(
     return found | dict(extra or {})
 
 
-def _ellipse_points(E: Ellipsoid, k: int = 721) -> NDArray[np.float64]:
-    if E.rank == 1:
-        return E.center + np.outer([-1.0, 1.0], E.semi_axes[0] * E.axes[:, 0])
-    u = sphere_directions(k - 1, 2)
-    u = np.vstack([u, u[:1]])
-    return E.center + (u * E.semi_axes) @ E.axes.T
-
-
 def _label_axes(ax: Axes, analysis: Analysis, unit: str | None) -> None:
     """Label each axis with its task row (x, z, wx, ...) and the task's unit."""
     unit = unit or task_unit(analysis.dynamics.task, tex=True)
@@ -167,7 +159,7 @@ def plot_sets(
         if E.rank < 2:
             ends = {"marker": "|", "markersize": 16, "markeredgewidth": 1.6}
             ends |= {"linewidth": widths.get(kind, 1.3), "solid_capstyle": "butt"}
-        ax.plot(*_ellipse_points(E).T, **(_style(kind, list(drawn)) | ends))  # type: ignore[arg-type]
+        ax.plot(*E.boundary_curve(720, closed=True).T, **(_style(kind, list(drawn)) | ends))  # type: ignore[arg-type]
     ax.plot(
         *analysis.xg,
         marker="+",

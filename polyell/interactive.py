@@ -18,14 +18,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from polyell.comparison.comparison import SCORE_NAMES, Comparison
 from polyell.comparison.summary import result_kinds, split_column
 from polyell.comparison.tables import ellipsoid_label, score_display
 from polyell.errors import InputError
 from polyell.export import mesh
-from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.models.task import task_unit
 from polyell.storage import write_text_atomically
 
@@ -75,15 +73,6 @@ def _color(kind: str, kinds: Sequence[str]) -> str:
     others = [k for k in kinds if k not in COLORS]
     index = others.index(kind) if kind in others else 0
     return _CANDIDATE_COLORS[index % len(_CANDIDATE_COLORS)]
-
-
-def _ellipse_curve(E: Ellipsoid, k: int = 241) -> NDArray[np.float64]:
-    """Points along the boundary of a rank-1 or rank-2 ellipsoid (k, m)."""
-    if E.rank == 1:
-        return E.center + np.outer([-1.0, 1.0], E.semi_axes[0] * E.axes[:, 0])
-    angles = np.linspace(0.0, 2.0 * np.pi, k)
-    circle = np.column_stack([np.cos(angles), np.sin(angles)])
-    return E.center + (circle * E.semi_axes[:2]) @ E.axes[:, :2].T
 
 
 def _hover_text(kind: str, comparison: Comparison, unit: str) -> str:
@@ -188,7 +177,7 @@ def interactive_sets(
         color, text = _color(kind, chosen), _hover_text(kind, comparison, unit)
         name = ellipsoid_label(kind)
         if m == 2 or E.rank < 3:
-            curve = _ellipse_curve(E)
+            curve = E.boundary_curve(240, closed=True)
             if m == 2:
                 trace = go.Scatter(x=curve[:, 0], y=curve[:, 1], mode="lines")
             else:

@@ -9,15 +9,13 @@ import pytest
 
 import polyell as pe
 from browser import coloured_share, load
-from reference import PAPER_ARM, PAPER_TAU_MAX, paper_analysis
-
-pytest.importorskip("plotly")
 from polyell.interactive import (
     interactive_histogram,
     interactive_map,
     interactive_sets,
     write_report,
 )
+from reference import PAPER_ARM, PAPER_TAU_MAX, paper_analysis
 
 REDUNDANT = np.array([np.pi / 2, -np.pi / 2, -np.pi / 2])
 

@@ -142,6 +142,34 @@ class Ellipsoid(ConvexSet):
         a = check_points("normals", normals, self.ambient_dim)
         return a @ self.center + np.linalg.norm((a @ self.axes) * self.semi_axes, axis=-1)
 
+    def boundary_curve(self, count: int, *, closed: bool = False) -> NDArray[np.float64]:
+        """Points on the boundary of a rank-1 or rank-2 ellipsoid, for drawing and meshes.
+
+        Parameters
+        ----------
+        count : int
+            Points of a rank-2 boundary, at evenly spaced angles from the first axis.
+        closed : bool, optional
+            Repeat the first point at the end (a curve to draw).
+
+        Returns
+        -------
+        ndarray, shape (count, m) (count + 1 closed), or (2, m) for a segment's end points
+
+        Raises
+        ------
+        InputError
+            For another rank.
+        """
+        if self.rank == 1:
+            return self.center + np.outer([-1.0, 1.0], self.semi_axes[0] * self.axes[:, 0])
+        if self.rank != 2:
+            raise InputError("ellipsoid", "a rank-1 or rank-2 ellipsoid", f"rank {self.rank}")
+        angles = 2.0 * np.pi * np.arange(count) / count
+        circle = np.column_stack([np.cos(angles), np.sin(angles)])
+        curve: NDArray[np.float64] = self.center + (circle * self.semi_axes) @ self.axes.T
+        return np.vstack([curve, curve[:1]]) if closed else curve
+
     def _size(self) -> float:
         return float(self.semi_axes.sum())
 

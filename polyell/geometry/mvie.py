@@ -22,6 +22,7 @@ from __future__ import annotations
 from typing import Literal
 
 import numpy as np
+from numpy.typing import NDArray
 
 from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid
@@ -29,7 +30,13 @@ from polyell.geometry.logdet import centred_mvee, centred_mvee_by_cvxpy
 from polyell.geometry.polytope import Polytope
 from polyell.geometry.zonotope import zonotope_facets
 
-__all__ = ["MVIE_GAP", "MVIE_METHODS", "max_volume_inscribed_ellipsoid"]
+__all__ = [
+    "MVIE_GAP",
+    "MVIE_METHODS",
+    "ellipsoid_from_shape",
+    "log_det_shape",
+    "max_volume_inscribed_ellipsoid",
+]
 
 #: Certified gap in log det of the MVIE (its volume is within a relative MVIE_GAP / 2).
 MVIE_GAP = 1e-8
@@ -83,12 +90,23 @@ def _mvie(P: Polytope, method: str) -> Ellipsoid:
     facets = zonotope_facets(whitened)
     half = len(facets.normals) // 2  # one of each pair +-a: the same constraint
     points = facets.normals[:half] / facets.offsets[:half, None]
+    X = log_det_shape(points, method, "the maximum-volume inscribed ellipsoid")
+    return ellipsoid_from_shape(P, X, 0.5, "mvie")
+
+
+def log_det_shape(points: NDArray[np.float64], method: str, what: str) -> NDArray[np.float64]:
+    """The shape X of the centred log-det program on ``points`` (N, r) by ``method``."""
     if method == "logdet":
-        X = centred_mvee(points, gap=MVIE_GAP).shape
-    else:
-        X = centred_mvee_by_cvxpy(points, "the maximum-volume inscribed ellipsoid")
-    # E = {xg + U1 Sigma X^(1/2) u}: axes and semi-axes from the SVD of Sigma X^(1/2).
+        return centred_mvee(points, gap=MVIE_GAP).shape
+    return centred_mvee_by_cvxpy(points, what)
+
+
+def ellipsoid_from_shape(P: Polytope, X: NDArray[np.float64], power: float, kind: str) -> Ellipsoid:
+    """``{xg + U1 Sigma X^power u}`` from a whitened shape X (power 1/2: the MVIE, -1/2: outer).
+
+    Axes and semi-axes from the SVD of ``Sigma X^power``.
+    """
     eigenvalues, eigenvectors = np.linalg.eigh(X)
-    root = (eigenvectors * np.sqrt(eigenvalues)) @ eigenvectors.T
-    W, semi_axes, _ = np.linalg.svd(svd.sigma[:, None] * root)
-    return Ellipsoid(P.center, svd.U1 @ W, semi_axes, kind="mvie")
+    root = (eigenvectors * eigenvalues**power) @ eigenvectors.T
+    W, semi_axes, _ = np.linalg.svd(P.svd.sigma[:, None] * root)
+    return Ellipsoid(P.center, P.svd.U1 @ W, semi_axes, kind=kind)

@@ -26,8 +26,7 @@ from numpy.typing import NDArray
 
 from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid
-from polyell.geometry.logdet import centred_mvee, centred_mvee_by_cvxpy
-from polyell.geometry.mvie import MVIE_GAP, MVIE_METHODS
+from polyell.geometry.mvie import MVIE_METHODS, ellipsoid_from_shape, log_det_shape
 from polyell.geometry.polytope import Polytope
 
 __all__ = ["min_volume_enclosing_ellipsoid", "whitened_vertices"]
@@ -66,16 +65,8 @@ def min_volume_enclosing_ellipsoid(
     elif P.generators.shape[1] == r:  # a rotated cube: the ball of radius sqrt(r)
         E = Ellipsoid(P.center, svd.U1, np.sqrt(r) * svd.sigma, kind="outer")
     else:
-        points = whitened_vertices(P)
-        if method == "logdet":
-            X = centred_mvee(points, gap=MVIE_GAP).shape
-        else:
-            X = centred_mvee_by_cvxpy(points, "the minimum-volume enclosing ellipsoid")
-        # E = {xg + U1 Sigma X^(-1/2) u}: axes and semi-axes from the SVD of Sigma X^(-1/2).
-        eigenvalues, eigenvectors = np.linalg.eigh(X)
-        root = (eigenvectors / np.sqrt(eigenvalues)) @ eigenvectors.T
-        W, semi_axes, _ = np.linalg.svd(svd.sigma[:, None] * root)
-        E = Ellipsoid(P.center, svd.U1 @ W, semi_axes, kind="outer")
+        X = log_det_shape(whitened_vertices(P), method, "the minimum-volume enclosing ellipsoid")
+        E = ellipsoid_from_shape(P, X, -0.5, "outer")
     E.affine_rtol = P.affine_rtol
     return E
 
