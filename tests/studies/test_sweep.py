@@ -226,7 +226,9 @@ def test_dask_local_cluster_on_loopback_gives_the_same_rows(tmp_path):
     distributed = pytest.importorskip("dask.distributed")
     g = pe.grid(np.pi / 2, (-2, 2, 8), (-2, 2, 8))
     expected = pe.sweep(ARM, g, chunk=10)
+    threads = os.environ.get("OPENBLAS_NUM_THREADS")  # whatever the caller runs with
     with pe.local_cluster(2) as cluster, distributed.Client(cluster) as client:
+        assert os.environ.get("OPENBLAS_NUM_THREADS") == threads  # restored after the spawns
         assert cluster.scheduler_address.startswith("tcp://127.0.0.1:")
         environments = client.run(lambda: dict(os.environ)).values()
         assert len(environments) == 2
