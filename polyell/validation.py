@@ -14,6 +14,9 @@ from numpy.typing import ArrayLike, NDArray
 from polyell.errors import InputError
 
 __all__ = [
+    "DIRECTION_NORM_RTOL",
+    "MIN_RELATIVE_EXTENT",
+    "ROUNDED_INPUT_RTOL",
     "array_ndim",
     "check_array",
     "check_directions",
@@ -26,8 +29,16 @@ __all__ = [
     "source_torque_limits",
 ]
 
-#: Relative tolerance on the unit norm of a direction.
-DIRECTION_NORM_RTOL = 1e-6
+#: The one rule for rounded input: numbers typed or printed to 5 significant digits or
+#: more carry a relative rounding error of at most ``0.5e-4`` each (half a unit in the
+#: fifth digit of a leading 1), so a unit direction typed that way has a norm within
+#: ``0.5e-4`` of 1 and a component off any set it lies in of at most ``0.5e-4``; a point
+#: printed that way is within ``0.5e-4 |x|`` of where it belongs.  ``ROUNDED_INPUT_RTOL``
+#: (twice that) bounds both: it is the tolerance on a direction's unit norm
+#: (:func:`check_directions`) and, as :data:`polyell.AFFINE_RTOL`, on "on the affine set".
+ROUNDED_INPUT_RTOL = 1e-4
+#: Tolerance on the unit norm of a direction: the rounded-input rule.
+DIRECTION_NORM_RTOL = ROUNDED_INPUT_RTOL
 #: Relative tolerance on the symmetry of an inertia matrix.
 SYMMETRY_RTOL = 1e-9
 #: Most directions a direction set may hold (a million 6-D directions take 48 MB).
@@ -254,6 +265,11 @@ def magnitude_limit(m: int) -> int:
     return min(140, 290 // m)
 
 
+#: Smallest extent of the polytope relative to its distance from the origin: below
+#: ``sqrt(eps)`` its points (``xg + M t``) keep fewer than half of their digits.
+MIN_RELATIVE_EXTENT = float(np.sqrt(np.finfo(float).eps))
+
+
 def check_magnitudes(M: NDArray[np.float64], xg: NDArray[np.float64]) -> None:
     """Refuse accelerations too large or too small for floating point (issue 15).
 
@@ -268,14 +284,19 @@ def check_magnitudes(M: NDArray[np.float64], xg: NDArray[np.float64]) -> None:
     ------
     InputError
         If the largest entry of M or of xg (when non-zero) is outside
-        ``10^(+-magnitude_limit(m))``.
+        ``10^(+-magnitude_limit(m))``, or if M (when non-zero) is below
+        :data:`MIN_RELATIVE_EXTENT` times xg: a set that small against its distance from
+        rest (torques far too weak to hold the arm against gravity, or torque limits in
+        other units than the gravity torques) is below the resolution of its own points.
     """
     m = M.shape[-2]
     limit = magnitude_limit(m)
     high = 10.0**limit
+    size_m = np.max(np.abs(M), axis=(-2, -1)) if M.size else np.zeros(M.shape[:-2])
+    size_x = np.max(np.abs(xg), axis=-1) if xg.size else np.zeros(xg.shape[:-1])
     sizes = {  # largest entries: no squares, which would overflow first
-        "the generators M (eq. 14)": np.max(np.abs(M), axis=(-2, -1)),
-        "the centre xg (eq. 8)": np.max(np.abs(xg), axis=-1),
+        "the generators M (eq. 14)": size_m,
+        "the centre xg (eq. 8)": size_x,
     }
     for what, size in sizes.items():
         bad = np.atleast_1d((size > high) | ((size > 0) & (size < 1.0 / high)))
@@ -290,6 +311,19 @@ def check_magnitudes(M: NDArray[np.float64], xg: NDArray[np.float64]) -> None:
                 "express the task in other units: scale the rows of J (and Jdot qdot), or "
                 "the torque limits together with the gravity torques.",
             )
+    tiny = np.atleast_1d((size_m > 0) & (size_m < MIN_RELATIVE_EXTENT * size_x))
+    if tiny.any():
+        k = int(np.flatnonzero(tiny)[0])
+        where = f" (configuration {k} of the batch)" if np.ndim(size_m) else ""
+        raise InputError(
+            "tau_max",
+            f"torque limits that move the arm by more than {MIN_RELATIVE_EXTENT:.1e} of its "
+            "free-fall acceleration, so that the polytope's points are resolved in floating "
+            "point",
+            f"generators M of size {float(np.atleast_1d(size_m)[k]):.3g} against a centre "
+            f"xg of size {float(np.atleast_1d(size_x)[k]):.3g}{where}",
+            "give the torque limits and the gravity torques in the same units (N m).",
+        )
 
 
 def source_torque_limits(
@@ -328,7 +362,8 @@ def check_directions(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]
         Argument name used in error messages.
     value : array-like, shape (m,) or (k, m)
         Directions; each must have unit Euclidean norm to a relative tolerance of
-        ``DIRECTION_NORM_RTOL``.
+        ``DIRECTION_NORM_RTOL`` (:data:`ROUNDED_INPUT_RTOL`: a unit vector typed to 5
+        significant digits or more passes).
     m : int
         Task-space dimension.
 
@@ -345,22 +380,30 @@ def check_directions(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]
     directions = check_points(name, value, m)
     if directions.ndim > 2:
         raise InputError(name, "shape (m,) or (k, m)", f"shape {directions.shape}")
-    norms = np.linalg.norm(directions, axis=-1)
-    if np.any(norms == 0):
-        i = int(np.flatnonzero(np.atleast_1d(norms) == 0)[0])
+    # The norm of the rows scaled by their largest entry: no overflow for entries of 1e308
+    # and no underflow for 1e-300 (either is then refused as far from unit length).
+    largest = np.max(np.abs(directions), axis=-1)
+    if np.any(largest == 0):
+        i = int(np.flatnonzero(np.atleast_1d(largest) == 0)[0])
         raise InputError(
             name,
             "non-zero unit direction vectors",
             f"a zero-length direction at row {i}",
             "every direction needs a non-zero length.",
         )
-    off = np.abs(norms - 1.0) > DIRECTION_NORM_RTOL
+    scaled = directions / largest[..., None]
+    norms = np.linalg.norm(scaled, axis=-1) * largest
+    off = ~(np.abs(norms - 1.0) <= DIRECTION_NORM_RTOL)
     if np.any(off):
         i = int(np.flatnonzero(np.atleast_1d(off))[0])
+        norm = float(np.atleast_1d(norms)[i])
         raise InputError(
             name,
-            "unit direction vectors (the limits are accelerations a along a * t)",
-            f"a direction of norm {np.atleast_1d(norms)[i]:.6g} at row {i}",
+            f"unit direction vectors, to {DIRECTION_NORM_RTOL:g} (the limits are accelerations "
+            "a along a * t)",
+            f"a direction of norm {norm!r} (1 {'+' if norm >= 1 else '-'} "
+            f"{abs(norm - 1.0):.3g}) at row {i}",
             "normalise with T / np.linalg.norm(T, axis=-1, keepdims=True).",
         )
-    return directions / norms[..., None]
+    unit: NDArray[np.float64] = scaled / np.linalg.norm(scaled, axis=-1)[..., None]
+    return unit
