@@ -157,8 +157,10 @@ class Analysis:
                 "dyn.B", "a positive-definite inertia matrix", f"LAPACK dposv info={info}"
             )
         J_Binv = solved.T
-        self.M: NDArray[np.float64] = J_Binv * self.half_range
-        self.xg: NDArray[np.float64] = dynamics.xdd_bias - J_Binv @ self._gravity_bias
+        # Entries near 1e308 may overflow here: check_magnitudes refuses inf and NaN.
+        with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+            self.M: NDArray[np.float64] = J_Binv * self.half_range
+            self.xg: NDArray[np.float64] = dynamics.xdd_bias - J_Binv @ self._gravity_bias
         check_magnitudes(self.M, self.xg)
         self.svd: RankRevealingSVD = rank_revealing_svd(self.M, rank_rtol)
         self.affine_rtol = check_fraction("affine_rtol", affine_rtol)
@@ -175,7 +177,8 @@ class Analysis:
     def Q(self) -> NDArray[np.float64]:
         """Eq. (20), ``B L^-2 B``, shape (n, n)."""
         B = self.dynamics.B
-        return (B / self.half_range**2) @ B
+        scaled = B / self.half_range[:, None]  # L^-1 B, then Q = (L^-1 B)^T (L^-1 B)
+        return scaled.T @ scaled
 
     @property
     def rank(self) -> int:

@@ -161,7 +161,7 @@ def chiacchio_maps(
         The generalized inverse of M at the analysis' rank (eq. 37).
     """
     JQ = np.asarray(np.linalg.solve(B, half_range[:, None] * M_pinv), dtype=np.float64)
-    free_fall = np.linalg.solve(B, gravity_bias)
+    free_fall = np.asarray(np.linalg.solve(B, gravity_bias), dtype=np.float64)
     joint = AffineMap(JQ, xg, -free_fall)
     torque = AffineMap(M_pinv, xg, np.zeros(B.shape[0]))
     return InverseMaps(joint, torque)

@@ -15,6 +15,7 @@ from polyell.errors import InputError
 
 __all__ = [
     "DIRECTION_NORM_RTOL",
+    "MAX_TORQUE",
     "MIN_RELATIVE_EXTENT",
     "ROUNDED_INPUT_RTOL",
     "array_ndim",
@@ -158,8 +159,10 @@ def check_spd(
     if matrix.shape[-1] != matrix.shape[-2]:
         raise InputError(name, f"a square ({n}, {n}) matrix", f"shape {matrix.shape}")
     transposed = np.swapaxes(matrix, -1, -2)
-    scale = np.max(np.abs(matrix)) if matrix.size else 0.0
-    asymmetry = np.max(np.abs(matrix - transposed)) if matrix.size else 0.0
+    scale = float(np.max(np.abs(matrix))) if matrix.size else 0.0
+    # Differences of the entries scaled to at most 1: no overflow for entries near 1e308.
+    unit = 1.0 / scale if scale > 0 else 1.0
+    asymmetry = np.max(np.abs(matrix * unit - transposed * unit)) / unit if matrix.size else 0.0
     if asymmetry > SYMMETRY_RTOL * scale:
         raise InputError(
             name,
@@ -167,7 +170,7 @@ def check_spd(
             f"max |B - B^T| = {asymmetry:.3g} (max |B| = {scale:.3g})",
             "pass a symmetric matrix (the inertia matrix is one).",
         )
-    matrix = 0.5 * (matrix + transposed)
+    matrix = 0.5 * matrix + 0.5 * transposed
     try:
         np.linalg.cholesky(matrix)
     except np.linalg.LinAlgError:
@@ -181,6 +184,23 @@ def check_spd(
             fix,
         ) from None
     return matrix
+
+
+#: Largest torque limit accepted [N m]: ``tau_max - tau_min`` and its products with the
+#: inverse inertia stay finite; a limit beyond it is no limit (the sets would be unbounded).
+MAX_TORQUE = 1e150
+
+
+def _check_torque_size(name: str, value: NDArray[np.float64]) -> None:
+    if value.size and np.max(np.abs(value)) > MAX_TORQUE:
+        i = int(np.argmax(np.abs(value)))
+        raise InputError(
+            name,
+            f"torque limits of size at most {MAX_TORQUE:g} N m",
+            f"{name}[{i}] = {value[i]:.3g}",
+            "give the real limits (with the gravity torques in the same units); polyell's "
+            "sets are bounded.",
+        )
 
 
 def check_torque_limits(
@@ -204,6 +224,7 @@ def check_torque_limits(
         If a shape is wrong, a value is not finite, or ``tau_min >= tau_max`` anywhere.
     """
     upper = check_array("tau_max", tau_max, (n,))
+    _check_torque_size("tau_max", upper)
     if tau_min is None:
         if (upper <= 0).any():
             bad = np.flatnonzero(upper <= 0)
@@ -215,6 +236,7 @@ def check_torque_limits(
             )
         return upper, -upper
     lower = check_array("tau_min", tau_min, (n,))
+    _check_torque_size("tau_min", lower)
     if (lower >= upper).any():
         i = np.flatnonzero(lower >= upper)[0]
         raise InputError(
@@ -299,7 +321,8 @@ def check_magnitudes(M: NDArray[np.float64], xg: NDArray[np.float64]) -> None:
         "the centre xg (eq. 8)": size_x,
     }
     for what, size in sizes.items():
-        bad = np.atleast_1d((size > high) | ((size > 0) & (size < 1.0 / high)))
+        # not (size <= high): an overflow to inf or NaN is too large as well
+        bad = np.atleast_1d(~(size <= high) | ((size > 0) & (size < 1.0 / high)))
         if bad.any():
             k = int(np.flatnonzero(bad)[0])
             where = f" (configuration {k} of the batch)" if np.ndim(size) else ""
@@ -307,7 +330,8 @@ def check_magnitudes(M: NDArray[np.float64], xg: NDArray[np.float64]) -> None:
                 "dyn",
                 f"accelerations of size within 1e-{limit}..1e{limit} in a "
                 f"{m}-dimensional task, so that volumes in (unit)^{m} stay representable",
-                f"{what} of size {float(np.atleast_1d(size)[k]):.3g}{where}",
+                f"{what} of size {float(np.atleast_1d(size)[k]):.3g}{where}"
+                + ("" if np.isfinite(np.atleast_1d(size)[k]) else " (an overflow)"),
                 "express the task in other units: scale the rows of J (and Jdot qdot), or "
                 "the torque limits together with the gravity torques.",
             )
@@ -340,6 +364,10 @@ def source_torque_limits(
 def check_points(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]:
     """Check finite task-space points of shape ``(m,)`` or ``(..., m)``.
 
+    Coordinates beyond ``10^magnitude_limit(m)`` (the bound :func:`check_magnitudes` puts
+    on the sets themselves) are refused: their squares and their products with the sets'
+    facets would overflow.
+
     Returns
     -------
     points : ndarray of float64, shape ``(..., m)``
@@ -349,6 +377,14 @@ def check_points(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]:
     if array.ndim == 0 or array.shape[-1] != m:
         raise InputError(
             name, expected, f"shape {array.shape}", "give one entry per task-space row of J."
+        )
+    limit = magnitude_limit(m)
+    if array.size and np.max(np.abs(array)) > 10.0**limit:
+        raise InputError(
+            name,
+            f"coordinates of size at most 1e{limit} in a {m}-dimensional task",
+            f"an entry of size {np.max(np.abs(array)):.3g}",
+            "express the task in other units.",
         )
     return array
 
