@@ -160,8 +160,9 @@ def check_spd(
         raise InputError(name, f"a square ({n}, {n}) matrix", f"shape {matrix.shape}")
     transposed = np.swapaxes(matrix, -1, -2)
     scale = float(np.max(np.abs(matrix))) if matrix.size else 0.0
-    # Differences of the entries scaled to at most 1: no overflow for entries near 1e308.
-    unit = 1.0 / scale if scale > 0 else 1.0
+    # Differences of entries above 1 scaled to at most 1: no overflow near 1e308 (and no
+    # 1 / scale for subnormal entries, which would overflow instead).
+    unit = 1.0 / scale if scale > 1.0 else 1.0
     asymmetry = np.max(np.abs(matrix * unit - transposed * unit)) / unit if matrix.size else 0.0
     if asymmetry > SYMMETRY_RTOL * scale:
         raise InputError(

@@ -358,6 +358,11 @@ EDGES = [
     ("B of 1e308", lambda t: pe.analyze(pe.Dynamics(DYN.J, _huge(DYN.B), DYN.g), [1] * 3), "dyn"),
     ("g of 1e308", lambda t: pe.analyze(pe.Dynamics(DYN.J, DYN.B, _huge(DYN.g)), [1] * 3), "dyn"),
     (
+        "B of subnormal entries",
+        lambda t: pe.analyze(pe.Dynamics(DYN.J, np.eye(3) * 1e-320, DYN.g), [1] * 3),
+        "dyn",
+    ),
+    (
         "weak torques against gravity",
         lambda t: pe.analyze(DYN, ARM.tau_max * 1e-16),
         "free-fall acceleration",

@@ -88,11 +88,19 @@ class Ellipsoid(ConvexSet):
                     f"{sizes[np.argmax(outside)]:.3g}",
                     "express the task in other units.",
                 )
-        if not np.allclose(U.T @ U, np.eye(U.shape[1]), atol=1e-9):
+        # (orthonormal columns have entries of at most 1: larger ones are refused before
+        # U^T U, which could overflow)
+        big = max(1.0, float(np.max(np.abs(U)))) if U.size else 1.0
+        if big > 1.0 + 1e-9 or not np.allclose(U.T @ U, np.eye(U.shape[1]), atol=1e-9):
+            if big > 1.0 + 1e-9:
+                got = f"an entry of size {big:.3g}"
+            else:
+                off = np.max(np.abs(U.T @ U - np.eye(U.shape[1])))
+                got = f"U^T U - I with max |entry| {off:.3g}"
             raise InputError(
                 "axes",
                 "orthonormal columns",
-                f"U^T U - I with max |entry| {np.max(np.abs(U.T @ U - np.eye(U.shape[1]))):.3g}",
+                got,
                 "orthonormalise the axes, e.g. with an SVD.",
             )
         order = np.argsort(-s, kind="stable")
