@@ -348,6 +348,7 @@ EDGES = [
     ),
     ("compare samples 0", lambda t: pe.compare(AN, 8, samples=0), "samples: expected"),
     ("compare seed str", lambda t: pe.compare(AN, 8, seed="a"), "seed: expected"),
+    ("compare directions True", lambda t: pe.compare(AN, True), "directions: expected"),
     ("q of 1e308", lambda t: ARM.dynamics([1e308, 0, 0]), "q: expected joint angles"),
     ("directions of 1e308", lambda t: AN.polytope.limits([1e308, 0]), "directions: expected"),
     ("points of 1e308", lambda t: AN.polytope.contains([1e308, 0]), "points: expected"),

@@ -347,6 +347,8 @@ def compare(
             "analysis", "a polyell.Analysis", type(analysis).__name__, "call pe.analyze first."
         )
     affine_set = analysis.polytope.affine_set
+    if isinstance(directions, bool | np.bool_):
+        raise InputError("directions", "unit directions (k, m), a count or None", repr(directions))
     if directions is None or isinstance(directions, int | np.integer):
         T = directions_in(affine_set, None if directions is None else int(directions))
     else:
