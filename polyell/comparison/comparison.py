@@ -29,12 +29,19 @@ from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
 from polyell.geometry.outer import min_volume_enclosing_ellipsoid
 from polyell.models.task import task_unit
-from polyell.validation import check_directions
+from polyell.validation import check_directions, check_integer
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
 
 __all__ = ["COMPARED_KINDS", "SCORE_NAMES", "Comparison", "Scores", "compare"]
+
+#: Quasi-Monte-Carlo points per replicate: at least 2 (a mean and a spread), at most 2^22
+#: (the replicate's points, (samples, r + 1) floats, then take at most 230 MB in 6-D).
+MIN_SAMPLES, MAX_SAMPLES = 2, 2**22
+#: Largest seed (numpy's generators take any non-negative integer; 2^63 - 1 fits every
+#: file format a study writes).
+MAX_SEED = 2**63 - 1
 
 #: The ellipsoids every comparison scores: both definitions, the maximum-volume inscribed
 #: one and the minimum-volume enclosing (outer) one; user-defined candidates follow them.
@@ -309,9 +316,10 @@ def compare(
         affine set (at a singular configuration every other line meets it in one point);
         its default size is 360 in 2-D, 1000 in 3-D.
     samples : int, optional
-        Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the polytope.
+        Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the polytope, from
+        2 to 2^22 (a power of two keeps the Sobol' balance).
     seed : int, optional
-        Seed of those estimates.
+        Seed of those estimates, a non-negative integer.
     mvie : bool, optional
         Whether to compute the maximum-volume inscribed ellipsoid (a log-det program);
         without it the ``"mvie"`` record and every ``mvie_ratio`` are NaN.
@@ -339,6 +347,8 @@ def compare(
             "analysis", "a polyell.Analysis", type(analysis).__name__, "call pe.analyze first."
         )
     affine_set = analysis.polytope.affine_set
+    if isinstance(directions, bool | np.bool_):
+        raise InputError("directions", "unit directions (k, m), a count or None", repr(directions))
     if directions is None or isinstance(directions, int | np.integer):
         T = directions_in(affine_set, None if directions is None else int(directions))
     else:
@@ -346,6 +356,17 @@ def compare(
     found = check_candidates(candidates)
     for candidate in found:
         candidate.check_sizes(analysis.dynamics.m, analysis.dynamics.n)
+    samples = check_integer("samples", samples, MIN_SAMPLES, MAX_SAMPLES)
+    seed = check_integer("seed", seed, 0, MAX_SEED)
+    for name, flag in (("mvie", mvie), ("outer", outer)):
+        if not isinstance(flag, bool | np.bool_):
+            raise InputError(name, "True or False", repr(flag))
     return Comparison(
-        analysis, T, samples=samples, seed=seed, mvie=mvie, outer=outer, candidates=found
+        analysis,
+        T,
+        samples=samples,
+        seed=seed,
+        mvie=bool(mvie),
+        outer=bool(outer),
+        candidates=found,
     )
