@@ -86,8 +86,10 @@ def _fan(count: int, first: int = 0) -> NDArray[np.int_]:
 
 def _orient(vertices: NDArray[np.float64], faces: NDArray[np.int_]) -> NDArray[np.int_]:
     """Turn each triangle of a closed convex mesh to face away from its centroid."""
-    centre = vertices.mean(axis=0)
-    a, b, c = (vertices[faces[:, i]] for i in range(3))
+    scale = float(np.max(np.abs(vertices))) or 1.0  # no overflow at 1e300 (signs only)
+    unit = vertices / scale
+    centre = unit.mean(axis=0)
+    a, b, c = (unit[faces[:, i]] for i in range(3))
     outward = np.einsum("ij,ij->i", np.cross(b - a, c - a), a - centre) > 0
     return np.where(outward[:, None], faces, faces[:, ::-1])
 

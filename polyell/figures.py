@@ -394,6 +394,21 @@ def plot_score_map(
     return figure
 
 
+def _bin_edges(data: NDArray[np.float64], bins: int) -> list[float]:
+    """Equal bins over the finite data, at any magnitude (1e-300 to 1e300).
+
+    Computed on the data scaled to [-1, 1] (no overflow of the range), and one value
+    (or values within 1e-9 of the largest) gets bins 1e-3 of it wide around it.
+    """
+    if not data.size:
+        return np.linspace(0.0, 1.0, bins + 1).tolist()
+    scale = float(np.max(np.abs(data))) or 1.0
+    lo, hi = float(np.min(data / scale)), float(np.max(data / scale))
+    if hi - lo < 1e-9:
+        lo, hi = lo - 5e-4, hi + 5e-4
+    return (np.linspace(lo, hi, bins + 1) * scale).tolist()
+
+
 def plot_score_histogram(
     results: pd.DataFrame,
     score: str,
@@ -423,7 +438,7 @@ def plot_score_histogram(
     name, factor = score_display(score)
     values = [factor * results[f"{kind}_{score}"].to_numpy(dtype=float) for kind in present]
     finite = [v[np.isfinite(v)] for v in values]
-    edges = np.histogram_bin_edges(np.concatenate(finite), bins=bins).tolist()
+    edges = _bin_edges(np.concatenate(finite), bins)
     figure = Figure(figsize=(5.0, 3.6), layout="constrained")
     ax = figure.add_subplot()
     for kind, data in zip(present, finite, strict=True):
