@@ -244,3 +244,43 @@ def test_tables_compile_with_a_real_engine_and_keep_every_row(paper, singular, t
             "\N{MICRO SIGN}", "\N{GREEK SMALL LETTER MU}"
         )
     check_compiled(tables, compile_tables(path, tables, tmp_path))
+
+
+# ---- a study's tables, end to end ------------------------------------------------------
+
+HOSTILE_STUDY = r"""
+    title = 'Grid 100% & #1 _x_ \input{y} ~ {z}'
+    [robot]
+    library = "chiacchio2000"
+    [grid]
+    q1 = "pi/2"
+    q2 = { start = "-pi/2", stop = 0, num = 2 }
+    q3 = { start = "-pi/2", stop = "pi/2", num = 2 }
+    [compare]
+    directions = 16
+    mvie = false
+    [output]
+    formats = ["png"]
+    dpi = 20
+"""
+
+
+def test_a_study_with_a_hostile_title_writes_tables_that_keep_every_row(tmp_path):
+    from polyell.studies import load_study, run_study
+
+    spec_file = tmp_path / "study.toml"
+    spec_file.write_text(HOSTILE_STUDY, encoding="utf-8")
+    spec = load_study(spec_file)
+    run_study(spec, tmp_path / "out")
+    summary = pd.read_csv(tmp_path / "out" / "summary.csv", index_col=[0, 1])
+    tex = (tmp_path / "out" / "summary.tex").read_text(encoding="utf-8")
+    parsed = parse_table(tex)
+    assert parsed.caption is not None and parsed.caption.startswith(spec.title)
+    assert len(parsed.rows) == len(summary)  # no row lost to a comment
+    assert "new (eq. 32/38): coverage [%]" in [row[0] for row in parsed.rows]
+    markdown = (tmp_path / "out" / "summary.md").read_text(encoding="utf-8")
+    assert sum(line.startswith("| ") for line in markdown.splitlines()) == len(summary) + 2
+    for program in ("pdflatex", "lualatex"):
+        path = engine(program)
+        if path is not None:  # compiled where an engine is installed (the test above skips)
+            check_compiled([tex], compile_tables(path, [tex], tmp_path / program))
