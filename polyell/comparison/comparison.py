@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import csv
 import dataclasses
 import io
 import os
@@ -294,7 +295,9 @@ class Comparison:
             If the file cannot be written (a missing folder, a name too long, a full disk).
         """
         buffer = io.StringIO()
-        self.to_frame().to_csv(buffer)
+        # Text fields quoted: a reason holding a bare carriage return (which the csv module
+        # leaves unquoted with "\n" line ends) would otherwise split its row in two.
+        self.to_frame().to_csv(buffer, quoting=csv.QUOTE_NONNUMERIC)
         text = buffer.getvalue()
         if path is not None:
             if not isinstance(path, str | os.PathLike):
