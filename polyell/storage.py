@@ -10,6 +10,7 @@ a part counts as done only when its Parquet footer reads and holds the expected 
 from __future__ import annotations
 
 import contextlib
+import errno
 import json
 import os
 import re
@@ -50,21 +51,39 @@ def write_atomically(path: Path, write: Callable[[str], Any]) -> Path:
         If the file cannot be written (a full disk, a file size limit, permissions); no
         partial file is left behind.
     """
-    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(handle)
+    temporary = ""
     try:
+        handle, temporary = tempfile.mkstemp(
+            dir=path.parent, prefix=f".{path.name}.", suffix=".tmp"
+        )
+        os.close(handle)
         write(temporary)
         os.chmod(temporary, 0o666 & ~_umask())
         os.replace(temporary, path)
     except OSError as exn:
         raise StorageError(
-            f"Could not write {path}: {exn.strerror or exn}. Fix: free disk space (or raise "
-            "the limit) and run again; finished parts are kept and a sweep resumes."
+            f"Could not write {path}: {exn.strerror or exn}. Fix: {_fix(exn)}"
         ) from exn
     finally:
-        if os.path.exists(temporary):
+        if temporary and os.path.exists(temporary):
             os.unlink(temporary)
     return path
+
+
+def _fix(exn: OSError) -> str:
+    """What to do about a failed write, by its cause."""
+    if exn.errno == errno.ENOENT:
+        return "create the folder first, or choose an existing one."
+    if exn.errno == errno.ENAMETOOLONG:
+        return "choose a shorter file name (the limit is usually 255 bytes per name)."
+    if exn.errno in (errno.ENOTDIR, errno.EISDIR):
+        return "a part of the path is a file, or the name is a folder: choose another path."
+    if exn.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
+        return "choose a folder you can write to."
+    return (
+        "free disk space (or raise the limit) and run again; finished parts are kept and a "
+        "sweep resumes."
+    )
 
 
 def _umask() -> int:

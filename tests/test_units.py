@@ -38,7 +38,7 @@ def test_an_angular_task_is_in_rad_per_s2_everywhere(angular):
     table = pe.compare(angular, 16, mvie=False).to_markdown()
     assert "(rad/s^2)^3" in table and "m/s^2" not in table
     latex = pe.compare(angular, 16, mvie=False).to_latex()
-    assert r"\mathrm{rad/s^2}" in latex
+    assert r"volume [(rad/s$^{2}$)$^{3}$]" in latex
     text = format_analysis(angular, np.array([1.0, 0.0, 0.0]), "t")
     assert "task rows wx, wy, wz [rad/s^2]" in text and "m/s^2" not in text
     data = analysis_to_json(angular, np.array([1.0, 0.0, 0.0]))

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import csv
 import dataclasses
 import io
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -29,6 +32,7 @@ from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
 from polyell.geometry.outer import min_volume_enclosing_ellipsoid
 from polyell.models.task import task_unit
+from polyell.storage import write_text_atomically
 from polyell.validation import check_directions, check_integer
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
@@ -283,14 +287,29 @@ class Comparison:
     def _unit(self) -> str:
         return task_unit(self.analysis.dynamics.task)
 
-    def to_csv(self, path: str | None = None) -> str:
-        """The scores at full precision as CSV; also written to ``path`` if given."""
+    def to_csv(self, path: str | os.PathLike[str] | None = None) -> str:
+        """The scores at full precision as CSV; also written to ``path`` if given.
+
+        The file is written atomically (a temporary name, then renamed): a failed write
+        (a full disk) leaves any earlier file whole.  ``pandas.read_csv(path,
+        index_col="kind")`` reads back the same columns and values.
+
+        Raises
+        ------
+        InputError
+            If ``path`` is not a file name.
+        StorageError
+            If the file cannot be written (a missing folder, a name too long, a full disk).
+        """
         buffer = io.StringIO()
-        self.to_frame().to_csv(buffer)
+        # Text fields quoted: a reason holding a bare carriage return (which the csv module
+        # leaves unquoted with "\n" line ends) would otherwise split its row in two.
+        self.to_frame().to_csv(buffer, quoting=csv.QUOTE_NONNUMERIC)
         text = buffer.getvalue()
         if path is not None:
-            with open(path, "w", encoding="utf-8") as handle:
-                handle.write(text)
+            if not isinstance(path, str | os.PathLike):
+                raise InputError("path", "a file name (str or Path)", type(path).__name__)
+            write_text_atomically(Path(path), text)
         return text
 
 

@@ -248,7 +248,7 @@ def test_tables(paper, paper_singular):
     latex = paper.to_latex(caption="Scores at q = (pi/2, -pi/2, -pi/2).", label="tab:scores")
     for fragment in (r"\toprule", r"\midrule", r"\bottomrule", r"\label{tab:scores}", r"\caption{"):
         assert fragment in latex
-    assert r"(\mathrm{m/s^2})^{2}" in latex
+    assert r"volume [(m/s$^{2}$)$^{2}$]" in latex
     frame = pd.read_csv(io.StringIO(paper.to_csv()), index_col="kind")
     for name in pe.SCORE_NAMES:
         np.testing.assert_allclose(frame.loc["chiacchio", name], getattr(paper["chiacchio"], name))
