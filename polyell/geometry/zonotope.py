@@ -393,7 +393,7 @@ def _signs_in_general_position(
         present |= present[::-1]
         return _sign_table(n)[present]
     keys = np.unique(np.concatenate([keys.ravel(), keys.ravel() ^ ((1 << n) - 1)]))
-    return ((keys[:, None] >> np.arange(n)) & 1) * 2.0 - 1.0
+    return (((keys[:, None] >> np.arange(n)) & 1) * 2.0 - 1.0).astype(np.float64)
 
 
 def _signs_by_active_facets(
