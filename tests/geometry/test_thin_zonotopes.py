@@ -29,8 +29,8 @@ from scipy.stats import ortho_group
 import highprec
 import polyell as pe
 from polyell.geometry.directions import sphere_directions
-from polyell.studies.batch import batch_rows
 from polyell.geometry.limits import ATOL_RELATIVE
+from polyell.studies.batch import batch_rows
 
 EPS = np.finfo(float).eps
 CONDITIONS = (1e2, 1e4, 1e6, 1e7, 1e8, 4e8, 1e9, 5e9)
