@@ -293,7 +293,9 @@ def magnitude_limit(m: int) -> int:
 MIN_RELATIVE_EXTENT = float(np.sqrt(np.finfo(float).eps))
 
 
-def check_magnitudes(M: NDArray[np.float64], xg: NDArray[np.float64]) -> None:
+def check_magnitudes(
+    M: NDArray[np.float64], xg: NDArray[np.float64], argument: str | None = None
+) -> None:
     """Refuse accelerations too large or too small for floating point (issue 15).
 
     Parameters
@@ -302,6 +304,10 @@ def check_magnitudes(M: NDArray[np.float64], xg: NDArray[np.float64]) -> None:
         Generators (eq. 14), one matrix or a batch.
     xg : ndarray, shape (..., m)
         Centres (eq. 8).
+    argument : str, optional
+        The argument the errors name when ``M`` and ``xg`` were given directly (a
+        :class:`~polyell.Polytope`'s ``"generators"``); by default they come from a robot's
+        dynamics and torque limits.
 
     Raises
     ------
@@ -328,18 +334,33 @@ def check_magnitudes(M: NDArray[np.float64], xg: NDArray[np.float64]) -> None:
             k = int(np.flatnonzero(bad)[0])
             where = f" (configuration {k} of the batch)" if np.ndim(size) else ""
             raise InputError(
-                "dyn",
+                argument or "dyn",
                 f"accelerations of size within 1e-{limit}..1e{limit} in a "
                 f"{m}-dimensional task, so that volumes in (unit)^{m} stay representable",
                 f"{what} of size {float(np.atleast_1d(size)[k]):.3g}{where}"
                 + ("" if np.isfinite(np.atleast_1d(size)[k]) else " (an overflow)"),
-                "express the task in other units: scale the rows of J (and Jdot qdot), or "
-                "the torque limits together with the gravity torques.",
+                "express the task in other units: "
+                + (
+                    "scale the generators and the centre together."
+                    if argument
+                    else "scale the rows of J (and Jdot qdot), or the torque limits together "
+                    "with the gravity torques."
+                ),
             )
     tiny = np.atleast_1d((size_m > 0) & (size_m < MIN_RELATIVE_EXTENT * size_x))
     if tiny.any():
         k = int(np.flatnonzero(tiny)[0])
         where = f" (configuration {k} of the batch)" if np.ndim(size_m) else ""
+        if argument:
+            raise InputError(
+                argument,
+                f"generators of at least {MIN_RELATIVE_EXTENT:.1e} of the centre's size, so "
+                "that the polytope's points are resolved in floating point",
+                f"generators of size {float(np.atleast_1d(size_m)[k]):.3g} against a centre "
+                f"of size {float(np.atleast_1d(size_x)[k]):.3g}",
+                "shift the set so that its centre is near the origin (limits are taken "
+                "along lines through it).",
+            )
         raise InputError(
             "tau_max",
             f"torque limits that move the arm by more than {MIN_RELATIVE_EXTENT:.1e} of its "

@@ -25,6 +25,7 @@ from hypothesis import strategies as st
 import polyell as pe
 from polyell.comparison.metrics import inside_rtol
 from polyell.geometry.directions import directions_in, sphere_directions
+from polyell.validation import magnitude_limit
 
 #: Values that break an argument.
 SPECIAL = [np.nan, np.inf, -np.inf, 0.0, -1.0, 1e-300, -1e-300, 1e300, -1e300, 1e308]
@@ -325,9 +326,9 @@ def test_polytope_and_its_methods(data, m, n, magnitude, seed):
     P = calm(lambda: pe.Polytope(generators, center))
     if P is None:
         return
-    sizes = np.abs(np.concatenate([P.generators.ravel(), P.center]))
-    if np.any((sizes > 1e140) | ((sizes > 0) & (sizes < 1e-140))):
-        return  # accepted beyond the magnitude bound: test_a_huge_polytope_is_refused
+    high = 10.0 ** magnitude_limit(m)  # accepted, so within the magnitude bound
+    for size in (np.abs(P.generators).max(), np.abs(P.center).max()):
+        assert size == 0 or 1 / high <= size <= high
     volume = calm(lambda: P.volume)
     assert volume is None or (np.isfinite(volume) and volume >= 0)
     vertices = calm(lambda: P.vertices)
@@ -468,16 +469,9 @@ def test_every_magnitude_gives_a_result_or_a_refusal(magnitude):
         check_scores(cmp, 0)
 
 
-# --- Defects found by this suite in files owned by other work (issue 20): strict xfails,
-# so that the fix turns them into failures to remove.
+# --- Defects this suite found (issue 20), now refusals.
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="polyell/geometry/polytope.py: pe.Polytope(...) does not apply check_magnitudes; "
-    "centres or generators of 1e283 give RuntimeWarnings in atol and zonotope_volume, "
-    "generators of 1e-300 a raw ValueError in zonotope_vertices",
-)
 @pytest.mark.parametrize("where", ["generators", "center", "tiny"])
 def test_a_huge_polytope_is_refused(where):
     generators, center = np.array([[1.0, 0.5], [0.3, -1.0]]), np.array([0.2, 0.1])
@@ -496,10 +490,6 @@ def test_a_huge_polytope_is_refused(where):
             P.vertices  # noqa: B018
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="polyell/studies/along.py: limits_along(rank_rtol=None) raises a raw TypeError",
-)
 @pytest.mark.parametrize("rank_rtol", [None, "x"])
 def test_limits_along_refuses_a_rank_rtol_of_no_number(rank_rtol):
     arm = pe.robots.load("chiacchio2000")

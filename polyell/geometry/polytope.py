@@ -27,7 +27,7 @@ from polyell.geometry.zonotope import (
     zonotope_vertices,
     zonotope_volume,
 )
-from polyell.validation import check_array
+from polyell.validation import check_array, check_magnitudes
 
 __all__ = ["Polytope"]
 
@@ -86,6 +86,7 @@ class Polytope(ConvexSet):
                     "column, e.g. np.zeros((m, 1)).",
                 )
             center = check_array("center", center, (np.shape(generators)[0],))
+            check_magnitudes(generators, center, argument="generators")
         self.generators = np.asarray(generators, dtype=float)
         self.center = np.asarray(center, dtype=float)
         self._svd = svd if svd is not None else rank_revealing_svd(self.generators, rank_rtol)
