@@ -57,10 +57,10 @@ def test_every_format_reads_the_same_path(tmp_path, suffix):
         (lambda f: f.drop(columns="q3"), "without ['q3']"),
         (lambda f: f.assign(q4=0.0), "also ['q4']"),
         (lambda f: f.drop(columns="qd2"), "all of qd1..qd3 or none"),
-        (lambda f: f.assign(q2=f["q2"].where(f.index != 5)), "nan at row 5, column q2"),
+        (lambda f: f.assign(q2=f["q2"].where(f.index != 5)), "empty cell at row 5 (line 7), column q2"),
         (lambda f: f.assign(t=f["t"].where(f.index != 7, 0.1)), "at row 7"),
         (lambda f: f.assign(t=f["t"].where(f.index != 9, f["t"][8])), "at row 9"),
-        (lambda f: f.assign(q1="x"), "real numbers in column q1"),
+        (lambda f: f.assign(q1="x"), "a decimal number in every cell of column q1"),
         (lambda f: f.iloc[:0], "1 to 10,000,000 samples"),
     ],
 )
