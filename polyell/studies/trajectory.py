@@ -171,6 +171,13 @@ def _seconds(source: str, values: NDArray[Any], origin: Any) -> NDArray[np.float
 
     ``origin`` is the first timestamp of the file (for ``datetime64`` values).
     """
+    if values.dtype.kind in "mM" and np.datetime_data(values.dtype)[0] == "generic":
+        raise _bad(
+            source,
+            "time t as seconds, or a duration or timestamp with a unit (s, ms, us, ns...)",
+            f"dtype {values.dtype} (no unit)",
+            "store t as float seconds, or give the unit: np.array(t, 'timedelta64[ms]').",
+        )
     try:
         if values.dtype.kind == "m":
             return values / np.timedelta64(1, "s")  # NaT -> NaN (refused with its row)
