@@ -33,9 +33,13 @@ A :class:`Trajectory` is a configuration set: :func:`polyell.sweep` takes it lik
 from __future__ import annotations
 
 import re
+import struct
+import warnings
 import zipfile
+import zlib
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from tokenize import TokenError
 from typing import IO, Any
 
 import numpy as np
@@ -433,13 +437,24 @@ def _unreadable(source: str, what: str, exn: BaseException) -> InputError:
 def _npy_header(handle: IO[bytes], source: str, label: str) -> tuple[tuple[int, ...], bool, Any]:
     """Shape, Fortran order and dtype from a .npy header (nothing else is read)."""
     fmt = np.lib.format
-    version = fmt.read_magic(handle)
-    if version == (1, 0):
-        shape, fortran, dtype = fmt.read_array_header_1_0(handle)
-    elif version == (2, 0):
-        shape, fortran, dtype = fmt.read_array_header_2_0(handle)
-    else:
-        raise _bad(source, f"{label}: a .npy array of format version 1 or 2", f"version {version}")
+    try:
+        with warnings.catch_warnings():
+            # numpy warns when it falls back to parsing a header written by Python 2
+            warnings.simplefilter("ignore", UserWarning)
+            version = fmt.read_magic(handle)
+            if version == (1, 0):
+                shape, fortran, dtype = fmt.read_array_header_1_0(handle)
+            elif version == (2, 0):
+                shape, fortran, dtype = fmt.read_array_header_2_0(handle)
+            else:
+                raise _bad(
+                    source, f"{label}: a .npy array of format version 1 or 2", f"version {version}"
+                )
+    except (ValueError, TypeError, KeyError, SyntaxError, TokenError, RecursionError) as exn:
+        if isinstance(exn, InputError):
+            raise
+        # numpy parses the header's text as a Python literal: a damaged one fails anywhere
+        raise _unreadable(source, f"a .npy array ({label})", exn) from None
     if dtype.hasobject or dtype.names is not None or dtype.subdtype is not None:
         raise _bad(
             source,
@@ -567,7 +582,17 @@ def _read_npz(file: Path, source: str, n: int) -> Trajectory:
                         shape,
                         time=name == "t",
                     )
-    except (zipfile.BadZipFile, zipfile.LargeZipFile, OSError, ValueError, EOFError) as exn:
+    except (
+        zipfile.BadZipFile,  # also a CRC that does not match
+        zipfile.LargeZipFile,
+        zlib.error,  # a damaged deflate stream
+        struct.error,
+        NotImplementedError,  # a compression method zipfile lacks
+        RuntimeError,  # an encrypted member
+        OSError,
+        ValueError,
+        EOFError,
+    ) as exn:
         if isinstance(exn, InputError):
             raise
         raise _unreadable(source, "a .npz archive of .npy arrays", exn) from None
