@@ -105,8 +105,13 @@ def test_study_memory_does_not_grow_with_the_samples(runs):
     # else is per part (5,000 rows) or per decimated curve.  The old runner held every
     # column of every row and the whole CSV text: over 1 kB a sample.
     per_sample = 8 * 8
+    # The peak resident size also moves, independently of the samples, by what glibc keeps
+    # of freed blocks in its heap: blocks below its dynamic mmap threshold, at most 32 MiB
+    # on 64-bit systems (DEFAULT_MMAP_THRESHOLD_MAX).  The old runner: ~90 MiB more here.
+    slack = 32 * 2**20
     growth = (large["growth_kib"] - small["growth_kib"]) * 1024
-    assert growth <= (LARGE - SMALL) * per_sample, growth / (LARGE - SMALL)
+    details = {k: v for k, v in large.items() if k != "page"}
+    assert growth <= (LARGE - SMALL) * per_sample + slack, (growth, details)
 
 
 def test_report_size_does_not_grow_with_the_samples(runs):
