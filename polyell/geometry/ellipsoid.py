@@ -211,11 +211,12 @@ class Ellipsoid(ConvexSet):
         """Whitened radius ``|diag(s)^-1 U^T (x - c)| <= 1 + ATOL_RELATIVE + floor``.
 
         The set grown by ``1 + ATOL_RELATIVE`` about its centre (relative along every axis,
-        as :func:`~polyell.geometry.limits.facet_slack` grows a polytope); the floor bounds the rounding error of the whitened radius.  The point and the centre
-        carry errors of ``eps |x|`` and ``eps |c|``; ``x - c`` adds ``eps |x - c|``, the
-        product with ``U`` (m terms) ``m eps |x - c|`` (first-order ``gamma_m``, Higham,
-        section 3.1), so each whitened coordinate errs by at most ``(m + 1) eps (|x| + |c|) /
-        s_min`` plus ``eps |u_i|`` for the division, and the norm of r terms adds ``(r + 1) eps``
+        as :func:`~polyell.geometry.limits.facet_slack` grows a polytope), plus a floor that
+        bounds the rounding error of the radius.  The point and the centre carry errors of
+        ``eps |x|`` and ``eps |c|``; ``x - c`` adds ``eps |x - c|``, the product with ``U``
+        (m terms) ``m eps |x - c|`` (first-order ``gamma_m``, Higham, section 3.1), so each
+        whitened coordinate errs by at most ``(m + 1) eps (|x| + |c|) / s_min`` plus
+        ``eps |u_i|`` for the division, and the norm of r terms adds ``(r + 1) eps``
         relative.  Near the boundary (radius 1, and ``|x - c| / s_min >= 1``) all of it is
         below ``(m + r + 3) eps (|x| + |c|) / s_min``.  It is scale-free (units cancel) and,
         for a set near the origin, about ``eps`` whatever its condition number: a point
