@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -205,3 +207,23 @@ def test_sweep_rows_are_invariant_under_both_units(seed, torque, task):
         both_nan = np.isnan(x) & np.isnan(y)
         close = np.isclose(x, y, rtol=1e-9, atol=1e-9 if "direction" in name else 0.0)
         assert np.all(both_nan | close), (name, x, y)
+
+
+@pytest.mark.parametrize(
+    ("j", "b", "g", "tau"), [(1e300, 1.0, 1.0, 1e150), (1e300, 1.0, 1e300, 1e150)]
+)
+def test_a_sweep_whose_accelerations_overflow_is_refused_without_a_warning(j, b, g, tau):
+    """A sweep whose M = J B^-1 L overflows: refused naming the dynamics, with no warning.
+
+    The magnitude check refuses the inf that comes out; no RuntimeWarning is emitted on
+    the way (warnings are errors here).
+    """
+    rng = np.random.default_rng(0)
+    K, m, n = 3, 2, 3
+    dyn = pe.Dynamics(
+        rng.normal(size=(K, m, n)) * j, np.array([np.eye(n) * b] * K), rng.normal(size=(K, n)) * g
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(pe.InputError, match="dyn: expected accelerations of size"):
+            pe.sweep(dyn, tau_max=np.full(n, tau), directions=8)

@@ -11,7 +11,11 @@ from scipy.special import gammaln
 
 from polyell.errors import InputError
 from polyell.geometry.convex_set import ConvexSet
-from polyell.geometry.limits import DirectionalLimits, line_interval_in_ellipsoids
+from polyell.geometry.limits import (
+    ATOL_RELATIVE,
+    DirectionalLimits,
+    line_interval_in_ellipsoids,
+)
 from polyell.geometry.subspace import AffineSubspace
 from polyell.validation import (
     MAX_DIRECTIONS,
@@ -204,10 +208,31 @@ class Ellipsoid(ConvexSet):
         return float(self.semi_axes.sum())
 
     def _inside_hull(self, x: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Whitened radius ``|diag(s)^-1 U^T (x - c)| <= 1 + ATOL_RELATIVE + floor``.
+
+        The set grown by ``1 + ATOL_RELATIVE`` about its centre (relative along every axis,
+        as :func:`~polyell.geometry.limits.facet_slack` grows a polytope), plus a floor that
+        bounds the rounding error of the radius.  The point and the centre carry errors of
+        ``eps |x|`` and ``eps |c|``; ``x - c`` adds ``eps |x - c|``, the product with ``U``
+        (m terms) ``m eps |x - c|`` (first-order ``gamma_m``, Higham, section 3.1), so each
+        whitened coordinate errs by at most ``(m + 1) eps (|x| + |c|) / s_min`` plus
+        ``eps |u_i|`` for the division, and the norm of r terms adds ``(r + 1) eps``
+        relative.  Near the boundary (radius 1, and ``|x - c| / s_min >= 1``) all of it is
+        below ``(m + r + 3) eps (|x| + |c|) / s_min``.  It is scale-free (units cancel) and,
+        for a set near the origin, about ``eps`` whatever its condition number: a point
+        ``1 + 1e-6`` times the thinnest semi-axis from the centre is outside even at
+        ``s_max / s_min = 1e9`` (an absolute slack ``atol / s_min`` would grow that axis by
+        ``1e-9 * s_max / s_min``).
+        """
         u = ((x - self.center) @ self.axes) / self.semi_axes
         radius = np.linalg.norm(u, axis=-1)
-        slack = self.atol / self.semi_axes[-1] if self.rank else 0.0
-        return radius <= 1.0 + slack
+        if not self.rank:
+            return radius <= 1.0
+        m, r = self.ambient_dim, self.rank
+        size = np.linalg.norm(x, axis=-1) + np.linalg.norm(self.center)
+        floor = (m + r + 3) * np.finfo(float).eps * size / self.semi_axes[-1]
+        inside: NDArray[np.bool_] = radius <= 1.0 + ATOL_RELATIVE + floor
+        return inside
 
     def limits(self, directions: ArrayLike) -> DirectionalLimits:
         """Achievable accelerations along unit directions, eq. (23)-(24).

@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 
 from polyell.comparison.candidates import Candidate
 from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES
-from polyell.comparison.metrics import INSIDE_RTOL
+from polyell.comparison.metrics import INSIDE_RTOL, scale_rtol
 from polyell.geometry.ellipsoid import unit_ball_volume
 from polyell.geometry.limits import facet_slack, line_interval_in_ellipsoids
 from polyell.geometry.subspace import RANK_RTOL
@@ -260,12 +260,15 @@ def _block_rows(
 ) -> tuple[dict[str, Array], NDArray[np.bool_]]:
     """:func:`batch_rows` for one block of configurations, on validated arrays."""
     K, m, n = J.shape
-    center_torque = 0.5 * (tau_max + tau_min)
-    half = 0.5 * (tau_max - tau_min)
-    bias = g - center_torque
-    Binv_Jt = np.linalg.solve(B, np.swapaxes(J, -1, -2))  # (K, n, m); B is symmetric
-    M = np.swapaxes(Binv_Jt, -1, -2) * half
-    xg = xdd_bias - np.einsum("knm,kn->km", Binv_Jt, bias)
+    # Inputs near 1e308 may overflow here; check_magnitudes refuses the inf and NaN that
+    # come out (naming the argument), so no RuntimeWarning is emitted before it does.
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore", under="ignore"):
+        center_torque = 0.5 * (tau_max + tau_min)  # as in Analysis
+        half = 0.5 * (tau_max - tau_min)
+        bias = g - center_torque
+        Binv_Jt = np.linalg.solve(B, np.swapaxes(J, -1, -2))  # (K, n, m); B is symmetric
+        M = np.swapaxes(Binv_Jt, -1, -2) * half
+        xg = xdd_bias - np.einsum("knm,kn->km", Binv_Jt, bias)
     check_magnitudes(M, xg)
     U, s, Vt = np.linalg.svd(M, full_matrices=False)
     columns = {name: np.full(K, np.nan) for name in score_columns(options.candidates)}
@@ -288,14 +291,15 @@ def _block_rows(
     if not ok.any():
         return columns, scalar
     J, B, M, xg, U, s, Vt = J[ok], B[ok], M[ok], xg[ok], U[ok], s[ok], Vt[ok]
-    bias_ok, xdd_bias = bias[ok], xdd_bias[ok]
+    bias_ok = bias[ok]
     normals, h = block.normals[ok], block.offsets[ok]
     V1t = Vt[:, :m, :]
     vertices = None if signs is None else signs[ok] @ np.swapaxes(M, 1, 2)  # about xg
 
     volume_p = _zonotope_volume(s, V1t)
     # Polytope.contains and .limits: the slack of facet_slack, reach |x| + |xg| + size.
-    reach = np.linalg.norm(xg, axis=-1) + np.linalg.norm(M, axis=1).sum(axis=-1)
+    size_p = np.linalg.norm(M, axis=1).sum(axis=-1)  # sum of the generator lengths
+    reach = np.linalg.norm(xg, axis=-1) + size_p
     terms = m + n + 2
     hi_p, feasible_p = _polytope_limits(
         normals, h, xg, directions, facet_slack(h, 2.0 * reach[:, None], terms)
@@ -304,7 +308,7 @@ def _block_rows(
     # Every scored set as (axes, semi-axes, witness, centre or None for xg).
     ellipsoids: dict[str, tuple[Array, Array, Array, Array | None]] = {
         "chiacchio": (U, s, np.max(np.linalg.norm(Vt, axis=1), axis=-1), None),
-        "yoshikawa": _classic(J, B, half, xg, bias_ok, xdd_bias),
+        "yoshikawa": _classic(J, B, half, bias_ok),
     }
     parallelotope = n == m
     if options.mvie:
@@ -353,8 +357,14 @@ def _block_rows(
                 np.linalg.norm((local @ axes) / semi[:, None, :], axis=-1), axis=(0, 2)
             )
         volume = unit_ball * np.prod(semi, axis=-1)
-        inside = scale >= 1.0 - INSIDE_RTOL
-        around = ~inside & (enclosing <= 1.0 + INSIDE_RTOL)
+        # metrics.inside_rtol, per row: extent max(|xg|, |c|, sum of generator lengths).
+        extent = np.maximum(
+            np.maximum(np.linalg.norm(xg, axis=-1), np.linalg.norm(xg + shift, axis=-1)),
+            size_p,
+        )
+        rtol = np.maximum(INSIDE_RTOL, scale_rtol(extent, np.min(semi, axis=-1), m, n))
+        inside = scale >= 1.0 - rtol
+        around = ~inside & (enclosing <= 1.0 + rtol)
         exact &= inside | around | ~defined
         lo_e, hi_e = line_interval_in_ellipsoids(xg + shift, axes, semi, directions)
         stats = _direction_statistics(hi_e, ~np.isnan(lo_e), hi_p, feasible_p)
@@ -388,20 +398,24 @@ def _block_rows(
     return columns, scalar
 
 
-def _classic(
-    J: Array, B: Array, half: Array, xg: Array, bias: Array, xdd_bias: Array
-) -> tuple[Array, Array, Array, None]:
+def _classic(J: Array, B: Array, half: Array, bias: Array) -> tuple[Array, Array, Array, None]:
     """The classic ellipsoid from F = L^-1 B J^+ (its core is F^T F), as in Analysis.
 
-    Its witness maps the boundary by eq. 26, ``tau_n = L^-1 (B J^+ (x - Jdot qdot) + g -
-    tau_c)``.
+    Its witness maps the boundary by eq. 26 written about the centre ``xg`` as
+    :func:`polyell.inverse.classic_maps` does: ``tau_n = F (x - xg) + L^-1 B V_2 V_2^T f``
+    with ``f = B^-1 (g - tau_c)`` and ``V_2`` a basis of ``Ker J``.  The value at the centre
+    is computed directly, not as ``F xg + offset``, which cancels when the torques are weak
+    against gravity (the motion bias ``Jdot qdot`` only enters through ``xg``).
     """
-    U_j, s_j, Vt_j = np.linalg.svd(J, full_matrices=False)  # J^+ as in jacobian_pseudoinverse
-    J_pinv = (np.swapaxes(Vt_j, -1, -2) / s_j[:, None, :]) @ np.swapaxes(U_j, -1, -2)
+    m = J.shape[1]
+    U_j, s_j, Vt_j = np.linalg.svd(J, full_matrices=True)  # J^+ as in classic_maps
+    J_pinv = (np.swapaxes(Vt_j[:, :m], -1, -2) / s_j[:, None, :]) @ np.swapaxes(U_j, -1, -2)
     F = (B @ J_pinv) / half[:, None]
     _, s_f, Vt_f = np.linalg.svd(F, full_matrices=False)
     axes, semi = np.swapaxes(Vt_f, -1, -2)[:, :, ::-1], (1.0 / s_f)[:, ::-1]
-    offset = bias / half - np.einsum("knm,km->kn", F, xdd_bias)
-    at_center = np.einsum("knm,km->kn", F, xg) + offset
+    free_fall = np.linalg.solve(B, bias[..., None])[..., 0]
+    null = Vt_j[:, m:]  # (K, n - m, n): V_2^T
+    null_part = np.einsum("kjn,kj->kn", null, np.einsum("kjn,kn->kj", null, free_fall))
+    at_center = np.einsum("kij,kj->ki", B, null_part) / half
     spread = np.linalg.norm(F @ (axes * semi[:, None, :]), axis=-1)
     return axes, semi, np.max(np.abs(at_center) + spread, axis=-1), None

@@ -119,3 +119,41 @@ def test_bad_ellipsoids(kwargs, fragment):
 
 def test_rtol_lp_constant_is_what_the_polytope_tests_use():
     assert RTOL_LP == 1e-8
+
+
+@given(
+    ratio_exponent=st.integers(3, 9),
+    scale_exponent=st.integers(-16, 16),
+    m=st.integers(2, 4),
+    seed=st.integers(0, 2**16),
+)
+def test_membership_of_thin_ellipsoids_is_relative_and_scale_free(
+    ratio_exponent, scale_exponent, m, seed
+):
+    """Semi-axes (1, ..., 10^-ratio): points at (1 +- 1e-6) x the thin semi-axis.
+
+    The tolerance of contains is 1 + ATOL_RELATIVE (1e-9) plus a rounding floor of
+    (m + r + 3) eps (|x| + |c|) / s_min; with the centre within 3 s_min of the origin the
+    floor is below 14 * 2.2e-16 * 5 < 2e-14, so 1e-6 is decided on either side at every
+    condition number and, scaled by 10^k (which rounds the data by eps relative only), at
+    every scale.
+    """
+    rng = np.random.default_rng(seed)
+    axes = np.linalg.qr(rng.normal(size=(m, m)))[0]
+    semi = np.concatenate([rng.uniform(0.5, 2.0, m - 1), [10.0**-ratio_exponent]])
+    thin = axes[:, -1] * semi[-1]
+    center = axes @ rng.uniform(-1.0, 1.0, m) * semi[-1]  # near the origin against s_min
+    factor = 10.0**scale_exponent
+    E = pe.Ellipsoid(center * factor, axes, semi * factor)
+    points = center + np.outer([1.0 + 1e-6, 1.0 - 1e-6, -(1.0 + 1e-6), -(1.0 - 1e-6)], thin)
+    np.testing.assert_array_equal(E.contains(points * factor), [False, True, False, True])
+    # along a long axis too: 1 +- 1e-6 of it
+    long = center + np.outer([1.0 + 1e-6, 1.0 - 1e-6], axes[:, 0] * semi[0])
+    np.testing.assert_array_equal(E.contains(long * factor), [False, True])
+
+
+def test_a_thin_ellipsoid_refuses_a_point_at_twice_its_thin_semi_axis():
+    """The old slack atol / s_min (~1e-9 s_max / s_min = 1 here) accepted 1.9 s_min."""
+    E = pe.Ellipsoid([0.0, 0.0], np.eye(2), [1.0, 1e-9])
+    assert not E.contains([0.0, 1.9e-9])
+    assert E.contains([0.0, 1e-9])

@@ -14,6 +14,7 @@ import pandas as pd
 import pytest
 
 import polyell as pe
+from polyell.studies.batch import batch_rows
 from reference import random_spd
 
 ARM = pe.robots.load("chiacchio2000")
@@ -300,3 +301,81 @@ def test_sweep_and_analyze_decide_the_same_rank_at_the_threshold(rank_rtol):
     ranks = [pe.analyze(dyn[k], np.ones(n), rank_rtol=rank_rtol).rank for k in range(K)]
     assert frame["polytope_dim"].tolist() == ranks
     assert ranks[:3] == [1] * 3 and ranks[-3:] == [2] * 3  # well inside either side
+
+
+def thin_arm_batch(m: int, n: int, conds: np.ndarray, seed: int) -> pe.Dynamics:
+    """Arms whose M = J B^-1 (unit limits) has singular values 1 .. 1/cond, geometric."""
+    rng = np.random.default_rng(seed)
+    K = len(conds)
+    J, B = np.empty((K, m, n)), np.empty((K, n, n))
+    for k, cond in enumerate(conds):
+        U = np.linalg.qr(rng.normal(size=(m, m)))[0]
+        V = np.linalg.qr(rng.normal(size=(n, n)))[0][:, :m]
+        B[k] = random_spd(rng, n, 10.0)
+        J[k] = ((U * np.geomspace(1.0, 1.0 / cond, m)) @ V.T) @ B[k]
+    return pe.Dynamics(J, B, 0.1 * rng.normal(size=(K, n)))
+
+
+@pytest.mark.parametrize(("m", "n"), [(2, 2), (3, 3), (2, 4), (3, 6)])
+def test_sweep_rows_equal_compare_on_thin_arms(m, n):
+    """Condition numbers 1e6 .. 1e9 of M, far above RANK_RTOL: every row is compare's.
+
+    Both paths compute the same quantities of a thin set by different (backward-stable)
+    routes, so they differ by at most about ``C eps cond`` with ``C = 10 m n`` (the bound of
+    tests/geometry/test_thin_zonotopes.py), relative to ``max(1, |value|)`` (direction
+    errors and coverages are fractions).  Square arms touch: both ellipsoids have an
+    inscribed scale of exactly 1, within the rounding bound metrics.scale_rtol (up to
+    2e-5 at cond 1e9, far above INSIDE_RTOL = 1e-9), so the batch keeps them (no
+    fallback to the scalar path) with coverage exact, as compare does.
+    """
+    conds = np.geomspace(1e6, 1e9, 7)
+    dyn = thin_arm_batch(m, n, conds, seed=5)
+    rng = np.random.default_rng(6)
+    T = rng.normal(size=(16, m))
+    T /= np.linalg.norm(T, axis=1, keepdims=True)
+    tau_max = np.ones(n)
+    frame = pe.sweep(dyn, tau_max=tau_max, directions=T)
+    for k, cond in enumerate(conds):
+        expected = pe.compare(pe.analyze(dyn[k], tau_max), T).to_row()
+        tol = 10 * m * n * np.finfo(float).eps * cond
+        for name in frame.columns.intersection(list(expected)):
+            np.testing.assert_allclose(
+                frame.loc[k, name], expected[name], rtol=tol, atol=tol, err_msg=f"{name} at {k}"
+            )
+    if m == n:
+        _, scalar = batch_rows(dyn, tau_max, -tau_max, T)
+        assert not scalar.any()
+        for kind in ("chiacchio", "yoshikawa"):
+            assert (frame[f"{kind}_coverage_stderr"] == 0.0).all()
+            assert (frame[f"{kind}_overreach"] == 0.0).all()
+
+
+@pytest.mark.parametrize("n", [3, 7])
+def test_classic_witness_keeps_its_digits_when_torques_are_weak_against_gravity(n):
+    """Gravity torques 1e7 times the limits: xg is 1e7 times the polytope's size.
+
+    The classic witness at the centre is the null-space part of the free fall, 0 for a
+    non-redundant arm (n = 3); written as ``F xg + offset`` it would carry an error of about
+    ``n eps |F xg|`` ~ 1e7 n eps ~ 1e-8 of the witness (size 1), 10 times the 1e-9 of
+    assert_rows_equal_compare; about xg both paths agree to a few eps times the
+    conditioning of J, B (condition numbers below 1e2 here).
+    """
+    rng = np.random.default_rng(8)
+    K, m = 12, 3
+    J = rng.normal(size=(K, m, n))
+    B = np.array([random_spd(rng, n, 10.0) for _ in range(K)])
+    g = 1e7 * rng.normal(size=(K, n))
+    dyn = pe.Dynamics(J, B, g)
+    tau_max = np.ones(n)
+    frame = pe.sweep(dyn, tau_max=tau_max, directions=16)
+    assert (frame["polytope_dim"] == m).all()
+    assert_rows_equal_compare(frame, lambda k: dyn[k], tau_max, -tau_max, 16)
+    if n == m:  # E = xg + F^-1 (unit ball): every row of F U diag(s) has norm 1, the witness 1
+        np.testing.assert_allclose(frame["yoshikawa_witness_torque_max"], 1.0, rtol=1e-9)
+
+
+@pytest.mark.parametrize("rank_rtol", ["1e-10", None, -1e-10, 1.0, 1.5, np.nan, np.inf, True])
+def test_sweep_refuses_a_bad_rank_rtol(rank_rtol):
+    """A relative tolerance in [0, 1), as analyze and limits_along take it (check_fraction)."""
+    with pytest.raises(pe.InputError, match="rank_rtol"):
+        pe.sweep(ARM, np.zeros((2, 3)), rank_rtol=rank_rtol)
