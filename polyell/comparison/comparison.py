@@ -36,6 +36,13 @@ if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
 
 __all__ = ["COMPARED_KINDS", "SCORE_NAMES", "Comparison", "Scores", "compare"]
 
+#: Quasi-Monte-Carlo points per replicate: at least 2 (a mean and a spread), at most 2^22
+#: (the replicate's points, (samples, r + 1) floats, then take at most 230 MB in 6-D).
+MIN_SAMPLES, MAX_SAMPLES = 2, 2**22
+#: Largest seed (numpy's generators take any non-negative integer; 2^63 - 1 fits every
+#: file format a study writes).
+MAX_SEED = 2**63 - 1
+
 #: The ellipsoids every comparison scores: both definitions, the maximum-volume inscribed
 #: one and the minimum-volume enclosing (outer) one; user-defined candidates follow them.
 COMPARED_KINDS = BUILT_IN_KINDS
