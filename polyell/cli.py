@@ -170,8 +170,8 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _robot(name: str, tau_max: list[float] | None, tau_min: list[float] | None) -> Robot:
-    if name.endswith(".toml"):
-        robot = load_robot_file(name)
+    if name.endswith(".toml") or os.sep in name or (os.altsep or os.sep) in name:
+        robot = load_robot_file(name)  # a path: library names have no separator
     else:
         model = robots.load(name)
         if model.tau_max is None or model.tau_min is None:
