@@ -223,7 +223,16 @@ def _direction(args: argparse.Namespace, m: int) -> tuple[NDArray[np.float64], s
     if norm == 0 or abs(norm - 1.0) <= 1e-12:
         return check_directions("--direction", direction, m), "t", []  # or an InputError
     unit = direction / norm
-    return unit, "t", [f"--direction normalised to {np.round(unit, 6).tolist()}"]
+    return unit, "t", [f"--direction normalised to {_rounded(unit, 6)}"]
+
+
+def _rounded(values: NDArray[np.float64], digits: int) -> list[float]:
+    """Values rounded to ``digits`` decimals for display, without numpy's overflow.
+
+    ``np.round(1e308, 6)`` multiplies by 1e6 first and gives inf; Python's ``round`` is
+    correctly rounded for every float.
+    """
+    return [round(float(value), digits) for value in values]
 
 
 def _analyze(args: argparse.Namespace) -> list[str]:
@@ -248,7 +257,7 @@ def _analyze(args: argparse.Namespace) -> list[str]:
     else:
         text = "\n".join(
             [
-                f"{args.robot} at q = {np.round(q, 6).tolist()} rad",
+                f"{args.robot} at q = {_rounded(q, 6)} rad",
                 format_analysis(analysis, direction, label, args.inverse_at),
                 "\nScores against the polytope (pe.compare):\n",
                 comparison.to_markdown(),

@@ -13,6 +13,7 @@ those of the files it owns (:func:`remove_stale_temporaries`).
 from __future__ import annotations
 
 import contextlib
+import errno
 import json
 import os
 import re
@@ -41,6 +42,8 @@ _PART = re.compile(r"part-(\d{6})\.parquet")
 DATASET_FILES = re.compile(r"part-\d{6}\.parquet|_sweep\.json")
 #: The temporary name :func:`write_atomically` gives ``<name>`` (``tempfile.mkstemp``'s
 #: random part is 8 characters among lower-case letters, digits and ``_``).
+#: The longest file name of common file systems (ext4, XFS, APFS, NTFS) [bytes].
+_NAME_MAX = 255
 _TEMPORARY = re.compile(r"\.(?P<name>.+)\.[a-z0-9_]{8}\.tmp")
 
 
@@ -61,21 +64,41 @@ def write_atomically(path: Path, write: Callable[[str], Any]) -> Path:
         If the file cannot be written (a full disk, a file size limit, permissions); no
         partial file is left behind.
     """
-    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    name = path.name
+    while len(os.fsencode(f".{name}.XXXXXXXX.tmp")) > _NAME_MAX and len(name) > 1:
+        name = name[:-1]  # a name near the limit: the temporary name gets a shorter prefix
+    try:
+        handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{name}.", suffix=".tmp")
+    except OSError as exn:  # no such folder, a name too long, no permission, a full disk
+        raise StorageError(f"Could not write {path}: {_reason(exn, path)}") from exn
     os.close(handle)
     try:
         write(temporary)
         os.chmod(temporary, 0o666 & ~_umask())
         os.replace(temporary, path)
     except OSError as exn:
-        raise StorageError(
-            f"Could not write {path}: {exn.strerror or exn}. Fix: free disk space (or raise "
-            "the limit) and run again; finished parts are kept and a sweep resumes."
-        ) from exn
+        raise StorageError(f"Could not write {path}: {_reason(exn, path)}") from exn
     finally:
         if os.path.exists(temporary):
             os.unlink(temporary)
     return path
+
+
+def _reason(exn: OSError, path: Path) -> str:
+    """Why ``path`` could not be created, and the fix."""
+    reason = exn.strerror or str(exn)
+    if exn.errno == errno.ENOENT:
+        return f"{reason} (the folder {path.parent} does not exist). Fix: create it first."
+    if exn.errno == errno.ENAMETOOLONG:
+        return f"{reason}. Fix: give a shorter file name (at most {_NAME_MAX} bytes)."
+    if exn.errno == errno.ENOTDIR:
+        return f"{reason} ({path.parent} is not a folder). Fix: write into a folder."
+    if exn.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
+        return f"{reason}. Fix: write into a folder you may write to."
+    return (
+        f"{reason}. Fix: free disk space (or raise the limit) and run again; finished parts "
+        "are kept and a sweep resumes."
+    )
 
 
 def _umask() -> int:

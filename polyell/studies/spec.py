@@ -73,7 +73,13 @@ from polyell.models.urdf import Payload, UrdfRobot
 from polyell.studies.configurations import uniform_rows
 from polyell.studies.file_format import keys
 from polyell.studies.trajectory import Trajectory, load_trajectory
-from polyell.validation import MAX_DIRECTIONS, check_array, check_integer, check_torque_limits
+from polyell.validation import (
+    MAX_DIRECTIONS,
+    _describe,
+    check_array,
+    check_integer,
+    check_torque_limits,
+)
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -107,7 +113,7 @@ _FORMATS = ("pdf", "png", "svg", "html")
 
 def _check_keys(where: str, table: object, valid: tuple[str, ...]) -> dict[str, Any]:
     if not isinstance(table, dict):
-        raise InputError(where, f"a table with keys among {list(valid)}", repr(table))
+        raise InputError(where, f"a table with keys among {list(valid)}", _describe(table))
     unknown = sorted(set(table) - set(valid))
     if unknown:
         raise InputError(
@@ -128,19 +134,19 @@ MAX_STUDY_CONFIGURATIONS = 10_000_000
 
 def _string(where: str, value: object) -> str:
     if not isinstance(value, str):
-        raise InputError(where, "a string", f"{type(value).__name__} {value!r}")
+        raise InputError(where, "a string", _describe(value))
     return value
 
 
 def _strings(where: str, value: object) -> tuple[str, ...]:
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        raise InputError(where, "a list of strings", f"{type(value).__name__} {value!r}")
+        raise InputError(where, "a list of strings", _describe(value))
     return tuple(value)
 
 
 def _boolean(where: str, value: object) -> bool:
     if not isinstance(value, bool):
-        raise InputError(where, "true or false", f"{type(value).__name__} {value!r}")
+        raise InputError(where, "true or false", _describe(value))
     return value
 
 
@@ -159,7 +165,7 @@ def _file_name(where: str, value: object) -> str:
 
 def _list(where: str, value: object) -> list[Any]:
     if not isinstance(value, list):
-        raise InputError(where, "a list", f"{type(value).__name__} {value!r}")
+        raise InputError(where, "a list", _describe(value))
     return value
 
 
@@ -411,7 +417,7 @@ def _point(table: object, index: int, n: int) -> Point:
         )
     inverse_at = table.get("inverse_at", "hi")
     if inverse_at not in ("lo", "hi"):
-        raise InputError(f"{where}.inverse_at", "'lo' or 'hi'", repr(inverse_at))
+        raise InputError(f"{where}.inverse_at", "'lo' or 'hi'", _describe(inverse_at))
     end: Literal["lo", "hi"] = "lo" if inverse_at == "lo" else "hi"
     name = _file_name(f"{where}.name", table["name"])
     return Point(name, q, direction, end, _string(f"{where}.title", table.get("title", "")))
@@ -430,7 +436,7 @@ def _grid(table: object, n: int) -> tuple[GridAxis, ...]:
         if isinstance(value, dict):
             spec = _check_keys(f"grid.{name}", value, _RANGE_KEYS)
             if set(spec) != set(_RANGE_KEYS):
-                raise InputError(f"grid.{name}", "{ start, stop, num }", repr(value))
+                raise InputError(f"grid.{name}", "{ start, stop, num }", _describe(value))
             num = check_integer(f"grid.{name}.num", spec["num"], 1, MAX_STUDY_CONFIGURATIONS)
             values = np.linspace(
                 evaluate(f"grid.{name}.start", spec["start"]),
@@ -544,7 +550,7 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
     output = _check_keys("output", data.get("output", {}), _OUTPUT_KEYS)
     formats = _strings("output.formats", output.get("formats", ["pdf", "png"]))
     if not formats or any(f not in _FORMATS for f in formats):
-        raise InputError("output.formats", f"a list among {list(_FORMATS)}", repr(formats))
+        raise InputError("output.formats", f"a list among {list(_FORMATS)}", _describe(formats))
     candidates = check_candidates(
         tuple(
             _candidate(t, i) for i, t in enumerate(_list("candidates", data.get("candidates", [])))
@@ -569,7 +575,7 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
     for name in histograms:
         if name not in SCORE_NAMES:
             raise InputError(
-                "output.histograms", f"score names among {list(SCORE_NAMES)}", repr(name)
+                "output.histograms", f"score names among {list(SCORE_NAMES)}", _describe(name)
             )
     if histograms and "points" in data:
         raise InputError("output.histograms", "a grid or random study", "a study of points")
@@ -577,7 +583,9 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
     series = _strings("output.series", output.get("series", default_series))
     for name in series:
         if name not in SCORE_NAMES:
-            raise InputError("output.series", f"score names among {list(SCORE_NAMES)}", repr(name))
+            raise InputError(
+                "output.series", f"score names among {list(SCORE_NAMES)}", _describe(name)
+            )
     if series and trajectory is None:
         raise InputError("output.series", "a [trajectory] study", "another kind of study")
     return StudySpec(
