@@ -197,14 +197,18 @@ def test_random_arguments_keep_the_contract(tmp_path, capsys):
 
 
 def shrink(study: dict[str, Any]) -> dict[str, Any]:
-    """The study made small: 2 configurations or so, 8 directions, small SVG figures."""
+    """The study made small: 1 or 2 configurations, 8 directions, small SVG figures, no
+    log-det programs at single points."""
     for axis in study.get("grid", {}).values():
         if isinstance(axis, dict):
             axis["num"] = 2
     if "random" in study:
         study["random"]["count"] = 2
-    study.setdefault("compare", {})["directions"] = 8
-    study["compare"]["samples"] = 64
+    compare = study.setdefault("compare", {})
+    compare["directions"], compare["samples"] = 8, 64
+    if "points" in study:  # log-det programs and figures per point: its slow part
+        compare["mvie"] = compare["outer"] = False
+        study["points"] = study["points"][:1]
     output = study.setdefault("output", {})
     output["formats"], output["dpi"] = ["svg"], 10
     for key, keep in (("maps", 2), ("histograms", 1), ("series", 2)):
@@ -254,6 +258,9 @@ VALUES: list[Any] = [
     "\u03c0",
     "\u202e\U0001f600",
     "../../etc/passwd",
+    "$x^$",  # mathtext that does not parse
+    "50% & _# \\input{x}",  # LaTeX's special characters
+    "two\nlines",
     "nan",
     [],
     [1, 2],
@@ -339,7 +346,7 @@ def test_mutated_shipped_studies_keep_the_contract(tmp_path, capsys, study):
     assert outcome(["study", str(path), "--out", str(tmp_path / "base"), "--quiet"], capsys) is None
     rng = np.random.default_rng([21, STUDIES.index(study)])
     failures = []
-    for case, data in enumerate(mutations(rng, base, 24)):
+    for case, data in enumerate(mutations(rng, base, 16)):
         path.write_bytes(data)
         out = tmp_path / f"out{case}"
         problem = outcome(["study", str(path), "--out", str(out), "--quiet"], capsys)
@@ -389,8 +396,6 @@ def test_deep_nesting_anywhere_is_one_line(tmp_path, capsys):
     "argv",
     [
         ["analyze", "--q", "1e308,0,0", "--no-mvie"],
-        ["analyze", "--tau-max", "9" * 400 + ",1,1"],
-        ["analyze", "--direction", "\u03c0,0"],
         ["study", "\udcff.toml", "--out", "o"],  # a file name of undecodable bytes
         ["analyze", "--robot", "/"],
     ],

@@ -134,7 +134,7 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
             )
             written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
     written.append(write_text_atomically(folder / "numbers.md", "\n".join(numbers)))
-    if report:
+    if "html" in spec.formats:
         from polyell.interactive import write_report
 
         written.append(write_report(folder / "report.html", spec.title, report))

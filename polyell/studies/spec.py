@@ -138,6 +138,32 @@ def _string(where: str, value: object) -> str:
     return value
 
 
+def _figure_title(where: str, value: object) -> str:
+    """A title that figures show: its ``$...$`` math must be what matplotlib can typeset.
+
+    Checked when the study loads, so that a typo in a formula is refused with the key
+    that holds it instead of failing when the first figure is drawn.
+    """
+    title = _string(where, value)
+    if "$" not in title:
+        return title
+    from matplotlib import cbook, mathtext
+
+    if not cbook.is_math_text(title):  # an odd count of unescaped '$': shown as typed
+        return title
+    try:
+        mathtext.MathTextParser("path").parse(title)
+    except ValueError as exn:
+        detail = " ".join(str(exn).split())
+        raise InputError(
+            where,
+            "a title whose $...$ math matplotlib's mathtext can typeset",
+            f"{title!r} ({detail[:120]})",
+            "correct the formula, or write \\$ for a dollar sign.",
+        ) from None
+    return title
+
+
 def _strings(where: str, value: object) -> tuple[str, ...]:
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
         raise InputError(where, "a list of strings", _describe(value))
@@ -420,7 +446,7 @@ def _point(table: object, index: int, n: int) -> Point:
         raise InputError(f"{where}.inverse_at", "'lo' or 'hi'", _describe(inverse_at))
     end: Literal["lo", "hi"] = "lo" if inverse_at == "lo" else "hi"
     name = _file_name(f"{where}.name", table["name"])
-    return Point(name, q, direction, end, _string(f"{where}.title", table.get("title", "")))
+    return Point(name, q, direction, end, _figure_title(f"{where}.title", table.get("title", "")))
 
 
 def _grid(table: object, n: int) -> tuple[GridAxis, ...]:
@@ -590,7 +616,7 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
         raise InputError("output.series", "a [trajectory] study", "another kind of study")
     return StudySpec(
         path=Path(path),
-        title=_string("title", data.get("title", Path(path).stem)),
+        title=_figure_title("title", data.get("title", Path(path).stem)),
         description=_string("description", data.get("description", "")),
         robot=robot,
         points=points,

@@ -331,3 +331,15 @@ def test_bad_run_study_arguments(tmp_path, arguments, fragment):
         run_study(**(call | arguments))
     assert fragment in str(info.value)
     assert not (tmp_path / "o").exists()
+
+
+def test_no_report_unless_html_is_asked_for(tmp_path):
+    spec_path = tmp_path / "s.toml"
+    spec_path.write_text(
+        'description = "d"\n[robot]\nlibrary = "chiacchio2000"\n[[points]]\nname = "p"\n'
+        "q = [0.3, 0.5, 0.7]\n[compare]\ndirections = 8\nmvie = false\nouter = false\n"
+        '[output]\nformats = ["svg"]\n'
+    )
+    written = run_study(load_study(spec_path), tmp_path / "o")
+    assert "report.html" not in {path.name for path in written}
+    assert not (tmp_path / "o" / "report.html").exists()

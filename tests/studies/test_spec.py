@@ -1,5 +1,6 @@
 from __future__ import annotations
 
+import re
 import textwrap
 from pathlib import Path
 
@@ -198,3 +199,15 @@ def test_payload_and_robot_tables_of_a_wrong_type(tmp_path):
         with pytest.raises(pe.InputError) as info:
             load_study(write(tmp_path, base.format(extra=extra)))
         assert fragment in str(info.value)
+
+
+@pytest.mark.parametrize("where", ["title", "points[0].title"])
+def test_titles_with_math_matplotlib_cannot_typeset_are_refused_at_load(tmp_path, where):
+    text = POINTS.replace('title = "t"', 'title = "{top}"').replace(
+        '    name = "a"', '    name = "a"\n    title = "{point}"'
+    )
+    good = {"top": "$\\\\alpha$ at 50% & more", "point": "cost \\\\$5"}
+    assert load_study(write(tmp_path, text.format(**good))).title == "$\\alpha$ at 50% & more"
+    bad = good | {"top" if where == "title" else "point": "$x^$"}
+    with pytest.raises(pe.InputError, match=rf"^{re.escape(where)}: expected a title whose"):
+        load_study(write(tmp_path, text.format(**bad)))
