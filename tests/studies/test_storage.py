@@ -354,3 +354,29 @@ def test_only_our_own_stale_temporary_files_are_removed(tmp_path):
     removed = remove_stale_temporaries(tmp_path, DATASET_FILES)
     assert sorted(path.name for path in removed) == sorted(ours)
     assert sorted(path.name for path in tmp_path.iterdir()) == sorted(others)
+
+
+@pytest.mark.parametrize(
+    ("name", "fragment"),
+    [
+        ("missing/table.md", "does not exist). Fix: create it first."),
+        ("file/table.md", "is not a folder). Fix: write into a folder."),
+        ("x" * 256, "File name too long. Fix: give a shorter file name (at most 255 bytes)."),
+    ],
+)
+def test_a_file_that_cannot_be_created_is_a_storage_error_with_its_fix(tmp_path, name, fragment):
+    from polyell.storage import write_text_atomically
+
+    (tmp_path / "file").write_text("")
+    with pytest.raises(pe.StorageError) as info:
+        write_text_atomically(tmp_path / name, "x")
+    assert f"Could not write {tmp_path / name}: " in str(info.value) and fragment in str(info.value)
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["file"]  # nothing left
+
+
+def test_a_name_at_the_limit_is_written_atomically(tmp_path):
+    """255 bytes fit, though '.<name>.XXXXXXXX.tmp' would not: the temporary name is shortened."""
+    from polyell.storage import write_text_atomically
+
+    path = write_text_atomically(tmp_path / ("\u00e9" * 127 + "x"), "text")  # 255 bytes in UTF-8
+    assert path.read_text() == "text" and [p.name for p in tmp_path.iterdir()] == [path.name]
