@@ -12,8 +12,10 @@ elsewhere (``scheduler="tcp://..."``) profit from the same setting.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
+from collections.abc import Iterator
 from typing import Any
 
 from polyell.errors import InputError, MissingDependencyError
@@ -74,6 +76,25 @@ def check_scheduler(scheduler: object) -> str | None:
     return scheduler
 
 
+#: Environment variables that set the thread count of the BLAS and OpenMP libraries.
+_THREAD_VARIABLES = ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS")
+
+
+@contextlib.contextmanager
+def _environment(values: dict[str, str]) -> Iterator[None]:
+    """Set environment variables of this process for a while (the workers start in it)."""
+    saved = {name: os.environ.get(name) for name in values}
+    os.environ.update(values)
+    try:
+        yield
+    finally:
+        for name, value in saved.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
+
+
 def local_cluster(n_workers: int | None = None) -> Any:
     """Start a Dask cluster of worker processes on this machine, on the loopback interface.
 
@@ -103,8 +124,17 @@ def local_cluster(n_workers: int | None = None) -> Any:
     count = (os.cpu_count() or 1) if n_workers is None else n_workers
     if not isinstance(count, int) or isinstance(count, bool) or count < 1:
         raise InputError("n_workers", "a positive number of worker processes", repr(n_workers))
-    # None unsets a variable of the nannies' environment (distributed.nanny).
-    with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+    # None unsets a variable of the nannies' environment (distributed.nanny).  The thread
+    # counts of the BLAS libraries must be 1 when a worker starts (they are read when numpy
+    # loads, before Dask's own setting reaches the worker), and Dask lets this process's
+    # environment override its setting: an exported OPENBLAS_NUM_THREADS=4 would make every
+    # worker run 4 BLAS threads on one core.  So the workers start under 1 here.
+    single = {name: "1" for name in _THREAD_VARIABLES}
+    settings: dict[str, int | None] = {
+        f"distributed.nanny.pre-spawn-environ.{name}": 1 for name in single
+    }
+    settings["distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_"] = None
+    with dask.config.set(settings), _environment(single):
         return LocalCluster(
             n_workers=count,
             threads_per_worker=1,
