@@ -37,7 +37,7 @@ from polyell.geometry.subspace import (
     RankRevealingSVD,
     rank_revealing_svd,
 )
-from polyell.inverse import AffineMap, chiacchio_joint_map, classic_joint_map, torque_map
+from polyell.inverse import AffineMap, InverseMaps, chiacchio_maps, classic_maps
 from polyell.models.dynamics import Dynamics
 from polyell.validation import (
     check_fraction,
@@ -157,13 +157,15 @@ class Analysis:
                 "dyn.B", "a positive-definite inertia matrix", f"LAPACK dposv info={info}"
             )
         J_Binv = solved.T
-        self.M: NDArray[np.float64] = J_Binv * self.half_range
-        self.xg: NDArray[np.float64] = dynamics.xdd_bias - J_Binv @ self._gravity_bias
+        # Entries near 1e308 may overflow here: check_magnitudes refuses inf and NaN.
+        with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+            self.M: NDArray[np.float64] = J_Binv * self.half_range
+            self.xg: NDArray[np.float64] = dynamics.xdd_bias - J_Binv @ self._gravity_bias
         check_magnitudes(self.M, self.xg)
         self.svd: RankRevealingSVD = rank_revealing_svd(self.M, rank_rtol)
         self.affine_rtol = check_fraction("affine_rtol", affine_rtol)
         self._ellipsoids: dict[str, Ellipsoid] = {}
-        self._joint_maps: dict[str, AffineMap] = {}
+        self._inverse_maps: dict[str, InverseMaps] = {}
 
     def __repr__(self) -> str:
         return (
@@ -175,7 +177,8 @@ class Analysis:
     def Q(self) -> NDArray[np.float64]:
         """Eq. (20), ``B L^-2 B``, shape (n, n)."""
         B = self.dynamics.B
-        return (B / self.half_range**2) @ B
+        scaled = B / self.half_range[:, None]  # L^-1 B, then Q = (L^-1 B)^T (L^-1 B)
+        return scaled.T @ scaled
 
     @property
     def rank(self) -> int:
@@ -235,33 +238,38 @@ class Analysis:
                 "kind='chiacchio', which is defined here (eq. 38)."
             )
 
+    def _maps(self, kind: EllipsoidKind) -> InverseMaps:
+        """The joint and torque maps of a definition's inverse, built once."""
+        kind = _check_kind(kind)
+        if kind not in self._inverse_maps:
+            dyn, bias = self.dynamics, self._gravity_bias
+            if kind == "yoshikawa":
+                self._require_classic()
+                maps = classic_maps(dyn.J, dyn.B, self.half_range, bias, self.xg)
+            else:
+                maps = chiacchio_maps(dyn.B, self.half_range, bias, self.xg, self.svd.pinv())
+            self._inverse_maps[kind] = maps
+        return self._inverse_maps[kind]
+
     def joint_map(self, kind: EllipsoidKind = "chiacchio") -> AffineMap:
         """The affine inverse map ``xdd -> qdd`` of a definition (eq. 26 or 33/40).
+
+        Written about the centre ``xg`` (see :class:`~polyell.inverse.AffineMap`).
 
         Raises
         ------
         UndefinedEllipsoidError
             For ``"yoshikawa"`` at a singular configuration.
         """
-        kind = _check_kind(kind)
-        if kind not in self._joint_maps:
-            dyn = self.dynamics
-            if kind == "yoshikawa":
-                self._require_classic()
-                at_rest = classic_joint_map(dyn.J)
-            else:
-                at_rest = chiacchio_joint_map(
-                    dyn.J, dyn.B, self.half_range, self._gravity_bias, self.svd.pinv()
-                )
-            # J qdd = xdd - Jdot qdot: the maps act on the acceleration less its bias.
-            self._joint_maps[kind] = at_rest.after_shift(dyn.xdd_bias)
-        return self._joint_maps[kind]
+        return self._maps(kind).joint
 
     def torque_map(self, kind: EllipsoidKind = "chiacchio") -> AffineMap:
-        """The affine map ``xdd -> tau_n`` of a definition's inverse (eq. 26 or 33/40, then 10)."""
-        return torque_map(
-            self.joint_map(kind), self.dynamics.B, self._gravity_bias, self.half_range
-        )
+        """The affine map ``xdd -> tau_n`` of a definition's inverse (eq. 26 or 33/40, then 10).
+
+        ``tau_n = L^-1 (B qdd + g - tau_c)``, written about the centre ``xg`` with its value
+        there computed without cancellation (the new definition's is exactly 0).
+        """
+        return self._maps(kind).torque
 
     def inverse(self, xdd: ArrayLike, kind: EllipsoidKind = "chiacchio") -> InverseSolution:
         """Joint accelerations and normalized torques that produce ``xdd``.

@@ -17,16 +17,44 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polyell.comparison.comparison import Comparison
+from polyell.comparison.tables import check_text
 from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.polytope import Polytope
 from polyell.models.task import task_unit
 from polyell.storage import write_text_atomically
+from polyell.validation import check_integer
 
-__all__ = ["Mesh", "comparison_meshes", "export_comparison", "mesh", "write_obj", "write_ply"]
+__all__ = [
+    "MAX_RESOLUTION",
+    "Mesh",
+    "check_resolution",
+    "comparison_meshes",
+    "export_comparison",
+    "mesh",
+    "write_obj",
+    "write_ply",
+]
 
 #: Rings of latitude of an ellipsoid's mesh (twice as many meridians).
 RESOLUTION = 24
+#: Largest resolution: 2 k^2 vertices and 4 k^2 triangles for k rings, so 512 gives about
+#: 0.5 M vertices and 1 M triangles (some 100 MB of memory while it is written and a
+#: 60 MB OBJ file), far finer than any viewer needs.  The smallest, 2, is an octahedron.
+MAX_RESOLUTION = 512
+
+
+def check_resolution(resolution: object) -> int:
+    """Check a mesh resolution: an integer from 2 to :data:`MAX_RESOLUTION`."""
+    try:
+        return check_integer("resolution", resolution, 2, MAX_RESOLUTION)
+    except InputError as exn:
+        raise InputError(
+            exn.argument,
+            exn.expected + " (rings of latitude of an ellipsoid's mesh)",
+            exn.got,
+            f"use the default {RESOLUTION}, or an integer in [2, {MAX_RESOLUTION}].",
+        ) from None
 
 
 class Mesh(NamedTuple):
@@ -58,8 +86,10 @@ def _fan(count: int, first: int = 0) -> NDArray[np.int_]:
 
 def _orient(vertices: NDArray[np.float64], faces: NDArray[np.int_]) -> NDArray[np.int_]:
     """Turn each triangle of a closed convex mesh to face away from its centroid."""
-    centre = vertices.mean(axis=0)
-    a, b, c = (vertices[faces[:, i]] for i in range(3))
+    scale = float(np.max(np.abs(vertices))) or 1.0  # no overflow at 1e300 (signs only)
+    unit = vertices / scale
+    centre = unit.mean(axis=0)
+    a, b, c = (unit[faces[:, i]] for i in range(3))
     outward = np.einsum("ij,ij->i", np.cross(b - a, c - a), a - centre) > 0
     return np.where(outward[:, None], faces, faces[:, ::-1])
 
@@ -99,8 +129,12 @@ def mesh(S: Polytope | Ellipsoid, resolution: int = RESOLUTION) -> Mesh:
     Raises
     ------
     InputError
-        For a task space of another dimension.
+        For a set that is neither, a task space of another dimension, or a resolution
+        outside ``[2, MAX_RESOLUTION]``.
     """
+    if not isinstance(S, Polytope | Ellipsoid):
+        raise InputError("set", "a pe.Polytope or a pe.Ellipsoid", type(S).__name__)
+    resolution = check_resolution(resolution)
     m = S.ambient_dim
     if m not in (2, 3):
         raise InputError("set", "a set of a 2-D or 3-D task space", f"m = {m}")
@@ -135,6 +169,11 @@ def mesh(S: Polytope | Ellipsoid, resolution: int = RESOLUTION) -> Mesh:
 
 def comparison_meshes(comparison: Comparison, resolution: int = RESOLUTION) -> dict[str, Mesh]:
     """The polytope and every defined ellipsoid of a comparison, by name."""
+    if not isinstance(comparison, Comparison):
+        raise InputError(
+            "comparison", "a pe.Comparison", type(comparison).__name__, "call pe.compare first."
+        )
+    resolution = check_resolution(resolution)
     meshes = {"polytope": mesh(comparison.analysis.polytope, resolution)}
     for kind in comparison.kinds:
         if comparison[kind].defined:
@@ -143,13 +182,31 @@ def comparison_meshes(comparison: Comparison, resolution: int = RESOLUTION) -> d
 
 
 def _header(unit: str, task: tuple[str, ...] | None) -> list[str]:
+    """Header lines (comments) of a mesh file; each text is checked to stay on its line."""
     from polyell import __version__
 
-    frame = ", ".join(task) if task else "x, y, z"
+    unit = check_text("unit", unit)
+    if task is not None and (isinstance(task, str) or not isinstance(task, tuple | list)):
+        raise InputError("task", "a tuple of task rows such as ('x', 'y')", repr(task))
+    frame = ", ".join(check_text("task", row) for row in task) if task else "x, y, z"
     return [
         f"polyell {__version__}: acceleration sets in the task frame ({frame})",
         f"units: {unit} on every axis",
     ]
+
+
+def _check_meshes(meshes: object) -> dict[str, Mesh]:
+    """Check meshes by name: a name is one line of text without spaces at its ends."""
+    if not isinstance(meshes, Mapping):
+        raise InputError("meshes", "a mapping of names to pe.export.Mesh", type(meshes).__name__)
+    for name, item in meshes.items():
+        if not isinstance(name, str) or not name.strip() or check_text("name", name) != name:
+            raise InputError(
+                "name", "a one-line name such as 'polytope'", repr(name), "remove line breaks."
+            )
+        if not isinstance(item, Mesh):
+            raise InputError(f"meshes[{name!r}]", "a pe.export.Mesh", type(item).__name__)
+    return dict(meshes)
 
 
 def write_obj(
@@ -178,7 +235,7 @@ def write_obj(
     """
     lines = [f"# {text}" for text in _header(unit, task)]
     offset = 1  # OBJ indices start at 1 and run over the whole file
-    for name, item in meshes.items():
+    for name, item in _check_meshes(meshes).items():
         lines.append(f"o {name}")
         lines += [f"v {x:.17g} {y:.17g} {z:.17g}" for x, y, z in item.vertices]
         lines += [f"f {a + offset} {b + offset} {c + offset}" for a, b, c in item.faces]
@@ -198,6 +255,7 @@ def write_ply(
     task: tuple[str, ...] | None = None,
 ) -> Path:
     """Write one mesh as an ASCII PLY file (vertices, faces and edges)."""
+    (item,) = _check_meshes({name: item}).values()
     header = ["ply", "format ascii 1.0"]
     header += [f"comment {text}" for text in [f"set: {name}", *_header(unit, task)]]
     header += [f"element vertex {len(item.vertices)}", *(f"property double {a}" for a in "xyz")]
@@ -221,6 +279,8 @@ def export_comparison(
 
     A PLY path ``sets.ply`` gives ``sets_polytope.ply``, ``sets_chiacchio.ply``, ...
     """
+    if not isinstance(path, str | Path) or Path(path).suffix not in (".obj", ".ply"):
+        raise InputError("path", "a file name ending in .obj or .ply", repr(path))
     target = Path(path)
     meshes = comparison_meshes(comparison, resolution)
     task = comparison.analysis.dynamics.task

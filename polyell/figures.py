@@ -29,6 +29,7 @@ from polyell.storage import write_atomically
 
 __all__ = [
     "STYLES",
+    "check_title",
     "plot_directional_limits",
     "plot_score_histogram",
     "plot_score_map",
@@ -47,6 +48,9 @@ STYLES = {
     "mvie": {"color": "0.55", "linestyle": "-.", "linewidth": 1.2},
     "outer": {"color": "0.3", "linestyle": (0, (7, 2)), "linewidth": 1.0},
 }
+#: Largest resolution of a saved figure: a 6-inch figure at 2400 dpi is 14400 pixels wide
+#: (about 0.6 GB of RGBA pixels for a square one), beyond any journal's requirement.
+MAX_DPI = 2400
 #: Styles of user-defined candidates, in the order they are drawn.
 CANDIDATE_STYLES = (
     {"color": "0.15", "linestyle": (0, (1, 1)), "linewidth": 1.8},
@@ -54,6 +58,59 @@ CANDIDATE_STYLES = (
     {"color": "0.65", "linestyle": "-", "linewidth": 2.4},
     {"color": "0.25", "linestyle": (0, (3, 3)), "linewidth": 1.4},
 )
+
+
+def check_title(title: object, argument: str = "title") -> str:
+    r"""Check text that a figure draws (a title, an axis label, a set's name).
+
+    matplotlib reads text between pairs of ``$`` as mathtext (a subset of TeX); text
+    whose mathtext does not parse would fail only when the figure is drawn, deep inside
+    matplotlib.  Call this before any work (a study checks its title when it is loaded).
+
+    Parameters
+    ----------
+    title : str
+        The text.
+    argument : str, optional
+        Its name in the error message.
+
+    Returns
+    -------
+    str
+        ``title``, unchanged.
+
+    Raises
+    ------
+    InputError
+        If ``title`` is not a string, or its mathtext does not parse; the fix is to write
+        a literal dollar sign as ``\$`` (or to correct the formula).
+    """
+    if not isinstance(title, str):
+        raise InputError(argument, "a string", type(title).__name__)
+    from matplotlib import cbook
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.mathtext import MathTextParser
+
+    if cbook.is_math_text(title):
+        try:
+            MathTextParser("path").parse(title, 72, FontProperties())
+        except ValueError as exn:
+            detail = " ".join(str(exn).split())
+            raise InputError(
+                argument,
+                "text whose $...$ parts are valid matplotlib mathtext",
+                f"{title!r} ({detail[:120]})",
+                r"write a literal dollar sign as \$ (e.g. 'cost \$5'), or correct the formula "
+                "between the dollar signs.",
+            ) from None
+    return title
+
+
+def _check_texts(**texts: object) -> None:
+    """:func:`check_title` for every text given that is not None."""
+    for argument, text in texts.items():
+        if text is not None:
+            check_title(text, argument)
 
 
 def _style(kind: str, kinds: Sequence[str] = ()) -> dict[str, object]:
@@ -76,6 +133,8 @@ def _ellipsoids(
 ) -> dict[str, Ellipsoid]:
     """The ellipsoids to draw: ``kinds`` of the analysis (and the MVIE), then ``extra``."""
     found: dict[str, Ellipsoid] = {}
+    for name in extra or {}:
+        check_title(name, "extra")  # drawn as a legend entry
     for kind in kinds:
         if kind == "mvie":
             if mvie is None:
@@ -138,6 +197,7 @@ def plot_sets(
         raise InputError(
             "analysis", "a 2-D task space", f"m = {analysis.dynamics.m}", "use plot_sets_3d."
         )
+    _check_texts(unit=unit, title=title)
     if ax is None:
         ax = Figure(figsize=(4.8, 5.2), layout="constrained").add_subplot()
     P = analysis.polytope
@@ -217,6 +277,7 @@ def plot_sets_3d(
         raise InputError(
             "analysis", "a 3-D task space", f"m = {analysis.dynamics.m}", "use plot_sets."
         )
+    _check_texts(unit=unit, title=title)
     figure = Figure(figsize=(5.5, 5.0), layout="constrained")
     ax = figure.add_subplot(projection="3d")
     P = analysis.polytope
@@ -274,6 +335,7 @@ def plot_directional_limits(
     """
     if analysis.dynamics.m != 2:
         raise InputError("analysis", "a 2-D task space", f"m = {analysis.dynamics.m}")
+    _check_texts(unit=unit, title=title)
     T = sphere_directions(directions, 2)
     angles = np.arctan2(T[:, 1], T[:, 0])
     order = np.argsort(angles)
@@ -316,6 +378,7 @@ def plot_score_map(
         The colour scale's range; give maps of one score the same one, so that their
         colours compare.
     """
+    _check_texts(xlabel=xlabel, ylabel=ylabel, label=label, title=title)
     figure = Figure(figsize=(5.0, 4.0), layout="constrained")
     ax = figure.add_subplot()
     vmin, vmax = limits if limits is not None else (None, None)
@@ -329,6 +392,21 @@ def plot_score_map(
     if title:
         ax.set_title(title, fontsize="medium")
     return figure
+
+
+def _bin_edges(data: NDArray[np.float64], bins: int) -> list[float]:
+    """Equal bins over the finite data, at any magnitude (1e-300 to 1e300).
+
+    Computed on the data scaled to [-1, 1] (no overflow of the range), and one value
+    (or values within 1e-9 of the largest) gets bins 1e-3 of it wide around it.
+    """
+    if not data.size:
+        return np.linspace(0.0, 1.0, bins + 1).tolist()
+    scale = float(np.max(np.abs(data))) or 1.0
+    lo, hi = float(np.min(data / scale)), float(np.max(data / scale))
+    if hi - lo < 1e-9:
+        lo, hi = lo - 5e-4, hi + 5e-4
+    return (np.linspace(lo, hi, bins + 1) * scale).tolist()
 
 
 def plot_score_histogram(
@@ -351,6 +429,7 @@ def plot_score_histogram(
         Ellipsoids to overlay (step outlines in the line styles of :data:`STYLES`);
         configurations where one is undefined are left out of its histogram.
     """
+    _check_texts(title=title)
     present = [kind for kind in kinds if f"{kind}_{score}" in results]
     if not present:
         raise InputError(
@@ -359,7 +438,7 @@ def plot_score_histogram(
     name, factor = score_display(score)
     values = [factor * results[f"{kind}_{score}"].to_numpy(dtype=float) for kind in present]
     finite = [v[np.isfinite(v)] for v in values]
-    edges = np.histogram_bin_edges(np.concatenate(finite), bins=bins).tolist()
+    edges = _bin_edges(np.concatenate(finite), bins)
     figure = Figure(figsize=(5.0, 3.6), layout="constrained")
     ax = figure.add_subplot()
     for kind, data in zip(present, finite, strict=True):
@@ -400,6 +479,7 @@ def plot_score_series(
     kinds : sequence of str
         Candidates to draw, those with columns in ``results``.
     """
+    _check_texts(title=title)
     present = [kind for kind in kinds if f"{kind}_{score}" in results]
     if not present:
         raise InputError(
@@ -429,6 +509,7 @@ def plot_score_series(
 
 def plot_tangent_limits(results: pd.DataFrame, *, unit: str = "m/s$^2$") -> Figure:
     """The achievable accelerations along the path's tangent: each set's interval over time."""
+    _check_texts(unit=unit)
     x = results["t"] if "t" in results else results["configuration"]
     figure = Figure(figsize=(6.0, 3.4), layout="constrained")
     ax = figure.add_subplot()
@@ -468,6 +549,17 @@ def save_figure(
     StorageError
         If a file cannot be written.
     """
+    if not isinstance(stem, str | Path):
+        raise InputError("stem", "a file name without extension (str or Path)", repr(stem))
+    supported = sorted(figure.canvas.get_supported_filetypes())
+    if isinstance(formats, str) or not all(fmt in supported for fmt in formats):
+        raise InputError("formats", f"a sequence of formats among {supported}", repr(formats))
+    if (
+        isinstance(dpi, bool)
+        or not isinstance(dpi, int | float | np.integer | np.floating)
+        or not 1 <= dpi <= MAX_DPI
+    ):
+        raise InputError("dpi", f"dots per inch from 1 to {MAX_DPI}", repr(dpi))
     paths = []
     for fmt in formats:
         metadata = {"CreationDate": None} if fmt == "pdf" else None

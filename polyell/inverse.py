@@ -25,27 +25,37 @@ from numpy.typing import NDArray
 
 __all__ = [
     "AffineMap",
-    "chiacchio_joint_map",
-    "classic_joint_map",
+    "InverseMaps",
+    "chiacchio_maps",
+    "classic_maps",
     "jacobian_pseudoinverse",
-    "torque_map",
     "weighted_generalized_inverse",
 ]
 
 
 class AffineMap(NamedTuple):
-    """The map ``x -> matrix @ x + offset``, applied to points of shape (..., m)."""
+    """The map ``x -> matrix @ (x - base) + value``, applied to points of shape (..., m).
+
+    Written about a base point (the centre ``xg`` of the sets) with its value there
+    computed directly, not as ``matrix @ x + offset``: when the sets are small against
+    their distance from the origin (weak torques against gravity), ``matrix @ x`` and the
+    offset nearly cancel and their difference would keep none of its digits.
+    """
 
     matrix: NDArray[np.float64]
-    offset: NDArray[np.float64]
+    base: NDArray[np.float64]
+    value: NDArray[np.float64]
 
     def __call__(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         """Apply the map to points ``x`` of shape (..., m)."""
-        return x @ self.matrix.T + self.offset
+        return (x - self.base) @ self.matrix.T + self.value
 
-    def after_shift(self, shift: NDArray[np.float64]) -> AffineMap:
-        """The map ``x -> self(x - shift)``."""
-        return AffineMap(self.matrix, self.offset - self.matrix @ shift)
+
+class InverseMaps(NamedTuple):
+    """A definition's inverse: ``xdd -> qdd`` and ``xdd -> tau_n`` (eq. 10), both affine."""
+
+    joint: AffineMap
+    torque: AffineMap
 
 
 def jacobian_pseudoinverse(J: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -84,25 +94,20 @@ def weighted_generalized_inverse(
     return Q_inv_sqrt @ ((Vt[:rank].T / s[:rank]) @ U[:, :rank].T)
 
 
-def classic_joint_map(J: NDArray[np.float64]) -> AffineMap:
-    """Eq. (26): ``qdd = J^+ xdd``; J must have full row rank."""
-    return AffineMap(jacobian_pseudoinverse(J), np.zeros(J.shape[1]))
-
-
-def chiacchio_joint_map(
+def classic_maps(
     J: NDArray[np.float64],
     B: NDArray[np.float64],
     half_range: NDArray[np.float64],
     gravity_bias: NDArray[np.float64],
-    M_pinv: NDArray[np.float64],
-) -> AffineMap:
-    """Eq. (33)/(40): ``qdd = J_Q^# xdd - (I - J_Q^# J) B^-1 (g - tau_c)``.
+    xg: NDArray[np.float64],
+) -> InverseMaps:
+    """Eq. (26), ``qdd = J^+ (xdd - Jdot qdot)``, and its torques; J of full row rank.
 
-    Evaluated as eq. (39) with ``J_Q^# = B^-1 L M^#`` (eq. 36 and 12: with
-    ``Q = (L^-1 B)^T (L^-1 B)`` the Q-weighted minimum-norm solution of ``J qdd = y`` is
-    ``B^-1 L M^# y``).  This uses the SVD of M (condition number that of M) instead of
-    ``Q^-1/2`` (that of M squared), so it stays accurate for ill-conditioned inertias; it
-    equals :func:`weighted_generalized_inverse` (eq. 41) where both are accurate.
+    About the centre ``xg = Jdot qdot - J f`` (``f = B^-1 (g - tau_c)``, the free fall):
+    ``qdd = J^+ (xdd - xg) - J^+ J f`` and ``tau_n = L^-1 B J^+ (xdd - xg) + L^-1 B V_2
+    V_2^T f``, with ``V_2`` an orthonormal basis of ``Ker J``: the torque at the centre is
+    that of the null-space part of the free fall, which eq. (26) leaves out (exactly 0 for
+    a non-redundant arm, where ``Ker J = {0}``).
 
     Parameters
     ----------
@@ -112,25 +117,51 @@ def chiacchio_joint_map(
         Diagonal of L.
     gravity_bias : ndarray, shape (n,)
         ``g - tau_c`` [N m].
+    xg : ndarray, shape (m,)
+        Centre of the sets (eq. 8 with ``Jdot qdot``).
+    """
+    m = J.shape[0]
+    U, s, Vt = np.linalg.svd(J, full_matrices=True)
+    pinv = (Vt[:m].T / s) @ U.T
+    free_fall = np.linalg.solve(B, gravity_bias)
+    null_part = Vt[m:].T @ (Vt[m:] @ free_fall)
+    joint = AffineMap(pinv, xg, -(pinv @ (J @ free_fall)))
+    torque = AffineMap((B @ pinv) / half_range[:, None], xg, (B @ null_part) / half_range)
+    return InverseMaps(joint, torque)
+
+
+def chiacchio_maps(
+    B: NDArray[np.float64],
+    half_range: NDArray[np.float64],
+    gravity_bias: NDArray[np.float64],
+    xg: NDArray[np.float64],
+    M_pinv: NDArray[np.float64],
+) -> InverseMaps:
+    """Eq. (33)/(40): ``qdd = J_Q^# xdd - (I - J_Q^# J) B^-1 (g - tau_c)``, and its torques.
+
+    Evaluated as eq. (39) with ``J_Q^# = B^-1 L M^#`` (eq. 36 and 12: with
+    ``Q = (L^-1 B)^T (L^-1 B)`` the Q-weighted minimum-norm solution of ``J qdd = y`` is
+    ``B^-1 L M^# y``).  This uses the SVD of M (condition number that of M) instead of
+    ``Q^-1/2`` (that of M squared), so it stays accurate for ill-conditioned inertias; it
+    equals :func:`weighted_generalized_inverse` (eq. 41) where both are accurate.  About
+    the centre ``xg`` it reads ``qdd = J_Q^# (xdd - xg) - B^-1 (g - tau_c)`` and
+    ``tau_n = M^# (xdd - xg)``: the minimum-norm normalized torque, exactly 0 at the centre.
+
+    Parameters
+    ----------
+    B : ndarray, shape (n, n)
+        Inertia.
+    half_range : ndarray, shape (n,)
+        Diagonal of L.
+    gravity_bias : ndarray, shape (n,)
+        ``g - tau_c`` [N m].
+    xg : ndarray, shape (m,)
+        Centre of the sets (eq. 8 with ``Jdot qdot``).
     M_pinv : ndarray, shape (n, m)
         The generalized inverse of M at the analysis' rank (eq. 37).
     """
     JQ = np.asarray(np.linalg.solve(B, half_range[:, None] * M_pinv), dtype=np.float64)
-    free_fall = np.linalg.solve(B, gravity_bias)
-    return AffineMap(JQ, JQ @ (J @ free_fall) - free_fall)
-
-
-def torque_map(
-    joint_map: AffineMap,
-    B: NDArray[np.float64],
-    gravity_bias: NDArray[np.float64],
-    half_range: NDArray[np.float64],
-) -> AffineMap:
-    """Compose a joint map with ``tau_n = L^-1 (B qdd + g - tau_c)`` (eq. 10, 12).
-
-    The torque limits hold iff ``|tau_n|_inf <= 1``.
-    """
-    return AffineMap(
-        (B @ joint_map.matrix) / half_range[:, None],
-        (B @ joint_map.offset + gravity_bias) / half_range,
-    )
+    free_fall = np.asarray(np.linalg.solve(B, gravity_bias), dtype=np.float64)
+    joint = AffineMap(JQ, xg, -free_fall)
+    torque = AffineMap(M_pinv, xg, np.zeros(B.shape[0]))
+    return InverseMaps(joint, torque)

@@ -67,37 +67,36 @@ def write_atomically(path: Path, write: Callable[[str], Any]) -> Path:
     name = path.name
     while len(os.fsencode(f".{name}.XXXXXXXX.tmp")) > _NAME_MAX and len(name) > 1:
         name = name[:-1]  # a name near the limit: the temporary name gets a shorter prefix
+    temporary = ""
     try:
         handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{name}.", suffix=".tmp")
-    except OSError as exn:  # no such folder, a name too long, no permission, a full disk
-        raise StorageError(f"Could not write {path}: {_reason(exn, path)}") from exn
-    os.close(handle)
-    try:
+        os.close(handle)
         write(temporary)
         os.chmod(temporary, 0o666 & ~_umask())
         os.replace(temporary, path)
     except OSError as exn:
-        raise StorageError(f"Could not write {path}: {_reason(exn, path)}") from exn
+        raise StorageError(
+            f"Could not write {path}: {exn.strerror or exn}. Fix: {_fix(exn)}"
+        ) from exn
     finally:
-        if os.path.exists(temporary):
+        if temporary and os.path.exists(temporary):
             os.unlink(temporary)
     return path
 
 
-def _reason(exn: OSError, path: Path) -> str:
-    """Why ``path`` could not be created, and the fix."""
-    reason = exn.strerror or str(exn)
+def _fix(exn: OSError) -> str:
+    """What to do about a failed write, by its cause."""
     if exn.errno == errno.ENOENT:
-        return f"{reason} (the folder {path.parent} does not exist). Fix: create it first."
+        return "create the folder first, or choose an existing one."
     if exn.errno == errno.ENAMETOOLONG:
-        return f"{reason}. Fix: give a shorter file name (at most {_NAME_MAX} bytes)."
-    if exn.errno == errno.ENOTDIR:
-        return f"{reason} ({path.parent} is not a folder). Fix: write into a folder."
+        return "choose a shorter file name (the limit is usually 255 bytes per name)."
+    if exn.errno in (errno.ENOTDIR, errno.EISDIR):
+        return "a part of the path is a file, or the name is a folder: choose another path."
     if exn.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
-        return f"{reason}. Fix: write into a folder you may write to."
+        return "choose a folder you can write to."
     return (
-        f"{reason}. Fix: free disk space (or raise the limit) and run again; finished parts "
-        "are kept and a sweep resumes."
+        "free disk space (or raise the limit) and run again; finished parts are kept and a "
+        "sweep resumes."
     )
 
 

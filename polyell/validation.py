@@ -14,6 +14,10 @@ from numpy.typing import ArrayLike, NDArray
 from polyell.errors import InputError
 
 __all__ = [
+    "DIRECTION_NORM_RTOL",
+    "MAX_TORQUE",
+    "MIN_RELATIVE_EXTENT",
+    "ROUNDED_INPUT_RTOL",
     "array_ndim",
     "check_array",
     "check_directions",
@@ -26,8 +30,16 @@ __all__ = [
     "source_torque_limits",
 ]
 
-#: Relative tolerance on the unit norm of a direction.
-DIRECTION_NORM_RTOL = 1e-6
+#: The one rule for rounded input: numbers typed or printed to 5 significant digits or
+#: more carry a relative rounding error of at most ``0.5e-4`` each (half a unit in the
+#: fifth digit of a leading 1), so a unit direction typed that way has a norm within
+#: ``0.5e-4`` of 1 and a component off any set it lies in of at most ``0.5e-4``; a point
+#: printed that way is within ``0.5e-4 |x|`` of where it belongs.  ``ROUNDED_INPUT_RTOL``
+#: (twice that) bounds both: it is the tolerance on a direction's unit norm
+#: (:func:`check_directions`) and, as :data:`polyell.AFFINE_RTOL`, on "on the affine set".
+ROUNDED_INPUT_RTOL = 1e-4
+#: Tolerance on the unit norm of a direction: the rounded-input rule.
+DIRECTION_NORM_RTOL = ROUNDED_INPUT_RTOL
 #: Relative tolerance on the symmetry of an inertia matrix.
 SYMMETRY_RTOL = 1e-9
 #: Most directions a direction set may hold (a million 6-D directions take 48 MB).
@@ -147,8 +159,11 @@ def check_spd(
     if matrix.shape[-1] != matrix.shape[-2]:
         raise InputError(name, f"a square ({n}, {n}) matrix", f"shape {matrix.shape}")
     transposed = np.swapaxes(matrix, -1, -2)
-    scale = np.max(np.abs(matrix)) if matrix.size else 0.0
-    asymmetry = np.max(np.abs(matrix - transposed)) if matrix.size else 0.0
+    scale = float(np.max(np.abs(matrix))) if matrix.size else 0.0
+    # Differences of entries above 1 scaled to at most 1: no overflow near 1e308 (and no
+    # 1 / scale for subnormal entries, which would overflow instead).
+    unit = 1.0 / scale if scale > 1.0 else 1.0
+    asymmetry = np.max(np.abs(matrix * unit - transposed * unit)) / unit if matrix.size else 0.0
     if asymmetry > SYMMETRY_RTOL * scale:
         raise InputError(
             name,
@@ -156,7 +171,7 @@ def check_spd(
             f"max |B - B^T| = {asymmetry:.3g} (max |B| = {scale:.3g})",
             "pass a symmetric matrix (the inertia matrix is one).",
         )
-    matrix = 0.5 * (matrix + transposed)
+    matrix = 0.5 * matrix + 0.5 * transposed
     try:
         np.linalg.cholesky(matrix)
     except np.linalg.LinAlgError:
@@ -170,6 +185,23 @@ def check_spd(
             fix,
         ) from None
     return matrix
+
+
+#: Largest torque limit accepted [N m]: ``tau_max - tau_min`` and its products with the
+#: inverse inertia stay finite; a limit beyond it is no limit (the sets would be unbounded).
+MAX_TORQUE = 1e150
+
+
+def _check_torque_size(name: str, value: NDArray[np.float64]) -> None:
+    if value.size and np.max(np.abs(value)) > MAX_TORQUE:
+        i = int(np.argmax(np.abs(value)))
+        raise InputError(
+            name,
+            f"torque limits of size at most {MAX_TORQUE:g} N m",
+            f"{name}[{i}] = {value[i]:.3g}",
+            "give the real limits (with the gravity torques in the same units); polyell's "
+            "sets are bounded.",
+        )
 
 
 def check_torque_limits(
@@ -193,6 +225,7 @@ def check_torque_limits(
         If a shape is wrong, a value is not finite, or ``tau_min >= tau_max`` anywhere.
     """
     upper = check_array("tau_max", tau_max, (n,))
+    _check_torque_size("tau_max", upper)
     if tau_min is None:
         if (upper <= 0).any():
             bad = np.flatnonzero(upper <= 0)
@@ -204,6 +237,7 @@ def check_torque_limits(
             )
         return upper, -upper
     lower = check_array("tau_min", tau_min, (n,))
+    _check_torque_size("tau_min", lower)
     if (lower >= upper).any():
         i = np.flatnonzero(lower >= upper)[0]
         raise InputError(
@@ -254,7 +288,14 @@ def magnitude_limit(m: int) -> int:
     return min(140, 290 // m)
 
 
-def check_magnitudes(M: NDArray[np.float64], xg: NDArray[np.float64]) -> None:
+#: Smallest extent of the polytope relative to its distance from the origin: below
+#: ``sqrt(eps)`` its points (``xg + M t``) keep fewer than half of their digits.
+MIN_RELATIVE_EXTENT = float(np.sqrt(np.finfo(float).eps))
+
+
+def check_magnitudes(
+    M: NDArray[np.float64], xg: NDArray[np.float64], argument: str | None = None
+) -> None:
     """Refuse accelerations too large or too small for floating point (issue 15).
 
     Parameters
@@ -263,33 +304,72 @@ def check_magnitudes(M: NDArray[np.float64], xg: NDArray[np.float64]) -> None:
         Generators (eq. 14), one matrix or a batch.
     xg : ndarray, shape (..., m)
         Centres (eq. 8).
+    argument : str, optional
+        The argument the errors name when ``M`` and ``xg`` were given directly (a
+        :class:`~polyell.Polytope`'s ``"generators"``); by default they come from a robot's
+        dynamics and torque limits.
 
     Raises
     ------
     InputError
         If the largest entry of M or of xg (when non-zero) is outside
-        ``10^(+-magnitude_limit(m))``.
+        ``10^(+-magnitude_limit(m))``, or if M (when non-zero) is below
+        :data:`MIN_RELATIVE_EXTENT` times xg: a set that small against its distance from
+        rest (torques far too weak to hold the arm against gravity, or torque limits in
+        other units than the gravity torques) is below the resolution of its own points.
     """
     m = M.shape[-2]
     limit = magnitude_limit(m)
     high = 10.0**limit
+    size_m = np.max(np.abs(M), axis=(-2, -1)) if M.size else np.zeros(M.shape[:-2])
+    size_x = np.max(np.abs(xg), axis=-1) if xg.size else np.zeros(xg.shape[:-1])
     sizes = {  # largest entries: no squares, which would overflow first
-        "the generators M (eq. 14)": np.max(np.abs(M), axis=(-2, -1)),
-        "the centre xg (eq. 8)": np.max(np.abs(xg), axis=-1),
+        "the generators M (eq. 14)": size_m,
+        "the centre xg (eq. 8)": size_x,
     }
     for what, size in sizes.items():
-        bad = np.atleast_1d((size > high) | ((size > 0) & (size < 1.0 / high)))
+        # not (size <= high): an overflow to inf or NaN is too large as well
+        bad = np.atleast_1d(~(size <= high) | ((size > 0) & (size < 1.0 / high)))
         if bad.any():
             k = int(np.flatnonzero(bad)[0])
             where = f" (configuration {k} of the batch)" if np.ndim(size) else ""
             raise InputError(
-                "dyn",
+                argument or "dyn",
                 f"accelerations of size within 1e-{limit}..1e{limit} in a "
                 f"{m}-dimensional task, so that volumes in (unit)^{m} stay representable",
-                f"{what} of size {float(np.atleast_1d(size)[k]):.3g}{where}",
-                "express the task in other units: scale the rows of J (and Jdot qdot), or "
-                "the torque limits together with the gravity torques.",
+                f"{what} of size {float(np.atleast_1d(size)[k]):.3g}{where}"
+                + ("" if np.isfinite(np.atleast_1d(size)[k]) else " (an overflow)"),
+                "express the task in other units: "
+                + (
+                    "scale the generators and the centre together."
+                    if argument
+                    else "scale the rows of J (and Jdot qdot), or the torque limits together "
+                    "with the gravity torques."
+                ),
             )
+    tiny = np.atleast_1d((size_m > 0) & (size_m < MIN_RELATIVE_EXTENT * size_x))
+    if tiny.any():
+        k = int(np.flatnonzero(tiny)[0])
+        where = f" (configuration {k} of the batch)" if np.ndim(size_m) else ""
+        if argument:
+            raise InputError(
+                argument,
+                f"generators of at least {MIN_RELATIVE_EXTENT:.1e} of the centre's size, so "
+                "that the polytope's points are resolved in floating point",
+                f"generators of size {float(np.atleast_1d(size_m)[k]):.3g} against a centre "
+                f"of size {float(np.atleast_1d(size_x)[k]):.3g}",
+                "shift the set so that its centre is near the origin (limits are taken "
+                "along lines through it).",
+            )
+        raise InputError(
+            "tau_max",
+            f"torque limits that move the arm by more than {MIN_RELATIVE_EXTENT:.1e} of its "
+            "free-fall acceleration, so that the polytope's points are resolved in floating "
+            "point",
+            f"generators M of size {float(np.atleast_1d(size_m)[k]):.3g} against a centre "
+            f"xg of size {float(np.atleast_1d(size_x)[k]):.3g}{where}",
+            "give the torque limits and the gravity torques in the same units (N m).",
+        )
 
 
 def source_torque_limits(
@@ -306,6 +386,10 @@ def source_torque_limits(
 def check_points(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]:
     """Check finite task-space points of shape ``(m,)`` or ``(..., m)``.
 
+    Coordinates beyond ``10^magnitude_limit(m)`` (the bound :func:`check_magnitudes` puts
+    on the sets themselves) are refused: their squares and their products with the sets'
+    facets would overflow.
+
     Returns
     -------
     points : ndarray of float64, shape ``(..., m)``
@@ -315,6 +399,14 @@ def check_points(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]:
     if array.ndim == 0 or array.shape[-1] != m:
         raise InputError(
             name, expected, f"shape {array.shape}", "give one entry per task-space row of J."
+        )
+    limit = magnitude_limit(m)
+    if array.size and np.max(np.abs(array)) > 10.0**limit:
+        raise InputError(
+            name,
+            f"coordinates of size at most 1e{limit} in a {m}-dimensional task",
+            f"an entry of size {np.max(np.abs(array)):.3g}",
+            "express the task in other units.",
         )
     return array
 
@@ -328,7 +420,8 @@ def check_directions(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]
         Argument name used in error messages.
     value : array-like, shape (m,) or (k, m)
         Directions; each must have unit Euclidean norm to a relative tolerance of
-        ``DIRECTION_NORM_RTOL``.
+        ``DIRECTION_NORM_RTOL`` (:data:`ROUNDED_INPUT_RTOL`: a unit vector typed to 5
+        significant digits or more passes).
     m : int
         Task-space dimension.
 
@@ -345,22 +438,30 @@ def check_directions(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]
     directions = check_points(name, value, m)
     if directions.ndim > 2:
         raise InputError(name, "shape (m,) or (k, m)", f"shape {directions.shape}")
-    norms = np.linalg.norm(directions, axis=-1)
-    if np.any(norms == 0):
-        i = int(np.flatnonzero(np.atleast_1d(norms) == 0)[0])
+    # The norm of the rows scaled by their largest entry: no overflow for entries of 1e308
+    # and no underflow for 1e-300 (either is then refused as far from unit length).
+    largest = np.max(np.abs(directions), axis=-1)
+    if np.any(largest == 0):
+        i = int(np.flatnonzero(np.atleast_1d(largest) == 0)[0])
         raise InputError(
             name,
             "non-zero unit direction vectors",
             f"a zero-length direction at row {i}",
             "every direction needs a non-zero length.",
         )
-    off = np.abs(norms - 1.0) > DIRECTION_NORM_RTOL
+    scaled = directions / largest[..., None]
+    norms = np.linalg.norm(scaled, axis=-1) * largest
+    off = ~(np.abs(norms - 1.0) <= DIRECTION_NORM_RTOL)
     if np.any(off):
         i = int(np.flatnonzero(np.atleast_1d(off))[0])
+        norm = float(np.atleast_1d(norms)[i])
         raise InputError(
             name,
-            "unit direction vectors (the limits are accelerations a along a * t)",
-            f"a direction of norm {np.atleast_1d(norms)[i]:.6g} at row {i}",
+            f"unit direction vectors, to {DIRECTION_NORM_RTOL:g} (the limits are accelerations "
+            "a along a * t)",
+            f"a direction of norm {norm!r} (1 {'+' if norm >= 1 else '-'} "
+            f"{abs(norm - 1.0):.3g}) at row {i}",
             "normalise with T / np.linalg.norm(T, axis=-1, keepdims=True).",
         )
-    return directions / norms[..., None]
+    unit: NDArray[np.float64] = scaled / np.linalg.norm(scaled, axis=-1)[..., None]
+    return unit

@@ -97,3 +97,61 @@ def planar_polytope_limits(M: mp.matrix, center: mp.matrix, t: Sequence[float]):
                 elif slope < 0:
                     lo = max(lo, offset / slope)
         return lo, hi
+
+
+def zonotope_facets(M, digits: int = 50) -> list[tuple[mp.matrix, mp.mpf]]:
+    """Every facet pair ``(a, h)`` of ``{M u : |u|_inf <= 1}`` (M of full row rank r), one of
+    each ``+-a``, in ``digits``-digit arithmetic from the double entries of ``M``.
+
+    The zonotope formula on the data itself, no whitening: each (r - 1)-subset of columns
+    gives the normal ``a`` orthogonal to them (the cofactors of the r x (r - 1) block by
+    Laplace expansion), kept when non-zero, unit length, offset ``h = sum_i |a . g_i|``.
+    For data in general position (seeded random matrices) no two subsets share a plane.
+    """
+    from itertools import combinations
+
+    r, n = len(M), len(M[0])
+    with mp.workdps(digits):
+        G = mp.matrix([[mp.mpf(float(x)) for x in row] for row in M])
+        scale = max(mp.norm(G[:, j]) for j in range(n)) ** (r - 1)
+        facets = []
+        for subset in combinations(range(n), r - 1):
+            a = mp.matrix(r, 1)
+            for k in range(r):
+                rows = [i for i in range(r) if i != k]
+                minor = mp.matrix([[G[i, j] for j in subset] for i in rows]) if rows else None
+                a[k] = (-1) ** k * (mp.det(minor) if r > 1 else 1)
+            length = mp.norm(a)
+            if length <= mp.mpf(10) ** (-digits // 2) * scale:
+                continue  # dependent columns (not met by data in general position)
+            a /= length
+            h = sum(abs(sum(a[i] * G[i, j] for i in range(r))) for j in range(n))
+            facets.append((a, h))
+        return facets
+
+
+def support(M, a, digits: int = 50) -> mp.mpf:
+    """``sum_i |a . g_i|`` in ``digits`` digits for a double vector ``a`` (r,)."""
+    with mp.workdps(digits):
+        return sum(
+            abs(sum(mp.mpf(float(a[i])) * mp.mpf(float(M[i][j])) for i in range(len(M))))
+            for j in range(len(M[0]))
+        )
+
+
+def halfspace_limits(facets, center, t, digits: int = 50):
+    """``{x : |a . (x - c)| <= h}`` for every pair, along the line ``{s t}``: ``(lo, hi)``."""
+    with mp.workdps(digits):
+        c = [mp.mpf(float(x)) for x in center]
+        t = [mp.mpf(float(x)) for x in t]
+        lo, hi = -mp.inf, mp.inf
+        for a, h in facets:
+            slope = sum(a[i] * t[i] for i in range(len(t)))
+            mid = sum(a[i] * c[i] for i in range(len(t)))
+            if slope == 0:
+                if abs(mid) > h:
+                    return None
+                continue
+            ends = sorted([(mid - h) / slope, (mid + h) / slope])
+            lo, hi = max(lo, ends[0]), min(hi, ends[1])
+        return (lo, hi) if lo <= hi else None

@@ -313,6 +313,98 @@ FILES = [
 ]
 
 
+def _huge(a: np.ndarray) -> np.ndarray:
+    """The array rescaled so that its largest entry is 1e308 (no overflow on the way)."""
+    return a / np.max(np.abs(a)) * 1e308
+
+
+Q3 = np.array([[0.1, 0.2, 0.3], [0.3, 0.2, 0.1]])
+E2 = AN.ellipsoid("chiacchio")
+
+# Issue 20: raw exceptions, NaN, inf and warnings at the edges of the API.
+EDGES = [
+    ("sweep scores None", lambda t: pe.sweep(ARM, Q3, scores=None), "scores: expected"),
+    ("sweep scores 5", lambda t: pe.sweep(ARM, Q3, scores=5), "scores: expected"),
+    ("sweep scores empty", lambda t: pe.sweep(ARM, Q3, scores=[]), "at least one score"),
+    ("sweep scores not str", lambda t: pe.sweep(ARM, Q3, scores=[1]), "score names"),
+    ("sweep out 5", lambda t: pe.sweep(ARM, Q3, out=5), "out: expected a folder path"),
+    ("sweep rank_rtol str", lambda t: pe.sweep(ARM, Q3, rank_rtol="x"), "rank_rtol"),
+    ("sweep rank_rtol < 0", lambda t: pe.sweep(ARM, Q3, rank_rtol=-1.0), "rank_rtol"),
+    ("sweep rank_rtol None", lambda t: pe.sweep(ARM, Q3, rank_rtol=None), "rank_rtol"),
+    ("sweep mvie str", lambda t: pe.sweep(ARM, Q3, mvie="yes"), "mvie: expected True"),
+    ("sweep scheduler 5", lambda t: pe.sweep(ARM, Q3, scheduler=5), "scheduler"),
+    ("boundary_curve None", lambda t: E2.boundary_curve(None), "count: expected an integer"),
+    ("boundary_curve 1e10", lambda t: E2.boundary_curve(10**10), "count: expected an integer"),
+    ("boundary_curve 2.5", lambda t: E2.boundary_curve(2.5), "count: expected an integer"),
+    (
+        "ellipsoid of semi-axes 1e300",
+        lambda t: pe.Ellipsoid([0, 0], EYE3[:2, :2], [1e300, 1e300]),
+        "semi_axes: expected lengths within",
+    ),
+    (
+        "ellipsoid of semi-axes 1e-300",
+        lambda t: pe.Ellipsoid([0, 0], EYE3[:2, :2], [1e-300, 1.0]),
+        "semi_axes: expected lengths within",
+    ),
+    ("compare samples 0", lambda t: pe.compare(AN, 8, samples=0), "samples: expected"),
+    ("compare seed str", lambda t: pe.compare(AN, 8, seed="a"), "seed: expected"),
+    ("compare directions True", lambda t: pe.compare(AN, True), "directions: expected"),
+    ("q of 1e308", lambda t: ARM.dynamics([1e308, 0, 0]), "q: expected joint angles"),
+    ("directions of 1e308", lambda t: AN.polytope.limits([1e308, 0]), "directions: expected"),
+    ("points of 1e308", lambda t: AN.polytope.contains([1e308, 0]), "points: expected"),
+    ("xdd of 1e308", lambda t: AN.inverse([1e308, 0]), "xdd: expected"),
+    ("tau_max of 1e308", lambda t: pe.analyze(DYN, [1e308] * 3), "tau_max: expected"),
+    ("tau_min of -1e308", lambda t: pe.analyze(DYN, [1.0] * 3, [-1e308] * 3), "tau_min"),
+    ("J of 1e308", lambda t: pe.analyze(pe.Dynamics(_huge(DYN.J), DYN.B, DYN.g), [1] * 3), "dyn"),
+    ("B of 1e308", lambda t: pe.analyze(pe.Dynamics(DYN.J, _huge(DYN.B), DYN.g), [1] * 3), "dyn"),
+    ("g of 1e308", lambda t: pe.analyze(pe.Dynamics(DYN.J, DYN.B, _huge(DYN.g)), [1] * 3), "dyn"),
+    (
+        "B of subnormal entries",
+        lambda t: pe.analyze(pe.Dynamics(DYN.J, np.eye(3) * 1e-320, DYN.g), [1] * 3),
+        "dyn",
+    ),
+    (
+        "weak torques against gravity",
+        lambda t: pe.analyze(DYN, ARM.tau_max * 1e-16),
+        "free-fall acceleration",
+    ),
+    ("arm length 1e308", lambda t: pe.PlanarArm([1e308, 1], [1, 1]), "lengths: expected"),
+    ("arm gravity 1e308", lambda t: pe.PlanarArm([1, 1], [1, 1], gravity=1e308), "gravity"),
+    (
+        "candidate core 1e308",
+        lambda t: pe.compare(AN, 8, candidates=[pe.Candidate("c", core=np.eye(2) * 1e300)]),
+        "candidate 'c'",
+    ),
+    (
+        "candidate centre 1e308",
+        lambda t: pe.Candidate("c", core=np.eye(2), center=[1e308, 0]),
+        "c.center",
+    ),
+]
+
+
+@pytest.mark.parametrize(("name", "call", "fragment"), EDGES, ids=[r[0] for r in EDGES])
+def test_edges_are_refused_without_a_warning(tmp_path, name, call, fragment):
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no RuntimeWarning (overflow) on the way
+        with pytest.raises(pe.InputError) as info:
+            call(tmp_path)
+    assert fragment in str(info.value), str(info.value)
+
+
+def test_a_sweep_with_more_task_rows_than_joints_takes_the_scalar_path():
+    """m = 3 > n = 1: every row singular; no ZeroDivisionError in the block sizes."""
+    rng = np.random.default_rng(0)
+    J = rng.normal(size=(3, 3, 1))
+    dyn = pe.Dynamics(J, np.ones((3, 1, 1)), np.zeros((3, 1)), task=("x", "y", "z"))
+    frame = pe.sweep(dyn, tau_max=[1.0], directions=8)
+    assert (frame["polytope_dim"] == 1).all()
+    expected = pe.compare(pe.analyze(dyn[1], [1.0]), 8).to_row()
+    assert frame.loc[1, "chiacchio_coverage"] == expected["chiacchio_coverage"]
+
+
 def _blocked(tmp: Path) -> Path:
     blocker = tmp / "blocker"
     blocker.write_text("")

@@ -12,7 +12,8 @@ def python_blocks() -> list[str]:
     return re.findall(r"```python\n(.*?)```", README.read_text(), flags=re.DOTALL)
 
 
-def test_readme_python_examples_run_and_match_their_comments():
+def test_readme_python_examples_run_and_match_their_comments(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # the blocks write files (sets.html): never into the checkout
     blocks = python_blocks()
     assert blocks
     namespace: dict[str, object] = {}
@@ -27,6 +28,7 @@ def test_readme_python_examples_run_and_match_their_comments():
     assert round(cmp["yoshikawa"].witness_torque_max, 2) == 1.04
     assert isinstance(cmp, pe.Comparison)
     assert namespace["an"].dynamics.n == 7 and namespace["moving"].xdd_bias.any()
+    assert (tmp_path / "sets.html").stat().st_size > 0
 
 
 def test_quick_start_commands_are_the_ones_ci_runs():

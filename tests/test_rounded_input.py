@@ -125,3 +125,55 @@ def test_readme_singular_example_prints_the_segment():
     )
     assert "[-70.922, 52.69]" in result.stdout and "[-103.81, 85.574]" in result.stdout
     assert "polyell: note: directions" in result.stderr and "Traceback" not in result.stderr
+
+
+# --- Issue 20: one rule for rounded input, stated once (validation.ROUNDED_INPUT_RTOL).
+
+
+def typed(vector: np.ndarray, digits: int) -> list[float]:
+    """The vector as a user types it: each component to ``digits`` significant digits."""
+    return [float(f"{x:.{digits - 1}e}") for x in vector]
+
+
+def test_the_direction_norm_and_the_affine_set_share_one_tolerance():
+    from polyell.validation import DIRECTION_NORM_RTOL, ROUNDED_INPUT_RTOL
+
+    assert pe.AFFINE_RTOL == DIRECTION_NORM_RTOL == ROUNDED_INPUT_RTOL
+    # A number typed to 5 significant digits is off by at most half a unit in its fifth
+    # digit: 5e-5 relative (a leading 1); the rule leaves a factor 2 above that.
+    assert ROUNDED_INPUT_RTOL >= 2 * 0.5e-4
+
+
+@pytest.mark.parametrize("digits", [5, 6, 7])
+@pytest.mark.parametrize("angle", [0.1, 1.0, 2.0, 2.5, 4.0])
+def test_a_direction_typed_to_5_to_7_digits_is_accepted_unnormalised(digits, angle):
+    """Typed (not renormalised) directions: accepted, renormalised, limits within the
+    rounding of the input (relative 1e-4 bound on the direction, times the interval's
+    sensitivity, at most |x|/|hi| per unit of angle: 1e-3 here)."""
+    analysis = paper_analysis(np.array([0.3, 0.7, -0.4]))
+    exact = np.array([np.cos(angle), np.sin(angle)])
+    t = typed(exact, digits)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        got = analysis.polytope.limits(t)
+        E = analysis.ellipsoid("chiacchio").limits(t)
+    want = analysis.polytope.limits(exact)
+    np.testing.assert_allclose([got.lo, got.hi], [want.lo, want.hi], rtol=1e-3)
+    assert np.isfinite(E.hi)
+
+
+@pytest.mark.parametrize("digits", [5, 6, 7])
+def test_a_direction_typed_to_5_to_7_digits_at_a_singular_configuration(singular, digits):
+    t = typed(EXACT, digits)
+    for name, S in sets(singular).items():
+        with pytest.warns(pe.ProjectedInputWarning, match="projected"):
+            lo, hi = S.limits(t)
+        assert_printed([lo, hi], "{} {}".format(*IN_SET[name]).replace("52.69 ", "52.690 "))
+
+
+def test_a_refused_norm_is_printed_in_full():
+    P = paper_analysis(np.array([0.3, 0.7, -0.4])).polytope
+    with pytest.raises(pe.InputError, match=r"norm 1\.0003 \(1 \+ 0\.0003\)"):
+        P.limits([1.0003, 0.0])
+    with pytest.raises(pe.InputError, match=r"norm 0\.9 \(1 - 0\.1\)"):
+        P.limits([0.9, 0.0])

@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 from polyell.analysis import ELLIPSOID_KINDS, Analysis
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.ellipsoid import Ellipsoid
-from polyell.validation import check_array, check_spd
+from polyell.validation import check_points, check_spd
 
 __all__ = ["BUILT_IN_KINDS", "CANDIDATE_NAME", "Candidate", "check_candidates"]
 
@@ -116,7 +116,11 @@ class Candidate:
             N = check_spd(f"{self.name}.core", self.core, "m", fix=fix)
             object.__setattr__(self, "core", N)
             if self.center is not None:
-                c = check_array(f"{self.name}.center", self.center, (N.shape[0],))
+                c = check_points(f"{self.name}.center", self.center, N.shape[0])
+                if c.shape != (N.shape[0],):
+                    raise InputError(
+                        f"{self.name}.center", f"shape ({N.shape[0]},)", f"shape {c.shape}"
+                    )
                 object.__setattr__(self, "center", c)
 
     def __repr__(self) -> str:
@@ -158,6 +162,17 @@ class Candidate:
             If a core-defined ellipsoid misses the polytope's affine set.
         """
         self.check_sizes(analysis.dynamics.m, analysis.dynamics.n)
+        try:
+            return self._ellipsoid(analysis)
+        except InputError as exn:  # its size, refused by Ellipsoid: name the candidate
+            raise InputError(
+                f"candidate {self.name!r}",
+                "an ellipsoid of representable size at this configuration",
+                f"{exn.argument} {exn.got}",
+                "scale its weighting or core (a core is in (m/s^2)^-2).",
+            ) from None
+
+    def _ellipsoid(self, analysis: Analysis) -> Ellipsoid:
         svd, r = analysis.svd, analysis.rank
         if self.weighting is not None:
             U, s, _ = np.linalg.svd(analysis.M @ self.root_inverse, full_matrices=False)

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import csv
 import dataclasses
 import io
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -29,7 +32,8 @@ from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
 from polyell.geometry.outer import min_volume_enclosing_ellipsoid
 from polyell.models.task import task_unit
-from polyell.validation import check_directions
+from polyell.storage import write_text_atomically
+from polyell.validation import check_directions, check_integer
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
@@ -283,14 +287,29 @@ class Comparison:
     def _unit(self) -> str:
         return task_unit(self.analysis.dynamics.task)
 
-    def to_csv(self, path: str | None = None) -> str:
-        """The scores at full precision as CSV; also written to ``path`` if given."""
+    def to_csv(self, path: str | os.PathLike[str] | None = None) -> str:
+        """The scores at full precision as CSV; also written to ``path`` if given.
+
+        The file is written atomically (a temporary name, then renamed): a failed write
+        (a full disk) leaves any earlier file whole.  ``pandas.read_csv(path,
+        index_col="kind")`` reads back the same columns and values.
+
+        Raises
+        ------
+        InputError
+            If ``path`` is not a file name.
+        StorageError
+            If the file cannot be written (a missing folder, a name too long, a full disk).
+        """
         buffer = io.StringIO()
-        self.to_frame().to_csv(buffer)
+        # Text fields quoted: a reason holding a bare carriage return (which the csv module
+        # leaves unquoted with "\n" line ends) would otherwise split its row in two.
+        self.to_frame().to_csv(buffer, quoting=csv.QUOTE_NONNUMERIC)
         text = buffer.getvalue()
         if path is not None:
-            with open(path, "w", encoding="utf-8") as handle:
-                handle.write(text)
+            if not isinstance(path, str | os.PathLike):
+                raise InputError("path", "a file name (str or Path)", type(path).__name__)
+            write_text_atomically(Path(path), text)
         return text
 
 
@@ -316,9 +335,10 @@ def compare(
         affine set (at a singular configuration every other line meets it in one point);
         its default size is 360 in 2-D, 1000 in 3-D.
     samples : int, optional
-        Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the polytope.
+        Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the polytope, from
+        2 to 2^22 (a power of two keeps the Sobol' balance).
     seed : int, optional
-        Seed of those estimates.
+        Seed of those estimates, a non-negative integer.
     mvie : bool, optional
         Whether to compute the maximum-volume inscribed ellipsoid (a log-det program);
         without it the ``"mvie"`` record and every ``mvie_ratio`` are NaN.
@@ -346,6 +366,8 @@ def compare(
             "analysis", "a polyell.Analysis", type(analysis).__name__, "call pe.analyze first."
         )
     affine_set = analysis.polytope.affine_set
+    if isinstance(directions, bool | np.bool_):
+        raise InputError("directions", "unit directions (k, m), a count or None", repr(directions))
     if directions is None or isinstance(directions, int | np.integer):
         T = directions_in(affine_set, None if directions is None else int(directions))
     else:
@@ -353,6 +375,17 @@ def compare(
     found = check_candidates(candidates)
     for candidate in found:
         candidate.check_sizes(analysis.dynamics.m, analysis.dynamics.n)
+    samples = check_integer("samples", samples, MIN_SAMPLES, MAX_SAMPLES)
+    seed = check_integer("seed", seed, 0, MAX_SEED)
+    for name, flag in (("mvie", mvie), ("outer", outer)):
+        if not isinstance(flag, bool | np.bool_):
+            raise InputError(name, "True or False", repr(flag))
     return Comparison(
-        analysis, T, samples=samples, seed=seed, mvie=mvie, outer=outer, candidates=found
+        analysis,
+        T,
+        samples=samples,
+        seed=seed,
+        mvie=bool(mvie),
+        outer=bool(outer),
+        candidates=found,
     )

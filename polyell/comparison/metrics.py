@@ -19,22 +19,76 @@ from polyell.inverse import AffineMap
 
 __all__ = [
     "INSIDE_RTOL",
+    "ROUNDING_FACTOR",
     "DirectionErrors",
     "Overlap",
     "check_same_affine_set",
     "direction_errors",
     "enclosing_scale",
     "inscribed_scale",
+    "inside_rtol",
     "overlap",
+    "scale_rtol",
     "witness_torque_max",
 ]
 
 
-#: An ellipsoid whose inscribed scale is at least ``1 - INSIDE_RTOL`` is inside the polytope
-#: (one whose enclosing scale is at most ``1 + INSIDE_RTOL`` contains it): one that touches
-#: (scale exactly 1, as the new ellipsoid and the outer one do) must not be sent to a Monte
-#: Carlo estimate by a rounding error of 1e-16.
+#: Floor of :func:`inside_rtol`: an ellipsoid within this relative scale of touching counts
+#: as touching.  Treating ``c + (1 - d)(E - c) inside P`` as ``E inside P`` makes the exact
+#: coverage err by at most ``1 - (1 - d)^r <= r d`` relative (6e-9 in 6-D), far below the
+#: standard error of any Monte Carlo estimate it replaces.
 INSIDE_RTOL = 1e-9
+#: Rounding errors of a scale, in units of ``eps * extent / s_min`` (see :func:`scale_rtol`).
+ROUNDING_FACTOR = 16.0
+
+
+def scale_rtol(
+    extent: float | NDArray[np.float64],
+    smallest_axis: float | NDArray[np.float64],
+    m: int,
+    n: int,
+) -> float | NDArray[np.float64]:
+    """Relative rounding bound of an inscribed or enclosing scale computed in task coordinates.
+
+    A scale divides a distance in the task space (a facet's slack, a vertex's offset, each
+    computed from the SVD of M, the facets and the ellipsoid's factors by backward-stable
+    steps with sums of at most ``m + n`` terms) by a length of the ellipsoid of at least
+    its smallest semi-axis.  Each distance carries an absolute error of at most about
+    ``(m + n) eps extent`` (``extent``: the largest of ``|xg|``, ``|c|`` and the polytope's
+    size), so the scale carries a relative one of ``ROUNDING_FACTOR (m + n) eps extent /
+    s_min``: the condition number of the sets (``s_max / s_min``) and their distance from
+    the origin (``|xg| / s_min``) enter, the units do not.
+
+    Parameters
+    ----------
+    extent : float or ndarray
+        ``max(|xg|, |c|, sum of the generator lengths)`` [m/s^2].
+    smallest_axis : float or ndarray
+        The ellipsoid's smallest semi-axis [m/s^2].
+    m, n : int
+        Task rows and joints.
+    """
+    eps = float(np.finfo(float).eps)
+    return ROUNDING_FACTOR * (m + n) * eps * np.asarray(extent) / np.asarray(smallest_axis)
+
+
+def inside_rtol(E: Ellipsoid, P: Polytope) -> float:
+    """Tolerance of "E inside P" and "E around P": ``max(INSIDE_RTOL, scale_rtol(...))``.
+
+    An ellipsoid with ``inscribed_scale >= 1 - inside_rtol`` is inside P, one with
+    ``enclosing_scale <= 1 + inside_rtol`` around it: one that touches (scale exactly 1, as
+    the new ellipsoid of a parallelotope, the MVIE and the outer ellipsoid do) is never sent
+    to a Monte Carlo estimate by rounding errors.
+    """
+    if E.rank == 0:
+        return INSIDE_RTOL
+    m, n = P.generators.shape
+    extent = max(
+        float(np.linalg.norm(P.center)),
+        float(np.linalg.norm(E.center)),
+        float(np.linalg.norm(P.generators, axis=0).sum()),
+    )
+    return max(INSIDE_RTOL, float(scale_rtol(extent, E.semi_axes[-1], m, n)))
 
 
 def check_same_affine_set(E: Ellipsoid, P: Polytope) -> None:
@@ -49,15 +103,31 @@ def check_same_affine_set(E: Ellipsoid, P: Polytope) -> None:
         )
 
 
+def _half_widths(P: Polytope) -> NDArray[np.float64]:
+    """Offsets of P's facets about its centre, ``h_i = sum_j |a_i . M_j|`` (F,).
+
+    The zonotope's support function, computed from the generators: ``b - A xg`` would lose
+    the digits of h when P is small against its distance from the origin.
+    """
+    half: NDArray[np.float64] = np.abs(P.A @ P.generators).sum(axis=1)
+    return half
+
+
+def _slacks(E: Ellipsoid, P: Polytope) -> NDArray[np.float64]:
+    """``b_i - a_i . c`` for E's centre c, about P's centre (no cancellation at c = xg)."""
+    return _half_widths(P) - P.A @ (E.center - P.center)
+
+
 def inscribed_scale(E: Ellipsoid, P: Polytope) -> float:
     """Largest ``k`` with ``c + k (E - c)`` inside ``P``.
 
     ``min_i (b_i - a_i . c) / |diag(s) U^T a_i|`` over the facets; at least 1 iff ``E`` is
     inside ``P``, negative if even its centre is outside.  A point ellipsoid gives
-    ``inf`` (if its centre is in P) or ``-inf``.
+    ``inf`` (if its centre is in P) or ``-inf``.  The slacks are taken about P's centre
+    (``h_i - a_i . (c - xg)``), so the scale keeps its digits however far P is from 0.
     """
     reach = np.linalg.norm((P.A @ E.axes) * E.semi_axes, axis=1)
-    slack = P.b - P.A @ E.center
+    slack = _slacks(E, P)
     if E.rank == 0:
         return float("inf") if np.all(slack >= -P.atol) else float("-inf")
     return float(np.min(slack / reach))
@@ -70,7 +140,7 @@ def enclosing_scale(E: Ellipsoid, P: Polytope) -> float:
     ``E`` contains ``P`` (the outer ellipsoid touches: exactly 1), the counterpart of
     :func:`inscribed_scale`.  A point ellipsoid gives 0 (if P is that point) or ``inf``.
     """
-    offsets = P.vertices - E.center
+    offsets = (P.vertices - P.center) + (P.center - E.center)
     if E.rank == 0:
         return 0.0 if np.all(np.linalg.norm(offsets, axis=1) <= P.atol) else float("inf")
     return float(np.max(np.linalg.norm((offsets @ E.axes) / E.semi_axes, axis=1)))
@@ -110,10 +180,11 @@ def overlap(
 ) -> Overlap:
     """Coverage and overreach of ``E`` with respect to ``P``.
 
-    Exact when ``E`` is inside ``P`` (``inscribed_scale >= 1 - INSIDE_RTOL``: coverage is
+    Exact when ``E`` is inside ``P`` (``inscribed_scale >= 1 - inside_rtol``: coverage is
     ``vol(E) / vol(P)``, overreach 0), when ``E`` contains ``P`` (``enclosing_scale <= 1 +
-    INSIDE_RTOL``: coverage 1, overreach ``1 - vol(P) / vol(E)``) and in one dimension
-    (intervals).  Otherwise the share
+    inside_rtol``: coverage 1, overreach ``1 - vol(P) / vol(E)``) and in one dimension
+    (intervals); :func:`inside_rtol` is the larger of :data:`INSIDE_RTOL` and the rounding
+    bound of the scales.  Otherwise the share
     of ``E`` inside ``P`` is estimated by randomized quasi-Monte Carlo: ``replicates``
     independently scrambled Sobol' sets of ``samples`` points each, mapped uniformly into
     ``E``; the standard error is that of the replicate means.
@@ -132,13 +203,15 @@ def overlap(
     if E.rank == 0:
         inside = float(P.contains(E.center))
         return Overlap(inside, 1.0 - inside, 0.0, 0.0)
-    if inscribed_scale(E, P) >= 1.0 - INSIDE_RTOL:
-        return Overlap(E.volume / P.volume, 0.0, 0.0, 0.0)
-    if enclosing_scale(E, P) <= 1.0 + INSIDE_RTOL:
-        return Overlap(1.0, 1.0 - P.volume / E.volume, 0.0, 0.0)
+    tolerance = inside_rtol(E, P)
+    if inscribed_scale(E, P) >= 1.0 - tolerance:
+        return Overlap(min(1.0, E.volume / P.volume), 0.0, 0.0, 0.0)
+    if enclosing_scale(E, P) <= 1.0 + tolerance:
+        return Overlap(1.0, max(0.0, 1.0 - P.volume / E.volume), 0.0, 0.0)
+    slack = _slacks(E, P)  # the facets about E's centre
     if E.rank == 1:
         axis = E.axes[:, 0]
-        lo, hi = line_interval_in_halfspaces(P.A, P.b - P.A @ E.center, axis[None], P.atol)
+        lo, hi = line_interval_in_halfspaces(P.A, slack, axis[None], P.atol)
         s = E.semi_axes[0]
         length = 0.0 if np.isnan(lo[0]) else max(0.0, min(hi[0], s) - max(lo[0], -s))
         return Overlap(length / P.volume, 1.0 - length / (2.0 * s), 0.0, 0.0)
@@ -147,13 +220,18 @@ def overlap(
     rng = np.random.default_rng(seed)
     shares = np.empty(replicates)
     for k in range(replicates):
-        unit = qmc.Sobol(d=E.rank + 1, scramble=True, seed=rng).random(samples)
-        points = E.center + (_uniform_in_ball(unit) * E.semi_axes) @ E.axes.T
-        shares[k] = np.mean(np.all(points @ P.A.T <= P.b, axis=1))
+        # The first ``samples`` points of a power-of-two draw (the size at which scipy's
+        # Sobol' generator keeps its balance and issues no warning).
+        exponent = max(0, int(samples - 1).bit_length())
+        sobol = qmc.Sobol(d=E.rank + 1, scramble=True, seed=rng)
+        unit = sobol.random_base2(exponent)[:samples]
+        offsets = (_uniform_in_ball(unit) * E.semi_axes) @ E.axes.T  # about E's centre
+        shares[k] = np.mean(np.all(offsets @ P.A.T <= slack, axis=1))
     share = float(shares.mean())
     stderr = float(shares.std(ddof=1) / np.sqrt(replicates))
     ratio = E.volume / P.volume
-    return Overlap(share * ratio, 1.0 - share, stderr * ratio, stderr)
+    # vol(E & P) <= vol(P): an estimate above 1 is noise of the sampling (within stderr)
+    return Overlap(min(1.0, share * ratio), 1.0 - share, stderr * ratio, stderr)
 
 
 class DirectionErrors(NamedTuple):

@@ -110,7 +110,7 @@ def format_summary_table(
         if column != "defined":
             table[column] = table[column] * [factor for _, factor in displays]
     table.index = [
-        f"{ellipsoid_label(kind, style == 'latex')}: {name}"
+        f"{ellipsoid_label(kind)}: {name}"
         for (kind, _), (name, _) in zip(table.index, displays, strict=True)
     ]
     for column in table.columns:

@@ -11,14 +11,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from polyell.errors import ProjectedInputWarning
-from polyell.geometry.limits import DirectionalLimits
+from polyell.geometry.limits import ATOL_RELATIVE, DirectionalLimits
 from polyell.geometry.subspace import AFFINE_RTOL, AffineSubspace
 from polyell.validation import check_directions, check_points
 
 __all__ = ["ATOL_RELATIVE", "ConvexSet"]
 
-#: Distance tolerance of membership tests, relative to the set's size.
-ATOL_RELATIVE = 1e-9
 #: A projected direction that moved by more than this is reported (rounding is not).
 PROJECTION_NOTICE = 1e-12
 
@@ -41,7 +39,13 @@ class ConvexSet(ABC):
 
     @cached_property
     def atol(self) -> float:
-        """Membership tolerance: ``ATOL_RELATIVE`` times the larger of the size and ``||c||``."""
+        """An absolute length: ``ATOL_RELATIVE`` times the larger of the size and ``||c||``.
+
+        A distance below which two points of the set's scale are the same (a centre off
+        the affine set, a projection worth a warning).  Membership is decided relative to
+        the set itself instead (:data:`ATOL_RELATIVE`): an absolute slack at every facet
+        would widen a thin set far beyond itself at its sharp tips.
+        """
         return ATOL_RELATIVE * max(
             self._size(), float(np.linalg.norm(self.center)), np.finfo(float).tiny
         )
@@ -60,7 +64,9 @@ class ConvexSet(ABC):
         """Whether points belong to the set.
 
         A point counts as lying in the affine set within :data:`~polyell.AFFINE_RTOL`
-        (rounded input, see :attr:`affine_rtol`) and inside the set within :attr:`atol`.
+        (rounded input, see :attr:`affine_rtol`) and inside the set when it is inside the
+        set grown by ``1 + ATOL_RELATIVE`` about its centre (a tolerance relative to the
+        set's width in every direction, above the rounding floor of double precision).
 
         Parameters
         ----------

@@ -13,7 +13,13 @@ from polyell.errors import InputError
 from polyell.geometry.convex_set import ConvexSet
 from polyell.geometry.limits import DirectionalLimits, line_interval_in_ellipsoids
 from polyell.geometry.subspace import AffineSubspace
-from polyell.validation import check_array, check_points
+from polyell.validation import (
+    MAX_DIRECTIONS,
+    check_array,
+    check_integer,
+    check_points,
+    magnitude_limit,
+)
 
 __all__ = ["Ellipsoid", "unit_ball_volume"]
 
@@ -69,11 +75,32 @@ class Ellipsoid(ConvexSet):
             raise InputError(
                 "semi_axes", "strictly positive lengths", f"{s}", "drop axes of zero length."
             )
-        if not np.allclose(U.T @ U, np.eye(U.shape[1]), atol=1e-9):
+        # The bound of check_magnitudes: volumes (products of r semi-axes) and the squares
+        # of eq. (23) stay representable.
+        limit = magnitude_limit(m) if m else 1
+        for name, sizes in (("semi_axes", s), ("center", np.abs(self.center))):
+            outside = (sizes > 10.0**limit) | ((sizes > 0) & (sizes < 10.0**-limit))
+            if outside.any():
+                raise InputError(
+                    name,
+                    f"lengths within 1e-{limit}..1e{limit} in a {m}-dimensional space, so "
+                    "that volumes stay representable",
+                    f"{sizes[np.argmax(outside)]:.3g}",
+                    "express the task in other units.",
+                )
+        # (orthonormal columns have entries of at most 1: larger ones are refused before
+        # U^T U, which could overflow)
+        big = max(1.0, float(np.max(np.abs(U)))) if U.size else 1.0
+        if big > 1.0 + 1e-9 or not np.allclose(U.T @ U, np.eye(U.shape[1]), atol=1e-9):
+            if big > 1.0 + 1e-9:
+                got = f"an entry of size {big:.3g}"
+            else:
+                off = np.max(np.abs(U.T @ U - np.eye(U.shape[1])))
+                got = f"U^T U - I with max |entry| {off:.3g}"
             raise InputError(
                 "axes",
                 "orthonormal columns",
-                f"U^T U - I with max |entry| {np.max(np.abs(U.T @ U - np.eye(U.shape[1]))):.3g}",
+                got,
                 "orthonormalise the axes, e.g. with an SVD.",
             )
         order = np.argsort(-s, kind="stable")
@@ -159,8 +186,11 @@ class Ellipsoid(ConvexSet):
         Raises
         ------
         InputError
-            For another rank.
+            For another rank, or a count that is not an integer from 2 to 1,000,000.
         """
+        count = check_integer("count", count, 2, MAX_DIRECTIONS)
+        if not isinstance(closed, bool | np.bool_):
+            raise InputError("closed", "True or False", repr(closed))
         if self.rank == 1:
             return self.center + np.outer([-1.0, 1.0], self.semi_axes[0] * self.axes[:, 0])
         if self.rank != 2:

@@ -8,15 +8,61 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
+    "ATOL_RELATIVE",
     "DirectionalLimits",
+    "facet_slack",
     "line_interval_in_ellipsoids",
     "line_interval_in_halfspaces",
     "unit_ball_interval",
 ]
 
 
+#: Membership tolerance, relative to the set itself: a point of a polytope counts as inside
+#: when it lies in the set grown by ``1 + ATOL_RELATIVE`` about its centre (each facet moved
+#: out by that share of the set's own half-width along its normal, see :func:`facet_slack`).
+#: Relative to the width
+#: along every normal, not to the set's diameter: a thin set with a sharp tip is not
+#: widened beyond itself (an absolute slack of ``1e-9 * size`` per facet would let the
+#: half-spaces at a tip of angle 1e-8 overlap a tenth of the set's size beyond it).
+ATOL_RELATIVE = 1e-9
+
+
+def facet_slack(
+    half_widths: NDArray[np.float64], reach: NDArray[np.float64] | float, terms: int
+) -> NDArray[np.float64]:
+    """How far beyond each facet ``a_i . (x - c) <= h_i`` a point still counts as inside.
+
+    ``ATOL_RELATIVE * h_i + terms * eps * reach``: the first term grows the set by the
+    factor ``1 + ATOL_RELATIVE`` about its centre ``c``; the second is the rounding floor
+    of evaluating ``a_i . (x - c)`` and of the points themselves.  With ``reach`` at least
+    ``|x| + |c| + sum_i |g_i|``, forming ``x - c`` and a dot product of m terms errs by at most
+    about ``(m + 1) eps reach``, and a vertex summed from n generators by ``n eps reach``
+    (first-order bounds ``gamma_k = k eps``, Higham, Accuracy and Stability, section 3.1), so
+    ``terms = m + n + 2`` covers both.  Below that floor no computation in double precision
+    can decide membership: it is the data's own precision (at a tip of angle theta it is
+    ``terms * eps * reach / theta`` along the tip's axis).
+
+    Parameters
+    ----------
+    half_widths : ndarray, shape (..., F)
+        ``h_i``: the set's support about its centre along each unit normal.
+    reach : float or ndarray, shape (...) or (..., 1)
+        The size of the points and of the set, broadcast against ``half_widths``.
+    terms : int
+        ``m + n + 2`` for a zonotope of n generators in m dimensions.
+
+    Returns
+    -------
+    ndarray, the shape of ``half_widths`` broadcast with ``reach``
+    """
+    return ATOL_RELATIVE * half_widths + terms * np.finfo(float).eps * reach
+
+
 def line_interval_in_halfspaces(
-    A: NDArray[np.float64], b: NDArray[np.float64], directions: NDArray[np.float64], atol: float
+    A: NDArray[np.float64],
+    b: NDArray[np.float64],
+    directions: NDArray[np.float64],
+    slack: NDArray[np.float64] | float,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The interval ``{a : A (a t) <= b}`` for each direction ``t``.
 
@@ -32,9 +78,11 @@ def line_interval_in_halfspaces(
         Offsets.
     directions : ndarray, shape (k, m)
         Unit directions.
-    atol : float
-        An interval with ``lo > hi`` by at most ``atol`` (a line grazing a vertex or edge)
-        is the single point ``(lo + hi) / 2``.
+    slack : float or ndarray, shape (F,)
+        How far beyond each facet a point still counts as inside (:func:`facet_slack`): a
+        line that misses ``{A x <= b}`` (``lo > hi``, a line grazing a vertex or an edge,
+        to rounding) but meets ``{A x <= b + slack}`` touches the set in the single point
+        ``(lo + hi) / 2``.
 
     Returns
     -------
@@ -42,17 +90,29 @@ def line_interval_in_halfspaces(
         Interval ends, NaN where the line misses the set.
     """
     slopes = directions @ A.T  # (k, F)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        cuts = b / slopes
-    upper = np.where(slopes > 0, cuts, np.inf).min(axis=1, initial=np.inf)
-    lower = np.where(slopes < 0, cuts, -np.inf).max(axis=1, initial=-np.inf)
-    blocked = ((slopes == 0) & (b < 0)).any(axis=1)
-    grazing = (lower > upper) & (lower - upper <= atol)
+    loose = b + slack
+    lower, upper = _cut(b, slopes)
+    blocked = ((slopes == 0) & (loose < 0)).any(axis=1)
+    grazing = lower > upper
+    if grazing.any():  # does the line meet the set grown by the slack?
+        lower_loose, upper_loose = _cut(np.broadcast_to(loose, b.shape), slopes[grazing])
+        grazing[grazing] = lower_loose <= upper_loose
     middle = 0.5 * (lower + upper)
     lower = np.where(grazing, middle, lower)
     upper = np.where(grazing, middle, upper)
     empty = blocked | (lower > upper)
     return np.where(empty, np.nan, lower), np.where(empty, np.nan, upper)
+
+
+def _cut(
+    b: NDArray[np.float64], slopes: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Largest lower and smallest upper cut ``b_i / slope_i`` of each line (rows of slopes)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cuts = b / slopes
+    upper = np.where(slopes > 0, cuts, np.inf).min(axis=1, initial=np.inf)
+    lower = np.where(slopes < 0, cuts, -np.inf).max(axis=1, initial=-np.inf)
+    return lower, upper
 
 
 def line_interval_in_ellipsoids(

@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 from polyell.errors import InputError
 from polyell.geometry.cddlib import halfspaces_from_vertices
 from polyell.geometry.convex_set import ConvexSet
-from polyell.geometry.limits import DirectionalLimits, line_interval_in_halfspaces
+from polyell.geometry.limits import DirectionalLimits, facet_slack, line_interval_in_halfspaces
 from polyell.geometry.linprog import polytope_limits_lp
 from polyell.geometry.subspace import (
     RANK_RTOL,
@@ -21,11 +21,13 @@ from polyell.geometry.subspace import (
 )
 from polyell.geometry.zonotope import (
     ZonotopeFacets,
+    order_polygon,
+    unwhiten,
     zonotope_facets,
     zonotope_vertices,
     zonotope_volume,
 )
-from polyell.validation import check_array
+from polyell.validation import check_array, check_magnitudes
 
 __all__ = ["Polytope"]
 
@@ -39,10 +41,16 @@ class Polytope(ConvexSet):
     ``xdd_g + Im(M)``: it is then described by ``A_eq x = b_eq`` together with
     ``A x <= b``, and :attr:`volume` is its r-dimensional volume.
 
+    The facets are enumerated in the whitened coordinates ``y = S^-1 U_1^T (x - xdd_g)`` of
+    the SVD ``M = U_1 S V_1^T``, where P is the well-conditioned zonotope ``{V_1^T u}``,
+    and mapped back (:func:`~polyell.geometry.zonotope.unwhiten`): exact in number and
+    accurate to the data for any ``sigma_min / sigma_max`` above ``rank_rtol`` (DESIGN.md
+    section 7, "Thin zonotopes").
+
     Parameters
     ----------
     generators : array-like, shape (m, n)
-        The matrix ``M`` [m/s^2 per unit normalized torque].
+        The matrix ``M`` [m/s^2 per unit normalized torque], n >= 1.
     center : array-like, shape (m,)
         The centre ``xdd_g`` [m/s^2].
     rank_rtol : float, optional
@@ -69,17 +77,20 @@ class Polytope(ConvexSet):
     ) -> None:
         if svd is None:  # a user's input; an Analysis passes its own clean arrays
             generators = check_array("generators", generators, ("m", "n"))
+            if 0 in generators.shape:
+                raise InputError(
+                    "generators",
+                    "an (m, n) matrix with at least one row and one column (generator)",
+                    f"shape {generators.shape}",
+                    "a polytope with no generators is its centre alone: pass a zero "
+                    "column, e.g. np.zeros((m, 1)).",
+                )
             center = check_array("center", center, (np.shape(generators)[0],))
+            check_magnitudes(generators, center, argument="generators")
         self.generators = np.asarray(generators, dtype=float)
         self.center = np.asarray(center, dtype=float)
         self._svd = svd if svd is not None else rank_revealing_svd(self.generators, rank_rtol)
         self.affine_set = AffineSubspace.from_svd(self.center, self._svd)
-        # The generators in the affine set's coordinates, (r, n): M itself at full rank.
-        self._coordinate_generators = (
-            self.generators
-            if self.dim == self.ambient_dim
-            else self.affine_set.basis.T @ self.generators
-        )
 
     @property
     def svd(self) -> RankRevealingSVD:
@@ -96,15 +107,26 @@ class Polytope(ConvexSet):
     def _facets(
         self,
     ) -> tuple[ZonotopeFacets | None, NDArray[np.float64], NDArray[np.float64]]:
-        """The zonotope's facets in the affine set's coordinates (None for a point); A; b."""
+        """The whitened zonotope's facets (None for a point); A; the half-widths h.
+
+        ``P = {x : A (x - xg) <= h}`` (within the affine set).
+        """
         if self.dim == 0:
             return None, np.zeros((0, self.ambient_dim)), np.zeros(0)
-        facets = zonotope_facets(self._coordinate_generators)
-        if self.dim == self.ambient_dim:  # the basis is the identity
-            A = facets.normals
-        else:
-            A = facets.normals @ self.affine_set.basis.T
-        return facets, A, facets.offsets + A @ self.center
+        svd = self._svd
+        facets = zonotope_facets(svd.V1.T)  # the whitened generators, orthonormal rows
+        A, h = unwhiten(facets.normals, facets.offsets, svd.U1, svd.sigma)
+        return facets, A, h
+
+    @cached_property
+    def _reach(self) -> float:
+        """``|xg| + sum |g_i|``: the scale of the rounding floor of :func:`facet_slack`."""
+        return float(np.linalg.norm(self.center)) + self._size()
+
+    @property
+    def _terms(self) -> int:
+        """``m + n + 2``: the terms of the rounding bound of :func:`facet_slack`."""
+        return self.ambient_dim + int(self.generators.shape[1]) + 2
 
     @property
     def A(self) -> NDArray[np.float64]:
@@ -114,7 +136,11 @@ class Polytope(ConvexSet):
     @property
     def b(self) -> NDArray[np.float64]:
         """Facet offsets, shape (F,): ``P = {x : A x <= b, A_eq x = b_eq}``."""
-        return self._facets[2]
+        return self._offsets
+
+    @cached_property
+    def _offsets(self) -> NDArray[np.float64]:
+        return self._facets[2] + self.A @ self.center
 
     @property
     def A_eq(self) -> NDArray[np.float64]:
@@ -132,15 +158,25 @@ class Polytope(ConvexSet):
         facets = self._facets[0]
         if facets is None:
             return self.center[None, :].copy()
-        reduced = zonotope_vertices(facets)
+        # Signs decided on the whitened facets, vertices summed from M's own columns.
+        signs_times_m = zonotope_vertices(facets, self.generators)
         if self.dim == self.ambient_dim:
-            return self.center + reduced
-        return self.center + reduced @ self.affine_set.basis.T
+            return self.center + signs_times_m
+        # In the affine set (M's singular values below the rank threshold dropped); a
+        # polygon counter-clockwise in the set's basis.
+        reduced = signs_times_m @ self._svd.U1
+        if self.dim == 2:
+            reduced = order_polygon(reduced)
+        return self.center + reduced @ self._svd.U1.T
 
     @cached_property
     def volume(self) -> float:
-        """Volume in the affine set (r-dimensional; 1 for a single point) [(m/s^2)^r]."""
-        return zonotope_volume(self._coordinate_generators)
+        """Volume in the affine set (r-dimensional; 1 for a single point) [(m/s^2)^r].
+
+        ``prod(sigma) vol({V_1^T u})``: the whitened zonotope's determinants are well
+        scaled, so the volume keeps its relative accuracy however thin P is.
+        """
+        return float(np.prod(self._svd.sigma)) * zonotope_volume(self._svd.V1.T)
 
     @cached_property
     def ball_radius(self) -> float:
@@ -151,7 +187,7 @@ class Polytope(ConvexSet):
         """
         if self.dim == 0:
             return 0.0
-        return float(np.min(self.b - self.A @ self.center))
+        return float(np.min(self._facets[2]))
 
     @cached_property
     def origin_radius(self) -> float:
@@ -159,10 +195,12 @@ class Polytope(ConvexSet):
 
         ``min_i b_i``: the acceleration available in every direction from rest against
         gravity [m/s^2].  NaN where the origin is not in P (the arm cannot even keep still)
-        or, at a singular configuration, not on its affine set.
+        or, at a singular configuration, not on its affine set; 0 for the point ``{0}``.
         """
-        if self.dim == 0 or not self.contains(np.zeros(self.ambient_dim)):
+        if not self.contains(np.zeros(self.ambient_dim)):
             return float("nan")
+        if self.dim == 0:
+            return 0.0
         return float(max(0.0, np.min(self.b)))
 
     def halfspaces(
@@ -196,7 +234,10 @@ class Polytope(ConvexSet):
         return float(np.sqrt((self.generators**2).sum(axis=0)).sum())
 
     def _inside_hull(self, x: NDArray[np.float64]) -> NDArray[np.bool_]:
-        return np.all(x @ self.A.T <= self.b + self.atol, axis=-1)
+        """``A (x - xg) <= h`` grown by :func:`facet_slack` (relative to P's widths)."""
+        h = self._facets[2]
+        reach = np.linalg.norm(x, axis=-1)[..., None] + self._reach
+        return np.all((x - self.center) @ self.A.T <= h + facet_slack(h, reach, self._terms), -1)
 
     def limits(
         self, directions: ArrayLike, method: Literal["closed_form", "lp"] = "closed_form"
@@ -230,4 +271,8 @@ class Polytope(ConvexSet):
     def _interval_on_lines(
         self, lines: NDArray[np.float64]
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        return line_interval_in_halfspaces(self.A, self.b, lines, self.atol)
+        # Points of a line near P are within |xg| + size of the origin: reach twice that.
+        h = self._facets[2]
+        return line_interval_in_halfspaces(
+            self.A, self.b, lines, facet_slack(h, 2.0 * self._reach, self._terms)
+        )

@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 from scipy.linalg import lapack
 
 from polyell.errors import SolverError
-from polyell.validation import check_fraction
+from polyell.validation import ROUNDED_INPUT_RTOL, check_fraction
 
 __all__ = [
     "AFFINE_RTOL",
@@ -36,7 +36,9 @@ RANK_RTOL = 1e-10
 #: and so does a point at a distance of at most ``AFFINE_RTOL * max(|x|, |xg|)``.  Relative
 #: to the point and the centre, not to a set's extent, so that the polytope and every
 #: ellipsoid of one analysis decide alike.  ``pe.analyze(..., affine_rtol=...)`` sets it.
-AFFINE_RTOL = 1e-4
+#: It is the rounded-input rule of :data:`polyell.validation.ROUNDED_INPUT_RTOL`, which also
+#: bounds a direction's unit norm: one tolerance for typed input.
+AFFINE_RTOL = ROUNDED_INPUT_RTOL
 
 
 class RankRevealingSVD(NamedTuple):

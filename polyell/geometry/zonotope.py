@@ -9,6 +9,12 @@ coordinates of its affine set).  Here ``G`` has shape (r, n) and full row rank `
 * Vertices: every vertex lies on a facet ``a``, where the generators not orthogonal to
   ``a`` take the sign ``sign(a . g_i)``; only the orthogonal ones vary.
 * Volume: ``vol(Z) = 2^r sum_{|S| = r} |det G_S|``.
+
+Thin zonotopes (DESIGN.md section 7): with ``G = U S V^T`` (SVD), ``Z = U S {V^T u}`` and
+the whitened zonotope ``{V^T u}`` (orthonormal rows) is well conditioned however thin ``Z``
+is: it contains the unit ball and lies in the ball of radius ``sqrt(n)``.  Its facets are
+enumerated there, where cofactors, the dependence test and the in-facet test compare
+well-scaled numbers, and mapped back by :func:`unwhiten`.
 """
 
 from __future__ import annotations
@@ -28,7 +34,9 @@ __all__ = [
     "MAX_CORNER_JOINTS",
     "ZonotopeFacets",
     "corner_vertices",
+    "order_polygon",
     "subset_cofactors",
+    "unwhiten",
     "zonotope_facets",
     "zonotope_vertices",
     "zonotope_volume",
@@ -104,16 +112,22 @@ def _sign_table(n: int) -> NDArray[np.float64]:
     return table
 
 
-def _nonzero_generators(G: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """The generators longer than ``_ZERO_GENERATOR_RTOL`` of the longest, and their lengths."""
+def _nonzero_generators(
+    G: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int_]]:
+    """The generators longer than ``_ZERO_GENERATOR_RTOL`` of the longest, lengths, indices.
+
+    In whitened coordinates (the columns of ``V^T``) "short" is relative to the set's
+    width along the generator, not to the longest generator of a thin set.
+    """
     lengths = np.sqrt((G * G).sum(axis=0))
     longest = lengths.max(initial=0.0)
     if longest == 0:
-        return G[:, :0], lengths[:0]
+        return G[:, :0], lengths[:0], np.zeros(0, dtype=int)
     if lengths.min() > _ZERO_GENERATOR_RTOL * longest:
-        return G, lengths
-    keep = lengths > _ZERO_GENERATOR_RTOL * longest
-    return G[:, keep], lengths[keep]
+        return G, lengths, np.arange(G.shape[1])
+    keep = np.flatnonzero(lengths > _ZERO_GENERATOR_RTOL * longest)
+    return G[:, keep], lengths[keep], keep
 
 
 def _unique_directions(normals: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -173,7 +187,10 @@ class ZonotopeFacets(NamedTuple):
     Attributes
     ----------
     generators : ndarray, shape (r, n)
-        The non-zero generators (columns).
+        The non-zero generators (columns) of the zonotope given (whitened ones, for a
+        :class:`~polyell.Polytope`).
+    columns : ndarray of int, shape (n,)
+        Their column indices in the matrix given.
     in_plane_tol : ndarray, shape (n,)
         ``_IN_FACET_RTOL |g_i|``: generator i lies in a facet's plane when
         ``|a . g_i|`` is at most this.
@@ -190,6 +207,7 @@ class ZonotopeFacets(NamedTuple):
     """
 
     generators: NDArray[np.float64]
+    columns: NDArray[np.int_]
     in_plane_tol: NDArray[np.float64]
     normals: NDArray[np.float64]
     offsets: NDArray[np.float64]
@@ -200,6 +218,10 @@ class ZonotopeFacets(NamedTuple):
 
 def zonotope_facets(G: NDArray[np.float64]) -> ZonotopeFacets:
     """Facet normals and offsets of the zonotope, ``Z = { y : normals @ y <= offsets }``.
+
+    The tests on cofactors and on ``a . g_i`` are relative to unit generators: exact for a
+    well-conditioned ``G``.  For a thin zonotope pass its whitened generators ``V^T`` and
+    map the facets back with :func:`unwhiten` (as :class:`~polyell.Polytope` does).
 
     Parameters
     ----------
@@ -212,7 +234,7 @@ def zonotope_facets(G: NDArray[np.float64]) -> ZonotopeFacets:
         Normals in pairs ``a, -a`` and offsets ``h(a) = sum_i |a . g_i|``.
     """
     r = G.shape[0]
-    gens, lengths = _nonzero_generators(G)
+    gens, lengths, columns = _nonzero_generators(G)
     if r == 1:
         half = np.ones((1, 1))
     else:
@@ -232,6 +254,7 @@ def zonotope_facets(G: NDArray[np.float64]) -> ZonotopeFacets:
     offsets = np.abs(dots).sum(axis=1)
     return ZonotopeFacets(
         gens,
+        columns,
         tol,
         np.concatenate([half, -half]),
         np.concatenate([offsets, offsets]),
@@ -239,6 +262,46 @@ def zonotope_facets(G: NDArray[np.float64]) -> ZonotopeFacets:
         in_facet,
         general,
     )
+
+
+def unwhiten(
+    normals: NDArray[np.float64],
+    offsets: NDArray[np.float64],
+    frame: NDArray[np.float64],
+    sigma: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Facets of the whitened zonotope ``{V^T u}`` as facets of ``U S {V^T u}``.
+
+    ``a_y . y <= h_y`` with ``y = S^-1 U^T x`` reads ``(U S^-1 a_y) . x <= h_y``; divided by
+    ``|S^-1 a_y|`` (``U`` has orthonormal columns) the normal is a unit one.  Both sides
+    keep the relative accuracy of ``a_y`` and ``h_y``: a division by ``sigma``, a norm
+    and a product by the orthonormal ``U``, however thin the set.  Leading axes broadcast
+    (a batch of configurations).
+
+    Parameters
+    ----------
+    normals : ndarray, shape (..., F, r)
+        Unit facet normals ``a_y`` of the whitened zonotope; zero rows (dependent subsets)
+        stay zero.
+    offsets : ndarray, shape (..., F)
+        Their offsets ``h_y = sum_i |a_y . v_i|``.
+    frame : ndarray, shape (..., m, r)
+        ``U``: orthonormal columns, the left singular vectors of the generators.
+    sigma : ndarray, shape (..., r)
+        The (non-zero) singular values.
+
+    Returns
+    -------
+    normals : ndarray, shape (..., F, m)
+        Unit outward normals ``a_x`` in the m coordinates of ``frame``.
+    offsets : ndarray, shape (..., F)
+        ``h_x = h_y / |S^-1 a_y|``, the support of the set about its centre along ``a_x``.
+    """
+    scaled = normals / sigma[..., None, :]
+    length = np.sqrt((scaled * scaled).sum(axis=-1))
+    length = np.where(length > 0, length, 1.0)  # a zero row (no constraint) stays zero
+    scaled /= length[..., None]
+    return scaled @ np.swapaxes(frame, -1, -2), offsets / length
 
 
 def _incidence(
@@ -254,51 +317,61 @@ def _incidence(
     return dots, in_facet, bool((in_facet.sum(axis=1) == gens.shape[0] - 1).all())
 
 
-def _order_polygon(points: NDArray[np.float64]) -> NDArray[np.float64]:
+def order_polygon(points: NDArray[np.float64]) -> NDArray[np.float64]:
+    """2-D points in counter-clockwise order about their mean."""
     centre = points.mean(axis=0)
     angles = np.arctan2(points[:, 1] - centre[1], points[:, 0] - centre[0])
     return points[np.argsort(angles)]
 
 
-def _unique_points(points: NDArray[np.float64], atol: float) -> NDArray[np.float64]:
+def _unique_points(points: NDArray[np.float64], atol: float) -> list[int]:
+    """Indices of the points farther than ``atol`` from every earlier kept one."""
     keep: list[int] = []
     for i, p in enumerate(points):
         if not keep or np.min(np.linalg.norm(points[keep] - p, axis=1)) > atol:
             keep.append(i)
-    return points[keep]
+    return keep
 
 
-def zonotope_vertices(facets: ZonotopeFacets) -> NDArray[np.float64]:
+def zonotope_vertices(
+    facets: ZonotopeFacets, image: NDArray[np.float64] | None = None
+) -> NDArray[np.float64]:
     """Extreme points of the zonotope from its facets (no 2^n enumeration).
 
     Parameters
     ----------
     facets : ZonotopeFacets
         From :func:`zonotope_facets`.
+    image : ndarray, shape (p, n), optional
+        The same zonotope's generators in other coordinates (``T @ G`` for the ``G`` given
+        to :func:`zonotope_facets`, e.g. ``M`` for its whitened ``V^T``): the vertices are
+        decided on ``facets`` and returned as sign vectors times these columns.
 
     Returns
     -------
-    vertices : ndarray, shape (V, r)
-        The extreme points; in counter-clockwise order when r = 2.
+    vertices : ndarray, shape (V, r) or (V, p)
+        The extreme points; in counter-clockwise order when they are 2-D.
     """
     gens = facets.generators
+    out = gens if image is None else image[:, facets.columns]
     if facets.general_position:
         positive = facets.dots > facets.in_plane_tol  # and not in the plane
-        vertices = _vertices_in_general_position(gens, positive, facets.in_facet)
+        signs = _signs_in_general_position(positive, facets.in_facet)
     else:
-        vertices = _vertices_by_active_facets(gens, facets.normals, facets.offsets)
-    return _order_polygon(vertices) if gens.shape[0] == 2 else vertices
+        signs = _signs_by_active_facets(gens, facets.normals, facets.offsets)
+    vertices = signs @ out.T
+    return order_polygon(vertices) if out.shape[0] == 2 else vertices
 
 
-def _vertices_in_general_position(
-    gens: NDArray[np.float64], positive: NDArray[np.bool_], in_facet: NDArray[np.bool_]
+def _signs_in_general_position(
+    positive: NDArray[np.bool_], in_facet: NDArray[np.bool_]
 ) -> NDArray[np.float64]:
     """Every facet is a parallelotope of r - 1 generators: all its corners are vertices.
 
     ``positive`` (``a . g_i`` above the in-plane tolerance) and ``in_facet``, both (F, n),
     describe one normal of each pair ``a, -a``; the vertices on ``-a`` are the negatives
     of those on ``a``.  A vertex has a unique sign vector (no generator is zero), so the
-    candidates are deduplicated exactly on their signs.
+    candidates are deduplicated exactly on their signs.  Returns the sign vectors (V, n).
     """
     F, n = positive.shape
     free = np.nonzero(in_facet)[1].reshape(F, -1)  # (F, r-1)
@@ -308,7 +381,7 @@ def _vertices_in_general_position(
         facet = np.arange(F)[:, None, None]
         rows[facet, np.arange(len(corners))[None, :, None], free[:, None, :]] = corners[None]
         rows = rows.reshape(-1, n)
-        return np.unique(np.concatenate([rows, -rows]), axis=0).astype(float) @ gens.T
+        return np.unique(np.concatenate([rows, -rows]), axis=0).astype(float)
     # A sign vector as the bits of an integer (bit i set: +g_i): the generators off the
     # facet plane are fixed by the normal, those in it take every combination.  The
     # opposite facet's vertices have every bit flipped: key ^ (2^n - 1) = 2^n - 1 - key.
@@ -318,15 +391,18 @@ def _vertices_in_general_position(
         present = np.zeros(1 << n, dtype=bool)
         present[keys] = True
         present |= present[::-1]
-        return _sign_table(n)[present] @ gens.T
+        return _sign_table(n)[present]
     keys = np.unique(np.concatenate([keys.ravel(), keys.ravel() ^ ((1 << n) - 1)]))
-    return (((keys[:, None] >> np.arange(n)) & 1) * 2.0 - 1.0) @ gens.T
+    return (((keys[:, None] >> np.arange(n)) & 1) * 2.0 - 1.0).astype(np.float64)
 
 
-def _vertices_by_active_facets(
+def _signs_by_active_facets(
     gens: NDArray[np.float64], normals: NDArray[np.float64], offsets: NDArray[np.float64]
 ) -> NDArray[np.float64]:
-    """Any arrangement: candidates from each facet, kept if the active facets span R^r."""
+    """Any arrangement: candidates from each facet, kept if the active facets span R^r.
+
+    Returns the sign vectors (V, n) of the extreme points.
+    """
     r = gens.shape[0]
     lengths = np.linalg.norm(gens, axis=0)
     atol = 1e-9 * max(lengths.sum(), 1e-300)
@@ -334,17 +410,19 @@ def _vertices_by_active_facets(
     for a in normals:
         dots = a @ gens
         in_facet = np.abs(dots) <= _IN_FACET_RTOL * lengths
-        base = gens[:, ~in_facet] @ np.sign(dots[~in_facet])
-        free = gens[:, in_facet]
-        signs = np.array(list(product((-1.0, 1.0), repeat=free.shape[1])))
-        candidates.append(base + signs @ free.T)
-    points = np.concatenate(candidates)
+        free = np.flatnonzero(in_facet)
+        corners = np.array(list(product((-1.0, 1.0), repeat=free.size))).reshape(-1, free.size)
+        signs = np.repeat(np.sign(dots)[None, :], len(corners), axis=0)
+        signs[:, free] = corners
+        candidates.append(signs)
+    signs = np.concatenate(candidates)
+    points = signs @ gens.T
     active = np.abs(points @ normals.T - offsets) <= atol  # (P, F)
     extreme = np.array(
         [np.linalg.matrix_rank(normals[row]) == r if row.sum() >= r else False for row in active],
         dtype=bool,
     )
-    return _unique_points(points[extreme], atol)
+    return signs[extreme][_unique_points(points[extreme], atol)]
 
 
 def zonotope_volume(G: NDArray[np.float64]) -> float:
@@ -358,7 +436,7 @@ def zonotope_volume(G: NDArray[np.float64]) -> float:
     r = G.shape[0]
     if r == 0:
         return 1.0
-    gens, _ = _nonzero_generators(G)
+    gens = _nonzero_generators(G)[0]
     chosen = subsets(gens.shape[1], r)
     if chosen.size == 0:
         return 0.0
@@ -394,4 +472,4 @@ def corner_vertices(G: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.array([[corners.min()], [corners.max()]])
     hull = ConvexHull(corners)
     points = corners[hull.vertices]
-    return _order_polygon(points) if r == 2 else points
+    return order_polygon(points) if r == 2 else points

@@ -14,8 +14,33 @@ from polyell.validation import array_ndim, check_array, check_torque_limits
 __all__ = ["PlanarArm"]
 
 
+#: Largest joint angle [rad]: the rounding of an angle of size a is about a * 1.1e-16, so
+#: below 1e6 rad its sine and cosine keep 10 digits.
+MAX_ANGLE = 1e6
+#: Link parameters [SI units] within ``10^+-MAX_PARAMETER_EXPONENT``: the inertia
+#: ``m l^2`` and the gravity torques ``m g l`` of n links stay finite.
+MAX_PARAMETER_EXPONENT = 50
+
+
+def _bounded(name: str, array: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Refuse parameters beyond ``10^MAX_PARAMETER_EXPONENT`` (or non-zero ones below 1/that)."""
+    size = np.abs(array)
+    high = 10.0**MAX_PARAMETER_EXPONENT
+    bad = np.flatnonzero((size > high) | ((size > 0) & (size < 1.0 / high)))
+    if bad.size:
+        where = f"{name}[{bad[0]}]" if array.ndim else name
+        raise InputError(
+            name,
+            f"values of size within 1e-{MAX_PARAMETER_EXPONENT}..1e{MAX_PARAMETER_EXPONENT} "
+            "(SI units), so that inertias and gravity torques stay representable",
+            f"{where} = {np.ravel(array)[bad[0]]:.3g}",
+            "give the link parameters in metres, kilograms and kg m^2.",
+        )
+    return array
+
+
 def _positive(name: str, value: ArrayLike, n: int | None = None) -> NDArray[np.float64]:
-    array = check_array(name, value, (n,))
+    array = _bounded(name, check_array(name, value, (n,)))
     bad = np.flatnonzero(array <= 0)
     if bad.size:
         raise InputError(
@@ -88,15 +113,17 @@ class PlanarArm:
         if n == 0:
             raise InputError("lengths", "at least one link", "an empty sequence")
         self.masses = _positive("masses", masses, n)
-        self.com = 0.5 * self.lengths if com is None else check_array("com", com, (n,))
+        self.com = (
+            0.5 * self.lengths if com is None else _bounded("com", check_array("com", com, (n,)))
+        )
         self.inertia = (
             self.masses * self.lengths**2 / 12.0
             if inertia is None
-            else check_array("inertia", inertia, (n,))
+            else _bounded("inertia", check_array("inertia", inertia, (n,)))
         )
         if np.any(self.inertia < 0):
             raise InputError("inertia", "non-negative inertias", f"{self.inertia}")
-        self.gravity = float(check_array("gravity", gravity, ()))
+        self.gravity = float(_bounded("gravity", check_array("gravity", gravity, ())))
         self.tau_max: NDArray[np.float64] | None = None
         self.tau_min: NDArray[np.float64] | None = None
         if tau_max is not None:
@@ -119,7 +146,16 @@ class PlanarArm:
 
     def _check_q(self, q: ArrayLike, batch: bool = False) -> NDArray[np.float64]:
         shape = ("K", self.n) if batch and array_ndim(q) == 2 else (self.n,)
-        return check_array("q", q, shape, what="joint angles [rad]")
+        angles = check_array("q", q, shape, what="joint angles [rad]")
+        if angles.size and np.max(np.abs(angles)) > MAX_ANGLE:
+            raise InputError(
+                "q",
+                f"joint angles of size at most {MAX_ANGLE:g} rad (their sines and cosines "
+                "then keep 10 digits)",
+                f"an angle of {angles.flat[np.argmax(np.abs(angles))]:.3g} rad",
+                "reduce the angles modulo 2 pi.",
+            )
+        return angles
 
     def forward_kinematics(self, q: ArrayLike) -> NDArray[np.float64]:
         """End-effector position [m], shape (2,), at joint angles ``q`` [rad]."""

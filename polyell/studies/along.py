@@ -5,9 +5,11 @@ accelerations along the tangent the arm can produce: the interval of the polytop
 of each ellipsoid (24).  :func:`limits_along` answers for a whole batch at once, equal row by
 row to ``analyze(dyn[k]).polytope.limits(t_k)`` and ``.ellipsoid(kind).limits(t_k)``.
 
-The ellipsoids are evaluated from triangular factors, never from their cores: with
-:math:`M^T = Q R` (QR), :math:`M^+ = Q R^{-T}`, so the new ellipsoid
-:math:`\{x : \|M^+ (x - \ddot x_g)\| \le 1\}` gives :math:`p = R^{-T} t`; the classic one,
+The polytope's facets are those of :class:`~polyell.Polytope`, enumerated in the whitened
+coordinates of the SVD :math:`M = U S V^T` (:func:`~polyell.studies.block_sets.facets`).
+The ellipsoids are evaluated from factors, never from their cores: with the same SVD,
+:math:`M^+ = V S^{-1} U^T`, so the new ellipsoid
+:math:`\{x : \|M^+ (x - \ddot x_g)\| \le 1\}` gives :math:`p = S^{-1} U^T t`; the classic one,
 :math:`\{x : \|F (x - \ddot x_g)\| \le 1\}` with :math:`F = L^{-1} B J^+` and
 :math:`J^+ = Q_J R_J^{-T}`, gives :math:`p = F t`.  Configurations at or near a singular
 one (within the sweep's rank band) take the per-configuration path.
@@ -22,13 +24,18 @@ from numpy.typing import ArrayLike, NDArray
 
 from polyell.analysis import ELLIPSOID_KINDS, analyze
 from polyell.errors import InputError, UndefinedEllipsoidError
-from polyell.geometry.convex_set import ATOL_RELATIVE
-from polyell.geometry.limits import DirectionalLimits, unit_ball_interval
+from polyell.geometry.limits import DirectionalLimits, facet_slack, unit_ball_interval
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.models.dynamics import Dynamics
 from polyell.studies.batch import RANK_BAND, block_size
 from polyell.studies.block_sets import facets
-from polyell.validation import check_array, check_directions, check_magnitudes, source_torque_limits
+from polyell.validation import (
+    check_array,
+    check_directions,
+    check_fraction,
+    check_magnitudes,
+    source_torque_limits,
+)
 
 __all__ = ["limits_along"]
 
@@ -59,7 +66,7 @@ def limits_along(
     tau_max, tau_min : array-like, shape (n,), optional
         Torque limits; default the robot's own.
     rank_rtol : float, optional
-        As in :func:`polyell.analyze`.
+        As in :func:`polyell.analyze`: a relative tolerance in [0, 1).
 
     Returns
     -------
@@ -77,6 +84,7 @@ def limits_along(
     >>> np.round(out["polytope"].hi, 3)
     array([53.7  , 13.034])
     """
+    rank_rtol = check_fraction("rank_rtol", rank_rtol)
     dyn, upper, lower = _inputs(source, configurations, tau_max, tau_min)
     T = check_directions("directions", directions, dyn.m)
     if T.ndim != 2 or len(T) != len(dyn):
@@ -144,37 +152,35 @@ def _block(
     M = np.swapaxes(Binv_Jt, -1, -2) * half
     xg = dyn.xdd_bias - np.einsum("knm,kn->km", Binv_Jt, dyn.g - 0.5 * (upper + lower))
     check_magnitudes(M, xg)
-    R: Array = np.asarray(np.linalg.qr(np.swapaxes(M, -1, -2), mode="r"))  # M^T = Q R
-    s = np.linalg.svd(R, compute_uv=False)
+    U, s, Vt = np.linalg.svd(M, full_matrices=False)
     scalar = ~(s[:, -1] > rank_rtol * (1.0 + RANK_BAND) * s[:, 0]) if m <= n else np.ones(K, bool)
     ok = np.flatnonzero(~scalar)
     if ok.size == 0:
         return scalar
-    J, B, M, R, xg, T = J[ok], B[ok], M[ok], R[ok], xg[ok], T[ok]
+    J, B, M, U, s, Vt, xg, T = J[ok], B[ok], M[ok], U[ok], s[ok], Vt[ok], xg[ok], T[ok]
     rows = ok + start
-    # The polytope: each facet pair +-a bounds a.(lambda t) to [a.xg - h, a.xg + h].
-    normals, h = facets(M)
+    # The polytope: each facet pair +-a bounds a.(lambda t) to [a.xg - h, a.xg + h]; a line
+    # that misses P but meets it grown by the slack of Polytope.limits touches it.
+    block = facets(U, s, Vt)
+    normals, h = block.normals, block.offsets
+    reach = np.linalg.norm(xg, axis=-1) + np.linalg.norm(M, axis=1).sum(axis=-1)
     slope = np.einsum("kcm,km->kc", normals, T)
     centre = np.einsum("kcm,km->kc", normals, xg)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ends = np.stack([(centre - h) / slope, (centre + h) / slope])  # (2, K, C)
-    parallel = slope == 0  # no bound, or an empty line if the origin is beyond the pair
-    lower_end = np.where(parallel, np.where(np.abs(centre) <= h, -np.inf, np.inf), ends.min(0))
-    upper_end = np.where(parallel, np.where(np.abs(centre) <= h, np.inf, -np.inf), ends.max(0))
-    a, b = lower_end.max(axis=1), upper_end.min(axis=1)
-    atol = ATOL_RELATIVE * np.maximum(
-        np.linalg.norm(M, axis=1).sum(axis=-1), np.linalg.norm(xg, axis=-1)
-    )
-    grazing = (a > b) & (a - b <= atol)
-    a, b = np.where(grazing, 0.5 * (a + b), a), np.where(grazing, 0.5 * (a + b), b)
+    a, b = _line_in_pairs(slope, centre, h)
+    missed = a > b
+    if missed.any():
+        loose = h[missed] + facet_slack(h[missed], 2.0 * reach[missed, None], m + n + 2)
+        touch = np.zeros_like(missed)
+        touch[missed] = np.less_equal(*_line_in_pairs(slope[missed], centre[missed], loose))
+        a, b = np.where(touch, 0.5 * (a + b), a), np.where(touch, 0.5 * (a + b), b)
     empty = a > b
     lo["polytope"][rows], hi["polytope"][rows] = (
         np.where(empty, np.nan, a),
         np.where(empty, np.nan, b),
     )
-    # The new ellipsoid: M^+ = Q R^-T with M^T = Q R, so |M^+ y| = |R^-T y|.
+    # The new ellipsoid: M^+ = V S^-1 U^T, so |M^+ y| = |S^-1 U^T y|.
     pair = np.stack([T, xg], axis=-1)  # (K, m, 2): the direction and the centre
-    p, w = np.moveaxis(np.linalg.solve(np.swapaxes(R, -1, -2), pair), -1, 0)
+    p, w = np.moveaxis((np.swapaxes(U, -1, -2) @ pair) / s[:, :, None], -1, 0)
     lo["chiacchio"][rows], hi["chiacchio"][rows] = unit_ball_interval(p, w)
     # The classic one: |F (x - xg)| <= 1, F = L^-1 B J^+ and J^+ = Q_J R_J^-T.
     Q_J, R_J = np.linalg.qr(np.swapaxes(J, -1, -2))
@@ -182,3 +188,18 @@ def _block(
     p, w = np.moveaxis(F_pair, -1, 0)
     lo["yoshikawa"][rows], hi["yoshikawa"][rows] = unit_ball_interval(p, w)
     return scalar
+
+
+def _line_in_pairs(slope: Array, centre: Array, h: Array) -> tuple[Array, Array]:
+    """``[a, b]``, (K,): the line ``lambda t`` in the facet pairs ``|a_i . x - a_i . xg| <= h_i``.
+
+    ``slope`` ``a_i . t``, ``centre`` ``a_i . xg`` and ``h``, all (K, C); ``a > b`` when the
+    line misses them (NaN, from a 0/0, also counts as missing).
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ends = np.stack([(centre - h) / slope, (centre + h) / slope])  # (2, K, C)
+    parallel = slope == 0  # no bound, or an empty line if the origin is beyond the pair
+    inside = np.abs(centre) <= h
+    lower_end = np.where(parallel, np.where(inside, -np.inf, np.inf), ends.min(0))
+    upper_end = np.where(parallel, np.where(inside, np.inf, -np.inf), ends.max(0))
+    return lower_end.max(axis=1), upper_end.min(axis=1)

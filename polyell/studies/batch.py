@@ -26,9 +26,8 @@ from numpy.typing import NDArray
 from polyell.comparison.candidates import Candidate
 from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES
 from polyell.comparison.metrics import INSIDE_RTOL
-from polyell.geometry.convex_set import ATOL_RELATIVE
 from polyell.geometry.ellipsoid import unit_ball_volume
-from polyell.geometry.limits import line_interval_in_ellipsoids
+from polyell.geometry.limits import facet_slack, line_interval_in_ellipsoids
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.geometry.zonotope import cross, subsets
 from polyell.models.dynamics import Dynamics
@@ -84,23 +83,29 @@ class BatchOptions:
     seed: int = 0
 
 
-def _zonotope_volume(M: Array) -> Array:
-    """``2^m sum_{|S| = m} |det M_S|`` for every configuration (K,)."""
-    _, m, n = M.shape
-    blocks = np.transpose(M[:, :, subsets(n, m)], (0, 2, 1, 3))  # (K, C, m, m)
+def _zonotope_volume(s: Array, V1t: Array) -> Array:
+    """``2^m prod(s) sum_{|S| = m} |det (V^T)_S|`` for every configuration (K,).
+
+    As :attr:`Polytope.volume`: the whitened determinants keep their relative accuracy
+    however thin the zonotope.
+    """
+    _, m, n = V1t.shape
+    blocks = np.transpose(V1t[:, :, subsets(n, m)], (0, 2, 1, 3))  # (K, C, m, m)
     if m in (2, 3):  # det = last column . cofactors of the others
         dets = np.einsum("...i,...i->...", cross(blocks[..., :-1]), blocks[..., -1])
     else:
         dets = np.linalg.det(blocks)
-    return 2.0**m * np.abs(dets).sum(axis=-1)
+    return 2.0**m * np.prod(s, axis=-1) * np.abs(dets).sum(axis=-1)
 
 
 def _polytope_limits(
-    normals: Array, half_widths: Array, center: Array, T: Array, atol: Array
+    normals: Array, half_widths: Array, center: Array, T: Array, slack: Array
 ) -> tuple[Array, NDArray[np.bool_]]:
     """Rays against facet pairs for every configuration: far ends (K, k), and lines that meet P.
 
-    The far end is NaN where the line misses P.
+    The far end is NaN where the line misses P; a line that misses P but meets it grown
+    by ``slack`` (K, C) (:func:`~polyell.geometry.limits.facet_slack`, as
+    :meth:`Polytope.limits`) touches it at ``(lower + upper) / 2``.
 
     The pair ``+-a`` bounds ``a . (lambda t)`` to ``[a . c - h, a . c + h]``, so with
     ``s = a . t`` it gives ``lambda`` between ``(a.c - h)/s`` and ``(a.c + h)/s``.  One
@@ -109,9 +114,27 @@ def _polytope_limits(
     inside every configuration's P (``|a.c| < h`` for every pair: the usual case), every
     line meets P and only the far ends are computed.
     """
-    K, k = len(normals), len(T)
     offsets = np.einsum("kcm,km->kc", normals, center)
     origin_inside = bool((np.abs(offsets) < half_widths).all())
+    lower, upper = _rays(normals, offsets, half_widths, T, both=not origin_inside)
+    if origin_inside:  # lower < 0 < upper on every line
+        return upper, np.ones(upper.shape, dtype=bool)
+    missed = lower > upper
+    grazing = np.zeros_like(missed)
+    rows = np.flatnonzero(missed.any(axis=1))
+    if rows.size:  # a touch, to rounding: does the line meet P grown by the slack?
+        loose = _rays(normals[rows], offsets[rows], half_widths[rows] + slack[rows], T, both=True)
+        grazing[rows] = missed[rows] & (loose[0] <= loose[1])
+    upper = np.where(grazing, 0.5 * (lower + upper), upper)
+    meets = (lower <= upper) | grazing  # False for NaN: 0/0, a line on a facet's boundary
+    return np.where(meets, upper, np.nan), meets
+
+
+def _rays(
+    normals: Array, offsets: Array, half_widths: Array, T: Array, *, both: bool
+) -> tuple[Array, Array]:
+    """Lower (if ``both``, else -inf) and upper ends (K, k) of the lines in the facet pairs."""
+    K, k = len(normals), len(T)
     lower, upper = np.full((K, k), -np.inf), np.full((K, k), np.inf)
     slopes, reach, bound = np.empty((K, k)), np.empty((K, k)), np.empty((K, k))
     directions = np.ascontiguousarray(T.T)
@@ -121,26 +144,23 @@ def _polytope_limits(
             np.matmul(normals[:, j], directions, out=slopes)
             np.copysign(half_widths[:, j, None], slopes, out=reach)  # +-h, the slope's sign
             offset = offsets[:, j, None]
-            if not origin_inside:
+            if both:
                 np.divide(np.subtract(offset, reach, out=bound), slopes, out=bound)
                 np.maximum(lower, bound, out=lower)  # NaN (0/0) propagates: an empty line
             np.divide(np.add(offset, reach, out=bound), slopes, out=bound)
             np.minimum(upper, bound, out=upper)
-    if origin_inside:  # lower < 0 < upper on every line
-        return upper, np.ones((K, k), dtype=bool)
-    grazing = (lower > upper) & (lower - upper <= atol[:, None])  # a touch, to rounding
-    upper = np.where(grazing, 0.5 * (lower + upper), upper)
-    meets = (lower <= upper) | grazing  # False for NaN: 0/0, a line on a facet's boundary
-    return np.where(meets, upper, np.nan), meets
+    return lower, upper
 
 
-def _origin_radius(normals: Array, h: Array, xg: Array, atol: Array) -> Array:
+def _origin_radius(normals: Array, h: Array, xg: Array, slack: Array) -> Array:
     """Largest ball about the origin inside each P: ``min (h - |a . xg|)``.
 
-    NaN outside P, beyond the membership tolerance ``atol`` of ``Polytope.contains``.
+    NaN where the origin is outside P grown by ``slack`` (K, C), as in
+    ``Polytope.contains``.
     """
-    distance = np.min(h - np.abs(np.einsum("kcm,km->kc", normals, xg)), axis=-1)
-    return np.where(distance >= -atol, np.maximum(distance, 0.0), np.nan)
+    distance = h - np.abs(np.einsum("kcm,km->kc", normals, xg))
+    inside = (distance >= -slack).all(axis=-1)
+    return np.where(inside, np.maximum(distance.min(axis=-1), 0.0), np.nan)
 
 
 def _direction_statistics(
@@ -179,7 +199,7 @@ BLOCK_MEMORY = 256 * 2**20
 
 def block_size(m: int, n: int, vertices: bool = False) -> int:
     """Rows per block: BLOCK, or fewer so that a block's temporaries fit BLOCK_MEMORY."""
-    count = math.comb(n, m - 1) if m > 1 else 1
+    count = max(1, math.comb(n, m - 1)) if m > 1 else 1  # no facets for m > n + 1
     per_row = 8 * count * (m + n) * 4  # float64; about four arrays of that shape at once
     if vertices:  # the vertex codes (sorted in place) and the sign vectors
         per_row += 8 * count * 2 ** (m - 1) * 3 + 8 * vertex_count(m, n) * (n + 2 * m)
@@ -264,24 +284,28 @@ def _block_rows(
     # its own SVD; both agree with these to rounding, not bit for bit): rows within
     # RANK_BAND of the threshold go there, so that one computation decides their rank.
     scalar = ~(s[:, -1] > options.rank_rtol * (1.0 + RANK_BAND) * s[:, 0])
-    normals, h = facets(M)
+    with np.errstate(divide="ignore", invalid="ignore"):  # rows sent to the scalar path
+        block = facets(U, s, Vt)
     signs = None
     if options.vertices:  # rows not in general position: the scalar path enumerates
-        signs, generic = vertex_signs(M, normals)
+        signs, generic = vertex_signs(Vt, block.whitened)
         scalar |= ~generic
     ok = ~scalar
     if not ok.any():
         return columns, scalar
     J, B, M, xg, U, s, Vt = J[ok], B[ok], M[ok], xg[ok], U[ok], s[ok], Vt[ok]
-    bias_ok, xdd_bias, normals, h = bias[ok], xdd_bias[ok], normals[ok], h[ok]
+    bias_ok, xdd_bias = bias[ok], xdd_bias[ok]
+    normals, h = block.normals[ok], block.offsets[ok]
     V1t = Vt[:, :m, :]
     vertices = None if signs is None else signs[ok] @ np.swapaxes(M, 1, 2)  # about xg
 
-    volume_p = _zonotope_volume(M)
-    atol = ATOL_RELATIVE * np.maximum(
-        np.linalg.norm(M, axis=1).sum(axis=-1), np.linalg.norm(xg, axis=-1)
+    volume_p = _zonotope_volume(s, V1t)
+    # Polytope.contains and .limits: the slack of facet_slack, reach |x| + |xg| + size.
+    reach = np.linalg.norm(xg, axis=-1) + np.linalg.norm(M, axis=1).sum(axis=-1)
+    terms = m + n + 2
+    hi_p, feasible_p = _polytope_limits(
+        normals, h, xg, directions, facet_slack(h, 2.0 * reach[:, None], terms)
     )
-    hi_p, feasible_p = _polytope_limits(normals, h, xg, directions, atol)
 
     # Every scored set as (axes, semi-axes, witness, centre or None for xg).
     ellipsoids: dict[str, tuple[Array, Array, Array, Array | None]] = {
@@ -290,7 +314,7 @@ def _block_rows(
     }
     parallelotope = n == m
     if options.mvie:
-        whitened_normals, offsets = facets(V1t)
+        whitened_normals, offsets = block.whitened[ok], block.whitened_offsets[ok]
         with np.errstate(invalid="ignore"):
             points = np.where(
                 np.isinf(offsets)[..., None], 0.0, whitened_normals / offsets[..., None]
@@ -315,7 +339,9 @@ def _block_rows(
         "polytope_volume": volume_p,
         # Isotropic radii: the facet pair +-a (offset h about xg) is at h - |a.xg| from 0.
         "polytope_ball_radius": np.min(h, axis=-1),
-        "polytope_origin_radius": _origin_radius(normals, h, xg, atol),
+        "polytope_origin_radius": _origin_radius(
+            normals, h, xg, facet_slack(h, reach[:, None], terms)
+        ),
     }
     exact = np.ones(len(M), dtype=bool)
     for kind, (axes, semi, witness, center) in ellipsoids.items():

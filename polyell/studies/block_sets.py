@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -22,9 +23,9 @@ from numpy.typing import NDArray
 from polyell.comparison.candidates import Candidate
 from polyell.geometry.logdet import centred_mvee_batch
 from polyell.geometry.mvie import MVIE_GAP
-from polyell.geometry.zonotope import DEPENDENT_RTOL, subset_cofactors, subsets
+from polyell.geometry.zonotope import DEPENDENT_RTOL, subset_cofactors, subsets, unwhiten
 
-__all__ = ["candidate_ellipsoid", "facets", "log_det_ellipsoid", "vertex_signs"]
+__all__ = ["BlockFacets", "candidate_ellipsoid", "facets", "log_det_ellipsoid", "vertex_signs"]
 
 Array = NDArray[np.float64]
 Ellipsoids = tuple[Array, Array, Array]
@@ -37,26 +38,62 @@ SIGN_RTOL = 1e-9
 MAX_VERTEX_GENERATORS = 62
 
 
-def facets(M: Array) -> tuple[Array, Array]:
-    """Unit facet normals a (K, C, m), one of each +-pair, and offsets h = sum |a . g_i|.
+class BlockFacets(NamedTuple):
+    """The facets of a block of full-rank zonotopes ``{xg + U S V^T u}``, one of each +-pair.
 
-    As in :func:`~polyell.geometry.zonotope.zonotope_facets`: cross products of unit
-    generators, a subset dependent when theirs is at most ``DEPENDENT_RTOL`` long (its
-    normal is then zero and its offset infinite: no constraint).
+    Attributes
+    ----------
+    whitened : ndarray, shape (K, C, m)
+        Unit normals ``a_y`` of the whitened zonotopes ``{V^T u}``; zero for a dependent
+        subset (no constraint).
+    whitened_offsets : ndarray, shape (K, C)
+        ``h_y = sum_i |a_y . v_i|``; infinite for a dependent subset.
+    normals : ndarray, shape (K, C, m)
+        Unit normals ``a_x`` in task coordinates (:func:`~polyell.geometry.zonotope.unwhiten`).
+    offsets : ndarray, shape (K, C)
+        Half-widths ``h_x`` about ``xg``: ``P = {x : |a_x . (x - xg)| <= h_x}``.
     """
-    K, m = M.shape[:2]
+
+    whitened: Array
+    whitened_offsets: Array
+    normals: Array
+    offsets: Array
+
+
+def facets(U: Array, s: Array, V1t: Array) -> BlockFacets:
+    """Facets of every configuration's zonotope, enumerated in its whitened coordinates.
+
+    As :class:`~polyell.Polytope` does for one (DESIGN.md section 7): cross products of
+    the unit whitened generators (the columns of ``V^T``), a subset dependent when theirs
+    is at most ``DEPENDENT_RTOL`` long, mapped back by
+    :func:`~polyell.geometry.zonotope.unwhiten`.  Exact in number and accurate to the data
+    for any ``sigma_min / sigma_max`` above the rank threshold.
+
+    Parameters
+    ----------
+    U : ndarray, shape (K, m, m)
+        Left singular vectors of M.
+    s : ndarray, shape (K, m)
+        Singular values (all non-zero).
+    V1t : ndarray, shape (K, m, n)
+        The first m right singular vectors, as rows.
+    """
+    K, m = s.shape
     if m == 1:
-        return np.ones((K, 1, 1)), np.abs(M).sum(axis=-1)
-    with np.errstate(divide="ignore", invalid="ignore"):  # a zero generator: NaN, dependent
-        unit = M / np.sqrt((M * M).sum(axis=1))[:, None, :]
-    normals = subset_cofactors(unit)  # (K, C, m)
-    size = np.sqrt((normals * normals).sum(axis=-1))
-    dependent = ~(size > DEPENDENT_RTOL)
-    normals = np.where(
-        dependent[..., None], 0.0, normals / np.where(dependent, 1.0, size)[..., None]
-    )
-    offsets = np.abs(normals @ M).sum(axis=-1)
-    return normals, np.where(dependent, np.inf, offsets)
+        whitened = np.ones((K, 1, 1))
+        whitened_offsets = np.abs(V1t).sum(axis=-1)
+    else:
+        with np.errstate(divide="ignore", invalid="ignore"):  # a zero generator: dependent
+            unit = V1t / np.sqrt((V1t * V1t).sum(axis=1))[:, None, :]
+        cofactors = subset_cofactors(unit)  # (K, C, m)
+        size = np.sqrt((cofactors * cofactors).sum(axis=-1))
+        dependent = ~(size > DEPENDENT_RTOL)
+        whitened = np.where(
+            dependent[..., None], 0.0, cofactors / np.where(dependent, 1.0, size)[..., None]
+        )
+        whitened_offsets = np.where(dependent, np.inf, np.abs(whitened @ V1t).sum(axis=-1))
+    normals, offsets = unwhiten(whitened, whitened_offsets, U, s)
+    return BlockFacets(whitened, whitened_offsets, normals, offsets)
 
 
 def vertex_count(m: int, n: int) -> int:
@@ -76,19 +113,21 @@ def _facet_corner_codes(n: int, m: int) -> tuple[NDArray[np.int64], NDArray[np.b
     return codes, in_subset
 
 
-def vertex_signs(M: Array, normals: Array) -> tuple[Array, NDArray[np.bool_]]:
+def vertex_signs(V1t: Array, normals: Array) -> tuple[Array, NDArray[np.bool_]]:
     r"""Sign vectors of the vertices of each zonotope ``{M sigma}``, one of each +-pair.
 
     In general position every vertex is a vertex of a facet: for the facet of the subset
     S (normal a), :math:`\sigma_i = \operatorname{sign}(a \cdot g_i)` off S and every
     choice of signs on S.  The sign vectors are coded as bits, made canonical
-    (:math:`\sigma_1 = +1`) and made unique per row.
+    (:math:`\sigma_1 = +1`) and made unique per row.  Decided in whitened coordinates,
+    where the in-plane test ``|a . g_i| <= SIGN_RTOL`` compares well-scaled numbers.
 
     Parameters
     ----------
-    M : ndarray, shape (K, m, n)
+    V1t : ndarray, shape (K, m, n)
+        The whitened generators (rows of ``V^T``; ``M = U S V^T``).
     normals : ndarray, shape (K, C, m)
-        From :func:`facets`.
+        The whitened normals, :attr:`BlockFacets.whitened`.
 
     Returns
     -------
@@ -99,13 +138,13 @@ def vertex_signs(M: Array, normals: Array) -> tuple[Array, NDArray[np.bool_]]:
         Rows in general position; the others hold zeros (the caller sends them to the
         scalar path).
     """
-    K, m, n = M.shape
+    K, m, n = V1t.shape
     V = vertex_count(m, n)
     if n > MAX_VERTEX_GENERATORS:
         return np.zeros((K, V, n)), np.zeros(K, dtype=bool)
     corner_codes, in_subset = _facet_corner_codes(n, m)
     with np.errstate(divide="ignore", invalid="ignore"):  # a zero generator: dependent rows
-        unit = M / np.linalg.norm(M, axis=1)[:, None, :]
+        unit = V1t / np.linalg.norm(V1t, axis=1)[:, None, :]
     products = normals @ unit  # (K, C, n)
     off = ~in_subset[None]
     generic = ~np.any(off & ~(np.abs(products) > SIGN_RTOL), axis=(1, 2))  # NaN: not generic

@@ -6,16 +6,15 @@ allocation thresholds, so that every numpy temporary above 128 kB is a fresh ``m
 that page-faults on first touch; a sweep, which allocates many such temporaries, then
 ran 1.4 to 2 times more slowly in a worker than in a plain process on the benchmark
 machine (``docs/performance.md`` measures it).  :func:`local_cluster` leaves the
-variable unset (and keeps one BLAS thread per worker).  Workers of a cluster started
+variable unset and gives every worker one BLAS thread, whatever this process's
+``OPENBLAS_NUM_THREADS``.  Workers of a cluster started
 elsewhere (``scheduler="tcp://..."``) profit from the same setting.
 """
 
 from __future__ import annotations
 
-import contextlib
 import os
 import re
-from collections.abc import Iterator
 from typing import Any
 
 from polyell.errors import InputError, MissingDependencyError
@@ -76,23 +75,8 @@ def check_scheduler(scheduler: object) -> str | None:
     return scheduler
 
 
-#: Environment variables that set the thread count of the BLAS and OpenMP libraries.
-_THREAD_VARIABLES = ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS")
-
-
-@contextlib.contextmanager
-def _environment(values: dict[str, str]) -> Iterator[None]:
-    """Set environment variables of this process for a while (the workers start in it)."""
-    saved = {name: os.environ.get(name) for name in values}
-    os.environ.update(values)
-    try:
-        yield
-    finally:
-        for name, value in saved.items():
-            if value is None:
-                os.environ.pop(name, None)
-            else:
-                os.environ[name] = value
+#: The thread counts of the BLAS and OpenMP runtimes: one per worker process.
+_ONE_THREAD = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 
 
 def local_cluster(n_workers: int | None = None) -> Any:
@@ -124,21 +108,23 @@ def local_cluster(n_workers: int | None = None) -> Any:
     count = (os.cpu_count() or 1) if n_workers is None else n_workers
     if not isinstance(count, int) or isinstance(count, bool) or count < 1:
         raise InputError("n_workers", "a positive number of worker processes", repr(n_workers))
-    # None unsets a variable of the nannies' environment (distributed.nanny).  The thread
-    # counts of the BLAS libraries must be 1 when a worker starts (they are read when numpy
-    # loads, before Dask's own setting reaches the worker), and Dask lets this process's
-    # environment override its setting: an exported OPENBLAS_NUM_THREADS=4 would make every
-    # worker run 4 BLAS threads on one core.  So the workers start under 1 here.
-    single = {name: "1" for name in _THREAD_VARIABLES}
-    settings: dict[str, int | None] = {
-        f"distributed.nanny.pre-spawn-environ.{name}": 1 for name in single
-    }
-    settings["distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_"] = None
-    with dask.config.set(settings), _environment(single):
-        return LocalCluster(
-            n_workers=count,
-            threads_per_worker=1,
-            processes=True,
-            host="127.0.0.1",
-            dashboard_address=None,
-        )
+    # None unsets a variable of the nannies' environment (distributed.nanny).  The nannies
+    # take a thread count from this process's environment before their own defaults of 1,
+    # and numpy reads it when a worker imports it: set it for the spawns, then restore it.
+    saved = {name: os.environ.pop(name, None) for name in _ONE_THREAD}
+    os.environ.update(dict.fromkeys(_ONE_THREAD, "1"))
+    try:
+        with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+            return LocalCluster(
+                n_workers=count,
+                threads_per_worker=1,
+                processes=True,
+                host="127.0.0.1",
+                dashboard_address=None,
+            )
+    finally:
+        for name, value in saved.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value

@@ -139,29 +139,17 @@ def _string(where: str, value: object) -> str:
 
 
 def _figure_title(where: str, value: object) -> str:
-    """A title that figures show: its ``$...$`` math must be what matplotlib can typeset.
+    """A title that figures show, checked when the study loads (:func:`figures.check_title`).
 
-    Checked when the study loads, so that a typo in a formula is refused with the key
-    that holds it instead of failing when the first figure is drawn.
+    A typo in a ``$...$`` formula is refused with the key that holds it, instead of failing
+    when the first figure is drawn.
     """
     title = _string(where, value)
-    if "$" not in title:
+    if "$" not in title:  # no mathtext: no need to load matplotlib
         return title
-    from matplotlib import cbook, mathtext
+    from polyell.figures import check_title
 
-    if not cbook.is_math_text(title):  # an odd count of unescaped '$': shown as typed
-        return title
-    try:
-        mathtext.MathTextParser("path").parse(title)
-    except ValueError as exn:
-        detail = " ".join(str(exn).split())
-        raise InputError(
-            where,
-            "a title whose $...$ math matplotlib's mathtext can typeset",
-            f"{title!r} ({detail[:120]})",
-            "correct the formula, or write \\$ for a dollar sign.",
-        ) from None
-    return title
+    return check_title(title, where)
 
 
 def _strings(where: str, value: object) -> tuple[str, ...]:

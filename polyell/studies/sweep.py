@@ -52,6 +52,7 @@ from polyell.studies.trajectory import Trajectory
 from polyell.validation import (
     check_array,
     check_directions,
+    check_fraction,
     check_integer,
     source_torque_limits,
 )
@@ -97,16 +98,19 @@ class _Job:
                 else self.configurations[start:stop]
             )
             dyn = self.source.dynamics(q)
-        values, scalar = batch_rows(
-            dyn,
-            self.tau_max,
-            self.tau_min,
-            self.directions,
-            self.options,
-        )
-        if scalar.any():
-            for name, column in _scalar_rows(dyn, scalar, self).items():
-                values[name][scalar] = column[scalar]
+        if dyn.m > dyn.n:  # more task rows than joints: singular everywhere, the scalar path
+            values = _scalar_rows(dyn, np.ones(len(dyn), dtype=bool), self)
+        else:
+            values, scalar = batch_rows(
+                dyn,
+                self.tau_max,
+                self.tau_min,
+                self.directions,
+                self.options,
+            )
+            if scalar.any():
+                for name, column in _scalar_rows(dyn, scalar, self).items():
+                    values[name][scalar] = column[scalar]
         import pandas as pd
 
         frame = pd.DataFrame({"configuration": np.arange(start, start + len(dyn))})
@@ -343,6 +347,17 @@ def sweep(
         dataset folder with ``out=``.
     """
     chunk = check_integer("chunk", chunk, 1, 10_000_000)
+    scores = _check_scores(scores)
+    for name, flag in (("mvie", mvie), ("outer", outer), ("progress", progress)):
+        if not isinstance(flag, bool | np.bool_):
+            raise InputError(name, "True or False", repr(flag))
+    rank_rtol = check_fraction("rank_rtol", rank_rtol)
+    if out is not None and not isinstance(out, str | os.PathLike):
+        raise InputError("out", "a folder path (str or pathlib.Path) or None", repr(out))
+    if scheduler is not None and not isinstance(scheduler, str):
+        raise InputError(
+            "scheduler", "None, 'processes' or a Dask scheduler address", repr(scheduler)
+        )
     options = BatchOptions(mvie=bool(mvie), outer=bool(outer), rank_rtol=rank_rtol)
     options = replace(options, candidates=check_candidates(candidates))
     options = replace(
@@ -370,6 +385,26 @@ def sweep(
         if unfinished:  # pragma: no cover - a worker's write that vanished
             raise StorageError(f"{len(unfinished)} parts of {folder} are missing after the run.")
     return folder
+
+
+def _check_scores(scores: object) -> tuple[str, ...]:
+    """Score names: a sequence of str (one name alone is taken as a sequence of one)."""
+    if isinstance(scores, str):
+        scores = (scores,)
+    if isinstance(scores, bytes) or not isinstance(scores, Sequence | tuple | list):
+        raise InputError(
+            "scores",
+            f"a sequence of score names among {list(SCORE_NAMES)}",
+            f"{type(scores).__name__} {scores!r}"[:120],
+            "pass e.g. scores=['coverage', 'inscribed_scale'], or leave the default.",
+        )
+    names = tuple(scores)
+    wrong = [item for item in names if not isinstance(item, str)]
+    if wrong:
+        raise InputError("scores", "score names (str)", f"an item {wrong[0]!r}")
+    if not names:
+        raise InputError("scores", "at least one score name", "an empty sequence")
+    return names
 
 
 def _rows(job: _Job, chunk: int, index: int) -> int:

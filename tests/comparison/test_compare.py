@@ -248,7 +248,7 @@ def test_tables(paper, paper_singular):
     latex = paper.to_latex(caption="Scores at q = (pi/2, -pi/2, -pi/2).", label="tab:scores")
     for fragment in (r"\toprule", r"\midrule", r"\bottomrule", r"\label{tab:scores}", r"\caption{"):
         assert fragment in latex
-    assert r"(\mathrm{m/s^2})^{2}" in latex
+    assert r"volume [(m/s$^{2}$)$^{2}$]" in latex
     frame = pd.read_csv(io.StringIO(paper.to_csv()), index_col="kind")
     for name in pe.SCORE_NAMES:
         np.testing.assert_allclose(frame.loc["chiacchio", name], getattr(paper["chiacchio"], name))
@@ -288,3 +288,77 @@ def test_an_ellipsoid_touching_a_facet_is_inside_despite_rounding():
     result = overlap(E, P)
     assert result.coverage == pytest.approx(np.pi / 4) and result.coverage_stderr == 0.0
     assert result.overreach == 0.0
+
+
+# --- Issue 20: weak torques, thin polytopes, argument checks.
+
+
+@pytest.mark.parametrize("exponent", [-7, -4, 0, 4, 8])
+def test_the_new_ellipsoids_witness_is_at_most_one_however_weak_the_torques(exponent):
+    """tau_n = M^# (x - xg) on the new ellipsoid: |tau_n|_2 <= 1 whatever gravity does.
+
+    Torque limits scaled by 10^exponent with the gravity torques unchanged: the set moves
+    far from the origin (1e7 of its size at -7); the witness is computed about the centre,
+    so it keeps its digits (bound: 1 + the rounding of |V_1 u|, a few eps).
+    """
+    analysis = paper_analysis(PAPER_Q_REDUNDANT)
+    dyn, tau = analysis.dynamics, analysis.tau_max * 10.0**exponent
+    weak = pe.compare(pe.analyze(dyn, tau), 16, samples=256)
+    reference = pe.compare(analysis, 16, samples=256)
+    for kind in ("chiacchio", "mvie", "outer"):  # each a shape of M alone, mapped by M^#
+        assert weak[kind].witness_torque_max == pytest.approx(
+            reference[kind].witness_torque_max, rel=1e-7
+        )
+    assert weak["chiacchio"].witness_torque_max <= 1.0 + 1e-12
+
+
+def test_a_polytope_below_the_resolution_of_its_own_points_is_refused():
+    analysis = paper_analysis(PAPER_Q_REDUNDANT)
+    from polyell.validation import MIN_RELATIVE_EXTENT
+
+    with pytest.raises(pe.InputError, match="free-fall acceleration") as info:
+        pe.analyze(analysis.dynamics, analysis.tau_max * 1e-16)
+    assert info.value.argument == "tau_max" and MIN_RELATIVE_EXTENT < 1e-7
+
+
+@pytest.mark.parametrize("delta", [1e-3, 1e-5, 1e-7, 1e-8])
+def test_touching_ellipsoids_of_thin_polytopes_are_exact_without_monte_carlo(delta):
+    """Near the stretched posture (cond(M) up to 6e7) the MVIE and the outer ellipsoid touch
+    P to the rounding bound of their scales, never to a fixed 1e-9: their coverage is
+    exactly 1 (outer) and vol(E)/vol(P) (MVIE), with no standard error."""
+    from polyell.comparison.metrics import inside_rtol
+
+    analysis = paper_analysis(np.array([0.3, delta, -delta]))
+    result = pe.compare(analysis, 16, samples=256)
+    P = analysis.polytope
+    for kind in ("mvie", "outer"):
+        E = result.ellipsoid(kind)
+        tolerance = inside_rtol(E, P)
+        scale = inscribed_scale(E, P) if kind == "mvie" else enclosing_scale(E, P)
+        assert abs(scale - 1.0) <= tolerance
+        assert result[kind].coverage_stderr == 0.0 and result[kind].overreach_stderr == 0.0
+    assert result["outer"].coverage == 1.0
+    assert result["mvie"].overreach == 0.0
+
+
+@pytest.mark.parametrize("samples", [0, 1, -1, 2.5, 2**40, "8", None, True])
+def test_compare_refuses_a_wrong_sample_count(paper, samples):
+    with pytest.raises(pe.InputError, match="samples"):
+        pe.compare(paper.analysis, 8, samples=samples)
+
+
+@pytest.mark.parametrize("seed", ["a", 1.5, None, -1, [1]])
+def test_compare_refuses_a_wrong_seed(paper, seed):
+    with pytest.raises(pe.InputError, match="seed"):
+        pe.compare(paper.analysis, 8, seed=seed)
+
+
+def test_any_sample_count_draws_without_a_warning(paper):
+    """1000 points: the first 1000 of a 1024-point Sobol' draw (no balance warning)."""
+    import warnings
+
+    E, P = scaled(paper.analysis.ellipsoid("chiacchio"), 1.5), paper.analysis.polytope
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        shares = overlap(E, P, samples=1000, seed=3)
+    assert 0.0 < shares.coverage <= 1.0 and shares.coverage_stderr > 0

@@ -121,6 +121,37 @@ def test_a_point_polytope():
     np.testing.assert_allclose(hi, [np.sqrt(5.0), np.nan])
 
 
+def test_the_origin_alone_has_origin_radius_zero():
+    """{0}: the origin is in it, so the ball about it has radius 0 (was NaN)."""
+    P = pe.Polytope(np.zeros((2, 3)), center=[0.0, 0.0])
+    assert P.origin_radius == 0.0 and P.ball_radius == 0.0
+    assert np.isnan(pe.Polytope(np.zeros((2, 3)), center=[0.0, 1.0]).origin_radius)
+
+
+@pytest.mark.parametrize("shape", [(2, 0), (0, 3), (0, 0)])
+def test_a_polytope_without_generators_or_rows_is_refused(shape, capfd):
+    """No LAPACK "illegal value" on stderr: a refusal naming the argument."""
+    with pytest.raises(pe.InputError) as error:
+        pe.Polytope(np.zeros(shape), center=np.zeros(shape[0]))
+    assert error.value.argument == "generators" and "one column" in str(error.value)
+    assert capfd.readouterr().err == ""
+
+
+@given(seed=seeds, shape=shapes)
+def test_limits_and_radii_are_finite_for_bounded_sets(seed, shape):
+    """A bounded non-empty P never gives inf or NaN limits along lines through its centre."""
+    m, n, rank = shape
+    if rank < m:
+        return  # full-dimensional sets only (degenerate ones: the tests above)
+    rng = np.random.default_rng(seed)
+    M = rng.normal(size=(m, n)) * np.geomspace(1.0, 1e-7, m)[:, None]  # thin, full rank
+    P = pe.Polytope(M, center=np.zeros(m))
+    lo, hi = P.limits(np.eye(m))
+    assert np.isfinite(lo).all() and np.isfinite(hi).all() and (lo < 0).all() and (hi > 0).all()
+    assert np.isfinite(P.ball_radius) and P.ball_radius > 0
+    assert P.origin_radius == P.ball_radius
+
+
 @given(seed=seeds, shape=shapes)
 def test_contains_every_image_of_the_cube_and_nothing_beyond_a_vertex(seed, shape):
     analysis = random_problem(seed, shape[0], shape[1], rank=shape[2])

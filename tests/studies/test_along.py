@@ -78,3 +78,25 @@ def test_bad_calls(kwargs, fragment):
     } | kwargs
     with pytest.raises(pe.InputError, match=fragment):
         pe.limits_along(ARM, arguments["configurations"], arguments["directions"])
+
+
+def test_more_task_rows_than_joints_equal_the_per_row_api():
+    """m > n: P is at most n-dimensional in R^m (the exact path), no ZeroDivisionError."""
+    rng = np.random.default_rng(12)
+    K, m, n = 5, 4, 2
+    dyn = pe.Dynamics(
+        rng.normal(size=(K, m, n)),
+        np.stack([random_spd(rng, n) for _ in range(K)]),
+        rng.normal(size=(K, n)),
+    )
+    T = random_directions(13, K, m)
+    out = pe.limits_along(dyn, None, T, np.full(n, 10.0))
+    assert_equals_per_row(out, lambda k: dyn[k], np.full(n, 10.0), None, T)
+
+
+@pytest.mark.parametrize("rank_rtol", [-1e-10, 1.0, "1e-10", None, True, np.nan])
+def test_a_rank_tolerance_of_a_wrong_type_or_sign_is_refused(rank_rtol):
+    q = [[0.3, 0.2, 0.1]]
+    with pytest.raises(pe.InputError) as error:
+        pe.limits_along(ARM, q, [[1.0, 0.0]], rank_rtol=rank_rtol)
+    assert error.value.argument == "rank_rtol"

@@ -209,5 +209,7 @@ def test_titles_with_math_matplotlib_cannot_typeset_are_refused_at_load(tmp_path
     good = {"top": "$\\\\alpha$ at 50% & more", "point": "cost \\\\$5"}
     assert load_study(write(tmp_path, text.format(**good))).title == "$\\alpha$ at 50% & more"
     bad = good | {"top" if where == "title" else "point": "$x^$"}
-    with pytest.raises(pe.InputError, match=rf"^{re.escape(where)}: expected a title whose"):
+    with pytest.raises(
+        pe.InputError, match=rf"^{re.escape(where)}: expected text whose \$\.\.\.\$ parts are valid"
+    ):
         load_study(write(tmp_path, text.format(**bad)))

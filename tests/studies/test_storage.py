@@ -359,9 +359,9 @@ def test_only_our_own_stale_temporary_files_are_removed(tmp_path):
 @pytest.mark.parametrize(
     ("name", "fragment"),
     [
-        ("missing/table.md", "does not exist). Fix: create it first."),
-        ("file/table.md", "is not a folder). Fix: write into a folder."),
-        ("x" * 256, "File name too long. Fix: give a shorter file name (at most 255 bytes)."),
+        ("missing/table.md", "No such file or directory. Fix: create the folder first"),
+        ("file/table.md", "Not a directory. Fix: a part of the path is a file"),
+        ("x" * 256, "File name too long. Fix: choose a shorter file name"),
     ],
 )
 def test_a_file_that_cannot_be_created_is_a_storage_error_with_its_fix(tmp_path, name, fragment):
