@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from polyell.comparison.comparison import SCORE_NAMES, Comparison
 from polyell.comparison.summary import result_kinds, split_column
@@ -33,6 +34,10 @@ if TYPE_CHECKING:  # plotly and pandas are imported where they are used (start-u
 
 __all__ = [
     "COLORS",
+    "DECIMATION_BUCKETS",
+    "SeriesDecimator",
+    "decimate_series",
+    "decimation_note",
     "interactive_histogram",
     "interactive_map",
     "interactive_series",
@@ -49,6 +54,12 @@ COLORS = {
     "outer": "#9467bd",
 }
 _CANDIDATE_COLORS = ("#ff7f0e", "#8c564b", "#e377c2", "#17becf", "#bcbd22")
+#: Buckets a long series is cut into for plotting; each keeps, per trace, its smallest and
+#: largest value (and its first NaN, so that gaps stay visible): a series of any length is
+#: drawn with at most ``3 * traces`` points per bucket.
+DECIMATION_BUCKETS = 1000
+#: Series up to this many samples are drawn whole.
+DECIMATION_THRESHOLD = 2 * DECIMATION_BUCKETS
 #: Scores shown when hovering over an ellipsoid.
 _HOVER_SCORES = ("inscribed_scale", "enclosing_scale", "coverage", "mvie_ratio", "outer_ratio")
 
@@ -387,17 +398,136 @@ def interactive_histogram(
     return figure
 
 
+def _bucket_picks(values: NDArray[np.float64], bucket: int) -> NDArray[np.int64]:
+    """Rows kept of ``values`` (k, traces): per bucket of rows and trace, min, max, first NaN."""
+    k = len(values)
+    if k == 0:
+        return np.zeros(0, dtype=np.int64)
+    whole = -(-k // bucket) * bucket
+    padded = np.full((whole, values.shape[1]), np.nan)
+    padded[:k] = values
+    blocks = padded.reshape(-1, bucket, values.shape[1])  # (buckets, bucket, traces)
+    starts = np.arange(len(blocks))[:, None] * bucket
+    finite = np.isfinite(blocks)
+    low = np.where(finite, blocks, np.inf).argmin(axis=1)
+    high = np.where(finite, blocks, -np.inf).argmax(axis=1)
+    nan = (~finite).argmax(axis=1)  # the first non-finite row (0 where there is none)
+    has_nan = (~finite[:, :bucket]).any(axis=1)
+    picks = [starts + low, starts + high, (starts + nan)[has_nan]]
+    rows = np.unique(np.concatenate([p.ravel() for p in picks]))
+    return rows[rows < k].astype(np.int64)
+
+
+class SeriesDecimator:
+    """Min/max-preserving decimation of a long series read in parts (constant memory).
+
+    Rows are cut into buckets of ``bucket = ceil(total / buckets)`` consecutive samples;
+    each bucket keeps, per trace, the rows of its smallest and largest value and of its
+    first NaN (a gap).  The extremes of every trace are therefore all drawn, and a series
+    of ``total`` samples becomes at most ``3 * traces * buckets`` rows.
+
+    Parameters
+    ----------
+    total : int
+        The series' length (all parts together).
+    traces : sequence of str
+        The columns whose extremes are kept; the other columns (e.g. ``t``) follow them.
+    buckets : int, optional
+        How many buckets (default :data:`DECIMATION_BUCKETS`); a series of at most
+        ``2 * buckets`` samples is kept whole.
+    """
+
+    def __init__(
+        self, total: int, traces: Sequence[str], buckets: int = DECIMATION_BUCKETS
+    ) -> None:
+        self.total = int(total)
+        self.traces = list(traces)
+        self.bucket = 1 if self.total <= 2 * buckets else -(-self.total // buckets)
+        self._carry: pd.DataFrame | None = None
+        self._kept: list[pd.DataFrame] = []
+
+    def _keep(self, frame: pd.DataFrame) -> None:
+        if self.bucket == 1:
+            self._kept.append(frame)
+            return
+        values = frame[self.traces].to_numpy(dtype=float)
+        self._kept.append(frame.iloc[_bucket_picks(values, self.bucket)])
+
+    def add(self, frame: pd.DataFrame) -> None:
+        """The next rows of the series, in order."""
+        import pandas as pd
+
+        if self._carry is not None:
+            frame = pd.concat([self._carry, frame], ignore_index=True)
+        whole = len(frame) // self.bucket * self.bucket
+        self._keep(frame.iloc[:whole])
+        self._carry = frame.iloc[whole:].reset_index(drop=True)
+
+    def result(self) -> pd.DataFrame:
+        """The kept rows, in order."""
+        import pandas as pd
+
+        if self._carry is not None and len(self._carry):
+            self._keep(self._carry)
+        self._carry = None
+        frames = [frame for frame in self._kept if len(frame)]
+        return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+
+
+def decimate_series(
+    frame: pd.DataFrame, traces: Sequence[str], buckets: int = DECIMATION_BUCKETS
+) -> pd.DataFrame:
+    """The rows of ``frame`` a plot of the columns ``traces`` needs (:class:`SeriesDecimator`)."""
+    decimator = SeriesDecimator(len(frame), traces, buckets)
+    decimator.add(frame.reset_index(drop=True))
+    return decimator.result()
+
+
+def decimation_note(total: int, shown: int) -> str:
+    """The sentence a page shows under a decimated series."""
+    if shown >= total:
+        return f"{total:,} samples, all shown."
+    return (
+        f"{total:,} samples, shown decimated to {shown:,} (per bucket of "
+        f"{-(-total // DECIMATION_BUCKETS):,} consecutive samples, each curve's smallest and "
+        "largest value)."
+    )
+
+
 def interactive_series(
     results: pd.DataFrame,
     score: str,
     kinds: Sequence[str] | None = None,
     *,
     title: str | None = None,
+    total: int | None = None,
 ) -> go.Figure:
-    """One score of each ellipsoid along a trajectory (against ``t``, or the sample index)."""
+    """One score of each ellipsoid along a trajectory (against ``t``, or the sample index).
+
+    Parameters
+    ----------
+    results : DataFrame
+        One row per sample (``pe.sweep`` of a trajectory), or already decimated
+        (:func:`decimate_series`) with ``total`` its original length.
+    score : str
+    kinds : sequence of str, optional
+        The ellipsoids drawn; default every one with a ``<kind>_<score>`` column.
+    title : str, optional
+    total : int, optional
+        The number of samples ``results`` was decimated from.
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+        A series longer than ``2 * DECIMATION_BUCKETS`` samples is drawn decimated
+        (:class:`SeriesDecimator`: every bucket's extremes kept), and the figure says so
+        under its title: "N samples, shown decimated to K".
+    """
     go = _plotly()
     chosen = _kinds_with(results, score, kinds)
     label, factor = score_display(score)
+    total = len(results) if total is None else int(total)
+    results = decimate_series(results, [f"{kind}_{score}" for kind in chosen])
     x = results["t"] if "t" in results else results["configuration"]
     figure = go.Figure()
     for kind in chosen:
@@ -417,6 +547,17 @@ def interactive_series(
         template="plotly_white",
         hovermode="x unified",
     )
+    if total > len(results):
+        figure.add_annotation(
+            text=html.escape(decimation_note(total, len(results))),
+            xref="paper",
+            yref="paper",
+            x=0.0,
+            y=1.0,
+            yanchor="bottom",
+            showarrow=False,
+            font={"size": 11, "color": "#555555"},
+        )
     return figure
 
 

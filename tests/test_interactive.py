@@ -158,3 +158,76 @@ def test_study_html_report_works_offline_in_a_browser(tmp_path):
     assert visit.requests == [] and visit.errors == []
     assert visit.values == {"plots": 2, "heatmaps": 1, "tables": 1}  # maps share a menu
     assert coloured_share(visit.screenshot) > 0.02  # the heat map's colours on screen
+
+
+# --- long series, decimated (issue 20) ---------------------------------------------------
+
+
+def long_series(samples: int, seed: int = 20):
+    import pandas as pd
+
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(rng.uniform(0.5, 1.5, samples))
+    frame = pd.DataFrame(
+        {
+            "configuration": np.arange(samples),
+            "t": t,
+            "chiacchio_coverage": rng.uniform(0.2, 0.9, samples),
+            "yoshikawa_coverage": np.sin(t / 50.0),
+        }
+    )
+    frame.loc[rng.choice(samples, 5, replace=False), "yoshikawa_coverage"] = np.nan
+    return frame
+
+
+def test_decimation_keeps_every_bucket_extreme_and_gap():
+    from polyell.interactive import decimate_series
+
+    frame = long_series(123_457)
+    traces = ["chiacchio_coverage", "yoshikawa_coverage"]
+    kept = decimate_series(frame, traces, buckets=500)
+    assert len(kept) <= 3 * len(traces) * 500
+    assert kept["configuration"].is_monotonic_increasing
+    bucket = -(-len(frame) // 500)
+    for name in traces:
+        values = frame[name].to_numpy()
+        groups = np.arange(len(values)) // bucket
+        shown = kept.set_index("configuration")[name]
+        for g in np.unique(groups)[::37]:  # every bucket's min and max are drawn
+            inside = values[groups == g]
+            rows = kept["configuration"].to_numpy() // bucket == g
+            assert np.nanmin(inside) == np.nanmin(kept[name].to_numpy()[rows])
+            assert np.nanmax(inside) == np.nanmax(kept[name].to_numpy()[rows])
+        gaps = np.flatnonzero(np.isnan(values))  # each NaN's bucket shows a gap
+        assert all(np.isnan(shown[shown.index // bucket == k // bucket]).any() for k in gaps)
+    # a series in parts decimates exactly as a whole one (the runner reads parts)
+    from polyell.interactive import SeriesDecimator
+
+    decimator = SeriesDecimator(len(frame), traces, buckets=500)
+    for start in range(0, len(frame), 7_919):
+        decimator.add(frame.iloc[start : start + 7_919].reset_index(drop=True))
+    parts = decimator.result()
+    np.testing.assert_array_equal(parts["configuration"], kept["configuration"])
+
+
+def test_short_series_are_drawn_whole():
+    from polyell.interactive import DECIMATION_BUCKETS, decimate_series
+
+    frame = long_series(2 * DECIMATION_BUCKETS)
+    kept = decimate_series(frame, ["chiacchio_coverage"])
+    assert len(kept) == len(frame)
+
+
+def test_long_series_figures_are_bounded_and_say_so():
+    from polyell.interactive import DECIMATION_BUCKETS, interactive_series
+
+    sizes = []
+    for samples in (20_000, 200_000):
+        figure = interactive_series(long_series(samples), "coverage")
+        for trace in figure.data:
+            assert len(trace.x) <= 3 * 2 * DECIMATION_BUCKETS
+        notes = [a.text for a in figure.layout.annotations]
+        assert notes and notes[0].startswith(f"{samples:,} samples, shown decimated to")
+        sizes.append(len(figure.to_json()))
+    # the same number of points at most; each differs in at most two 25-character numbers
+    assert abs(sizes[1] - sizes[0]) <= 3 * 2 * DECIMATION_BUCKETS * 2 * 2 * 25

@@ -13,6 +13,7 @@ import numpy as np
 from polyell.analysis import analyze
 from polyell.comparison.comparison import SCORE_NAMES, compare
 from polyell.comparison.summary import (
+    SUMMARY_SCORES,
     format_summary_table,
     result_kinds,
     split_column,
@@ -23,11 +24,17 @@ from polyell.errors import InputError
 from polyell.geometry.directions import default_direction_count
 from polyell.models.task import task_unit
 from polyell.report import format_analysis
-from polyell.storage import folder_lock, remove_stale_temporaries, write_text_atomically
+from polyell.storage import (
+    existing_parts,
+    folder_lock,
+    remove_stale_temporaries,
+    write_atomically,
+    write_text_atomically,
+)
 from polyell.studies.cluster import check_scheduler
 from polyell.studies.spec import StudySpec
 from polyell.studies.sweep import sweep
-from polyell.studies.trajectory import tangent_limits
+from polyell.studies.trajectory import Trajectory, tangent_limits
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
@@ -180,6 +187,8 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
         save_figure,
     )
 
+    if spec.trajectory is not None:
+        return _run_trajectory(spec, folder, progress, scheduler)
     model = spec.robot.model
     configurations = spec.trajectory if spec.trajectory is not None else spec.configurations()
     first = model.dynamics(spec.configurations()[0])
@@ -267,6 +276,140 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
         written += save_figure(figure, folder / f"histogram_{score}", spec.figure_formats, spec.dpi)
     if "html" in spec.formats:
         written.append(_many_report(spec, folder, results, summary, varying, measured))
+    return written
+
+
+def _run_trajectory(
+    spec: StudySpec, folder: Path, progress: bool, scheduler: str | None
+) -> list[Path]:
+    """A trajectory study, its memory independent of the number of samples but for two terms.
+
+    The sweep writes one Parquet part per chunk; the parts are then read one at a time:
+    the tangent limits of a part's samples are computed, its rows appended to
+    ``results.csv`` and passed to the series' decimators (:class:`SeriesDecimator`: the
+    figures and the report draw at most a few thousand points per curve, and say so).
+    The two terms that grow with the samples are the trajectory itself (``(2n + 1) * 8``
+    bytes a sample) and one score column at a time (8 bytes a sample) for the summary's
+    medians and the histograms.
+    """
+    from polyell.figures import (
+        plot_score_histogram,
+        plot_score_series,
+        plot_tangent_limits,
+        save_figure,
+    )
+    from polyell.interactive import SeriesDecimator
+
+    trajectory = spec.trajectory
+    assert trajectory is not None
+    model = spec.robot.model
+    first = model.dynamics(trajectory.q[0])
+    dataset = sweep(  # a Parquet dataset in the study's folder: a killed study resumes
+        model,
+        trajectory,
+        spec.robot.tau_max,
+        spec.robot.tau_min,
+        scores=_scores(spec),
+        directions=spec.directions or default_direction_count(first.m),
+        mvie=spec.mvie,
+        outer=spec.outer,
+        candidates=spec.candidates,
+        samples=spec.samples,
+        seed=spec.seed,
+        scheduler=scheduler,
+        chunk=spec.chunk,
+        progress=progress,
+        out=folder / "results",
+    )
+    import pandas as pd
+    import pyarrow.parquet as pq
+
+    parts = [path for _, path in sorted(existing_parts(Path(dataset)).items())]
+    columns = pq.read_schema(parts[0]).names
+    count = len(trajectory)
+    kinds = result_kinds(columns)
+    x = "t" if trajectory.t is not None else "configuration"
+    tangent = trajectory.qd is not None
+    series = {
+        score: SeriesDecimator(count, [f"{k}_{score}" for k in kinds if f"{k}_{score}" in columns])
+        for score in spec.series
+    }
+    sets = ("polytope", "chiacchio", "yoshikawa")
+    tangents = [f"tangent_{name}_{end}" for name in sets for end in ("lo", "hi")]
+    along = SeriesDecimator(count, tangents) if tangent else None
+
+    def write_results(name: str) -> None:
+        with open(name, "w", encoding="utf-8", newline="") as handle:
+            start = 0
+            for index, part in enumerate(parts):
+                frame = pd.read_parquet(part)
+                stop = start + len(frame)
+                if tangent:  # the accelerations along the path, where the arm moves
+                    assert trajectory.qd is not None
+                    piece = Trajectory(trajectory.q[start:stop], trajectory.qd[start:stop])
+                    limits = tangent_limits(model, piece, spec.robot.tau_max, spec.robot.tau_min)
+                    frame = frame.assign(**limits)
+                frame.to_csv(handle, index=False, header=index == 0)
+                for decimator in series.values():
+                    decimator.add(frame[[x, *decimator.traces]])
+                if along is not None:
+                    along.add(frame[[x, *tangents]])
+                start = stop
+
+    written = [write_atomically(folder / "results.csv", write_results)]
+    summaries = []
+    for kind in kinds:  # the order of summarize(): ellipsoids, then scores
+        for score in SUMMARY_SCORES:
+            column = f"{kind}_{score}"
+            if column in columns:
+                values = pd.read_parquet(dataset, columns=[column])
+                summaries.append(summarize(values, (score,)))
+    summary = pd.concat(summaries) if summaries else summarize(pd.DataFrame())
+    caption = f"{spec.title}: scores over {count} configurations."
+    written.append(write_text_atomically(folder / "summary.csv", summary.to_csv()))
+    written.append(
+        write_text_atomically(
+            folder / "summary.md",
+            _heading(spec, f"{spec.title}: summary over {count} configurations")
+            + format_summary_table(summary, "markdown"),
+        )
+    )
+    written.append(
+        write_text_atomically(
+            folder / "summary.tex",
+            format_summary_table(summary, "latex", caption=caption, label="tab:summary"),
+        )
+    )
+    shown = {score: decimator.result() for score, decimator in series.items()}
+    for score, frame in shown.items():
+        figure = plot_score_series(frame, score, kinds=kinds, title=spec.title)
+        written += save_figure(figure, folder / f"series_{score}", spec.figure_formats, spec.dpi)
+    if along is not None:
+        figure = plot_tangent_limits(along.result(), unit=task_unit(first.task, tex=True))
+        written += save_figure(figure, folder / "tangent_limits", spec.figure_formats, spec.dpi)
+    measured = [kind for kind in kinds if kind not in ("mvie", "outer")]  # not the optima
+    histograms = {
+        score: pd.read_parquet(
+            dataset, columns=[f"{k}_{score}" for k in measured if f"{k}_{score}" in columns]
+        )
+        for score in spec.histograms
+    }
+    for score, frame in histograms.items():
+        figure = plot_score_histogram(frame, score, kinds=measured, title=f"{spec.title}")
+        written += save_figure(figure, folder / f"histogram_{score}", spec.figure_formats, spec.dpi)
+    if "html" in spec.formats:
+        from polyell.interactive import interactive_histogram, interactive_series, write_report
+
+        sections = _about(spec)
+        for score, frame in shown.items():
+            figure = interactive_series(frame, score, total=count)
+            sections.append((score_display(score)[0], figure))
+        for score, frame in histograms.items():
+            sections.append(
+                (score_display(score)[0], interactive_histogram(frame, score, measured))
+            )
+        sections.append((f"Summary over {count} configurations (fractions)", summary))
+        written.append(write_report(folder / "report.html", spec.title, sections))
     return written
 
 
