@@ -7,13 +7,14 @@ Bad input ends with a one-line ``polyell: error: ...`` on standard error and exi
 from __future__ import annotations
 
 import argparse
+import errno
 import json
 import os
 import sys
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
-from typing import NoReturn
+from typing import TYPE_CHECKING, NoReturn
 
 import numpy as np
 from numpy.typing import NDArray
@@ -32,6 +33,9 @@ from polyell.validation import (
     check_points,
     check_torque_limits,
 )
+
+if TYPE_CHECKING:
+    from _typeshed import SupportsWrite
 
 __all__ = ["main"]
 
@@ -75,8 +79,13 @@ def _floats(text: str) -> list[float]:
 class _Parser(argparse.ArgumentParser):
     """argparse, with its errors on one line like the package's own."""
 
+    def _print_message(self, message: str, file: SupportsWrite[str] | None = None) -> None:
+        """Write help and usage; unlike argparse's, a failed write is not ignored."""
+        if message:
+            (sys.stderr if file is None else file).write(message)
+
     def error(self, message: str) -> NoReturn:
-        self.exit(2, f"polyell: error: {message} (see '{self.prog} --help')\n")
+        self.exit(2, _line(f"polyell: error: {message} (see '{self.prog} --help')") + "\n")
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -161,8 +170,8 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _robot(name: str, tau_max: list[float] | None, tau_min: list[float] | None) -> Robot:
-    if name.endswith(".toml"):
-        robot = load_robot_file(name)
+    if name.endswith(".toml") or os.sep in name or (os.altsep or os.sep) in name:
+        robot = load_robot_file(name)  # a path: library names have no separator
     else:
         model = robots.load(name)
         if model.tau_max is None or model.tau_min is None:
@@ -214,7 +223,16 @@ def _direction(args: argparse.Namespace, m: int) -> tuple[NDArray[np.float64], s
     if norm == 0 or abs(norm - 1.0) <= 1e-12:
         return check_directions("--direction", direction, m), "t", []  # or an InputError
     unit = direction / norm
-    return unit, "t", [f"--direction normalised to {np.round(unit, 6).tolist()}"]
+    return unit, "t", [f"--direction normalised to {_rounded(unit, 6)}"]
+
+
+def _rounded(values: NDArray[np.float64], digits: int) -> list[float]:
+    """Values rounded to ``digits`` decimals for display, without numpy's overflow.
+
+    ``np.round(1e308, 6)`` multiplies by 1e6 first and gives inf; Python's ``round`` is
+    correctly rounded for every float.
+    """
+    return [round(float(value), digits) for value in values]
 
 
 def _analyze(args: argparse.Namespace) -> list[str]:
@@ -239,13 +257,13 @@ def _analyze(args: argparse.Namespace) -> list[str]:
     else:
         text = "\n".join(
             [
-                f"{args.robot} at q = {np.round(q, 6).tolist()} rad",
+                f"{args.robot} at q = {_rounded(q, 6)} rad",
                 format_analysis(analysis, direction, label, args.inverse_at),
                 "\nScores against the polytope (pe.compare):\n",
                 comparison.to_markdown(),
             ]
         )
-    print(text)
+    _emit(text)
     return notes
 
 
@@ -254,15 +272,83 @@ def _study(args: argparse.Namespace) -> None:
     written = run_study(spec, args.out, progress=not args.quiet, scheduler=args.scheduler)
     names = {path.name for path in written}
     main_files = [name for name in MAIN_OUTPUTS if name in names]
-    print(f"{spec.title}: wrote {len(written)} files to {args.out}")
-    for name in main_files:
-        print(f"  {Path(args.out) / name}: {MAIN_OUTPUTS[name]}")
+    lines = [f"{spec.title}: wrote {len(written)} files to {args.out}"]
+    lines += [f"  {Path(args.out) / name}: {MAIN_OUTPUTS[name]}" for name in main_files]
+    _emit("\n".join(lines))
+
+
+class _OutputError(Exception):
+    """Standard output could not be written (a full disk, a closed pipe)."""
+
+    def __init__(self, error: OSError) -> None:
+        super().__init__(error.strerror or str(error))
+        self.error = error
+
+
+def _emit(text: str) -> None:
+    """Print ``text`` and flush it, so that a failed write is seen here and not at exit."""
+    try:
+        try:
+            print(text)
+        except UnicodeEncodeError:  # a file name of undecodable bytes, a narrow encoding
+            encoding = sys.stdout.encoding or "utf-8"
+            print(text.encode(encoding, "backslashreplace").decode(encoding))
+        sys.stdout.flush()
+    except OSError as exn:
+        raise _OutputError(exn) from None
+
+
+def _detach_stdout() -> None:
+    """Point standard output at the null device.
+
+    Output that could not be written is dropped there, and the interpreter's last flush
+    has nothing left to fail on.
+    """
+    try:
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, sys.stdout.fileno())
+        os.close(null)
+    except (OSError, ValueError):  # no file descriptor (standard output replaced in-process)
+        pass
+
+
+def _line(text: str) -> str:
+    """One line of standard error: line breaks in a message are shown escaped.
+
+    They come from user text quoted in a message: a file name, a TOML value.
+    """
+    return text.replace("\r", "\\r").replace("\n", "\\n")
+
+
+def _fail(message: str) -> int:
+    print(_line(f"polyell: error: {message}"), file=sys.stderr)
+    return 2
+
+
+#: Exit status after Ctrl-C (128 + SIGINT), as shells report it.
+EXIT_INTERRUPTED = 130
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status."""
-    args = _parser().parse_args(_join_list_options(sys.argv[1:] if argv is None else argv))
+    """Run the command line; returns the exit status.
+
+    0 on success; 2 after one line ``polyell: error: ...`` on standard error (bad input, a
+    file that cannot be read or written, standard output that cannot be written, or an
+    internal error); 130 after one line ``polyell: interrupted`` (Ctrl-C).  Never a
+    traceback.
+    """
+    try:
+        try:
+            args = _parser().parse_args(_join_list_options(sys.argv[1:] if argv is None else argv))
+        finally:  # what --help, --version or a usage error printed must arrive
+            sys.stdout.flush()
+    except OSError as exn:
+        _detach_stdout()
+        if exn.errno == errno.EPIPE:
+            return 0
+        return _fail(f"could not write to standard output: {exn.strerror or exn}.")
     notes: list[str] = []
+    caught: list[warnings.WarningMessage] = []
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", ProjectedInputWarning)
@@ -271,18 +357,39 @@ def main(argv: Sequence[str] | None = None) -> int:
             else:
                 _study(args)
     except PolyellError as exn:
-        print(f"polyell: error: {exn}", file=sys.stderr)
-        return 2
-    except BrokenPipeError:  # the reader left (polyell analyze | head): not an error
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 0
-    finally:  # rounded input that was projected: one note each, after the output
-        notes += [str(w.message) for w in caught if issubclass(w.category, ProjectedInputWarning)]
+        return _fail(str(exn))
+    except _OutputError as exn:
+        _detach_stdout()
+        if exn.error.errno == errno.EPIPE:  # the reader left (polyell analyze | head)
+            return 0
+        return _fail(
+            f"could not write to standard output: {exn}. Fix: free disk space, or "
+            "redirect the output elsewhere."
+        )
+    except KeyboardInterrupt:
+        resume = "; run the same command again to resume" if args.command == "study" else ""
+        print(f"polyell: interrupted{resume}", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except MemoryError:
+        return _fail(
+            "out of memory. Fix: make the study smaller (fewer configurations, "
+            "directions or samples, a smaller chunk)."
+        )
+    except Exception as exn:  # a bug: still one line, with what to report
+        return _fail(
+            f"internal error, {type(exn).__name__}: {str(exn)[:300]}. This is a bug in "
+            f"polyell {__version__}: please report it with the command that caused it."
+        )
+    # Rounded input that was projected: one note each, after the output.
+    notes += [str(w.message) for w in caught if issubclass(w.category, ProjectedInputWarning)]
+    others = [w for w in caught if not issubclass(w.category, ProjectedInputWarning)]
+    try:
         for note in dict.fromkeys(notes):
-            print(f"polyell: note: {note}", file=sys.stderr)
-        for w in caught:
-            if not issubclass(w.category, ProjectedInputWarning):
-                warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+            print(_line(f"polyell: note: {note}"), file=sys.stderr)
+        for w in others:
+            print(_line(f"polyell: warning: {w.category.__name__}: {w.message}"), file=sys.stderr)
+    except OSError:  # standard error is gone too: nothing more can be said
+        pass
     return 0
 
 

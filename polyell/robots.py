@@ -18,7 +18,7 @@ from polyell.errors import InputError, MissingDependencyError
 from polyell.models.planar_arm import PlanarArm
 from polyell.models.urdf import UrdfRobot
 
-__all__ = ["URDF_ARMS", "load", "names", "urdf_path"]
+__all__ = ["URDF_ARMS", "URDF_OPTIONS", "load", "names", "urdf_path"]
 
 
 class _Arm(NamedTuple):
@@ -41,6 +41,19 @@ URDF_ARMS = {
     "xarm7": _Arm("xarm_description/urdf/xarm7.urdf", "link_eef"),
     "z1": _Arm("z1_description/urdf/z1.urdf", "gripperStator", ("jointGripper",)),
 }
+
+
+#: The keyword arguments of :class:`~polyell.UrdfRobot` that :func:`load` passes on.
+URDF_OPTIONS = (
+    "task",
+    "tip",
+    "locked_joints",
+    "gravity",
+    "tau_max",
+    "tau_min",
+    "weights",
+    "payload",
+)
 
 
 def names() -> list[str]:
@@ -87,6 +100,8 @@ def load(name: str, **options: Any) -> PlanarArm | UrdfRobot:
     >>> pe.robots.load("chiacchio2000").tau_max.tolist()
     [100.0, 30.0, 4.0]
     """
+    if not isinstance(name, str):
+        raise InputError("name", f"one of {names()}", f"{type(name).__name__} {name!r}"[:120])
     if name == "chiacchio2000":
         if options:
             raise InputError("options", "none for the planar arm", f"{sorted(options)}")
@@ -98,6 +113,14 @@ def load(name: str, **options: Any) -> PlanarArm | UrdfRobot:
         )
     if name not in URDF_ARMS:
         raise InputError("name", f"one of {names()}", repr(name))
+    unknown = sorted(set(options) - set(URDF_OPTIONS))
+    if unknown:
+        raise InputError(
+            "options",
+            f"keyword arguments among {list(URDF_OPTIONS)}",
+            f"{unknown}",
+            "see pe.UrdfRobot for what each one means.",
+        )
     arm = URDF_ARMS[name]
     settings: dict[str, Any] = {"tip": arm.tip, "locked_joints": arm.locked_joints} | options
     return UrdfRobot(urdf_path(name), **settings)

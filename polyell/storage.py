@@ -2,9 +2,12 @@
 
 A sweep's Parquet dataset is a folder of ``part-NNNNNN.parquet`` files (one per chunk) and
 ``_sweep.json`` (what produced them and how many there are).  Every file is written to a
-temporary name and renamed, so a reader sees a whole file or none; a running sweep holds
-an exclusive lock (``_sweep.lock``) so that no second sweep writes into the same folder; and
-a part counts as done only when its Parquet footer reads and holds the expected rows.
+temporary name (``.<name>.<8 random characters>.tmp`` beside it) and renamed, so a reader
+sees a whole file or none; a running sweep holds an exclusive lock (``_sweep.lock``) so that
+no second sweep writes into the same folder; and a part counts as done only when its
+Parquet footer reads and holds the expected rows.  A writer killed outright (SIGKILL, a
+power cut) cannot remove its temporary file: whoever takes the folder's lock next removes
+those of the files it owns (:func:`remove_stale_temporaries`).
 """
 
 from __future__ import annotations
@@ -22,16 +25,26 @@ from typing import Any
 from polyell.errors import InputError, StorageError
 
 __all__ = [
+    "DATASET_FILES",
     "dataset_lock",
     "existing_parts",
+    "folder_lock",
     "part_is_complete",
     "part_path",
     "read_metadata",
+    "remove_stale_temporaries",
     "write_atomically",
     "write_text_atomically",
 ]
 
 _PART = re.compile(r"part-(\d{6})\.parquet")
+#: The files a sweep writes into its dataset folder.
+DATASET_FILES = re.compile(r"part-\d{6}\.parquet|_sweep\.json")
+#: The temporary name :func:`write_atomically` gives ``<name>`` (``tempfile.mkstemp``'s
+#: random part is 8 characters among lower-case letters, digits and ``_``).
+#: The longest file name of common file systems (ext4, XFS, APFS, NTFS) [bytes].
+_NAME_MAX = 255
+_TEMPORARY = re.compile(r"\.(?P<name>.+)\.[a-z0-9_]{8}\.tmp")
 
 
 def part_path(folder: Path, index: int) -> Path:
@@ -51,11 +64,12 @@ def write_atomically(path: Path, write: Callable[[str], Any]) -> Path:
         If the file cannot be written (a full disk, a file size limit, permissions); no
         partial file is left behind.
     """
+    name = path.name
+    while len(os.fsencode(f".{name}.XXXXXXXX.tmp")) > _NAME_MAX and len(name) > 1:
+        name = name[:-1]  # a name near the limit: the temporary name gets a shorter prefix
     temporary = ""
     try:
-        handle, temporary = tempfile.mkstemp(
-            dir=path.parent, prefix=f".{path.name}.", suffix=".tmp"
-        )
+        handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{name}.", suffix=".tmp")
         os.close(handle)
         write(temporary)
         os.chmod(temporary, 0o666 & ~_umask())
@@ -140,16 +154,77 @@ def part_is_complete(path: Path, rows: int) -> bool:
         return False
 
 
-@contextlib.contextmanager
-def dataset_lock(folder: Path) -> Iterator[None]:
-    """Hold the exclusive lock of a dataset folder, or refuse at once if another holds it.
+def remove_stale_temporaries(folder: Path, names: re.Pattern[str]) -> list[Path]:
+    """Remove the temporary files that killed writers left for the files ``names`` matches.
 
-    The lock is ``fcntl.flock`` on ``_sweep.lock``: the operating system releases it when
-    its process ends, however it ends (a killed sweep leaves no stale lock).
+    Call it only while holding the folder's lock (:func:`folder_lock`): then no live
+    writer of those files exists, and every such temporary file is a dead one's.  Other
+    files, and temporary files of other names, are left alone.
+
+    Parameters
+    ----------
+    folder : Path
+        The folder (not searched recursively).
+    names : re.Pattern
+        The names of the files the lock holder writes (matched whole).
+
+    Returns
+    -------
+    list of Path
+        The files removed.
+
+    Raises
+    ------
+    StorageError
+        If one of them cannot be removed.
+    """
+    removed = []
+    try:
+        entries = list(os.scandir(folder))
+    except OSError as exn:
+        raise StorageError(f"Could not list {folder}: {exn.strerror or exn}.") from exn
+    for entry in entries:
+        match = _TEMPORARY.fullmatch(entry.name)
+        if match is None or not names.fullmatch(match.group("name")):
+            continue
+        try:
+            os.unlink(entry.path)
+        except FileNotFoundError:
+            continue
+        except OSError as exn:
+            raise StorageError(
+                f"Could not remove the stale temporary file {entry.path}: "
+                f"{exn.strerror or exn}. Fix: remove it by hand."
+            ) from exn
+        removed.append(Path(entry.path))
+    return removed
+
+
+@contextlib.contextmanager
+def folder_lock(folder: Path, name: str, what: str) -> Iterator[None]:
+    """Hold an exclusive lock on a folder, or refuse at once if another process holds it.
+
+    The lock is ``fcntl.flock`` on the file ``folder / name``: the operating system
+    releases it when its process ends, however it ends (a killed run leaves no stale lock).
+
+    Parameters
+    ----------
+    folder : Path
+    name : str
+        The lock file's name.
+    what : str
+        What holds such a lock ("sweep", "study"), for the message.
+
+    Raises
+    ------
+    InputError
+        If another process holds the lock.
+    StorageError
+        If the lock file cannot be opened.
     """
     import fcntl
 
-    path = folder / "_sweep.lock"
+    path = folder / name
     try:
         handle = open(path, "a+")
     except OSError as exn:
@@ -160,10 +235,22 @@ def dataset_lock(folder: Path) -> Iterator[None]:
         except BlockingIOError:
             raise InputError(
                 "out",
-                "a dataset folder no other sweep is writing",
-                f"{folder} is locked by a running sweep",
+                f"a folder no other {what} is writing",
+                f"{folder} is locked by a running {what}",
                 "wait for it to finish, or choose another folder.",
             ) from None
         yield
     finally:
         handle.close()  # releases the lock
+
+
+@contextlib.contextmanager
+def dataset_lock(folder: Path) -> Iterator[None]:
+    """Hold the exclusive lock of a dataset folder, or refuse at once if another holds it.
+
+    The lock is ``_sweep.lock`` (:func:`folder_lock`).  Once it is held, the temporary
+    files of parts and metadata that a killed sweep left are removed.
+    """
+    with folder_lock(folder, "_sweep.lock", "sweep"):
+        remove_stale_temporaries(folder, DATASET_FILES)
+        yield

@@ -112,3 +112,85 @@ def test_help_everywhere(capsys):
             main(argv)
         assert info.value.code == 0
     assert "--out" in capsys.readouterr().out
+
+
+def only_line(capsys) -> str:
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and err.endswith("\n"), err
+    return err
+
+
+def test_an_internal_error_is_one_line_that_asks_for_a_report(capsys, monkeypatch):
+    import polyell.cli as cli
+
+    def broken(args):
+        raise ZeroDivisionError("float division by zero")
+
+    monkeypatch.setattr(cli, "_analyze", broken)
+    assert main(["analyze"]) == 2
+    err = only_line(capsys)
+    assert err.startswith("polyell: error: internal error, ZeroDivisionError: float division")
+    assert "please report it" in err
+
+
+@pytest.mark.parametrize(("command", "resume"), [("analyze", False), ("study", True)])
+def test_ctrl_c_is_one_line_and_exit_130(capsys, monkeypatch, tmp_path, command, resume):
+    import polyell.cli as cli
+
+    def interrupted(args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli, f"_{command}", interrupted)
+    argv = ["analyze"] if command == "analyze" else ["study", "s.toml", "--out", str(tmp_path)]
+    assert main(argv) == 130
+    err = only_line(capsys)
+    assert (
+        err == "polyell: interrupted" + ("; run the same command again to resume" * resume) + "\n"
+    )
+
+
+def test_an_error_after_a_note_is_still_one_line(capsys):
+    # --normalize notes the scaled direction; --mesh into a missing folder then fails
+    argv = [
+        "analyze",
+        "--direction",
+        "2,0",
+        "--normalize",
+        "--no-mvie",
+        "--mesh",
+        "/nonexistent/x.obj",
+    ]
+    assert main(argv) == 2
+    assert only_line(capsys).startswith("polyell: error: ")
+
+
+def test_line_breaks_in_a_message_stay_on_one_line(capsys, tmp_path):
+    folder = tmp_path / "two\nlines.toml"
+    folder.mkdir()
+    assert main(["study", str(folder), "--out", str(tmp_path / "o")]) == 2
+    assert "two\\nlines.toml" in only_line(capsys)
+    with pytest.raises(SystemExit) as info:
+        main(["analyze", "extra\nargument"])
+    assert info.value.code == 2
+    assert "extra\\nargument" in only_line(capsys)
+
+
+@pytest.mark.parametrize(
+    ("argv", "fragment"),
+    [
+        (["study", "{tmp}", "--out", "{tmp}/o"], "a folder"),
+        (["study", "{tmp}/latin1.toml", "--out", "{tmp}/o"], "is not UTF-8"),
+        (["study", "{tmp}/deep.toml", "--out", "{tmp}/o"], "nested deeper than the parser"),
+        (["analyze", "--robot", "{tmp}/deep.toml"], "nested deeper than the parser"),
+        (["analyze", "--robot", "{tmp}"], "describing a robot, got"),
+        (["study", "{tmp}/grid.toml", "--out", "{tmp}/o", "--scheduler", "tcp://a:b"], "tcp://"),
+        (["study", "{tmp}/grid.toml", "--out", "{tmp}/o", "--scheduler", "tcp://[::1"], "[::1"),
+    ],
+)
+def test_files_and_addresses_that_cannot_be_used(capsys, tmp_path, argv, fragment):
+    (tmp_path / "latin1.toml").write_bytes('title = "\u00e9"\n'.encode("latin-1"))
+    (tmp_path / "deep.toml").write_text("a = " + "[" * 5000 + "]" * 5000 + "\n")
+    (tmp_path / "grid.toml").write_text('[robot]\nlibrary = "chiacchio2000"\n[random]\ncount = 1\n')
+    assert main([a.format(tmp=tmp_path) for a in argv]) == 2
+    err = only_line(capsys)
+    assert err.startswith("polyell: error: ") and fragment in err

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import json
+import signal
 import subprocess
 import sys
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import polyell as pe
@@ -133,3 +135,99 @@ def test_import_leaves_the_heavy_libraries_alone():
     )
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert result.stdout.strip() == "[]", result.stdout + result.stderr
+
+
+def one_error_line(result: subprocess.CompletedProcess[str], fragment: str) -> None:
+    assert result.returncode == 2, result.stderr
+    assert result.stderr.startswith("polyell: error: ") and fragment in result.stderr
+    assert len(result.stderr.splitlines()) == 1, result.stderr
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [("analyze", "--no-mvie"), ("analyze", "--json", "--no-mvie"), ("--help",), ("--version",)],
+)
+def test_a_full_standard_output_is_one_line_and_exit_2(argv):
+    with open("/dev/full", "w") as full:
+        result = subprocess.run(
+            [str(POLYELL), *argv], stdout=full, stderr=subprocess.PIPE, text=True, timeout=300
+        )
+    one_error_line(result, "could not write to standard output: No space left on device")
+
+
+def test_malformed_scheduler_addresses_are_one_line(tmp_path):
+    spec = tmp_path / "s.toml"
+    spec.write_text('[robot]\nlibrary = "chiacchio2000"\n[random]\ncount = 2\n')
+    for address in ("tcp://foo:bar", "tcp://[::1", "tcp://h:99999"):
+        result = run("study", str(spec), "--out", str(tmp_path / "o"), "--scheduler", address)
+        one_error_line(result, "scheduler: expected None, 'processes' or a Dask scheduler address")
+    assert not (tmp_path / "o").exists()  # refused before anything was written
+
+
+def test_folders_and_binary_files_as_study_or_robot_are_one_line(tmp_path):
+    binary = tmp_path / "image.toml"
+    binary.write_bytes(bytes(range(256)))
+    for argv in (
+        ("study", str(tmp_path), "--out", str(tmp_path / "o")),
+        ("study", str(binary), "--out", str(tmp_path / "o")),
+        ("analyze", "--robot", str(binary)),
+    ):
+        result = run(*argv)
+        one_error_line(result, "path: expected ")
+
+
+#: A study whose first run is interrupted by Ctrl-C (SIGINT) while it computes its third
+#: chunk: the run says where it stopped with a marker file and waits there for the signal.
+INTERRUPTED = """
+import importlib, os, sys, time
+from polyell.cli import main
+sweep_module = importlib.import_module("polyell.studies.sweep")
+marker = sys.argv[1]
+compute = sweep_module._Job.chunk
+def chunk(self, start, stop):
+    if start == 4 and not os.path.exists(marker):
+        open(marker, "w").close()
+        time.sleep(600)  # Ctrl-C arrives here
+    return compute(self, start, stop)
+sweep_module._Job.chunk = chunk
+sys.exit(main(sys.argv[2:]))
+"""
+
+
+def test_ctrl_c_during_a_study_is_one_line_and_the_next_run_resumes(tmp_path):
+    spec = tmp_path / "s.toml"
+    spec.write_text(
+        '[robot]\nlibrary = "chiacchio2000"\n[random]\ncount = 12\n'
+        "[compare]\ndirections = 8\nmvie = false\nouter = false\nchunk = 2\n"
+        '[output]\nformats = ["svg"]\n'
+    )
+    out, marker = tmp_path / "o", tmp_path / "interrupted"
+    script = tmp_path / "run.py"
+    script.write_text(INTERRUPTED)
+    argv = ["study", str(spec), "--out", str(out), "--quiet"]
+    process = subprocess.Popen(
+        [sys.executable, str(script), str(marker), *argv],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    while not marker.exists():  # wait for the run to be inside its third chunk
+        assert process.poll() is None, process.communicate()
+        try:
+            process.wait(0.01)  # a pause between looks, not a time limit
+        except subprocess.TimeoutExpired:
+            pass
+    process.send_signal(signal.SIGINT)
+    stdout, stderr = process.communicate(timeout=300)
+    assert process.returncode == 130
+    assert stderr == "polyell: interrupted; run the same command again to resume\n"
+    assert stdout == ""
+    parts = sorted((out / "results").glob("part-*.parquet"))
+    assert [path.name for path in parts] == ["part-000000.parquet", "part-000001.parquet"]
+    assert not list(out.rglob(".*.tmp"))
+    kept = {path: path.stat().st_mtime_ns for path in parts}
+    again = run(*argv)  # the same command, through the entry point
+    assert again.returncode == 0 and again.stderr == "", again.stderr
+    assert {path: path.stat().st_mtime_ns for path in parts} == kept  # not computed again
+    results = pd.read_csv(out / "results.csv")
+    assert results["configuration"].tolist() == list(range(12))

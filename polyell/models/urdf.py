@@ -218,6 +218,13 @@ class UrdfRobot:
                 raise InputError("weights", "positive scales", f"{self.weights}")
         model.gravity.linear = check_array("gravity", gravity, (3,))
         if payload is not None:
+            if not isinstance(payload, Payload):
+                raise InputError(
+                    "payload",
+                    "a pe.Payload(mass, com, inertia)",
+                    f"{type(payload).__name__} {payload!r}"[:120],
+                    "wrap the values: payload=pe.Payload(mass=1.0, com=[0, 0, 0.05]).",
+                )
             self._attach(pin, model, payload)
         self.model = model
         self._data = model.createData()

@@ -68,6 +68,10 @@ class BatchOptions:
         User-defined ellipsoids.
     rank_rtol : float
         Rank tolerance, as in :func:`polyell.analyze`.
+    samples, seed : int
+        Quasi-Monte-Carlo points per replicate and their seed, as in
+        :func:`polyell.compare`: used by the rows that take the scalar path (an ellipsoid
+        neither inside nor around P is measured by Monte Carlo there).
     """
 
     mvie: bool = False
@@ -75,6 +79,8 @@ class BatchOptions:
     vertices: bool = False
     candidates: tuple[Candidate, ...] = ()
     rank_rtol: float = RANK_RTOL
+    samples: int = 2**13
+    seed: int = 0
 
 
 def _zonotope_volume(s: Array, V1t: Array) -> Array:

@@ -14,11 +14,66 @@ elsewhere (``scheduler="tcp://..."``) profit from the same setting.
 from __future__ import annotations
 
 import os
+import re
 from typing import Any
 
 from polyell.errors import InputError, MissingDependencyError
 
-__all__ = ["local_cluster"]
+__all__ = ["check_scheduler", "local_cluster"]
+
+#: A Dask scheduler address: ``tcp://`` or ``tls://`` with a host name, an IPv4 address or
+#: an IPv6 address in brackets and an optional port (Dask's default 8786), or
+#: ``inproc://ip/pid/suffix``, the address of a scheduler in this process.
+_ADDRESS = re.compile(
+    r"(?:(?:tcp|tls)://(?:\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_](?:[A-Za-z0-9_.-]{0,252}))"
+    r"(?::(?P<port>[0-9]{1,5}))?"
+    r"|inproc://[0-9A-Za-z.:_-]{1,100}/[0-9]{1,10}/[0-9A-Za-z_-]{1,100})"
+)
+#: What a scheduler may be, for messages.
+SCHEDULERS = "None, 'processes' or a Dask scheduler address tcp://host:port (or tls://, inproc://)"
+
+
+def check_scheduler(scheduler: object) -> str | None:
+    """Check where a sweep runs: ``None``, ``"processes"`` or a Dask scheduler address.
+
+    The address is checked before any connection is tried, so a malformed one (a port that
+    is not a number from 1 to 65535, an unclosed IPv6 bracket, a path) is refused with its
+    expected form instead of failing inside Dask.
+
+    Parameters
+    ----------
+    scheduler : object
+        What the caller gave.
+
+    Returns
+    -------
+    None or str
+        ``scheduler`` unchanged.
+
+    Raises
+    ------
+    InputError
+        If it is none of the three.
+    """
+    if scheduler is None:
+        return None
+    if not isinstance(scheduler, str):
+        raise InputError("scheduler", SCHEDULERS, f"{type(scheduler).__name__} {scheduler!r}"[:120])
+    if scheduler == "processes":
+        return scheduler
+    match = _ADDRESS.fullmatch(scheduler)
+    port = None if match is None or match.group("port") is None else int(match.group("port"))
+    if match is None or (port is not None and not 1 <= port <= 65535):
+        shown = repr(scheduler) if len(scheduler) <= 80 else repr(scheduler[:77]) + "..."
+        raise InputError(
+            "scheduler",
+            SCHEDULERS,
+            shown,
+            "give the address 'dask scheduler' prints, e.g. tcp://127.0.0.1:8786 "
+            "(IPv6 in brackets: tcp://[::1]:8786), or 'processes' for a local cluster.",
+        )
+    return scheduler
+
 
 #: The thread counts of the BLAS and OpenMP runtimes: one per worker process.
 _ONE_THREAD = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")

@@ -15,7 +15,42 @@ from numpy.typing import ArrayLike, NDArray
 from polyell.errors import InputError
 from polyell.validation import MAX_AXIS_VALUES, array_ndim, check_array, check_integer
 
-__all__ = ["ConfigurationSet", "Grid", "RandomConfigurations", "grid", "random_configurations"]
+__all__ = [
+    "ConfigurationSet",
+    "Grid",
+    "RandomConfigurations",
+    "grid",
+    "random_configurations",
+    "uniform_rows",
+]
+
+
+def uniform_rows(
+    rng: np.random.Generator,
+    low: NDArray[np.float64],
+    high: NDArray[np.float64],
+    count: int,
+) -> NDArray[np.float64]:
+    """``count`` rows uniform in the box ``[low, high]``, shape (count, n).
+
+    The same numbers as ``rng.uniform(low, high, (count, n))``; where a box is wider than
+    the largest float (``high - low`` overflows, bounds near +-1e308) the draws are made in
+    the box halved and doubled, which is exact (scaling by 2 is exact in binary floating
+    point) instead of numpy's ``OverflowError``.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+    low, high : ndarray, shape (n,)
+        Finite bounds with ``low <= high``.
+    count : int
+        Rows.
+    """
+    with np.errstate(over="ignore"):
+        wide = not np.all(np.isfinite(high - low))
+    if not wide:
+        return rng.uniform(low, high, (count, low.size))
+    return 2.0 * rng.uniform(0.5 * low, 0.5 * high, (count, low.size))
 
 
 class ConfigurationSet:
@@ -125,7 +160,7 @@ class RandomConfigurations(ConfigurationSet):
         stop = min(stop, self.count)
         first, last = start // self.BLOCK, (stop - 1) // self.BLOCK
         blocks = [
-            np.random.default_rng([self.seed, b]).uniform(self.low, self.high, (self.BLOCK, self.n))
+            uniform_rows(np.random.default_rng([self.seed, b]), self.low, self.high, self.BLOCK)
             for b in range(first, last + 1)
         ]
         rows = np.concatenate(blocks)

@@ -44,7 +44,14 @@ TABLES: dict[str, Table] = {
         "`[trajectory]`, and optional comparison, candidate and output settings.",
         (
             Key("title", "string", "the file name", "Heading of every output.", '"Panda study"'),
-            Key("description", "string", '""', "Free text, kept in the outputs.", '"..."'),
+            Key(
+                "description",
+                "string",
+                '""',
+                "Free text, written under the title of `numbers.md`, `comparison.md` and "
+                "`summary.md`, at the top of `report.html` and into `manifest.json`.",
+                '"..."',
+            ),
             Key("robot", "table", _REQUIRED, "The robot: see `[robot]`.", ""),
             Key("points", "array of tables", "—", "Named configurations: `[[points]]`.", ""),
             Key("grid", "table", "—", "A grid over the joints: `[grid]`.", ""),
@@ -283,8 +290,15 @@ file = "planar3r_path.csv"''',
                 "Compute the minimum-volume enclosing ellipsoid.",
                 "false",
             ),
-            Key("samples", "integer", "8192", "Quasi-Monte-Carlo points per replicate.", "4096"),
-            Key("seed", "integer", "0", "Seed of those estimates.", "3"),
+            Key(
+                "samples",
+                "integer",
+                "8192",
+                "Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the "
+                "polytope, 2 to 4194304 (2^22), in every kind of study.",
+                "4096",
+            ),
+            Key("seed", "integer", "0", "Seed of those estimates, 0 or more.", "3"),
             Key("chunk", "integer", "20000", "Configurations per chunk of a sweep.", "5000"),
         ),
         """[robot]

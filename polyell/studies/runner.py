@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import os
+import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -22,7 +24,14 @@ from polyell.errors import InputError
 from polyell.geometry.directions import default_direction_count
 from polyell.models.task import task_unit
 from polyell.report import format_analysis
-from polyell.storage import existing_parts, write_atomically, write_text_atomically
+from polyell.storage import (
+    existing_parts,
+    folder_lock,
+    remove_stale_temporaries,
+    write_atomically,
+    write_text_atomically,
+)
+from polyell.studies.cluster import check_scheduler
 from polyell.studies.spec import StudySpec
 from polyell.studies.sweep import sweep
 from polyell.studies.trajectory import Trajectory, tangent_limits
@@ -32,10 +41,23 @@ if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
 
     from polyell.studies.spec import GridAxis
 
-__all__ = ["run_study"]
+__all__ = ["STUDY_FILES", "run_study"]
+
+#: The names of the files a study writes into its folder (the sweep's dataset goes into its
+#: own folder, ``results/``); a study run removes what a killed run left of them.
+STUDY_FILES = re.compile(
+    r"numbers\.md|report\.html|manifest\.json|results\.csv"
+    r"|(?:comparison|summary)\.(?:csv|md|tex)"
+    r"|(?:sets|limits|map|series|histogram)_[A-Za-z0-9_.-]+\.(?:pdf|png|svg)"
+    r"|tangent_limits\.(?:pdf|png|svg)"
+)
+#: The lock a running study holds on its folder (hidden: not one of its outputs).
+STUDY_LOCK = ".polyell-study.lock"
 
 
-def _prepare(out: str | Path) -> Path:
+def _prepare(out: str | os.PathLike[str]) -> Path:
+    if not isinstance(out, str | os.PathLike) or not str(out):
+        raise InputError("out", "a folder path (str or pathlib.Path)", repr(out)[:120])
     folder = Path(out)
     try:
         folder.mkdir(parents=True, exist_ok=True)
@@ -53,9 +75,9 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
     from polyell.figures import plot_directional_limits, plot_sets, plot_sets_3d, save_figure
 
     written: list[Path] = []
-    numbers = [f"# {spec.title}: the numbers", ""]
+    numbers = [_heading(spec, f"{spec.title}: the numbers").rstrip("\n"), ""]
     frames = []
-    report: list[tuple[str, Any]] = []
+    report: list[tuple[str, Any]] = _about(spec)
     for point in spec.points:
         analysis = analyze(
             spec.robot.model.dynamics(point.q), spec.robot.tau_max, spec.robot.tau_min
@@ -119,7 +141,7 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
             )
             written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
     written.append(write_text_atomically(folder / "numbers.md", "\n".join(numbers)))
-    if report:
+    if "html" in spec.formats:
         from polyell.interactive import write_report
 
         written.append(write_report(folder / "report.html", spec.title, report))
@@ -134,7 +156,8 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
     written.append(
         write_text_atomically(
             folder / "comparison.md",
-            f"# {spec.title}: comparison\n\nVolumes in ({unit})^r: {dimension_note}.\n\n"
+            _heading(spec, f"{spec.title}: comparison")
+            + f"Volumes in ({unit})^r: {dimension_note}.\n\n"
             + format_scores_table(table, None, "markdown", unit=unit),
         )
     )
@@ -180,6 +203,8 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
         mvie=spec.mvie,
         outer=spec.outer,
         candidates=spec.candidates,
+        samples=spec.samples,
+        seed=spec.seed,
         scheduler=scheduler,
         chunk=spec.chunk,
         progress=progress,
@@ -200,7 +225,7 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
     written.append(
         write_text_atomically(
             folder / "summary.md",
-            f"# {spec.title}: summary over {len(results)} configurations\n\n"
+            _heading(spec, f"{spec.title}: summary over {len(results)} configurations")
             + format_summary_table(summary, "markdown"),
         )
     )
@@ -289,6 +314,8 @@ def _run_trajectory(
         mvie=spec.mvie,
         outer=spec.outer,
         candidates=spec.candidates,
+        samples=spec.samples,
+        seed=spec.seed,
         scheduler=scheduler,
         chunk=spec.chunk,
         progress=progress,
@@ -343,7 +370,7 @@ def _run_trajectory(
     written.append(
         write_text_atomically(
             folder / "summary.md",
-            f"# {spec.title}: summary over {count} configurations\n\n"
+            _heading(spec, f"{spec.title}: summary over {count} configurations")
             + format_summary_table(summary, "markdown"),
         )
     )
@@ -373,7 +400,7 @@ def _run_trajectory(
     if "html" in spec.formats:
         from polyell.interactive import interactive_histogram, interactive_series, write_report
 
-        sections: list[tuple[str, Any]] = []
+        sections = _about(spec)
         for score, frame in shown.items():
             figure = interactive_series(frame, score, total=count)
             sections.append((score_display(score)[0], figure))
@@ -402,7 +429,7 @@ def _many_report(
         write_report,
     )
 
-    sections: list[tuple[str, Any]] = []
+    sections = _about(spec)
     if len(varying) == 2 and spec.maps:  # one figure, a menu over the maps
         figure = interactive_map(results, spec.maps, varying[1].name, varying[0].name)
         sections.append(("Heat maps (choose the score in the menu)", figure))
@@ -412,6 +439,16 @@ def _many_report(
         sections.append((score_display(score)[0], interactive_histogram(results, score, measured)))
     sections.append((f"Summary over {len(results)} configurations (fractions)", summary))
     return write_report(folder / "report.html", spec.title, sections)
+
+
+def _heading(spec: StudySpec, heading: str) -> str:
+    """A Markdown file's title, with the study's description below it (if it has one)."""
+    return f"# {heading}\n\n" + (f"{spec.description}\n\n" if spec.description else "")
+
+
+def _about(spec: StudySpec) -> list[tuple[str, Any]]:
+    """The first section of a report: the study's description (if it has one)."""
+    return [("About this study", spec.description)] if spec.description else []
 
 
 def _split(column: str) -> tuple[str, str]:
@@ -451,8 +488,23 @@ def run_study(
     Raises
     ------
     InputError
-        If ``out`` cannot be written.
+        If ``out`` cannot be written, another study is running into it, or ``scheduler``
+        is malformed.
+    StorageError
+        If a file cannot be written (a full disk); finished parts of a sweep are kept.
+
+    Notes
+    -----
+    The study holds a lock on ``out`` while it runs (``.polyell-study.lock``), and first
+    removes the temporary files a killed run left of its outputs.  The study's
+    ``description`` is written under the title of ``numbers.md``, ``comparison.md`` and
+    ``summary.md``, at the top of ``report.html`` and into ``manifest.json``.
     """
+    if not isinstance(spec, StudySpec):
+        raise InputError(
+            "spec", "a StudySpec", type(spec).__name__, "load it with pe.studies.load_study(path)."
+        )
+    scheduler = check_scheduler(scheduler)
     if scheduler is not None and not spec.is_batch:
         raise InputError(
             "scheduler",
@@ -461,16 +513,19 @@ def run_study(
             "drop --scheduler, or make it a [grid] or [random] study.",
         )
     folder = _prepare(out)
-    if spec.is_batch:
-        written = _run_many(spec, folder, progress, scheduler)
-    else:
-        written = _run_points(spec, folder)
-    manifest = {
-        "study": spec.title,
-        "spec": spec.path.name,
-        "files": sorted(p.name for p in written),
-    }
-    written.append(
-        write_text_atomically(folder / "manifest.json", json.dumps(manifest, indent=2) + "\n")
-    )
+    with folder_lock(folder, STUDY_LOCK, "study"):
+        remove_stale_temporaries(folder, STUDY_FILES)  # what a killed run left
+        if spec.is_batch:
+            written = _run_many(spec, folder, progress, scheduler)
+        else:
+            written = _run_points(spec, folder)
+        manifest = {
+            "study": spec.title,
+            "description": spec.description,
+            "spec": spec.path.name,
+            "files": sorted(p.name for p in written),
+        }
+        written.append(
+            write_text_atomically(folder / "manifest.json", json.dumps(manifest, indent=2) + "\n")
+        )
     return written

@@ -47,6 +47,7 @@ Numbers may be written as expressions: ``"pi/2"``, ``"sqrt(3)/2"``.
 from __future__ import annotations
 
 import math
+import os
 import re
 import sys
 from dataclasses import dataclass, field
@@ -58,14 +59,27 @@ from numpy.typing import NDArray
 
 from polyell import robots
 from polyell.comparison.candidates import Candidate, check_candidates
-from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES
+from polyell.comparison.comparison import (
+    COMPARED_KINDS,
+    MAX_SAMPLES,
+    MAX_SEED,
+    MIN_SAMPLES,
+    SCORE_NAMES,
+)
 from polyell.errors import InputError
 from polyell.expressions import evaluate, evaluate_list
 from polyell.models.planar_arm import PlanarArm
 from polyell.models.urdf import Payload, UrdfRobot
+from polyell.studies.configurations import uniform_rows
 from polyell.studies.file_format import keys
 from polyell.studies.trajectory import Trajectory, load_trajectory
-from polyell.validation import MAX_DIRECTIONS, check_array, check_integer, check_torque_limits
+from polyell.validation import (
+    MAX_DIRECTIONS,
+    _describe,
+    check_array,
+    check_integer,
+    check_torque_limits,
+)
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -99,7 +113,7 @@ _FORMATS = ("pdf", "png", "svg", "html")
 
 def _check_keys(where: str, table: object, valid: tuple[str, ...]) -> dict[str, Any]:
     if not isinstance(table, dict):
-        raise InputError(where, f"a table with keys among {list(valid)}", repr(table))
+        raise InputError(where, f"a table with keys among {list(valid)}", _describe(table))
     unknown = sorted(set(table) - set(valid))
     if unknown:
         raise InputError(
@@ -120,19 +134,33 @@ MAX_STUDY_CONFIGURATIONS = 10_000_000
 
 def _string(where: str, value: object) -> str:
     if not isinstance(value, str):
-        raise InputError(where, "a string", f"{type(value).__name__} {value!r}")
+        raise InputError(where, "a string", _describe(value))
     return value
+
+
+def _figure_title(where: str, value: object) -> str:
+    """A title that figures show, checked when the study loads (:func:`figures.check_title`).
+
+    A typo in a ``$...$`` formula is refused with the key that holds it, instead of failing
+    when the first figure is drawn.
+    """
+    title = _string(where, value)
+    if "$" not in title:  # no mathtext: no need to load matplotlib
+        return title
+    from polyell.figures import check_title
+
+    return check_title(title, where)
 
 
 def _strings(where: str, value: object) -> tuple[str, ...]:
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        raise InputError(where, "a list of strings", f"{type(value).__name__} {value!r}")
+        raise InputError(where, "a list of strings", _describe(value))
     return tuple(value)
 
 
 def _boolean(where: str, value: object) -> bool:
     if not isinstance(value, bool):
-        raise InputError(where, "true or false", f"{type(value).__name__} {value!r}")
+        raise InputError(where, "true or false", _describe(value))
     return value
 
 
@@ -151,7 +179,7 @@ def _file_name(where: str, value: object) -> str:
 
 def _list(where: str, value: object) -> list[Any]:
     if not isinstance(value, list):
-        raise InputError(where, "a list", f"{type(value).__name__} {value!r}")
+        raise InputError(where, "a list", _describe(value))
     return value
 
 
@@ -268,19 +296,54 @@ def robot_from_table(table: object, where: str = "robot", folder: Path | None = 
     return Robot(model, tau_max, tau_min)
 
 
-def _read_toml(path: str | Path) -> dict[str, Any]:
+def _read_toml(path: str | os.PathLike[str], what: str = "study") -> dict[str, Any]:
+    """The table of a TOML file; every way of failing is an InputError naming the file.
+
+    A folder, an unreadable or non-UTF-8 file, invalid TOML and nesting too deep for the
+    parser (a RecursionError in ``tomllib``) are all refused with what to do.
+    """
+    if not isinstance(path, str | os.PathLike):
+        raise InputError("path", f"the path of a {what} TOML file", f"{type(path).__name__}")
+    shown = repr(str(path))
     try:
         with open(path, "rb") as handle:
-            return tomllib.load(handle)
+            data = handle.read()
     except FileNotFoundError:
-        raise InputError("path", "an existing TOML file", repr(str(path))) from None
+        raise InputError("path", f"an existing TOML file describing a {what}", shown) from None
+    except IsADirectoryError:
+        raise InputError(
+            "path", f"a TOML file describing a {what}", f"{shown}, a folder", "give a file."
+        ) from None
+    except OSError as exn:  # permissions, a device, a name too long, ...
+        raise InputError(
+            "path", f"a readable TOML file describing a {what}", f"{shown} ({exn.strerror or exn})"
+        ) from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exn:
+        raise InputError(
+            "path",
+            "a TOML file in UTF-8 (the encoding TOML prescribes)",
+            f"{shown}: byte {data[exn.start]:#04x} at offset {exn.start} is not UTF-8",
+            "save the file as UTF-8.",
+        ) from None
+    try:
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exn:
-        raise InputError("path", "valid TOML", f"{path}: {exn}") from None
+        raise InputError("path", "valid TOML", f"{shown}: {exn}") from None
+    except RecursionError:  # tomllib parses nested arrays and inline tables recursively
+        raise InputError(
+            "path",
+            "TOML whose arrays and inline tables are nested at most a few hundred levels",
+            f"{shown}, nested deeper than the parser can follow",
+            "flatten the nesting: no value of a study file is nested more than 3 levels.",
+        ) from None
 
 
-def load_robot_file(path: str | Path) -> Robot:
+def load_robot_file(path: str | os.PathLike[str]) -> Robot:
     """A robot file: TOML with the keys of a study's ``[robot]`` table at the top level."""
-    return robot_from_table(_read_toml(path), where=Path(path).name, folder=Path(path).parent)
+    table = _read_toml(path, "robot")
+    return robot_from_table(table, where=Path(path).name, folder=Path(path).parent)
 
 
 @dataclass(frozen=True)
@@ -368,10 +431,10 @@ def _point(table: object, index: int, n: int) -> Point:
         )
     inverse_at = table.get("inverse_at", "hi")
     if inverse_at not in ("lo", "hi"):
-        raise InputError(f"{where}.inverse_at", "'lo' or 'hi'", repr(inverse_at))
+        raise InputError(f"{where}.inverse_at", "'lo' or 'hi'", _describe(inverse_at))
     end: Literal["lo", "hi"] = "lo" if inverse_at == "lo" else "hi"
     name = _file_name(f"{where}.name", table["name"])
-    return Point(name, q, direction, end, _string(f"{where}.title", table.get("title", "")))
+    return Point(name, q, direction, end, _figure_title(f"{where}.title", table.get("title", "")))
 
 
 def _grid(table: object, n: int) -> tuple[GridAxis, ...]:
@@ -387,7 +450,7 @@ def _grid(table: object, n: int) -> tuple[GridAxis, ...]:
         if isinstance(value, dict):
             spec = _check_keys(f"grid.{name}", value, _RANGE_KEYS)
             if set(spec) != set(_RANGE_KEYS):
-                raise InputError(f"grid.{name}", "{ start, stop, num }", repr(value))
+                raise InputError(f"grid.{name}", "{ start, stop, num }", _describe(value))
             num = check_integer(f"grid.{name}.num", spec["num"], 1, MAX_STUDY_CONFIGURATIONS)
             values = np.linspace(
                 evaluate(f"grid.{name}.start", spec["start"]),
@@ -413,7 +476,7 @@ def _random(table: object, robot: Robot) -> NDArray[np.float64]:
     if "count" not in table:
         raise InputError("random", "a 'count' of configurations", "no such key")
     count = check_integer("random.count", table["count"], 1, MAX_STUDY_CONFIGURATIONS)
-    seed = check_integer("random.seed", table.get("seed", 0), 0, 2**63 - 1)
+    seed = check_integer("random.seed", table.get("seed", 0), 0, MAX_SEED)
     model = robot.model
     limits = getattr(model, "position_limits", None)
     low, high = (
@@ -427,8 +490,7 @@ def _random(table: object, robot: Robot) -> NDArray[np.float64]:
         raise InputError(
             "random", f"low <= high with {model.n} entries each", f"low={low}, high={high}"
         )
-    rng = np.random.default_rng(seed)
-    return rng.uniform(low, high, size=(count, model.n))
+    return uniform_rows(np.random.default_rng(seed), low, high, count)
 
 
 def _matrix(where: str, value: object) -> NDArray[np.float64]:
@@ -462,7 +524,7 @@ def _candidate(table: object, index: int) -> Candidate:
     return Candidate(name, center=center, **matrices)
 
 
-def load_study(path: str | Path) -> StudySpec:
+def load_study(path: str | os.PathLike[str]) -> StudySpec:
     """Parse and check a study file.
 
     Raises
@@ -471,7 +533,8 @@ def load_study(path: str | Path) -> StudySpec:
         On a missing file, invalid TOML, an unknown key (the message lists the valid
         ones), or any bad value.
     """
-    data = _check_keys(Path(path).name, _read_toml(path), _TOP_KEYS)
+    table = _read_toml(path)
+    data = _check_keys(Path(path).name, table, _TOP_KEYS)
     if "robot" not in data:
         raise InputError(Path(path).name, "a [robot] table", "none")
     robot = robot_from_table(data["robot"], folder=Path(path).parent)
@@ -501,7 +564,7 @@ def load_study(path: str | Path) -> StudySpec:
     output = _check_keys("output", data.get("output", {}), _OUTPUT_KEYS)
     formats = _strings("output.formats", output.get("formats", ["pdf", "png"]))
     if not formats or any(f not in _FORMATS for f in formats):
-        raise InputError("output.formats", f"a list among {list(_FORMATS)}", repr(formats))
+        raise InputError("output.formats", f"a list among {list(_FORMATS)}", _describe(formats))
     candidates = check_candidates(
         tuple(
             _candidate(t, i) for i, t in enumerate(_list("candidates", data.get("candidates", [])))
@@ -526,7 +589,7 @@ def load_study(path: str | Path) -> StudySpec:
     for name in histograms:
         if name not in SCORE_NAMES:
             raise InputError(
-                "output.histograms", f"score names among {list(SCORE_NAMES)}", repr(name)
+                "output.histograms", f"score names among {list(SCORE_NAMES)}", _describe(name)
             )
     if histograms and "points" in data:
         raise InputError("output.histograms", "a grid or random study", "a study of points")
@@ -534,12 +597,14 @@ def load_study(path: str | Path) -> StudySpec:
     series = _strings("output.series", output.get("series", default_series))
     for name in series:
         if name not in SCORE_NAMES:
-            raise InputError("output.series", f"score names among {list(SCORE_NAMES)}", repr(name))
+            raise InputError(
+                "output.series", f"score names among {list(SCORE_NAMES)}", _describe(name)
+            )
     if series and trajectory is None:
         raise InputError("output.series", "a [trajectory] study", "another kind of study")
     return StudySpec(
         path=Path(path),
-        title=_string("title", data.get("title", Path(path).stem)),
+        title=_figure_title("title", data.get("title", Path(path).stem)),
         description=_string("description", data.get("description", "")),
         robot=robot,
         points=points,
@@ -554,8 +619,10 @@ def load_study(path: str | Path) -> StudySpec:
         mvie=_boolean("compare.mvie", compare.get("mvie", True)),
         outer=_boolean("compare.outer", compare.get("outer", True)),
         candidates=candidates,
-        samples=check_integer("compare.samples", compare.get("samples", 2**13), 2, 2**24),
-        seed=check_integer("compare.seed", compare.get("seed", 0), 0, 2**63 - 1),
+        samples=check_integer(
+            "compare.samples", compare.get("samples", 2**13), MIN_SAMPLES, MAX_SAMPLES
+        ),
+        seed=check_integer("compare.seed", compare.get("seed", 0), 0, MAX_SEED),
         chunk=check_integer("compare.chunk", compare.get("chunk", 20_000), 1, 10_000_000),
         formats=formats,
         dpi=check_integer("output.dpi", output.get("dpi", 300), 10, 2400),

@@ -24,7 +24,14 @@ from tqdm import tqdm
 
 from polyell.analysis import analyze
 from polyell.comparison.candidates import Candidate, check_candidates
-from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES, compare
+from polyell.comparison.comparison import (
+    COMPARED_KINDS,
+    MAX_SAMPLES,
+    MAX_SEED,
+    MIN_SAMPLES,
+    SCORE_NAMES,
+    compare,
+)
 from polyell.errors import InputError, MissingDependencyError, StorageError
 from polyell.geometry.directions import default_direction_count, sphere_directions
 from polyell.geometry.subspace import RANK_RTOL
@@ -39,7 +46,7 @@ from polyell.storage import (
     write_text_atomically,
 )
 from polyell.studies.batch import BatchOptions, batch_rows
-from polyell.studies.cluster import local_cluster
+from polyell.studies.cluster import check_scheduler, local_cluster
 from polyell.studies.configurations import ConfigurationSet
 from polyell.studies.trajectory import Trajectory
 from polyell.validation import (
@@ -126,6 +133,8 @@ def _scalar_rows(
         row = compare(
             analysis,
             directions,
+            samples=options.samples,
+            seed=options.seed,
             mvie=options.mvie,
             outer=options.outer,
             candidates=options.candidates,
@@ -160,6 +169,7 @@ CONNECT_TIMEOUT = "10s"
 
 
 def _client(scheduler: str) -> Any:
+    check_scheduler(scheduler)
     try:
         from dask.distributed import Client
     except ImportError as exn:
@@ -177,6 +187,13 @@ def _client(scheduler: str) -> Any:
                 "the address of a running Dask scheduler",
                 f"{scheduler}, silent for {CONNECT_TIMEOUT} ({exn.__class__.__name__})",
                 "start one with 'dask scheduler' (and workers), or use scheduler='processes'.",
+            ) from None
+        except (TypeError, ValueError) as exn:  # e.g. tls:// without Dask's TLS settings
+            raise InputError(
+                "scheduler",
+                "a Dask scheduler address this client can connect to",
+                f"{scheduler} ({exn.__class__.__name__}: {str(exn)[:160]})",
+                "for tls:// set Dask's distributed.comm.tls options; or use tcp://host:port.",
             ) from None
     raise InputError(
         "scheduler",
@@ -264,6 +281,8 @@ def sweep(
     mvie: bool = False,
     outer: bool = False,
     candidates: Sequence[Candidate] = (),
+    samples: int = 2**13,
+    seed: int = 0,
     rank_rtol: float = RANK_RTOL,
     progress: bool = False,
 ) -> pd.DataFrame | Path:
@@ -309,6 +328,11 @@ def sweep(
         User-defined ellipsoids (:class:`polyell.Candidate`), scored like the built-in
         ones under ``<name>_<score>``.  One that is neither inside nor around P at a
         configuration takes the scalar path there (Monte Carlo coverage: slower).
+    samples : int
+        Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the polytope, as in
+        :func:`polyell.compare` (from 2 to 2^22; a power of two keeps the Sobol' balance).
+    seed : int
+        Seed of those estimates, a non-negative integer.
     rank_rtol : float
         Rank tolerance, as in :func:`polyell.analyze`.
     progress : bool
@@ -336,6 +360,12 @@ def sweep(
         )
     options = BatchOptions(mvie=bool(mvie), outer=bool(outer), rank_rtol=rank_rtol)
     options = replace(options, candidates=check_candidates(candidates))
+    options = replace(
+        options,
+        samples=check_integer("samples", samples, MIN_SAMPLES, MAX_SAMPLES),
+        seed=check_integer("seed", seed, 0, MAX_SEED),
+    )
+    check_scheduler(scheduler)  # before any work: a malformed address is refused at once
     job = _job(source, configurations, tau_max, tau_min, scores, directions, options)
     count = -(-job.size() // chunk)
     todo = list(range(count))

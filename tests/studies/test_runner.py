@@ -1,6 +1,7 @@
 from __future__ import annotations
 
 import json
+import shutil
 import textwrap
 from pathlib import Path
 
@@ -10,6 +11,7 @@ import pytest
 
 import polyell as pe
 from polyell.studies import load_study, run_study
+from polyell.studies.runner import STUDY_FILES, STUDY_LOCK
 from reference import PAPER_Q_REDUNDANT, paper_analysis
 
 REPO = Path(__file__).resolve().parents[2]
@@ -133,3 +135,211 @@ def test_the_shipped_panda_study_parses():
     spec = load_study(REPO / "studies" / "panda_random.toml")
     assert spec.configurations().shape == (300, 7)
     assert spec.robot.model.joint_names[-1] == "panda_joint7"
+
+
+#: A candidate that neither lies inside the polytope nor around it at these configurations:
+#: its coverage is a quasi-Monte-Carlo estimate (the scalar path), which depends on samples
+#: and seed.
+MONTE_CARLO_STUDY = """
+    title = "monte carlo"
+    description = "A thin disc: its coverage is estimated."
+    [robot]
+    library = "chiacchio2000"
+    {configurations}
+    [compare]
+    directions = 16
+    mvie = false
+    outer = false
+    samples = {samples}
+    seed = {seed}
+    [[candidates]]
+    name = "disc"
+    core = [[1e-2, 0], [0, 1e-4]]
+    [output]
+    formats = ["svg"]
+    dpi = 20
+"""
+CONFIGURATIONS = {
+    "grid": '[grid]\nq1 = "pi/2"\nq2 = { start = -1, stop = 1, num = 2 }\nq3 = 0.5\n',
+    "random": "[random]\ncount = 2\nseed = 4\nlow = [1, -1, -1]\nhigh = [2, 1, 1]\n",
+    "trajectory": '[trajectory]\nfile = "path.csv"\n',
+}
+
+
+@pytest.mark.parametrize("kind", list(CONFIGURATIONS))
+def test_samples_and_seed_reach_every_kind_of_study(tmp_path, kind):
+    path = REPO / "studies" / "planar3r_path.csv"
+    (tmp_path / "path.csv").write_text("".join(path.read_text().splitlines(True)[:3]))  # 2 rows
+    arm = pe.robots.load("chiacchio2000")
+    coverage = {}
+    for samples, seed in ((16, 0), (4096, 0), (4096, 7)):
+        spec_path = tmp_path / f"{samples}_{seed}.toml"
+        spec_path.write_text(
+            textwrap.dedent(MONTE_CARLO_STUDY).format(
+                configurations=CONFIGURATIONS[kind], samples=samples, seed=seed
+            )
+        )
+        spec = load_study(spec_path)
+        out = tmp_path / f"out_{samples}_{seed}"
+        run_study(spec, out)
+        results = pd.read_parquet(out / "results").sort_values("configuration")
+        coverage[samples, seed] = results["disc_coverage"].to_numpy()
+        for k, q in enumerate(spec.configurations()):
+            # The row is pe.compare's with the study's samples and seed: the same computation
+            # (the scalar path), so the same float.
+            expected = pe.compare(
+                pe.analyze(arm.dynamics(q), arm.tau_max),
+                16,
+                samples=samples,
+                seed=seed,
+                mvie=False,
+                outer=False,
+                candidates=spec.candidates,
+            )
+            assert coverage[samples, seed][k] == expected["disc"].coverage
+    # Neither is ignored: other samples or another seed give other estimates.
+    assert np.all(coverage[16, 0] != coverage[4096, 0])
+    assert np.all(coverage[4096, 7] != coverage[4096, 0])
+
+
+@pytest.mark.parametrize(
+    ("samples", "fragment"),
+    [
+        (0, "from 2 to"),
+        (1, "from 2 to"),
+        (2**22 + 1, "from 2 to"),
+        (2.5, "float"),
+        ("'8'", "str"),
+        (True, "bool"),
+    ],
+)
+def test_bad_samples_are_refused_when_the_study_loads(tmp_path, samples, fragment):
+    spec_path = tmp_path / "s.toml"
+    text = textwrap.dedent(MONTE_CARLO_STUDY).format(
+        configurations=CONFIGURATIONS["grid"], samples=str(samples).lower(), seed=0
+    )
+    spec_path.write_text(text)
+    with pytest.raises(pe.InputError, match=r"compare\.samples: expected an integer") as info:
+        load_study(spec_path)
+    assert fragment in str(info.value)
+    spec_path.write_text(
+        text.replace("samples = ", "samples = 8\n#").replace("seed = 0", "seed = -1")
+    )
+    with pytest.raises(pe.InputError, match=r"compare\.seed: expected an integer from 0"):
+        load_study(spec_path)
+
+
+def test_the_description_is_kept_in_every_written_summary(tmp_path):
+    description = "Free text: kept *as written*."
+    for kind, configurations in (
+        ("points", '[[points]]\nname = "p"\nq = [0.3, 0.5, 0.7]\n'),
+        ("grid", CONFIGURATIONS["grid"]),
+    ):
+        spec_path = tmp_path / f"{kind}.toml"
+        spec_path.write_text(
+            f'title = "T"\ndescription = "{description}"\n[robot]\nlibrary = "chiacchio2000"\n'
+            f"{configurations}[compare]\ndirections = 8\nmvie = false\nouter = false\n"
+            '[output]\nformats = ["html"]\n'
+        )
+        out = tmp_path / kind
+        run_study(load_study(spec_path), out)
+        manifest = json.loads((out / "manifest.json").read_text())
+        assert manifest["description"] == description
+        markdown = ["numbers.md", "comparison.md"] if kind == "points" else ["summary.md"]
+        for name in markdown:  # the paragraph under the title
+            assert (out / name).read_text().split("\n")[1:4] == ["", description, ""], name
+        report = (out / "report.html").read_text()
+        assert "<h2>About this study</h2><p>Free text: kept *as written*.</p>" in report
+
+
+def test_a_study_without_description_writes_no_empty_paragraph(tmp_path):
+    spec_path = tmp_path / "s.toml"
+    spec_path.write_text(
+        '[robot]\nlibrary = "chiacchio2000"\n[[points]]\nname = "p"\nq = [0.3, 0.5, 0.7]\n'
+        '[compare]\ndirections = 8\nmvie = false\nouter = false\n[output]\nformats = ["svg"]\n'
+    )
+    run_study(load_study(spec_path), tmp_path / "o")
+    assert (tmp_path / "o" / "numbers.md").read_text().split("\n")[1:3] == ["", "## p"]
+    assert json.loads((tmp_path / "o" / "manifest.json").read_text())["description"] == ""
+
+
+def test_every_file_a_study_writes_is_one_it_cleans_up_after(paper_study, tmp_path):
+    """STUDY_FILES (what a run removes the stale temporary files of) covers every output."""
+    spec_path = tmp_path / "grid.toml"
+    spec_path.write_text(
+        textwrap.dedent(SMALL_GRID).replace('formats = ["png"]', 'formats = ["png", "svg"]')
+        + 'histograms = ["coverage"]\n'
+    )
+    run_study(load_study(spec_path), tmp_path / "grid")
+    path_study = REPO / "studies" / "planar3r_path.toml"
+    shutil.copy(REPO / "studies" / "planar3r_path.csv", tmp_path)
+    text = path_study.read_text().replace("mvie = true", "mvie = false")
+    text = text.replace('"mvie_ratio", ', "").replace('"pdf", "png", "html"', '"svg"')
+    (tmp_path / "path.toml").write_text(text)
+    run_study(load_study(tmp_path / "path.toml"), tmp_path / "path")
+    names = set()
+    for out in (paper_study, tmp_path / "grid", tmp_path / "path"):
+        names |= set(json.loads((out / "manifest.json").read_text())["files"]) | {"manifest.json"}
+    assert {"map_chiacchio_coverage.svg", "tangent_limits.svg", "sets_singular.pdf"} <= names
+    assert [name for name in names if not STUDY_FILES.fullmatch(name)] == []
+
+
+def test_a_killed_runs_temporary_files_are_removed_and_no_others(tmp_path):
+    out = tmp_path / "o"
+    out.mkdir()
+    stale = [".summary.md.k2j_x9q0.tmp", ".sets_p.png.abcdefgh.tmp", ".report.html.a1b2c3d4.tmp"]
+    foreign = [".notes.md.abcdefgh.tmp", ".sets_p.png.tmp", "summary.md.abcdefgh.tmp"]
+    for name in stale + foreign:
+        (out / name).write_text("left by a run killed with SIGKILL")
+    spec_path = tmp_path / "s.toml"
+    spec_path.write_text(
+        '[robot]\nlibrary = "chiacchio2000"\n[[points]]\nname = "p"\nq = [0.3, 0.5, 0.7]\n'
+        '[compare]\ndirections = 8\nmvie = false\nouter = false\n[output]\nformats = ["svg"]\n'
+    )
+    run_study(load_study(spec_path), out)
+    left = {path.name for path in out.iterdir() if path.name.startswith(".")}
+    assert left == {*foreign[:2], ".polyell-study.lock"}
+    assert (out / foreign[2]).exists()
+
+
+def test_a_folder_another_study_is_writing_is_refused(tmp_path):
+    from polyell.storage import folder_lock
+
+    out = tmp_path / "o"
+    out.mkdir()
+    spec = load_study(REPO / "studies" / "chiacchio2000.toml")
+    with folder_lock(out, STUDY_LOCK, "study"):
+        with pytest.raises(pe.InputError, match="locked by a running study"):
+            run_study(spec, out)
+    assert list(out.iterdir()) == [out / STUDY_LOCK]  # nothing written
+
+
+@pytest.mark.parametrize(
+    ("arguments", "fragment"),
+    [
+        ({"spec": "studies/chiacchio2000.toml"}, "spec: expected a StudySpec, got str"),
+        ({"out": 5}, "out: expected a folder path"),
+        ({"out": ""}, "out: expected a folder path"),
+        ({"scheduler": "tcp://host:port"}, "scheduler: expected None, 'processes'"),
+        ({"scheduler": "tcp://[::1"}, "scheduler: expected None, 'processes'"),
+        ({"scheduler": 8786}, "scheduler: expected None, 'processes'"),
+    ],
+)
+def test_bad_run_study_arguments(tmp_path, arguments, fragment):
+    call = {"spec": load_study(REPO / "studies" / "chiacchio2000.toml"), "out": tmp_path / "o"}
+    with pytest.raises(pe.InputError) as info:
+        run_study(**(call | arguments))
+    assert fragment in str(info.value)
+    assert not (tmp_path / "o").exists()
+
+
+def test_no_report_unless_html_is_asked_for(tmp_path):
+    spec_path = tmp_path / "s.toml"
+    spec_path.write_text(
+        'description = "d"\n[robot]\nlibrary = "chiacchio2000"\n[[points]]\nname = "p"\n'
+        "q = [0.3, 0.5, 0.7]\n[compare]\ndirections = 8\nmvie = false\nouter = false\n"
+        '[output]\nformats = ["svg"]\n'
+    )
+    written = run_study(load_study(spec_path), tmp_path / "o")
+    assert "report.html" not in {path.name for path in written}
+    assert not (tmp_path / "o" / "report.html").exists()

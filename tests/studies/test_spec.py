@@ -1,5 +1,6 @@
 from __future__ import annotations
 
+import re
 import textwrap
 from pathlib import Path
 
@@ -144,3 +145,71 @@ def test_urdf_options_are_refused_for_a_planar_arm(tmp_path):
     )
     with pytest.raises(pe.InputError, match="no URDF options for a planar arm"):
         load_study(write(tmp_path, text))
+
+
+@pytest.mark.parametrize("load", [load_study, load_robot_file])
+def test_files_that_are_not_toml_text_are_refused_with_their_name(tmp_path, load):
+    cases = {
+        "a folder": (tmp_path, "a folder"),
+        "non-UTF-8": (tmp_path / "latin1.toml", "byte 0xe9 at offset 9 is not UTF-8"),
+        "deep": (tmp_path / "deep.toml", "nested deeper than the parser can follow"),
+        "a name too long": (tmp_path / ("x" * 300 + ".toml"), "File name too long"),
+        "not a path": (5, "got int"),
+    }
+    (tmp_path / "latin1.toml").write_bytes('title = "\u00e9"\n'.encode("latin-1"))
+    (tmp_path / "deep.toml").write_text("a = " + "[" * 5000 + "]" * 5000 + "\n")
+    for path, fragment in cases.values():
+        with pytest.raises(pe.InputError) as info:
+            load(path)
+        assert str(info.value).startswith("path: expected") and fragment in str(info.value)
+
+
+def test_nesting_the_parser_follows_is_refused_by_the_keys_checks(tmp_path):
+    nested = "[" * 50 + "1" + "]" * 50
+    with pytest.raises(pe.InputError, match=r"points\[0\]\.q\[0\]: expected a number"):
+        load_study(write(tmp_path, POINTS.replace('["pi/2", "-pi/2", "-pi/2"]', nested)))
+
+
+def test_random_bounds_of_1e308_are_sampled_within_them(tmp_path):
+    """high - low overflows to inf: the draws are made in the halved box, then doubled."""
+    path = write(
+        tmp_path,
+        """
+        [robot]
+        library = "chiacchio2000"
+        [random]
+        count = 1000
+        low = [-1e308, -1.7976931348623157e308, 0]
+        high = [1e308, 1.7976931348623157e308, 1]
+        """,
+    )
+    q = load_study(path).configurations()
+    assert np.all(np.isfinite(q)) and np.all(np.abs(q[:, :2]) <= [1e308, np.finfo(float).max])
+    assert np.all((q[:, 2] >= 0) & (q[:, 2] <= 1))
+    assert np.all(q[:, :2] < 0, axis=0).sum() == 0 and np.all(q[:, :2] > 0, axis=0).sum() == 0
+
+
+def test_payload_and_robot_tables_of_a_wrong_type(tmp_path):
+    base = '[robot]\nlibrary = "panda"\n{extra}\n[random]\ncount = 1\n'
+    for extra, fragment in (
+        ("payload = 5", "robot.payload: expected a table"),
+        ("payload = { mass = [1] }", "robot.payload.mass: expected a number"),
+        ('payload = { mass = 1, com = "x" }', "robot.payload.com: expected a list"),
+    ):
+        with pytest.raises(pe.InputError) as info:
+            load_study(write(tmp_path, base.format(extra=extra)))
+        assert fragment in str(info.value)
+
+
+@pytest.mark.parametrize("where", ["title", "points[0].title"])
+def test_titles_with_math_matplotlib_cannot_typeset_are_refused_at_load(tmp_path, where):
+    text = POINTS.replace('title = "t"', 'title = "{top}"').replace(
+        '    name = "a"', '    name = "a"\n    title = "{point}"'
+    )
+    good = {"top": "$\\\\alpha$ at 50% & more", "point": "cost \\\\$5"}
+    assert load_study(write(tmp_path, text.format(**good))).title == "$\\alpha$ at 50% & more"
+    bad = good | {"top" if where == "title" else "point": "$x^$"}
+    with pytest.raises(
+        pe.InputError, match=rf"^{re.escape(where)}: expected text whose \$\.\.\.\$ parts are valid"
+    ):
+        load_study(write(tmp_path, text.format(**bad)))

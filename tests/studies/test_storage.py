@@ -1,7 +1,7 @@
 """Study data is never lost or mixed: fault injection on sweep datasets and studies (issue 15).
 
-Every child process is bounded: it waits at most ``TIMEOUT`` seconds, and its chunks are
-slowed by injection only where two runs must overlap.
+No test depends on timing: a child process that must be caught at some point of its run
+pauses there and says so with a marker file, and the test acts on the marker.
 """
 
 from __future__ import annotations
@@ -24,7 +24,9 @@ from reference import planar_urdf
 
 ARM = pe.robots.load("chiacchio2000")
 GRID = pe.grid(0.3, (-2.5, 2.5, 6), (-2.5, 2.5, 5))  # 30 configurations
-TIMEOUT = 120
+#: Hang guard only (a child that never reaches its pause point): correctness never depends on
+#: it, every step below waits for an event (a marker file, a process's exit), not for time.
+HANG_GUARD = 600
 
 CHILD = """
 import importlib, os, resource, signal, sys, time
@@ -35,16 +37,16 @@ out, chunk, fsize, go = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.arg
 if fsize >= 0:  # a full disk: writes past fsize bytes fail (SIGXFSZ ignored: EFBIG)
     signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
     resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, resource.RLIM_INFINITY))
-if go != "-":  # start together, and take a while per chunk, so that two runs overlap
+if go != "-":  # start together; the run that gets the lock holds it until released
     open(f"{go}.ready{chunk}", "w").close()
-    deadline = time.monotonic() + 60
-    while not os.path.exists(go) and time.monotonic() < deadline:
+    while not os.path.exists(go):
         time.sleep(0.01)
     original = sweep_module._Job.chunk
-    def slow(self, start, stop):
-        time.sleep(0.2)
+    def held(self, start, stop):  # inside the lock: wait until the test releases it
+        while not os.path.exists(f"{go}.release"):
+            time.sleep(0.01)
         return original(self, start, stop)
-    sweep_module._Job.chunk = slow
+    sweep_module._Job.chunk = held
 arm = pe.robots.load("chiacchio2000")
 grid = pe.grid(0.3, (-2.5, 2.5, 6), (-2.5, 2.5, 5))
 try:
@@ -75,14 +77,20 @@ def read(out: Path) -> pd.DataFrame:
 
 
 def test_two_sweeps_at_once_into_one_folder_never_mix(tmp_path):
+    """Whichever run takes the lock holds it until the other has been refused and ended:
+    the overlap is made by events, not by timing."""
     out, go = tmp_path / "shared", tmp_path / "go"
     runs = [child(tmp_path, out, chunk, go=str(go)) for chunk in (4, 5)]
-    deadline = time.monotonic() + TIMEOUT
+    deadline = time.monotonic() + HANG_GUARD
     while not all(Path(f"{go}.ready{chunk}").exists() for chunk in (4, 5)):
         assert time.monotonic() < deadline and all(run.poll() is None for run in runs)
         time.sleep(0.01)
-    go.touch()  # both are imported and waiting: they start within milliseconds
-    results = [run.communicate(timeout=TIMEOUT) for run in runs]
+    go.touch()  # both are imported and waiting: both try the lock
+    while all(run.poll() is None for run in runs):  # one is refused: it ends
+        assert time.monotonic() < deadline, "hang guard"
+        time.sleep(0.01)
+    Path(f"{go}.release").touch()  # the other, still holding the lock, may finish
+    results = [run.communicate(timeout=HANG_GUARD) for run in runs]
     codes = [run.returncode for run in runs]
     assert sorted(codes) == [0, 3], results
     loser = results[codes.index(3)][0]
@@ -97,7 +105,7 @@ def test_a_full_disk_loses_nothing_and_the_sweep_resumes(tmp_path, fsize):
     """0: not even the metadata fits; 600: the metadata fits, no part does; 6000: some do."""
     out = tmp_path / "full"
     run = child(tmp_path, out, 4, fsize=fsize)
-    stdout, stderr = run.communicate(timeout=TIMEOUT)
+    stdout, stderr = run.communicate(timeout=HANG_GUARD)
     assert run.returncode == 3, stderr
     assert stdout.startswith("StorageError Could not write") and "free disk space" in stdout
     meta = out / "_sweep.json"
@@ -222,7 +230,7 @@ def test_a_study_on_a_full_disk_ends_in_one_line(tmp_path):
         ],
         capture_output=True,
         text=True,
-        timeout=TIMEOUT,
+        timeout=HANG_GUARD,
     )
     assert run.returncode == 2
     lines = run.stderr.strip().splitlines()
@@ -243,3 +251,132 @@ def test_outputs_get_the_permissions_of_normal_files(tmp_path):
         assert write_text_atomically(tmp_path / "private.md", "y").stat().st_mode & 0o777 == 0o600
     finally:
         os.umask(old)
+
+
+def wait_for(marker: Path, process: subprocess.Popen) -> None:
+    """Wait until ``process`` has created ``marker``; fail if it ended before."""
+    deadline = time.monotonic() + HANG_GUARD
+    while not marker.exists():
+        if process.poll() is not None:
+            pytest.fail(f"the run ended before its pause point: {process.communicate()}")
+        assert time.monotonic() < deadline, "hang guard"
+        time.sleep(0.01)
+
+
+KILLED_RUN = """
+import importlib, os, signal, sys
+import polyell as pe
+from polyell import storage
+sweep_module = importlib.import_module("polyell.studies.sweep")
+out, phase, index = sys.argv[1], sys.argv[2], int(sys.argv[3])
+target = "_sweep.json" if phase == "metadata" else f"part-{index:06d}.parquet"
+
+def pause():  # say where the run stands, then wait for the SIGKILL
+    open(out + ".paused", "w").close()
+    while True:
+        signal.pause()
+
+compute = sweep_module._Job.chunk
+def chunk(self, start, stop):  # killed while computing chunk `index`
+    if phase == "computing" and start == 4 * index:
+        pause()
+    return compute(self, start, stop)
+
+write = storage.write_atomically
+def write_atomically(path, writer):  # killed with half of `target` in its temporary file
+    def torn(name):
+        writer(name)
+        if phase != "computing" and os.path.basename(path) == target:
+            os.truncate(name, os.path.getsize(name) // 2)
+            pause()
+    return write(path, torn)
+
+sweep_module._Job.chunk = chunk
+storage.write_atomically = sweep_module.write_atomically = write_atomically
+arm = pe.robots.load("chiacchio2000")
+grid = pe.grid(0.3, (-2.5, 2.5, 12), (-2.5, 2.5, 10))
+pe.sweep(arm, grid, out=out, chunk=4, mvie=True, scores=("coverage", "mvie_ratio"))
+"""
+KILL_GRID = pe.grid(0.3, (-2.5, 2.5, 12), (-2.5, 2.5, 10))  # 120 configurations, 30 chunks
+#: SIGKILL at seeded points: while writing the metadata, while computing a chunk, and while
+#: writing a part (half of it in its temporary file).
+KILL_POINTS = [("metadata", 0)] + [
+    (phase, int(index))
+    for phase, index in zip(
+        ("computing", "writing", "writing"),
+        np.random.default_rng(9).integers(0, 30, 3),
+        strict=True,
+    )
+]
+
+
+@pytest.mark.parametrize(("phase", "index"), KILL_POINTS)
+def test_a_killed_run_resumes_to_every_configuration_exactly_once(tmp_path, phase, index):
+    out = tmp_path / "killed"
+    script = tmp_path / "run.py"
+    script.write_text(KILLED_RUN)
+    process = subprocess.Popen(
+        [sys.executable, str(script), str(out), phase, str(index)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    wait_for(Path(f"{out}.paused"), process)
+    process.kill()  # SIGKILL: no handler, no finally, no cleanup runs
+    process.communicate()
+    parts = sorted(out.glob("part-*.parquet"))
+    assert len(parts) == (0 if phase == "metadata" else index)  # chunks run in order
+    torn = list(out.glob(".*.tmp"))
+    assert len(torn) == (0 if phase == "computing" else 1), torn  # what the kill left
+    kept = {path.name: path.read_bytes() for path in parts}
+    arguments = {"chunk": 4, "mvie": True, "scores": ("coverage", "mvie_ratio")}
+    pe.sweep(ARM, KILL_GRID, out=out, **arguments)
+    assert not list(out.glob(".*.tmp"))  # the dead run's temporary file is gone
+    assert {path.name: path.read_bytes() for path in parts} == kept  # finished parts kept
+    frame = read(out)
+    assert frame["configuration"].tolist() == list(range(120))  # each exactly once
+    # The same computation as an uninterrupted run (same chunks, same code, same machine).
+    pd.testing.assert_frame_equal(frame, pe.sweep(ARM, KILL_GRID, **arguments), check_dtype=False)
+
+
+def test_only_our_own_stale_temporary_files_are_removed(tmp_path):
+    from polyell.storage import DATASET_FILES, remove_stale_temporaries
+
+    ours = [".part-000003.parquet.k2j_x9q0.tmp", "._sweep.json.abcdefgh.tmp"]
+    others = [
+        ".notes.txt.abcdefgh.tmp",  # a temporary file of another name
+        ".part-3.parquet.abcdefgh.tmp",  # not a part's name
+        "part-000003.parquet.abcdefgh.tmp",  # not hidden: not ours
+        ".part-000003.parquet.tmp",  # no random part
+        "part-000001.parquet",
+    ]
+    for name in ours + others:
+        (tmp_path / name).write_bytes(b"x")
+    removed = remove_stale_temporaries(tmp_path, DATASET_FILES)
+    assert sorted(path.name for path in removed) == sorted(ours)
+    assert sorted(path.name for path in tmp_path.iterdir()) == sorted(others)
+
+
+@pytest.mark.parametrize(
+    ("name", "fragment"),
+    [
+        ("missing/table.md", "No such file or directory. Fix: create the folder first"),
+        ("file/table.md", "Not a directory. Fix: a part of the path is a file"),
+        ("x" * 256, "File name too long. Fix: choose a shorter file name"),
+    ],
+)
+def test_a_file_that_cannot_be_created_is_a_storage_error_with_its_fix(tmp_path, name, fragment):
+    from polyell.storage import write_text_atomically
+
+    (tmp_path / "file").write_text("")
+    with pytest.raises(pe.StorageError) as info:
+        write_text_atomically(tmp_path / name, "x")
+    assert f"Could not write {tmp_path / name}: " in str(info.value) and fragment in str(info.value)
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["file"]  # nothing left
+
+
+def test_a_name_at_the_limit_is_written_atomically(tmp_path):
+    """255 bytes fit, though '.<name>.XXXXXXXX.tmp' would not: the temporary name is shortened."""
+    from polyell.storage import write_text_atomically
+
+    path = write_text_atomically(tmp_path / ("\u00e9" * 127 + "x"), "text")  # 255 bytes in UTF-8
+    assert path.read_text() == "text" and [p.name for p in tmp_path.iterdir()] == [path.name]

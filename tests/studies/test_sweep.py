@@ -3,11 +3,7 @@
 from __future__ import annotations
 
 import os
-import signal
-import subprocess
 import sys
-import textwrap
-import time
 
 import numpy as np
 import pandas as pd
@@ -166,61 +162,6 @@ def test_parquet_dataset_resumes_and_refuses_other_arguments(tmp_path):
     assert len(list(out.glob("part-*.parquet"))) == 8
     with pytest.raises(pe.InputError, match="holds a different sweep"):
         pe.sweep(ARM, g, out=out, chunk=5)
-
-
-KILLED_RUN = """
-import importlib
-import sys
-import time
-import numpy as np
-import polyell as pe
-sweep_module = importlib.import_module("polyell.studies.sweep")
-chunk = sweep_module._Job.chunk
-def slow_chunk(self, start, stop):  # every chunk takes a while: the kill lands midway
-    time.sleep(0.1)
-    return chunk(self, start, stop)
-sweep_module._Job.chunk = slow_chunk
-arm = pe.robots.load("chiacchio2000")
-grid = pe.grid(0.3, (-2.5, 2.5, 12), (-2.5, 2.5, 10))
-pe.sweep(arm, grid, out=sys.argv[1], chunk=4, mvie=True, scores=("coverage", "mvie_ratio"))
-"""
-
-
-#: SIGKILL at seeded random moments: after 1 to 8 finished parts, plus 0 to 0.2 s.
-KILL_POINTS = [
-    (int(parts), float(delay))
-    for parts, delay in zip(
-        np.random.default_rng(9).integers(1, 9, 3),
-        np.random.default_rng(10).uniform(0.0, 0.2, 3),
-        strict=True,
-    )
-]
-
-
-@pytest.mark.parametrize(("parts", "delay"), KILL_POINTS)
-def test_a_killed_run_resumes_to_every_configuration_exactly_once(tmp_path, parts, delay):
-    out = tmp_path / "killed"
-    script = tmp_path / "run.py"
-    script.write_text(textwrap.dedent(KILLED_RUN))
-    process = subprocess.Popen([sys.executable, str(script), str(out)])
-    deadline = time.monotonic() + 120
-    while len(list(out.glob("part-*.parquet"))) < parts and time.monotonic() < deadline:
-        assert process.poll() is None, "the run ended before it could be killed"
-        time.sleep(0.01)
-    time.sleep(delay)  # anywhere within a chunk: computing, or writing its part
-    process.send_signal(signal.SIGKILL)
-    process.wait()
-    done = len(list(out.glob("part-*.parquet")))
-    assert 1 <= done < 30, f"the run was not interrupted midway ({done} of 30 parts)"
-    grid = pe.grid(0.3, (-2.5, 2.5, 12), (-2.5, 2.5, 10))
-    pe.sweep(ARM, grid, out=out, chunk=4, mvie=True, scores=("coverage", "mvie_ratio"))
-    frame = pd.read_parquet(out)
-    assert sorted(frame["configuration"]) == list(range(120))
-    assert not list(out.glob(".part-*"))  # no temporary file left visible as a part
-    row = frame.set_index("configuration").loc[77]
-    q = grid.rows(77, 78)[0]
-    expected = pe.compare(pe.analyze(ARM.dynamics(q), ARM.tau_max), 64).to_row()
-    assert row["chiacchio_mvie_ratio"] == pytest.approx(expected["chiacchio_mvie_ratio"], rel=1e-9)
 
 
 def test_dask_local_cluster_on_loopback_gives_the_same_rows(tmp_path):
