@@ -183,15 +183,14 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
         plot_score_histogram,
         plot_score_map,
         plot_score_series,
-        plot_tangent_limits,
         save_figure,
     )
 
     if spec.trajectory is not None:
         return _run_trajectory(spec, folder, progress, scheduler)
     model = spec.robot.model
-    configurations = spec.trajectory if spec.trajectory is not None else spec.configurations()
-    first = model.dynamics(spec.configurations()[0])
+    configurations = spec.configurations()
+    first = model.dynamics(configurations[0])
     m = first.m
     dataset = sweep(  # a Parquet dataset in the study's folder: a killed study resumes
         model,
@@ -213,28 +212,9 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
     import pandas as pd
 
     results = pd.read_parquet(dataset).sort_values("configuration").reset_index(drop=True)
-    tangent = spec.trajectory is not None and spec.trajectory.qd is not None
-    if tangent:  # the accelerations along the path, where the arm moves
-        assert spec.trajectory is not None
-        limits = tangent_limits(model, spec.trajectory, spec.robot.tau_max, spec.robot.tau_min)
-        results = results.assign(**limits)
     written = [write_text_atomically(folder / "results.csv", results.to_csv(index=False))]
     summary = summarize(results)
-    caption = f"{spec.title}: scores over {len(results)} configurations."
-    written.append(write_text_atomically(folder / "summary.csv", summary.to_csv()))
-    written.append(
-        write_text_atomically(
-            folder / "summary.md",
-            _heading(spec, f"{spec.title}: summary over {len(results)} configurations")
-            + format_summary_table(summary, "markdown"),
-        )
-    )
-    written.append(
-        write_text_atomically(
-            folder / "summary.tex",
-            format_summary_table(summary, "latex", caption=caption, label="tab:summary"),
-        )
-    )
+    written += _write_summary(spec, folder, summary, len(results))
     kinds = result_kinds(results.columns)
     varying = [axis for axis in spec.grid if axis.values.size > 1]
     # Maps of one score share one colour scale, so that colours compare across candidates.
@@ -267,9 +247,6 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
     for score in spec.series:
         figure = plot_score_series(results, score, kinds=kinds, title=spec.title)
         written += save_figure(figure, folder / f"series_{score}", spec.figure_formats, spec.dpi)
-    if tangent:
-        figure = plot_tangent_limits(results, unit=task_unit(first.task, tex=True))
-        written += save_figure(figure, folder / "tangent_limits", spec.figure_formats, spec.dpi)
     measured = [kind for kind in kinds if kind not in ("mvie", "outer")]  # not the optima
     for score in spec.histograms:
         figure = plot_score_histogram(results, score, kinds=measured, title=f"{spec.title}")
@@ -277,6 +254,20 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
     if "html" in spec.formats:
         written.append(_many_report(spec, folder, results, summary, varying, measured))
     return written
+
+
+def _write_summary(spec: StudySpec, folder: Path, summary: pd.DataFrame, count: int) -> list[Path]:
+    """``summary.csv``, ``.md`` and ``.tex`` of a study over ``count`` configurations."""
+    caption = f"{spec.title}: scores over {count} configurations."
+    markdown = _heading(spec, f"{spec.title}: summary over {count} configurations")
+    latex = format_summary_table(summary, "latex", caption=caption, label="tab:summary")
+    return [
+        write_text_atomically(folder / "summary.csv", summary.to_csv()),
+        write_text_atomically(
+            folder / "summary.md", markdown + format_summary_table(summary, "markdown")
+        ),
+        write_text_atomically(folder / "summary.tex", latex),
+    ]
 
 
 def _run_trajectory(
@@ -365,21 +356,7 @@ def _run_trajectory(
                 values = pd.read_parquet(dataset, columns=[column])
                 summaries.append(summarize(values, (score,)))
     summary = pd.concat(summaries) if summaries else summarize(pd.DataFrame())
-    caption = f"{spec.title}: scores over {count} configurations."
-    written.append(write_text_atomically(folder / "summary.csv", summary.to_csv()))
-    written.append(
-        write_text_atomically(
-            folder / "summary.md",
-            _heading(spec, f"{spec.title}: summary over {count} configurations")
-            + format_summary_table(summary, "markdown"),
-        )
-    )
-    written.append(
-        write_text_atomically(
-            folder / "summary.tex",
-            format_summary_table(summary, "latex", caption=caption, label="tab:summary"),
-        )
-    )
+    written += _write_summary(spec, folder, summary, count)
     shown = {score: decimator.result() for score, decimator in series.items()}
     for score, frame in shown.items():
         figure = plot_score_series(frame, score, kinds=kinds, title=spec.title)
