@@ -28,6 +28,7 @@ __all__ = [
     "InverseMaps",
     "chiacchio_maps",
     "classic_maps",
+    "classic_terms",
     "jacobian_pseudoinverse",
     "weighted_generalized_inverse",
 ]
@@ -120,14 +121,43 @@ def classic_maps(
     xg : ndarray, shape (m,)
         Centre of the sets (eq. 8 with ``Jdot qdot``).
     """
-    m = J.shape[0]
-    U, s, Vt = np.linalg.svd(J, full_matrices=True)
-    pinv = (Vt[:m].T / s) @ U.T
-    free_fall = np.linalg.solve(B, gravity_bias)
-    null_part = Vt[m:].T @ (Vt[m:] @ free_fall)
+    pinv, free_fall, at_center = classic_terms(J, B, half_range, gravity_bias)
     joint = AffineMap(pinv, xg, -(pinv @ (J @ free_fall)))
-    torque = AffineMap((B @ pinv) / half_range[:, None], xg, (B @ null_part) / half_range)
+    torque = AffineMap((B @ pinv) / half_range[:, None], xg, at_center)
     return InverseMaps(joint, torque)
+
+
+def classic_terms(
+    J: NDArray[np.float64],
+    B: NDArray[np.float64],
+    half_range: NDArray[np.float64],
+    gravity_bias: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """``J^+``, the free fall ``f = B^-1 (g - tau_c)`` and eq. (26)'s torque at the centre.
+
+    The torque at the centre, ``L^-1 B V_2 V_2^T f``, is computed from the null-space basis
+    ``V_2`` of the SVD of J, never as a difference of large terms (see :func:`classic_maps`).
+    Leading axes are a batch (the sweep's path).
+
+    Parameters
+    ----------
+    J : ndarray, shape (..., m, n)
+    B : ndarray, shape (..., n, n)
+    half_range, gravity_bias : ndarray, shape (..., n)
+
+    Returns
+    -------
+    pinv : ndarray, shape (..., n, m)
+    free_fall, at_center : ndarray, shape (..., n)
+    """
+    m = J.shape[-2]
+    U, s, Vt = np.linalg.svd(J, full_matrices=True)
+    pinv = (np.swapaxes(Vt[..., :m, :], -1, -2) / s[..., None, :]) @ np.swapaxes(U, -1, -2)
+    free_fall = np.asarray(np.linalg.solve(B, gravity_bias[..., None])[..., 0], dtype=float)
+    null = Vt[..., m:, :]  # V_2^T
+    null_part = np.einsum("...jn,...j->...n", null, np.einsum("...jn,...n->...j", null, free_fall))
+    at_center = np.einsum("...ij,...j->...i", B, null_part) / half_range
+    return pinv, free_fall, at_center
 
 
 def chiacchio_maps(

@@ -30,6 +30,7 @@ from polyell.geometry.ellipsoid import unit_ball_volume
 from polyell.geometry.limits import facet_slack, line_interval_in_ellipsoids
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.geometry.zonotope import cross, subsets
+from polyell.inverse import classic_terms
 from polyell.models.dynamics import Dynamics
 from polyell.studies.block_sets import (
     candidate_ellipsoid,
@@ -413,15 +414,9 @@ def _classic(J: Array, B: Array, half: Array, bias: Array) -> tuple[Array, Array
     is computed directly, not as ``F xg + offset``, which cancels when the torques are weak
     against gravity (the motion bias ``Jdot qdot`` only enters through ``xg``).
     """
-    m = J.shape[1]
-    U_j, s_j, Vt_j = np.linalg.svd(J, full_matrices=True)  # J^+ as in classic_maps
-    J_pinv = (np.swapaxes(Vt_j[:, :m], -1, -2) / s_j[:, None, :]) @ np.swapaxes(U_j, -1, -2)
-    F = (B @ J_pinv) / half[:, None]
+    J_pinv, _, at_center = classic_terms(J, B, half, bias)
+    F = (B @ J_pinv) / half[..., None]
     _, s_f, Vt_f = np.linalg.svd(F, full_matrices=False)
     axes, semi = np.swapaxes(Vt_f, -1, -2)[:, :, ::-1], (1.0 / s_f)[:, ::-1]
-    free_fall = np.linalg.solve(B, bias[..., None])[..., 0]
-    null = Vt_j[:, m:]  # (K, n - m, n): V_2^T
-    null_part = np.einsum("kjn,kj->kn", null, np.einsum("kjn,kn->kj", null, free_fall))
-    at_center = np.einsum("kij,kj->ki", B, null_part) / half
     spread = np.linalg.norm(F @ (axes * semi[:, None, :]), axis=-1)
     return axes, semi, np.max(np.abs(at_center) + spread, axis=-1), None
