@@ -38,9 +38,10 @@ def facet_slack(
     ``|x| + |c| + sum_i |g_i|``, forming ``x - c`` and a dot product of m terms errs by at most
     about ``(m + 1) eps reach``, and a vertex summed from n generators by ``n eps reach``
     (first-order bounds ``gamma_k = k eps``, Higham, Accuracy and Stability, section 3.1), so
-    ``terms = m + n + 2`` covers both.  Below that floor no computation in double precision
-    can decide membership: it is the data's own precision (at a tip of angle theta it is
-    ``terms * eps * reach / theta`` along the tip's axis).
+    ``terms = m + n + 2`` covers both.  Below that floor facets evaluated in double precision
+    cannot decide membership (an extended-precision evaluation could; none is done): at a
+    tip of angle theta it is ``terms * eps * reach / theta`` along the tip's axis, and
+    relative to a thin set's width about ``terms * eps`` times its condition number.
 
     Parameters
     ----------
