@@ -192,23 +192,7 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
     configurations = spec.configurations()
     first = model.dynamics(configurations[0])
     m = first.m
-    dataset = sweep(  # a Parquet dataset in the study's folder: a killed study resumes
-        model,
-        configurations,
-        spec.robot.tau_max,
-        spec.robot.tau_min,
-        scores=_scores(spec),
-        directions=spec.directions or default_direction_count(m),
-        mvie=spec.mvie,
-        outer=spec.outer,
-        candidates=spec.candidates,
-        samples=spec.samples,
-        seed=spec.seed,
-        scheduler=scheduler,
-        chunk=spec.chunk,
-        progress=progress,
-        out=folder / "results",
-    )
+    dataset = _sweep(spec, configurations, m, folder, progress, scheduler)
     import pandas as pd
 
     results = pd.read_parquet(dataset).sort_values("configuration").reset_index(drop=True)
@@ -256,6 +240,34 @@ def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | No
     return written
 
 
+def _sweep(
+    spec: StudySpec,
+    configurations: Any,
+    m: int,
+    folder: Path,
+    progress: bool,
+    scheduler: str | None,
+) -> Path:
+    """The study's sweep: a Parquet dataset in its folder, so that a killed study resumes."""
+    return sweep(
+        spec.robot.model,
+        configurations,
+        spec.robot.tau_max,
+        spec.robot.tau_min,
+        scores=_scores(spec),
+        directions=spec.directions or default_direction_count(m),
+        mvie=spec.mvie,
+        outer=spec.outer,
+        candidates=spec.candidates,
+        samples=spec.samples,
+        seed=spec.seed,
+        scheduler=scheduler,
+        chunk=spec.chunk,
+        progress=progress,
+        out=folder / "results",
+    )
+
+
 def _write_summary(spec: StudySpec, folder: Path, summary: pd.DataFrame, count: int) -> list[Path]:
     """``summary.csv``, ``.md`` and ``.tex`` of a study over ``count`` configurations."""
     caption = f"{spec.title}: scores over {count} configurations."
@@ -295,23 +307,7 @@ def _run_trajectory(
     assert trajectory is not None
     model = spec.robot.model
     first = model.dynamics(trajectory.q[0])
-    dataset = sweep(  # a Parquet dataset in the study's folder: a killed study resumes
-        model,
-        trajectory,
-        spec.robot.tau_max,
-        spec.robot.tau_min,
-        scores=_scores(spec),
-        directions=spec.directions or default_direction_count(first.m),
-        mvie=spec.mvie,
-        outer=spec.outer,
-        candidates=spec.candidates,
-        samples=spec.samples,
-        seed=spec.seed,
-        scheduler=scheduler,
-        chunk=spec.chunk,
-        progress=progress,
-        out=folder / "results",
-    )
+    dataset = _sweep(spec, trajectory, first.m, folder, progress, scheduler)
     import pandas as pd
     import pyarrow.parquet as pq
 
