@@ -35,6 +35,7 @@ if TYPE_CHECKING:  # plotly and pandas are imported where they are used (start-u
 __all__ = [
     "COLORS",
     "DECIMATION_BUCKETS",
+    "HISTOGRAM_BINS",
     "SeriesDecimator",
     "decimate_series",
     "decimation_note",
@@ -366,6 +367,10 @@ def _kinds_with(results: pd.DataFrame, score: str, kinds: Sequence[str] | None) 
     return chosen
 
 
+#: Most bins of an interactive histogram.
+HISTOGRAM_BINS = 200
+
+
 def interactive_histogram(
     results: pd.DataFrame,
     score: str,
@@ -373,23 +378,40 @@ def interactive_histogram(
     *,
     title: str | None = None,
 ) -> go.Figure:
-    """Overlaid histograms of one score over a study, one per ellipsoid (toggle in the legend)."""
+    """Overlaid histograms of one score over a study, one per ellipsoid (toggle in the legend).
+
+    The counts are binned here, on bins shared by every ellipsoid (numpy's ``"auto"`` rule,
+    at most :data:`HISTOGRAM_BINS`), so that the figure's size does not grow with the
+    number of configurations.
+    """
     go = _plotly()
     chosen = _kinds_with(results, score, kinds)
     label, factor = score_display(score)
-    figure = go.Figure()
+    values = {}
     for kind in chosen:
-        values = factor * results[f"{kind}_{score}"].to_numpy(dtype=float)
-        figure.add_trace(
-            go.Histogram(
-                x=values[np.isfinite(values)],
-                name=ellipsoid_label(kind),
-                opacity=0.6,
-                marker_color=_color(kind, chosen),
+        column = factor * results[f"{kind}_{score}"].to_numpy(dtype=float)
+        values[kind] = column[np.isfinite(column)]
+    every = np.concatenate([np.zeros(0), *values.values()])
+    figure = go.Figure()
+    if every.size:
+        edges = np.histogram_bin_edges(every, bins="auto")
+        if len(edges) > HISTOGRAM_BINS + 1:
+            edges = np.linspace(edges[0], edges[-1], HISTOGRAM_BINS + 1)
+        for kind in chosen:
+            counts, _ = np.histogram(values[kind], bins=edges)
+            figure.add_trace(
+                go.Bar(
+                    x=0.5 * (edges[:-1] + edges[1:]),
+                    y=counts,
+                    width=np.diff(edges),
+                    name=ellipsoid_label(kind),
+                    opacity=0.6,
+                    marker_color=_color(kind, chosen),
+                )
             )
-        )
     figure.update_layout(
         barmode="overlay",
+        bargap=0,
         title=title,
         xaxis_title=label,
         yaxis_title="configurations",

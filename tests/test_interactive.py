@@ -5,11 +5,13 @@ console error, the sets drawn)."""
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import polyell as pe
 from browser import coloured_share, load
 from polyell.interactive import (
+    HISTOGRAM_BINS,
     interactive_histogram,
     interactive_map,
     interactive_sets,
@@ -231,3 +233,24 @@ def test_long_series_figures_are_bounded_and_say_so():
         sizes.append(len(figure.to_json()))
     # the same number of points at most; each differs in at most two 25-character numbers
     assert abs(sizes[1] - sizes[0]) <= 3 * 2 * DECIMATION_BUCKETS * 2 * 2 * 25
+
+
+@pytest.mark.parametrize("count", [50, 200_000])
+def test_histogram_counts_every_finite_value_on_shared_bins_in_bounded_size(count):
+    rng = np.random.default_rng(3)
+    results = pd.DataFrame(
+        {
+            "chiacchio_coverage": rng.uniform(0.2, 0.9, count),
+            "yoshikawa_coverage": np.where(rng.uniform(size=count) < 0.1, np.nan, 0.5),
+        }
+    )
+    figure = interactive_histogram(results, "coverage")
+    new, classic = figure.data
+    assert np.array_equal(new.x, classic.x) and np.array_equal(new.width, classic.width)
+    assert len(new.x) <= HISTOGRAM_BINS
+    assert sum(new.y) == count  # every value in a bin, once
+    assert sum(classic.y) == np.isfinite(results["yoshikawa_coverage"]).sum()
+    edges = np.append(new.x - new.width / 2, new.x[-1] + new.width[-1] / 2)
+    expected, _ = np.histogram(100 * results["chiacchio_coverage"], bins=edges)
+    assert np.array_equal(new.y, expected)
+    assert len(figure.to_json()) < 40_000  # bins, not values: the same size for any count
