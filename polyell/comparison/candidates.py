@@ -182,16 +182,25 @@ class Candidate:
         center = analysis.xg if self.center is None else self.center
         U1 = svd.U1
         A = U1.T @ self.core @ U1
-        b = U1.T @ self.core @ (analysis.xg - center)
-        y0 = -np.linalg.solve(A, b) if r else np.zeros(0)
-        offset = analysis.xg - center
-        rho2 = 1.0 - offset @ self.core @ offset - b @ y0
+        eigenvalues, eigenvectors = np.linalg.eigh(A)
+        if r and not eigenvalues[0] > np.finfo(float).eps * eigenvalues[-1]:
+            raise InputError(
+                f"{self.name}.core",
+                "a core positive definite, in double precision, on the polytope's affine set",
+                f"eigenvalues from {eigenvalues[0]:.3g} to {eigenvalues[-1]:.3g} there",
+                "give a core whose condition number is well below 1e16 (scale the task "
+                "units so that its entries have similar sizes).",
+            )
+        with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below
+            b = U1.T @ self.core @ (analysis.xg - center)
+            y0 = -np.linalg.solve(A, b) if r else np.zeros(0)
+            offset = analysis.xg - center
+            rho2 = 1.0 - offset @ self.core @ offset - b @ y0
         if not rho2 > 0:
             raise UndefinedEllipsoidError(
                 f"candidate {self.name!r} misses the polytope's {r}-dimensional affine set "
                 "at this (singular) configuration."
             )
-        eigenvalues, eigenvectors = np.linalg.eigh(A)
         return Ellipsoid(
             analysis.xg + U1 @ y0,
             U1 @ eigenvectors,

@@ -3,6 +3,8 @@ like the built-in ones in compare, sweeps, tables and study files."""
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -209,3 +211,15 @@ def test_bad_study_candidates_are_refused(tmp_path, text, message):
     path.write_text(STUDY.split("[[candidates]]")[0] + text)
     with pytest.raises(pe.InputError, match=message):
         load_study(path)
+
+
+@pytest.mark.parametrize("entry", [1e-300, 1e300, 1e308])
+def test_a_core_singular_in_double_precision_is_refused_without_a_warning(entry):
+    # Found by the independent check (issue 20): eigenvalues of 0 or below divided by.
+    arm = pe.robots.load("chiacchio2000")
+    an = pe.analyze(arm.dynamics([np.pi / 2, -np.pi / 2, -np.pi / 2]), arm.tau_max)
+    candidate = pe.Candidate("c", core=[[entry, 0.0], [0.0, 1e-3]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(pe.InputError, match=r"c\.core"):
+            pe.compare(an, 10, mvie=False, outer=False, candidates=[candidate])
