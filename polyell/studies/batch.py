@@ -27,7 +27,7 @@ from polyell.comparison.candidates import Candidate
 from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES
 from polyell.comparison.metrics import INSIDE_RTOL, scale_rtol
 from polyell.geometry.ellipsoid import unit_ball_volume
-from polyell.geometry.limits import facet_slack, line_interval_in_ellipsoids
+from polyell.geometry.limits import facet_slack
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.geometry.zonotope import cross, subsets
 from polyell.inverse import classic_terms
@@ -39,6 +39,7 @@ from polyell.studies.block_sets import (
     vertex_count,
     vertex_signs,
 )
+from polyell.studies.directional import direction_scores
 from polyell.validation import check_magnitudes
 
 __all__ = ["batch_rows", "score_columns"]
@@ -99,60 +100,6 @@ def _zonotope_volume(s: Array, V1t: Array) -> Array:
     return 2.0**m * np.prod(s, axis=-1) * np.abs(dets).sum(axis=-1)
 
 
-def _polytope_limits(
-    normals: Array, half_widths: Array, center: Array, T: Array, slack: Array
-) -> tuple[Array, NDArray[np.bool_]]:
-    """Rays against facet pairs for every configuration: far ends (K, k), and lines that meet P.
-
-    The far end is NaN where the line misses P; a line that misses P but meets it grown
-    by ``slack`` (K, C) (:func:`~polyell.geometry.limits.facet_slack`, as
-    :meth:`Polytope.limits`) touches it at ``(lower + upper) / 2``.
-
-    The pair ``+-a`` bounds ``a . (lambda t)`` to ``[a . c - h, a . c + h]``, so with
-    ``s = a . t`` it gives ``lambda`` between ``(a.c - h)/s`` and ``(a.c + h)/s``.  One
-    facet pair at a time, into (K, k) buffers that stay in cache (a (K, C, k) array would
-    not, and two processes would then compete for memory bandwidth).  When the origin is
-    inside every configuration's P (``|a.c| < h`` for every pair: the usual case), every
-    line meets P and only the far ends are computed.
-    """
-    offsets = np.einsum("kcm,km->kc", normals, center)
-    origin_inside = bool((np.abs(offsets) < half_widths).all())
-    lower, upper = _rays(normals, offsets, half_widths, T, both=not origin_inside)
-    if origin_inside:  # lower < 0 < upper on every line
-        return upper, np.ones(upper.shape, dtype=bool)
-    missed = lower > upper
-    grazing = np.zeros_like(missed)
-    rows = np.flatnonzero(missed.any(axis=1))
-    if rows.size:  # a touch, to rounding: does the line meet P grown by the slack?
-        loose = _rays(normals[rows], offsets[rows], half_widths[rows] + slack[rows], T, both=True)
-        grazing[rows] = missed[rows] & (loose[0] <= loose[1])
-    upper = np.where(grazing, 0.5 * (lower + upper), upper)
-    meets = (lower <= upper) | grazing  # False for NaN: 0/0, a line on a facet's boundary
-    return np.where(meets, upper, np.nan), meets
-
-
-def _rays(
-    normals: Array, offsets: Array, half_widths: Array, T: Array, *, both: bool
-) -> tuple[Array, Array]:
-    """Lower (if ``both``, else -inf) and upper ends (K, k) of the lines in the facet pairs."""
-    K, k = len(normals), len(T)
-    lower, upper = np.full((K, k), -np.inf), np.full((K, k), np.inf)
-    slopes, reach, bound = np.empty((K, k)), np.empty((K, k)), np.empty((K, k))
-    directions = np.ascontiguousarray(T.T)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        # s = 0 gives -inf/+inf (no bound) when |a.c| <= h, and an empty line otherwise.
-        for j in range(normals.shape[1]):
-            np.matmul(normals[:, j], directions, out=slopes)
-            np.copysign(half_widths[:, j, None], slopes, out=reach)  # +-h, the slope's sign
-            offset = offsets[:, j, None]
-            if both:
-                np.divide(np.subtract(offset, reach, out=bound), slopes, out=bound)
-                np.maximum(lower, bound, out=lower)  # NaN (0/0) propagates: an empty line
-            np.divide(np.add(offset, reach, out=bound), slopes, out=bound)
-            np.minimum(upper, bound, out=upper)
-    return lower, upper
-
-
 def _origin_radius(normals: Array, h: Array, xg: Array, slack: Array) -> Array:
     """Largest ball about the origin inside each P: ``min (h - |a . xg|)``.
 
@@ -162,27 +109,6 @@ def _origin_radius(normals: Array, h: Array, xg: Array, slack: Array) -> Array:
     distance = h - np.abs(np.einsum("kcm,km->kc", normals, xg))
     inside = (distance >= -slack).all(axis=-1)
     return np.where(inside, np.maximum(distance.min(axis=-1), 0.0), np.nan)
-
-
-def _direction_statistics(
-    hi_e: Array, feasible_e: NDArray[np.bool_], hi_p: Array, feasible_p: NDArray[np.bool_]
-) -> dict[str, Array]:
-    """``direction_errors`` for every configuration at once."""
-    used = feasible_e & feasible_p & (hi_p != 0)
-    count = used.sum(axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        error = np.where(used, (hi_e - hi_p) / np.abs(hi_p), 0.0)
-        absolute = np.abs(error)
-        stats = {
-            "direction_error_mean": absolute.sum(axis=1) / count,
-            "direction_error_max": absolute.max(axis=1),
-            "direction_error_rms": np.sqrt((error**2).sum(axis=1) / count),
-            "direction_bias": error.sum(axis=1) / count,
-        }
-    stats = {key: np.where(count == 0, np.nan, value) for key, value in stats.items()}
-    stats["feasibility_mismatch"] = np.count_nonzero(feasible_e != feasible_p, axis=1).astype(float)
-    stats["directions_used"] = count.astype(float)
-    return stats
 
 
 #: Rows with ``sigma_min / sigma_max`` within this relative band above ``rank_rtol`` take
@@ -308,9 +234,7 @@ def _block_rows(
     size_p = np.linalg.norm(M, axis=1).sum(axis=-1)  # sum of the generator lengths
     reach = np.linalg.norm(xg, axis=-1) + size_p
     terms = m + n + 2
-    hi_p, feasible_p = _polytope_limits(
-        normals, h, xg, directions, facet_slack(h, 2.0 * reach[:, None], terms)
-    )
+    limits_slack = facet_slack(h, 2.0 * reach[:, None], terms)  # as Polytope.limits
 
     # Every scored set as (axes, semi-axes, witness, centre or None for xg).
     ellipsoids: dict[str, tuple[Array, Array, Array, Array | None]] = {
@@ -349,6 +273,8 @@ def _block_rows(
         ),
     }
     exact = np.ones(len(M), dtype=bool)
+    scored: list[tuple[Array, Array, Array]] = []
+    records: list[tuple[str, dict[str, Array], NDArray[np.bool_]]] = []
     for kind, (axes, semi, witness, center) in ellipsoids.items():
         defined = np.asarray(~np.isnan(semi).any(axis=-1), dtype=bool)
         semi = np.where(defined[:, None], semi, 1.0)  # undefined rows: NaN scores below
@@ -373,8 +299,7 @@ def _block_rows(
         inside = scale >= 1.0 - rtol
         around = ~inside & (enclosing <= 1.0 + rtol)
         exact &= inside | around | ~defined
-        lo_e, hi_e = line_interval_in_ellipsoids(xg + shift, axes, semi, directions)
-        stats = _direction_statistics(hi_e, ~np.isnan(lo_e), hi_p, feasible_p)
+        scored.append((xg + shift, axes, semi))
         record = {
             f"{kind}_dimension": np.full(len(M), float(m)),
             f"{kind}_volume": volume,
@@ -385,11 +310,15 @@ def _block_rows(
             f"{kind}_overreach": np.where(around, 1.0 - volume_p / volume, 0.0),
             f"{kind}_overreach_stderr": np.zeros(len(M)),
             f"{kind}_witness_torque_max": witness,
-        } | {f"{kind}_{key}": value for key, value in stats.items()}
+        }
         for name, volumes in optimum.items():
             record[f"{kind}_{name}_ratio"] = (
                 np.full(len(M), np.nan) if volumes is None else volume / volumes
             )
+        records.append((kind, record, defined))
+    statistics = direction_scores(normals, h, xg, limits_slack, scored, directions)
+    for (kind, record, defined), stats in zip(records, statistics, strict=True):
+        record |= {f"{kind}_{key}": value for key, value in stats.items()}
         if not defined.all():  # an MVIE not certified: undefined, as in compare
             undefined = {"feasibility_mismatch": 0.0, "directions_used": 0.0}
             for name, values in record.items():  # (every ratio to it is NaN there already)

@@ -1,0 +1,218 @@
+r"""Directional statistics of many configurations: the part of a sweep that grows with k.
+
+For every configuration of a block and every direction ``t`` of the set, the far end of the
+line ``{a t}`` in the polytope and in each scored ellipsoid (eq. 23-24), and the statistics
+of ``(hi_E - hi_P) / |hi_P|`` (:func:`polyell.comparison.metrics.direction_errors`).  This
+is where a default sweep spends its time, so it is written for the cache:
+
+* rows are taken a few at a time (:data:`PASS_ELEMENTS`), so that every (rows, k) array of a
+  pass stays in cache and is reused in place;
+* when the origin is inside a polytope (``|a . x_g| < h`` on every facet pair: the usual
+  case) its far ends come from its *gauge*, one matrix product and one maximum,
+  ``1 / hi_P(t) = max_i (g_i . t)`` with the 2C polar points
+  ``g = a / (h + a . x_g)`` and ``-a / (h - a . x_g)``;
+* an ellipsoid's far end is ``r + sqrt(r^2 + q)`` with ``r = p . w / |p|^2`` and
+  ``q = (1 - |w|^2) / |p|^2`` (``p = S^-1 U^T t``, ``w = S^-1 U^T c``), computed without
+  cancellation on either sign of ``r``.
+
+Each is the same closed form as the scalar path's (:meth:`Polytope.limits`,
+:meth:`Ellipsoid.limits`), rearranged; they agree to rounding (the tests hold them to 1e-12).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["PASS_ELEMENTS", "STATISTICS", "direction_scores", "polytope_far_ends"]
+
+Array = NDArray[np.float64]
+
+#: The direction statistics of a row, in the order of ``Comparison.to_row``.
+STATISTICS = (
+    "direction_error_mean",
+    "direction_error_max",
+    "direction_error_rms",
+    "direction_bias",
+    "feasibility_mismatch",
+    "directions_used",
+)
+
+#: Elements of the largest temporary of a pass, the (rows, 2C, k) products of the gauge:
+#: 2^19 doubles (4 MiB) keeps every array of a pass in a core's share of cache while
+#: amortising numpy's per-call cost (measured: docs/performance.md, section (h)).
+PASS_ELEMENTS = 2**19
+
+
+def direction_scores(
+    normals: Array,
+    half_widths: Array,
+    center: Array,
+    slack: Array,
+    ellipsoids: Sequence[tuple[Array, Array, Array]],
+    directions: Array,
+) -> list[dict[str, Array]]:
+    """The direction statistics of each ellipsoid against the polytope, row by row.
+
+    Parameters
+    ----------
+    normals : ndarray, shape (K, C, m)
+        Unit facet normals of each polytope, one of each +-pair (zero: no constraint).
+    half_widths : ndarray, shape (K, C)
+        ``h``: the polytope is ``{x : |a . (x - center)| <= h}`` (inf: no constraint).
+    center : ndarray, shape (K, m)
+        The polytopes' centres ``x_g``.
+    slack : ndarray, shape (K, C)
+        :func:`~polyell.geometry.limits.facet_slack` for the lines that graze a polytope.
+    ellipsoids : sequence of (center (K, m), axes (K, m, m), semi_axes (K, m))
+        The scored ellipsoids ``{c + U diag(s) u : |u| <= 1}``, semi-axes positive.
+    directions : ndarray, shape (k, m)
+        Unit directions.
+
+    Returns
+    -------
+    list of dict of str to ndarray (K,)
+        One dict per ellipsoid, keyed by :data:`STATISTICS`.
+    """
+    K, C, _ = normals.shape
+    k = len(directions)
+    Tt = np.ascontiguousarray(directions.T)
+    results = [{name: np.empty(K) for name in STATISTICS} for _ in ellipsoids]
+    step = max(1, PASS_ELEMENTS // (2 * max(C, 1) * max(k, 1)))
+    for start in range(0, K, step):
+        rows = slice(start, start + step)
+        hi_p, feasible_p = polytope_far_ends(
+            normals[rows], half_widths[rows], center[rows], Tt, slack[rows]
+        )
+        with np.errstate(divide="ignore"):
+            scale = 1.0 / np.abs(hi_p)  # shared by every ellipsoid (inf where hi_P = 0)
+        for result, (c, axes, semi) in zip(results, ellipsoids, strict=True):
+            hi_e, feasible_e = _ellipsoid_far_ends(c[rows], axes[rows], semi[rows], Tt)
+            for name, values in _statistics(hi_e, feasible_e, hi_p, feasible_p, scale).items():
+                result[name][rows] = values
+    return results
+
+
+def polytope_far_ends(
+    normals: Array, half_widths: Array, center: Array, Tt: Array, slack: Array
+) -> tuple[Array, NDArray[np.bool_]]:
+    """Far ends ``hi_P`` (K, k) of the lines ``{a t}`` in each polytope, and which meet it.
+
+    ``Tt`` holds the directions as columns (m, k).  Rows whose origin is strictly inside take
+    the gauge; the others cut the line with every facet pair (both ends), and a line that
+    misses P but meets it grown by ``slack`` touches it at ``(lo + hi) / 2``, as
+    :meth:`Polytope.limits`.  NaN where the line misses P.
+    """
+    offsets = np.einsum("kcm,km->kc", normals, center)
+    inside = (np.abs(offsets) < half_widths).all(axis=1)
+    hi = np.empty((len(normals), Tt.shape[1]))
+    meets = np.ones(hi.shape, dtype=bool)
+    if inside.any():
+        rows = inside if not inside.all() else slice(None)
+        a, o, h = normals[rows], offsets[rows], half_widths[rows, :, None]
+        with np.errstate(invalid="ignore"):  # 0 / inf: a dependent subset, no constraint
+            polar = np.concatenate([a / (h + o[..., None]), a / (o[..., None] - h)], axis=1)
+        hi[rows] = 1.0 / np.max(polar @ Tt, axis=1)
+    if not inside.all():
+        rows_out = ~inside
+        hi[rows_out], meets[rows_out] = _cut_far_ends(
+            normals[rows_out], offsets[rows_out], half_widths[rows_out], Tt, slack[rows_out]
+        )
+    return hi, meets
+
+
+def _cut_far_ends(
+    normals: Array, offsets: Array, half_widths: Array, Tt: Array, slack: Array
+) -> tuple[Array, NDArray[np.bool_]]:
+    """:func:`polytope_far_ends` for rows whose origin is not strictly inside."""
+    lower, upper = _rays(normals, offsets, half_widths, Tt)
+    missed = lower > upper
+    grazing = np.zeros_like(missed)
+    rows = np.flatnonzero(missed.any(axis=1))
+    if rows.size:  # a touch, to rounding: does the line meet P grown by the slack?
+        loose = _rays(normals[rows], offsets[rows], half_widths[rows] + slack[rows], Tt)
+        grazing[rows] = missed[rows] & (loose[0] <= loose[1])
+    upper = np.where(grazing, 0.5 * (lower + upper), upper)
+    meets = (lower <= upper) | grazing  # False for NaN: 0/0, a line on a facet's boundary
+    return np.where(meets, upper, np.nan), meets
+
+
+def _rays(normals: Array, offsets: Array, half_widths: Array, Tt: Array) -> tuple[Array, Array]:
+    """Both ends (K, k) of the lines in the facet pairs ``|a . x - o| <= h``.
+
+    The pair ``+-a`` bounds ``a . (lambda t)`` to ``[o - h, o + h]``, so with ``s = a . t``
+    it gives ``lambda`` between ``(o - h)/s`` and ``(o + h)/s``; one pair at a time.
+    """
+    K, k = len(normals), Tt.shape[1]
+    lower, upper = np.full((K, k), -np.inf), np.full((K, k), np.inf)
+    slopes, reach, bound = np.empty((K, k)), np.empty((K, k)), np.empty((K, k))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # s = 0 gives -inf/+inf (no bound) when |o| <= h, and an empty line otherwise.
+        for j in range(normals.shape[1]):
+            np.matmul(normals[:, j], Tt, out=slopes)
+            np.copysign(half_widths[:, j, None], slopes, out=reach)  # +-h, the slope's sign
+            offset = offsets[:, j, None]
+            np.divide(np.subtract(offset, reach, out=bound), slopes, out=bound)
+            np.maximum(lower, bound, out=lower)  # NaN (0/0) propagates: an empty line
+            np.divide(np.add(offset, reach, out=bound), slopes, out=bound)
+            np.minimum(upper, bound, out=upper)
+    return lower, upper
+
+
+def _ellipsoid_far_ends(
+    center: Array, axes: Array, semi_axes: Array, Tt: Array
+) -> tuple[Array, NDArray[np.bool_]]:
+    r"""Far ends (K, k) of the lines ``{a t}`` in ellipsoids, and which meet them.
+
+    ``a t`` is in ``E`` when ``|a p - w| <= 1`` (``p = S^-1 U^T t``, ``w = S^-1 U^T c``):
+    ``a = r +- sqrt(r^2 + q)`` with ``r = p . w / |p|^2``, ``q = (1 - |w|^2) / |p|^2``.  The
+    far end is taken as ``q / (sqrt(r^2 + q) - r)`` where ``r < 0``: no cancellation when the
+    origin is near E's boundary on the far side.  NaN where the line misses E.
+    """
+    inverse = np.swapaxes(axes, 1, 2) / semi_axes[:, :, None]  # S^-1 U^T (K, m, m)
+    p = inverse @ Tt  # (K, m, k)
+    w = np.einsum("kij,kj->ki", inverse, center)
+    length2 = np.einsum("kmd,kmd->kd", p, p)
+    r = np.einsum("kmd,km->kd", p, w)
+    np.divide(r, length2, out=r)
+    q = np.divide((1.0 - np.einsum("km,km->k", w, w))[:, None], length2, out=length2)
+    root = np.add(np.square(r), q)
+    meets = root >= 0.0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        np.sqrt(root, out=root)  # NaN where the line misses E
+        far = np.add(r, root)
+        np.divide(q, np.subtract(root, r, out=root), out=far, where=r < 0.0)
+    return far, meets
+
+
+def _statistics(
+    hi_e: Array,
+    feasible_e: NDArray[np.bool_],
+    hi_p: Array,
+    feasible_p: NDArray[np.bool_],
+    scale: Array,
+) -> dict[str, Array]:
+    """:func:`~polyell.comparison.metrics.direction_errors` for every row (``scale = 1/|hi_P|``)."""
+    used = feasible_e & feasible_p & (hi_p != 0)
+    error = np.subtract(hi_e, hi_p)
+    np.multiply(error, scale, out=error)
+    everywhere = bool(used.all())
+    if not everywhere:
+        error[~used] = 0.0
+    count = np.full(len(error), float(error.shape[1])) if everywhere else used.sum(axis=1) * 1.0
+    absolute = np.abs(error)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        stats = {
+            "direction_error_mean": absolute.sum(axis=1) / count,
+            "direction_error_max": absolute.max(axis=1, initial=0.0),
+            "direction_error_rms": np.sqrt(np.einsum("kd,kd->k", error, error) / count),
+            "direction_bias": error.sum(axis=1) / count,
+        }
+    if not everywhere:
+        stats = {key: np.where(count == 0, np.nan, value) for key, value in stats.items()}
+    mismatch = feasible_e != feasible_p
+    stats["feasibility_mismatch"] = mismatch.sum(axis=1) * 1.0
+    stats["directions_used"] = count
+    return stats
