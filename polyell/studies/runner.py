@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import os
 import re
+import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -29,6 +30,7 @@ from polyell.storage import (
     folder_lock,
     remove_stale_temporaries,
     write_atomically,
+    write_csv,
     write_text_atomically,
 )
 from polyell.studies.cluster import check_scheduler
@@ -178,29 +180,31 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
     return written
 
 
-def _run_many(spec: StudySpec, folder: Path, progress: bool, scheduler: str | None) -> list[Path]:
-    from polyell.figures import (
-        plot_score_histogram,
-        plot_score_map,
-        plot_score_series,
-        save_figure,
-    )
-
+def _run_many(
+    spec: StudySpec, folder: Path, progress: bool, scheduler: str | None, seconds: dict[str, float]
+) -> list[Path]:
     if spec.trajectory is not None:
-        return _run_trajectory(spec, folder, progress, scheduler)
+        return _run_trajectory(spec, folder, progress, scheduler, seconds)
     model = spec.robot.model
     configurations = spec.configurations()
     first = model.dynamics(configurations[0])
     m = first.m
-    dataset = _sweep(spec, configurations, m, folder, progress, scheduler)
+    dataset = _sweep(spec, configurations, m, folder, progress, scheduler, seconds)
     import pandas as pd
 
     results = pd.read_parquet(dataset).sort_values("configuration").reset_index(drop=True)
-    written = [write_text_atomically(folder / "results.csv", results.to_csv(index=False))]
+    written = [write_atomically(folder / "results.csv", lambda name: _csv(name, results))]
     summary = summarize(results)
     written += _write_summary(spec, folder, summary, len(results))
     kinds = result_kinds(results.columns)
     varying = [axis for axis in spec.grid if axis.values.size > 1]
+    if spec.maps or spec.series or spec.histograms:  # matplotlib: a second of start-up
+        from polyell.figures import (
+            plot_score_histogram,
+            plot_score_map,
+            plot_score_series,
+            save_figure,
+        )
     # Maps of one score share one colour scale, so that colours compare across candidates.
     scales: dict[str, tuple[float, float]] = {}
     for name in spec.maps:
@@ -247,9 +251,14 @@ def _sweep(
     folder: Path,
     progress: bool,
     scheduler: str | None,
+    seconds: dict[str, float],
 ) -> Path:
-    """The study's sweep: a Parquet dataset in its folder, so that a killed study resumes."""
-    return sweep(
+    """The study's sweep: a Parquet dataset in its folder, so that a killed study resumes.
+
+    Its duration goes into ``seconds["sweep"]`` (the manifest's timings).
+    """
+    started = time.perf_counter()
+    dataset = sweep(
         spec.robot.model,
         configurations,
         spec.robot.tau_max,
@@ -266,6 +275,8 @@ def _sweep(
         progress=progress,
         out=folder / "results",
     )
+    seconds["sweep"] = time.perf_counter() - started
+    return Path(dataset)
 
 
 def _write_summary(spec: StudySpec, folder: Path, summary: pd.DataFrame, count: int) -> list[Path]:
@@ -283,7 +294,7 @@ def _write_summary(spec: StudySpec, folder: Path, summary: pd.DataFrame, count: 
 
 
 def _run_trajectory(
-    spec: StudySpec, folder: Path, progress: bool, scheduler: str | None
+    spec: StudySpec, folder: Path, progress: bool, scheduler: str | None, seconds: dict[str, float]
 ) -> list[Path]:
     """A trajectory study, its memory independent of the number of samples but for two terms.
 
@@ -307,7 +318,7 @@ def _run_trajectory(
     assert trajectory is not None
     model = spec.robot.model
     first = model.dynamics(trajectory.q[0])
-    dataset = _sweep(spec, trajectory, first.m, folder, progress, scheduler)
+    dataset = _sweep(spec, trajectory, first.m, folder, progress, scheduler, seconds)
     import pandas as pd
     import pyarrow.parquet as pq
 
@@ -326,7 +337,7 @@ def _run_trajectory(
     along = SeriesDecimator(count, tangents) if tangent else None
 
     def write_results(name: str) -> None:
-        with open(name, "w", encoding="utf-8", newline="") as handle:
+        with open(name, "wb") as handle:
             start = 0
             for index, part in enumerate(parts):
                 frame = pd.read_parquet(part)
@@ -336,7 +347,7 @@ def _run_trajectory(
                     piece = Trajectory(trajectory.q[start:stop], trajectory.qd[start:stop])
                     limits = tangent_limits(model, piece, spec.robot.tau_max, spec.robot.tau_min)
                     frame = frame.assign(**limits)
-                frame.to_csv(handle, index=False, header=index == 0)
+                write_csv(frame, handle, header=index == 0)
                 for decimator in series.values():
                     decimator.add(frame[[x, *decimator.traces]])
                 if along is not None:
@@ -414,6 +425,11 @@ def _many_report(
     return write_report(folder / "report.html", spec.title, sections)
 
 
+def _csv(name: str, frame: pd.DataFrame) -> None:
+    with open(name, "wb") as handle:
+        write_csv(frame, handle)
+
+
 def _heading(spec: StudySpec, heading: str) -> str:
     """A Markdown file's title, with the study's description below it (if it has one)."""
     return f"# {heading}\n\n" + (f"{spec.description}\n\n" if spec.description else "")
@@ -471,7 +487,10 @@ def run_study(
     The study holds a lock on ``out`` while it runs (``.polyell-study.lock``), and first
     removes the temporary files a killed run left of its outputs.  The study's
     ``description`` is written under the title of ``numbers.md``, ``comparison.md`` and
-    ``summary.md``, at the top of ``report.html`` and into ``manifest.json``.
+    ``summary.md``, at the top of ``report.html`` and into ``manifest.json``.  The manifest
+    also records the study's wall-clock ``seconds``: ``total`` (this call, without the
+    interpreter's start-up and imports) and, for many configurations, ``sweep`` (the
+    scores, dynamics included).
     """
     if not isinstance(spec, StudySpec):
         raise InputError(
@@ -485,18 +504,22 @@ def run_study(
             repr(scheduler),
             "drop --scheduler, or make it a [grid] or [random] study.",
         )
+    started = time.perf_counter()
     folder = _prepare(out)
+    seconds: dict[str, float] = {}
     with folder_lock(folder, STUDY_LOCK, "study"):
         remove_stale_temporaries(folder, STUDY_FILES)  # what a killed run left
         if spec.is_batch:
-            written = _run_many(spec, folder, progress, scheduler)
+            written = _run_many(spec, folder, progress, scheduler, seconds)
         else:
             written = _run_points(spec, folder)
+        seconds["total"] = time.perf_counter() - started
         manifest = {
             "study": spec.title,
             "description": spec.description,
             "spec": spec.path.name,
             "files": sorted(p.name for p in written),
+            "seconds": {name: round(value, 3) for name, value in seconds.items()},
         }
         written.append(
             write_text_atomically(folder / "manifest.json", json.dumps(manifest, indent=2) + "\n")
