@@ -333,7 +333,8 @@ def compare(
         Unit directions for the directional statistics, or how many of the default
         deterministic near-uniform set to use.  The default set lies in the polytope's
         affine set (at a singular configuration every other line meets it in one point);
-        its default size is 360 in 2-D, 1000 in 3-D.
+        its default size is 360 in 2-D, 256 in 3-D, 2,000 above
+        (:func:`~polyell.geometry.directions.default_direction_count`).
     samples : int, optional
         Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the polytope, from
         2 to 2^22 (a power of two keeps the Sobol' balance).

@@ -44,6 +44,8 @@ STATISTICS = (
 #: 2^19 doubles (4 MiB) keeps every array of a pass in a core's share of cache while
 #: amortising numpy's per-call cost (measured: docs/performance.md, section (h)).
 PASS_ELEMENTS = 2**19
+#: Elements of the (rows, k) arrays of a pass: 2^15 doubles (256 KiB).
+ROW_ELEMENTS = 2**15
 
 
 def direction_scores(
@@ -80,7 +82,7 @@ def direction_scores(
     k = len(directions)
     Tt = np.ascontiguousarray(directions.T)
     results = [{name: np.empty(K) for name in STATISTICS} for _ in ellipsoids]
-    step = max(1, PASS_ELEMENTS // (2 * max(C, 1) * max(k, 1)))
+    step = max(1, ROW_ELEMENTS // max(k, 1))
     for start in range(0, K, step):
         rows = slice(start, start + step)
         hi_p, feasible_p = polytope_far_ends(
@@ -114,7 +116,12 @@ def polytope_far_ends(
         a, o, h = normals[rows], offsets[rows], half_widths[rows, :, None]
         with np.errstate(invalid="ignore"):  # 0 / inf: a dependent subset, no constraint
             polar = np.concatenate([a / (h + o[..., None]), a / (o[..., None] - h)], axis=1)
-        hi[rows] = 1.0 / np.max(polar @ Tt, axis=1)
+        gauge = np.empty((len(polar), Tt.shape[1]))
+        step = max(1, PASS_ELEMENTS // (polar.shape[1] * Tt.shape[1]))
+        for start in range(0, len(polar), step):  # (step, 2C, k) products: in cache
+            block = slice(start, start + step)
+            np.max(polar[block] @ Tt, axis=1, out=gauge[block])
+        hi[rows] = 1.0 / gauge
     if not inside.all():
         rows_out = ~inside
         hi[rows_out], meets[rows_out] = _cut_far_ends(

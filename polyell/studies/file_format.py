@@ -276,7 +276,7 @@ file = "planar3r_path.csv"''',
             Key(
                 "directions",
                 "integer",
-                "360 in 2-D, 1000 in 3-D",
+                "360 in 2-D, 256 in 3-D, 2000 above",
                 "Directions of the directional statistics.",
                 "72",
             ),

@@ -306,7 +306,8 @@ def sweep(
         The directional-statistics set, exactly as :func:`polyell.compare` takes it: a count
         of the default near-uniform set (at a singular configuration, drawn in its affine
         set), or unit vectors used at every configuration; default, as in
-        :func:`polyell.compare`, 360 in 2-D and 1,000 in 3-D (fewer, e.g. 64, are faster).
+        :func:`polyell.compare`, 360 in 2-D, 256 in 3-D and 2,000 above (see
+        :func:`~polyell.geometry.directions.default_direction_count` for why).
     out : path, optional
         A folder for a Parquet dataset, one ``part-NNNNNN.parquet`` per chunk; the
         function then returns the folder.  Restarting with the same arguments resumes.
