@@ -19,9 +19,9 @@ def default_direction_count(r: int) -> int:
 
     Chosen from the convergence of the direction statistics (``docs/performance.md``,
     section (i)): on random 3x7 arms and on the Panda, the mean, RMS and bias of the
-    direction errors at 256 Fibonacci directions differ from their values at 16,384 by a
-    few 1e-4 (median; 1e-3 at worst), far below the digits a table prints, at a quarter of
-    the time of 1,000.  The maximum is a sampled supremum: it converges slowly at any
+    direction errors at 256 Fibonacci directions differ from their values at 16,384 by about
+    1e-4 (median), 5e-4 (95th percentile) and 2e-3 at worst, at about a third of the time of
+    1,000.  The maximum is a sampled supremum: it converges slowly at any
     count (a few per cent below at 256, about one per cent at 1,000): pass more directions
     when it matters.
     """

@@ -78,7 +78,7 @@ def direction_scores(
     list of dict of str to ndarray (K,)
         One dict per ellipsoid, keyed by :data:`STATISTICS`.
     """
-    K, C, _ = normals.shape
+    K = len(normals)
     k = len(directions)
     Tt = np.ascontiguousarray(directions.T)
     results = [{name: np.empty(K) for name in STATISTICS} for _ in ellipsoids]
