@@ -7,12 +7,14 @@ Bad input ends with a one-line ``polyell: error: ...`` on standard error and exi
 from __future__ import annotations
 
 import argparse
+import contextlib
 import errno
 import json
+import logging
 import os
 import sys
 import warnings
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, NoReturn
 
@@ -329,6 +331,22 @@ def _fail(message: str) -> int:
 EXIT_INTERRUPTED = 130
 
 
+@contextlib.contextmanager
+def _notes_on_stderr() -> Iterator[None]:
+    """Show polyell's progress notes (logger "polyell", INFO) as ``polyell: ...`` lines."""
+    logger = logging.getLogger("polyell")
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter("polyell: %(message)s"))
+    level = logger.level
+    logger.addHandler(handler)
+    logger.setLevel(logging.INFO)
+    try:
+        yield
+    finally:
+        logger.removeHandler(handler)
+        logger.setLevel(level)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status.
 
@@ -355,7 +373,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             if args.command == "analyze":
                 notes = _analyze(args)
             else:
-                _study(args)
+                with _notes_on_stderr():
+                    _study(args)
     except PolyellError as exn:
         return _fail(str(exn))
     except _OutputError as exn:

@@ -11,12 +11,14 @@ from __future__ import annotations
 
 import hashlib
 import json
+import logging
 import os
 import pickle
-from collections.abc import Sequence
+import re
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -61,6 +63,10 @@ if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
 
 __all__ = ["DEFAULT_SCORES", "sweep"]
+
+#: Progress notes (a resumed dataset), at level INFO: silent unless the application shows
+#: them (``polyell study`` does, on standard error).
+_log = logging.getLogger("polyell")
 
 #: Scores a sweep computes by default: all but the ratios to the MVIE and to the outer
 #: ellipsoid (see ``mvie=True``, ``outer=True``) and the enclosing scales (their vertex
@@ -290,14 +296,20 @@ def sweep(
 
     Parameters
     ----------
-    source : robot or Dynamics
+    source : robot, Dynamics, or several robots
         A robot (``PlanarArm``, ``UrdfRobot``) with ``configurations``, or a batched
-        :class:`Dynamics` (J of shape (K, m, n)).
+        :class:`Dynamics` (J of shape (K, m, n)).  Several robots, side by side: a dict
+        of names to robots (or a list, named ``"0"``, ``"1"``, ...) with one set of
+        configurations each (the same keys, or a list of the same length; one array or
+        set is shared when every robot has its joint count), each with its own torque
+        limits; the frame then starts with a ``robot`` column, and ``out=`` holds one
+        dataset per robot in ``robot=<name>/`` (``pd.read_parquet(out)`` reads them all,
+        the ``robot`` column included).
     configurations : array-like (K, n) or ConfigurationSet, optional
         Joint configurations, e.g. :func:`polyell.grid` or
         :func:`polyell.random_configurations` (lazy: never all in memory).
     tau_max, tau_min : array-like, shape (n,), optional
-        Torque limits; default the robot's own.
+        Torque limits; default the robot's own (always, for several robots).
     scores : sequence of str
         Score names (:data:`polyell.SCORE_NAMES`); columns ``<kind>_<score>``.  Default:
         all but ``mvie_ratio``, ``outer_ratio`` (they need ``mvie=True``, ``outer=True``)
@@ -347,6 +359,22 @@ def sweep(
         ``polytope_origin_radius`` and the score columns; or the
         dataset folder with ``out=``.
     """
+    if isinstance(source, Mapping | list | tuple):
+        arguments: dict[str, Any] = {
+            "scores": scores,
+            "directions": directions,
+            "scheduler": scheduler,
+            "chunk": chunk,
+            "mvie": mvie,
+            "outer": outer,
+            "candidates": candidates,
+            "samples": samples,
+            "seed": seed,
+            "rank_rtol": rank_rtol,
+            "progress": progress,
+        }
+        robots = _named("source", source, "robots")
+        return _sweep_robots(robots, configurations, tau_max, tau_min, out, arguments)
     chunk = check_integer("chunk", chunk, 1, 10_000_000)
     scores = _check_scores(scores)
     for name, flag in (("mvie", mvie), ("outer", outer), ("progress", progress)):
@@ -381,11 +409,83 @@ def sweep(
         ) from None
     with dataset_lock(folder):
         todo = _resume(folder, job, chunk, count)
+        if len(todo) < count:
+            _log.info("resuming %s: %d of %d chunks done", folder, count - len(todo), count)
         _execute(job, todo, chunk, folder, scheduler, progress)
         unfinished = [i for i in range(count) if not _done(folder, job, chunk, i)]
         if unfinished:  # pragma: no cover - a worker's write that vanished
             raise StorageError(f"{len(unfinished)} parts of {folder} are missing after the run.")
     return folder
+
+
+#: A robot's name in a sweep of several: a folder name (``robot=<name>``) on every system.
+_ROBOT_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,63}")
+
+
+def _named(argument: str, value: Mapping[Any, Any] | Sequence[Any], what: str) -> dict[str, Any]:
+    """A dict of checked names to items, from a dict or a list (named by position)."""
+    items = dict(value) if isinstance(value, Mapping) else {str(i): v for i, v in enumerate(value)}
+    if not items:
+        raise InputError(argument, f"at least one of the {what}", "an empty collection")
+    for name in items:
+        if not isinstance(name, str) or not _ROBOT_NAME.fullmatch(name):
+            raise InputError(
+                argument,
+                "names of letters, digits, '_', '.' and '-' (a folder name), at most 64",
+                repr(name)[:80],
+                "rename the robot, e.g. 'panda' or 'ur5'.",
+            )
+    return items
+
+
+def _sweep_robots(
+    robots: dict[str, Any],
+    configurations: Any,
+    tau_max: Any,
+    tau_min: Any,
+    out: Any,
+    options: dict[str, Any],
+) -> pd.DataFrame | Path:
+    """:func:`sweep` of several robots: one sweep each, side by side under a ``robot`` key."""
+    for name, value in (("tau_max", tau_max), ("tau_min", tau_min)):
+        if value is not None:
+            raise InputError(
+                name,
+                "None with several robots (each sweeps within its own limits)",
+                "limits",
+                "give each robot its limits: pe.robots.load(name, tau_max=...).",
+            )
+    for name, robot in robots.items():
+        if isinstance(robot, Dynamics) or not hasattr(robot, "dynamics"):
+            raise InputError(f"source[{name!r}]", "a robot", type(robot).__name__)
+    if isinstance(configurations, Mapping | list | tuple) and not _is_rows(configurations):
+        sets = _named("configurations", configurations, "configuration sets")
+        if set(sets) != set(robots):
+            raise InputError(
+                "configurations",
+                f"one set per robot, for {sorted(robots)}",
+                f"sets for {sorted(sets)}",
+            )
+    else:
+        sets = dict.fromkeys(robots, configurations)
+    import pandas as pd
+
+    if out is None:
+        frames = [
+            cast("pd.DataFrame", sweep(robot, sets[name], **options)).assign(robot=name)
+            for name, robot in robots.items()
+        ]
+        frame = pd.concat(frames, ignore_index=True)
+        return frame[["robot", *(c for c in frame.columns if c != "robot")]]
+    folder = Path(out)
+    for name, robot in robots.items():
+        sweep(robot, sets[name], out=folder / f"robot={name}", **options)
+    return folder
+
+
+def _is_rows(value: Sequence[Any] | Mapping[Any, Any]) -> bool:
+    """True for one (K, n) array written as nested lists (a set shared by the robots)."""
+    return not isinstance(value, Mapping) and len(value) > 0 and np.ndim(value[0]) == 1
 
 
 def _check_scores(scores: object) -> tuple[str, ...]:
