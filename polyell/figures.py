@@ -533,11 +533,30 @@ def plot_tangent_limits(results: pd.DataFrame, *, unit: str = "m/s$^2$") -> Figu
 
 
 def save_figure(
-    figure: Figure, stem: str | Path, formats: Sequence[str] = ("pdf", "png"), dpi: int = 300
+    figure: Figure,
+    stem: str | Path,
+    formats: Sequence[str] | None = None,
+    dpi: int = 300,
 ) -> list[Path]:
-    """Save ``figure`` as ``stem.<format>`` for each format, at print resolution.
+    """Save ``figure`` at print resolution: ``stem.pdf`` and ``stem.png``, or one named file.
+
+    * ``save_figure(fig, "sets")`` writes ``sets.pdf`` and ``sets.png``;
+      ``formats=("svg",)`` writes ``sets.svg``.
+    * A name that ends in a figure format (``"sets.png"``, ``"sets.PDF"``, any format of
+      ``figure.canvas.get_supported_filetypes()``) writes that file only, in that format.
 
     Each file is written under a temporary name and renamed (never half a file).
+
+    Parameters
+    ----------
+    figure : Figure
+    stem : str or Path
+        A file name without a suffix, or with a figure format's suffix.
+    formats : sequence of str, optional
+        Formats, each written as ``stem.<format>``; default ``("pdf", "png")``, or the
+        suffix of ``stem`` when it is a figure format.
+    dpi : int, optional
+        Dots per inch of the raster formats (1 to :data:`MAX_DPI`).
 
     Returns
     -------
@@ -546,14 +565,34 @@ def save_figure(
 
     Raises
     ------
+    InputError
+        For a name with a figure suffix together with ``formats`` that are not exactly
+        that format (ambiguous: ``"x.png"`` with ``("pdf", "png")``), unknown formats, or
+        a ``dpi`` out of range.
     StorageError
         If a file cannot be written.
     """
     if not isinstance(stem, str | Path):
         raise InputError("stem", "a file name without extension (str or Path)", repr(stem))
     supported = sorted(figure.canvas.get_supported_filetypes())
-    if isinstance(formats, str) or not all(fmt in supported for fmt in formats):
+    if formats is not None and (
+        isinstance(formats, str) or not all(fmt in supported for fmt in formats)
+    ):
         raise InputError("formats", f"a sequence of formats among {supported}", repr(formats))
+    suffix = Path(stem).suffix[1:].lower()
+    targets: list[tuple[Path, str]]
+    if suffix in supported:
+        if formats is not None and list(formats) != [suffix]:
+            raise InputError(
+                "stem",
+                "a name without a figure suffix when formats are given",
+                f"{str(stem)!r} with formats {list(formats)}",
+                f"drop the suffix to write each format, or leave formats out to write "
+                f"{Path(stem).name} only.",
+            )
+        targets = [(Path(stem), suffix)]
+    else:
+        targets = [(Path(f"{stem}.{fmt}"), fmt) for fmt in (formats or ("pdf", "png"))]
     if (
         isinstance(dpi, bool)
         or not isinstance(dpi, int | float | np.integer | np.floating)
@@ -561,12 +600,11 @@ def save_figure(
     ):
         raise InputError("dpi", f"dots per inch from 1 to {MAX_DPI}", repr(dpi))
     paths = []
-    for fmt in formats:
+    for path, fmt in targets:
         metadata = {"CreationDate": None} if fmt == "pdf" else None
 
         def save(name: str, fmt: str = fmt, metadata: dict[str, None] | None = metadata) -> None:
             figure.savefig(name, format=fmt, dpi=dpi, metadata=metadata)
 
-        path = write_atomically(Path(f"{stem}.{fmt}"), save)
-        paths.append(path)
+        paths.append(write_atomically(path, save))
     return paths

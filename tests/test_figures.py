@@ -125,3 +125,47 @@ def test_maps_of_one_score_share_a_colour_scale(tmp_path, monkeypatch):
     results = pd.read_csv(tmp_path / "out" / "results.csv")
     both = 100 * results[["chiacchio_coverage", "yoshikawa_coverage"]].to_numpy()
     assert coverage[0] == pytest.approx((np.nanmin(both), np.nanmax(both)))
+
+
+# --- issue 24: a given suffix is honoured -------------------------------------------------
+
+
+def file_format(path) -> str:
+    """The format of a file by its magic bytes (independent of its name)."""
+    head = path.read_bytes()[:8]
+    if head.startswith(b"%PDF"):
+        return "pdf"
+    if head.startswith(b"\x89PNG"):
+        return "png"
+    if head.startswith((b"<?xml", b"<svg")):
+        return "svg"
+    return "unknown"
+
+
+def small_figure() -> Figure:
+    figure = Figure(figsize=(1, 1))
+    figure.add_subplot().plot([0, 1])
+    return figure
+
+
+@pytest.mark.parametrize(
+    ("name", "formats", "written"),
+    [
+        ("x.png", None, {"x.png": "png"}),
+        ("x.PDF", None, {"x.PDF": "pdf"}),
+        ("x.svg", ("svg",), {"x.svg": "svg"}),
+        ("x", None, {"x.pdf": "pdf", "x.png": "png"}),
+        ("x", ("svg",), {"x.svg": "svg"}),
+        ("run.v2", None, {"run.v2.pdf": "pdf", "run.v2.png": "png"}),  # not a figure suffix
+    ],
+)
+def test_save_figure_honours_a_given_suffix(tmp_path, name, formats, written):
+    paths = save_figure(small_figure(), tmp_path / name, formats, dpi=20)
+    assert [p.name for p in paths] == list(written)
+    assert {p.name: file_format(p) for p in tmp_path.iterdir()} == written  # nothing else
+
+
+def test_a_suffix_with_other_formats_is_ambiguous(tmp_path):
+    with pytest.raises(pe.InputError, match=r"stem: expected a name without a figure suffix"):
+        save_figure(small_figure(), tmp_path / "x.png", ("pdf", "png"), dpi=20)
+    assert list(tmp_path.iterdir()) == []
