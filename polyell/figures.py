@@ -371,11 +371,11 @@ def plot_sets_3d(
         style = _style(kind, list(drawn))
         outline, sections = ellipsoid_outline(E, view)
         line_style = {"color": style["color"], "linestyle": style["linestyle"]}
-        (line,) = ax.plot(*outline.T, linewidth=1.5, label=str(style["label"]), **line_style)  # type: ignore[arg-type]
+        (line,) = ax.plot(*outline.T, linewidth=1.5, label=str(style["label"]), **line_style)
         if len(outline) == 2:
             line.set_marker("|")
         for section in sections:
-            ax.plot(*section.T, linewidth=0.6, alpha=0.55, **line_style)  # type: ignore[arg-type]
+            ax.plot(*section.T, linewidth=0.6, alpha=0.55, **line_style)
         handles.append(line)
     (centre,) = ax.plot(
         *analysis.xg,
