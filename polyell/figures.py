@@ -655,7 +655,7 @@ def save_figure(
         A file name without a suffix, or with a figure format's suffix.
     formats : sequence of str, optional
         Formats, each written as ``stem.<format>``; default ``("pdf", "png")``, or the
-        suffix of ``stem`` when it is a figure format.
+        suffix of ``stem`` when it is a figure format.  Empty: nothing is written.
     dpi : int, optional
         Dots per inch of the raster formats (1 to :data:`MAX_DPI`).
 
@@ -682,7 +682,9 @@ def save_figure(
         raise InputError("formats", f"a sequence of formats among {supported}", repr(formats))
     suffix = Path(stem).suffix[1:].lower()
     targets: list[tuple[Path, str]]
-    if suffix in supported:
+    if formats is not None and not len(formats):
+        targets = []  # no format asked for (a study writing its report only)
+    elif suffix in supported:
         if formats is not None and list(formats) != [suffix]:
             raise InputError(
                 "stem",
@@ -693,7 +695,8 @@ def save_figure(
             )
         targets = [(Path(stem), suffix)]
     else:
-        targets = [(Path(f"{stem}.{fmt}"), fmt) for fmt in (formats or ("pdf", "png"))]
+        chosen = ("pdf", "png") if formats is None else formats
+        targets = [(Path(f"{stem}.{fmt}"), fmt) for fmt in chosen]
     if (
         isinstance(dpi, bool)
         or not isinstance(dpi, int | float | np.integer | np.floating)

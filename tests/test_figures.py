@@ -156,6 +156,7 @@ def small_figure() -> Figure:
         ("x.svg", ("svg",), {"x.svg": "svg"}),
         ("x", None, {"x.pdf": "pdf", "x.png": "png"}),
         ("x", ("svg",), {"x.svg": "svg"}),
+        ("x.png", (), {}),  # no format asked for: nothing written
         ("run.v2", None, {"run.v2.pdf": "pdf", "run.v2.png": "png"}),  # not a figure suffix
     ],
 )
