@@ -2,7 +2,9 @@
 
 Every error the package raises on purpose derives from :class:`PolyellError`, so a
 caller can catch the package's failures with one ``except`` clause.  Messages name the
-argument, what was expected, what arrived and how to fix it.
+argument, what was expected, what arrived and how to fix it; they are composed with
+:func:`clause` and :func:`sentence`, so that a part which already ends in a period (a
+nested message) never gives a doubled one.
 """
 
 from __future__ import annotations
@@ -16,7 +18,54 @@ __all__ = [
     "StorageError",
     "UndefinedEllipsoidError",
     "UnreachableAccelerationError",
+    "clause",
+    "install_hint",
+    "sentence",
 ]
+
+#: How polyell is installed: from a checkout of its repository (it is not on PyPI).
+_INSTALL = "in a checkout of the polyell repository, run pip install '.[{extra}]'"
+
+
+def clause(text: str) -> str:
+    """``text`` ready to be followed by punctuation: stripped, without its final period.
+
+    An ellipsis (``...``) is kept: it is not a sentence's end.
+
+    Examples
+    --------
+    >>> clause("a float. "), clause("rows [1, 2]..."), clause("3")
+    ('a float', 'rows [1, 2]...', '3')
+    """
+    text = str(text).strip()
+    while text.endswith(".") and not text.endswith("..."):
+        text = text[:-1].rstrip()
+    return text
+
+
+def sentence(text: str) -> str:
+    """``text`` as a sentence: stripped and ending in exactly one period (or ``!``, ``?``).
+
+    Examples
+    --------
+    >>> sentence("use a float"), sentence("use a float.."), sentence("")
+    ('use a float.', 'use a float.', '')
+    """
+    text = clause(text)
+    if not text or text.endswith(("...", "!", "?")):
+        return text
+    return text + "."
+
+
+def install_hint(extra: str) -> str:
+    """How to install an optional extra of polyell (from its repository: not on PyPI).
+
+    Examples
+    --------
+    >>> install_hint("robots")
+    "in a checkout of the polyell repository, run pip install '.[robots]'"
+    """
+    return _INSTALL.format(extra=extra)
 
 
 class PolyellError(Exception):
@@ -43,9 +92,9 @@ class InputError(PolyellError, ValueError):
         self.expected = expected
         self.got = got
         self.fix = fix
-        message = f"{argument}: expected {expected}, got {got}."
-        if fix:
-            message += f" Fix: {fix}"
+        message = sentence(f"{clause(argument)}: expected {clause(expected)}, got {clause(got)}")
+        if clause(fix):
+            message += f" Fix: {sentence(fix)}"
         super().__init__(message)
 
 

@@ -32,6 +32,7 @@ __all__ = [
     "comparison_meshes",
     "export_comparison",
     "mesh",
+    "polytope_edges",
     "write_obj",
     "write_ply",
 ]
@@ -165,6 +166,52 @@ def mesh(S: Polytope | Ellipsoid, resolution: int = RESOLUTION) -> Mesh:
             vertices = S.center[None, :]
     lines = np.array([[0, 1]]) if len(vertices) == 2 else np.zeros((0, 2), dtype=int)
     return Mesh(_lift(np.asarray(vertices)), none, lines)
+
+
+def polytope_edges(P: Polytope) -> NDArray[np.int_]:
+    """The edges of a polytope of a 2-D or 3-D task space, as pairs of vertex indices.
+
+    The triangles of a mesh cut each face of a 3-D polytope into pieces; an edge here is
+    an edge of the polytope itself (between two faces of different planes), what a
+    drawing of its outline needs.
+
+    Parameters
+    ----------
+    P : Polytope
+
+    Returns
+    -------
+    ndarray of int, shape (E, 2)
+        Indices into ``P.vertices``, each edge once (``i < j``): the hull's edges (3-D),
+        the polygon's sides (a flat polytope), one segment, or none (a point).
+    """
+    if not isinstance(P, Polytope):
+        raise InputError("P", "a pe.Polytope", type(P).__name__)
+    if P.ambient_dim not in (2, 3):
+        raise InputError("P", "a polytope of a 2-D or 3-D task space", f"m = {P.ambient_dim}")
+    count = len(P.vertices)
+    if P.dim == 3:
+        from scipy.spatial import ConvexHull
+
+        hull = ConvexHull(P.vertices)
+        normals = hull.equations[:, :3]
+        pairs = set()
+        for face, simplex in enumerate(hull.simplices):
+            for k, other in enumerate(hull.neighbors[face]):
+                # a side shared with a triangle of another plane is an edge of P
+                if normals[face] @ normals[other] < 1.0 - 1e-9:
+                    i, j = sorted(int(v) for v in np.delete(simplex, k))
+                    pairs.add((i, j))
+        return np.array(sorted(pairs), dtype=int).reshape(-1, 2)
+    if P.dim == 2:
+        basis = P.affine_set.basis if P.ambient_dim == 3 else np.eye(2)
+        local = (P.vertices - P.center) @ basis
+        order = np.argsort(np.arctan2(local[:, 1], local[:, 0]))
+        sides = np.column_stack([order, np.roll(order, -1)])
+        return np.sort(sides, axis=1)
+    if P.dim == 1 and count == 2:
+        return np.array([[0, 1]])
+    return np.zeros((0, 2), dtype=int)
 
 
 def comparison_meshes(comparison: Comparison, resolution: int = RESOLUTION) -> dict[str, Mesh]:

@@ -30,6 +30,7 @@ from polyell.storage import write_atomically
 __all__ = [
     "STYLES",
     "check_title",
+    "ellipsoid_outline",
     "plot_directional_limits",
     "plot_score_histogram",
     "plot_score_map",
@@ -248,15 +249,58 @@ def plot_sets(
     return figure
 
 
-def _ellipsoid_surface(E: Ellipsoid, k: int = 40) -> tuple[NDArray[np.float64], ...]:
-    theta, phi = np.meshgrid(np.linspace(0, np.pi, k), np.linspace(0, 2 * np.pi, 2 * k))
-    unit = np.stack([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)])
-    radii = np.zeros(3)
-    radii[: E.rank] = E.semi_axes
-    axes = np.zeros((3, 3))
-    axes[:, : E.rank] = E.axes
-    points = np.einsum("ij,j,jkl->ikl", axes, radii, unit) + E.center[:, None, None]
-    return points[0], points[1], points[2]
+def _view_direction(view: tuple[float, float]) -> NDArray[np.float64]:
+    """The unit vector from the scene towards the viewer, for ``(elevation, azimuth)``."""
+    elevation, azimuth = np.radians(view)
+    return np.array(
+        [
+            np.cos(elevation) * np.cos(azimuth),
+            np.cos(elevation) * np.sin(azimuth),
+            np.sin(elevation),
+        ]
+    )
+
+
+def _ellipse(E: Ellipsoid, plane: NDArray[np.float64], count: int = 181) -> NDArray[np.float64]:
+    """The ellipse ``{c + U S u : |u| = 1, u in span(plane)}`` of ``E``, (count, 3), closed.
+
+    ``plane`` holds two orthonormal columns in the ellipsoid's own coordinates ``u``.
+    """
+    angles = np.linspace(0.0, 2.0 * np.pi, count)
+    circle = np.outer(np.cos(angles), plane[:, 0]) + np.outer(np.sin(angles), plane[:, 1])
+    return E.center + (circle * E.semi_axes) @ E.axes.T
+
+
+def ellipsoid_outline(
+    E: Ellipsoid, view: tuple[float, float] = (25.0, -60.0)
+) -> tuple[NDArray[np.float64], list[NDArray[np.float64]]]:
+    """Curves that draw a 3-D ellipsoid legibly: its outline seen from ``view``, its sections.
+
+    Parameters
+    ----------
+    E : Ellipsoid
+        Of a 3-D task space.
+    view : (float, float)
+        ``(elevation, azimuth)`` in degrees, as :func:`plot_sets_3d`.
+
+    Returns
+    -------
+    outline : ndarray, shape (k, 3)
+        For a full-rank ellipsoid, its silhouette in an orthographic view along ``view``
+        (the points whose normal is perpendicular to the line of sight: the contour an
+        eye sees); a flat one's boundary ellipse; a segment's two ends.
+    sections : list of ndarray, shape (k, 3)
+        The principal sections of a full-rank ellipsoid (the ellipses through two of its
+        axes), none otherwise.
+    """
+    if E.rank < 3:
+        curve = E.boundary_curve(180, closed=True) if E.rank > 0 else E.center[None]
+        return curve, []
+    # silhouette: points y = U S u with y^T N d = 0, i.e. u orthogonal to S^-1 U^T d
+    normal = (E.axes.T @ _view_direction(view)) / E.semi_axes
+    plane = np.linalg.svd(normal[None, :])[2][1:].T  # an orthonormal basis of normal's plane
+    sections = [_ellipse(E, np.eye(3)[:, [i, j]]) for i, j in ((0, 1), (0, 2), (1, 2))]
+    return _ellipse(E, plane), sections
 
 
 def plot_sets_3d(
@@ -269,50 +313,107 @@ def plot_sets_3d(
     title: str | None = None,
     view: tuple[float, float] = (25.0, -60.0),
 ) -> Figure:
-    """The polytope (translucent faces) and ellipsoids (wireframes) of a 3-D task space.
+    """The polytope and the ellipsoids of a 3-D task space, legible in print.
+
+    The polytope is drawn with translucent faces and its edges; each ellipsoid by its
+    outline as seen from ``view`` (in its line style, :data:`STYLES`) and, thinner and
+    lighter, its three principal sections, so that four ellipsoids stay apart.  The view is
+    orthographic; the legend, below the axes, names every set (the polytope included).
+    Every label stays inside the figure.
 
     Arguments as for :func:`plot_sets`; the view is ``(elevation, azimuth)`` in degrees.
     """
+    from matplotlib.patches import Patch
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection
+
+    from polyell.export import polytope_edges
+
     if analysis.dynamics.m != 3:
         raise InputError(
             "analysis", "a 3-D task space", f"m = {analysis.dynamics.m}", "use plot_sets."
         )
     _check_texts(unit=unit, title=title)
+    if (
+        not isinstance(view, tuple | list)
+        or len(view) != 2
+        or not all(isinstance(v, int | float | np.integer | np.floating) for v in view)
+        or not np.all(np.isfinite(view))
+    ):
+        raise InputError("view", "(elevation, azimuth) in degrees, two finite numbers", repr(view))
+    view = (float(view[0]), float(view[1]))
     figure = Figure(figsize=(5.5, 5.0), layout="constrained")
-    ax = figure.add_subplot(projection="3d")
+    ax = figure.add_subplot(projection="3d", proj_type="ortho")
     P = analysis.polytope
+    polytope_style = STYLES["polytope"]
+    edge_color = "0.25"
+    handles: list[object] = []
     if P.dim == 3:
         hull = ConvexHull(P.vertices)
         faces = Poly3DCollection(
-            P.vertices[hull.simplices], facecolor="0.8", alpha=0.25, edgecolor="0.5", linewidth=0.2
+            P.vertices[hull.simplices], facecolor="0.82", alpha=0.3, linewidth=0.0
         )
         ax.add_collection3d(faces)
+    edges = polytope_edges(P)
+    if len(edges):
+        ax.add_collection3d(Line3DCollection(P.vertices[edges], colors=edge_color, linewidths=0.8))
     else:
-        ax.plot(*P.vertices.T, "o", color="0.35", label="polytope vertices (15)")
+        ax.plot(*P.vertices.T, "s", color=edge_color)
+    handles.append(
+        Patch(
+            facecolor=(0.82, 0.82, 0.82, 0.6) if P.dim == 3 else "none",
+            edgecolor=edge_color,
+            linewidth=0.8,
+            label=str(polytope_style["label"]),
+        )
+    )
     drawn = _ellipsoids(analysis, kinds, mvie, extra)
     for kind, E in drawn.items():
         style = _style(kind, list(drawn))
-        ax.plot_wireframe(
-            *_ellipsoid_surface(E),
-            rstride=4,
-            cstride=4,
-            color=style["color"],
-            linestyle=style["linestyle"],
-            linewidth=0.5,
-            label=style["label"],
-        )
-    ax.plot(*analysis.xg, "+", color="black", markersize=9, label=r"centre $\ddot x_g$")
-    ax.plot(0.0, 0.0, 0.0, "o", color="black", markerfacecolor="white", label="origin")
+        outline, sections = ellipsoid_outline(E, view)
+        line_style = {"color": style["color"], "linestyle": style["linestyle"]}
+        (line,) = ax.plot(*outline.T, linewidth=1.5, label=str(style["label"]), **line_style)
+        if len(outline) == 2:
+            line.set_marker("|")
+        for section in sections:
+            ax.plot(*section.T, linewidth=0.6, alpha=0.55, **line_style)
+        handles.append(line)
+    (centre,) = ax.plot(
+        *analysis.xg,
+        "+",
+        color="black",
+        markersize=9,
+        linestyle="none",
+        label=r"centre $\ddot x_g$",
+    )
+    (origin,) = ax.plot(
+        0.0, 0.0, 0.0, "o", color="black", markerfacecolor="white", linestyle="none", label="origin"
+    )
+    handles += [centre, origin]
     reach = [np.linalg.norm(E.axes * E.semi_axes, axis=1) for E in drawn.values()]
     boxes = [
         np.vstack([E.center - r, E.center + r]) for E, r in zip(drawn.values(), reach, strict=True)
     ]
-    bounds = np.vstack([P.vertices, np.zeros((1, 3)), *boxes])
-    ax.auto_scale_xyz(*[(b.min(), b.max()) for b in bounds.T])
-    ax.set_box_aspect(np.ptp(bounds, axis=0) + 1e-12)
+    bounds = np.vstack([P.vertices, np.zeros((1, 3)), analysis.xg[None], *boxes])
+    low, high = bounds.min(axis=0), bounds.max(axis=0)
+    span = high - low
+    floor = 1e-3 * max(float(span.max()), 1e-300)  # a flat set keeps a visible thickness
+    pad = np.maximum(span, floor) * 0.02 + np.where(span < floor, floor, 0.0)
+    ax.set(xlim=(low[0] - pad[0], high[0] + pad[0]), ylim=(low[1] - pad[1], high[1] + pad[1]))
+    ax.set_zlim(low[2] - pad[2], high[2] + pad[2])
+    # equal scales on the three axes (the outline is the silhouette of that view)
+    ax.set_box_aspect(span + 2 * pad, zoom=0.9)
     ax.view_init(*view)
     _label_axes(ax, analysis, unit)
-    ax.legend(fontsize="small")
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.labelpad = 6
+    ax.tick_params(labelsize="small", pad=1)
+    figure.legend(
+        handles=handles,
+        fontsize="small",
+        loc="outside lower center",
+        ncol=3,
+        frameon=False,
+    )
     if title:
         ax.set_title(title)
     return figure
@@ -533,11 +634,30 @@ def plot_tangent_limits(results: pd.DataFrame, *, unit: str = "m/s$^2$") -> Figu
 
 
 def save_figure(
-    figure: Figure, stem: str | Path, formats: Sequence[str] = ("pdf", "png"), dpi: int = 300
+    figure: Figure,
+    stem: str | Path,
+    formats: Sequence[str] | None = None,
+    dpi: int = 300,
 ) -> list[Path]:
-    """Save ``figure`` as ``stem.<format>`` for each format, at print resolution.
+    """Save ``figure`` at print resolution: ``stem.pdf`` and ``stem.png``, or one named file.
+
+    * ``save_figure(fig, "sets")`` writes ``sets.pdf`` and ``sets.png``;
+      ``formats=("svg",)`` writes ``sets.svg``.
+    * A name that ends in a figure format (``"sets.png"``, ``"sets.PDF"``, any format of
+      ``figure.canvas.get_supported_filetypes()``) writes that file only, in that format.
 
     Each file is written under a temporary name and renamed (never half a file).
+
+    Parameters
+    ----------
+    figure : Figure
+    stem : str or Path
+        A file name without a suffix, or with a figure format's suffix.
+    formats : sequence of str, optional
+        Formats, each written as ``stem.<format>``; default ``("pdf", "png")``, or the
+        suffix of ``stem`` when it is a figure format.  Empty: nothing is written.
+    dpi : int, optional
+        Dots per inch of the raster formats (1 to :data:`MAX_DPI`).
 
     Returns
     -------
@@ -546,14 +666,37 @@ def save_figure(
 
     Raises
     ------
+    InputError
+        For a name with a figure suffix together with ``formats`` that are not exactly
+        that format (ambiguous: ``"x.png"`` with ``("pdf", "png")``), unknown formats, or
+        a ``dpi`` out of range.
     StorageError
         If a file cannot be written.
     """
     if not isinstance(stem, str | Path):
         raise InputError("stem", "a file name without extension (str or Path)", repr(stem))
     supported = sorted(figure.canvas.get_supported_filetypes())
-    if isinstance(formats, str) or not all(fmt in supported for fmt in formats):
+    if formats is not None and (
+        isinstance(formats, str) or not all(fmt in supported for fmt in formats)
+    ):
         raise InputError("formats", f"a sequence of formats among {supported}", repr(formats))
+    suffix = Path(stem).suffix[1:].lower()
+    targets: list[tuple[Path, str]]
+    if formats is not None and not len(formats):
+        targets = []  # no format asked for (a study writing its report only)
+    elif suffix in supported:
+        if formats is not None and list(formats) != [suffix]:
+            raise InputError(
+                "stem",
+                "a name without a figure suffix when formats are given",
+                f"{str(stem)!r} with formats {list(formats)}",
+                f"drop the suffix to write each format, or leave formats out to write "
+                f"{Path(stem).name} only.",
+            )
+        targets = [(Path(stem), suffix)]
+    else:
+        chosen = ("pdf", "png") if formats is None else formats
+        targets = [(Path(f"{stem}.{fmt}"), fmt) for fmt in chosen]
     if (
         isinstance(dpi, bool)
         or not isinstance(dpi, int | float | np.integer | np.floating)
@@ -561,12 +704,11 @@ def save_figure(
     ):
         raise InputError("dpi", f"dots per inch from 1 to {MAX_DPI}", repr(dpi))
     paths = []
-    for fmt in formats:
+    for path, fmt in targets:
         metadata = {"CreationDate": None} if fmt == "pdf" else None
 
         def save(name: str, fmt: str = fmt, metadata: dict[str, None] | None = metadata) -> None:
             figure.savefig(name, format=fmt, dpi=dpi, metadata=metadata)
 
-        path = write_atomically(Path(f"{stem}.{fmt}"), save)
-        paths.append(path)
+        paths.append(write_atomically(path, save))
     return paths

@@ -24,7 +24,7 @@ from polyell.comparison.comparison import SCORE_NAMES, Comparison
 from polyell.comparison.summary import result_kinds, split_column
 from polyell.comparison.tables import ellipsoid_label, score_display
 from polyell.errors import InputError
-from polyell.export import mesh
+from polyell.export import mesh, polytope_edges
 from polyell.models.task import task_unit
 from polyell.storage import write_text_atomically
 
@@ -35,7 +35,9 @@ if TYPE_CHECKING:  # plotly and pandas are imported where they are used (start-u
 __all__ = [
     "COLORS",
     "DECIMATION_BUCKETS",
+    "ELLIPSOID_OPACITY",
     "HISTOGRAM_BINS",
+    "POLYTOPE_OPACITY",
     "SeriesDecimator",
     "decimate_series",
     "decimation_note",
@@ -55,6 +57,11 @@ COLORS = {
     "outer": "#9467bd",
 }
 _CANDIDATE_COLORS = ("#ff7f0e", "#8c564b", "#e377c2", "#17becf", "#bcbd22")
+#: Opacity of the polytope's faces and of each ellipsoid's surface in 3-D: the ellipsoids
+#: are the more transparent, and the polytope's edges are lines, seen through all of them.
+POLYTOPE_OPACITY = 0.3
+ELLIPSOID_OPACITY = 0.18
+POLYTOPE_EDGE_COLOR = "#222222"
 #: Buckets a long series is cut into for plotting; each keeps, per trace, its smallest and
 #: largest value (and its first NaN, so that gaps stay visible): a series of any length is
 #: drawn with at most ``3 * traces`` points per bucket.
@@ -163,23 +170,42 @@ def interactive_sets(
                     j=faces[:, 1],
                     k=faces[:, 2],
                     color=COLORS["polytope"],
-                    opacity=0.25,
+                    opacity=POLYTOPE_OPACITY,
+                    flatshading=True,
                     name=polytope_name,
                     legendgroup="polytope",
                     showlegend=True,
                     hoverinfo="skip",
                 )
             )
+        # its edges, drawn as lines: seen through every translucent ellipsoid
+        edges = polytope_edges(P)
+        ends = P.vertices[edges]  # (E, 2, 3)
+        gaps = np.full((len(edges), 1, 3), np.nan)  # one trace, a break after each edge
+        path = np.concatenate([ends, gaps], axis=1).reshape(-1, 3)
+        figure.add_trace(
+            go.Scatter3d(
+                x=path[:, 0],
+                y=path[:, 1],
+                z=path[:, 2],
+                mode="lines",
+                line={"color": POLYTOPE_EDGE_COLOR, "width": 4},
+                name=polytope_name,
+                legendgroup="polytope",
+                showlegend=not len(faces),
+                hoverinfo="skip",
+            )
+        )
         figure.add_trace(
             go.Scatter3d(
                 x=P.vertices[:, 0],
                 y=P.vertices[:, 1],
                 z=P.vertices[:, 2],
                 mode="markers",
-                marker={"size": 3, "color": COLORS["polytope"]},
+                marker={"size": 3, "color": POLYTOPE_EDGE_COLOR},
                 name="polytope vertices",
                 legendgroup="polytope",
-                showlegend=not len(faces),
+                showlegend=False,
                 text=vertex_text,
                 hoverinfo="text",
             )
@@ -207,8 +233,9 @@ def interactive_sets(
                 j=faces[:, 1],
                 k=faces[:, 2],
                 color=color,
-                opacity=0.35,
+                opacity=ELLIPSOID_OPACITY,
                 name=name,
+                legendgroup=kind,
                 showlegend=True,
                 hovertext=text,
                 hoverinfo="text",
@@ -243,7 +270,13 @@ def interactive_sets(
                 "xaxis_title": f"{labels[0]} [{unit}]",
                 "yaxis_title": f"{labels[1]} [{unit}]",
                 "zaxis_title": f"{labels[2]} [{unit}]",
-            }
+                # farther than plotly's default (1.25, 1.25, 1.25): the axis titles whole
+                "camera": {"eye": {"x": 1.6, "y": 1.6, "z": 1.2}},
+            },
+            height=640,
+            margin={"l": 10, "r": 10, "t": 50, "b": 10},
+            # the legend below the scene: the scene keeps the page's whole width
+            legend={"orientation": "h", "yanchor": "top", "y": -0.02, "x": 0.0},
         )
     figure.update_layout(title=title, template="plotly_white", legend={"itemclick": "toggle"})
     return figure
@@ -583,6 +616,15 @@ def interactive_series(
     return figure
 
 
+def _breakable_headers(table: str) -> str:
+    """Let long column names (``direction_error_mean``) wrap after each underscore.
+
+    The HTML is pandas' (its text escaped), so the ``<wbr>`` tags added are the only markup.
+    """
+    head, separator, body = table.partition("</thead>")
+    return re.sub(r"_(?=[^<>]*</th>)", "_<wbr>", head) + separator + body
+
+
 def write_report(path: str | Path, title: str, sections: Sequence[tuple[str, Any]]) -> Path:
     """One self-contained HTML file: a title and sections of figures, tables or text.
 
@@ -598,7 +640,8 @@ def write_report(path: str | Path, title: str, sections: Sequence[tuple[str, Any
     -------
     Path
         The file, written atomically.  plotly's JavaScript is inlined once: the page makes
-        no network request.
+        no network request.  Tables wrap their long column names and, still wider than
+        the page, scroll inside their own box: the page never scrolls sideways.
     """
     import pandas as pd
 
@@ -618,13 +661,20 @@ def write_report(path: str | Path, title: str, sections: Sequence[tuple[str, Any
             )
             first = False
         elif isinstance(content, pd.DataFrame):
-            parts.append(content.to_html(float_format=lambda v: f"{v:.4g}", border=0))
+            table = content.to_html(float_format=lambda v: f"{v:.4g}", border=0)
+            parts.append(f"<div class='table-box'>{_breakable_headers(table)}</div>")
         else:
             parts.append(f"<p>{html.escape(str(content))}</p>")
     style = (
-        "body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}"
+        "body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;"
+        "color:#222;box-sizing:border-box}"
+        # a table wider than the page scrolls inside its own box, never the page
+        ".table-box{max-width:100%;overflow-x:auto;margin-bottom:1em}"
         "table{border-collapse:collapse;font-size:0.85em}"
-        "td,th{padding:0.2em 0.6em;text-align:right;border-bottom:1px solid #ddd}"
+        "td,th{padding:0.2em 0.5em;text-align:right;border-bottom:1px solid #ddd}"
+        "th{vertical-align:bottom}"
+        "tbody th{text-align:left;min-width:8em}"
+        ".js-plotly-plot,.plotly-graph-div{max-width:100%}"
     )
     page = (
         "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"

@@ -10,11 +10,12 @@
 
 from __future__ import annotations
 
+import difflib
 import importlib.metadata
 from pathlib import Path
 from typing import Any, NamedTuple
 
-from polyell.errors import InputError, MissingDependencyError
+from polyell.errors import InputError, MissingDependencyError, install_hint
 from polyell.models.planar_arm import PlanarArm
 from polyell.models.urdf import UrdfRobot
 
@@ -61,23 +62,33 @@ def names() -> list[str]:
     return ["chiacchio2000", *sorted(URDF_ARMS)]
 
 
+def _suggest(name: str, known: list[str]) -> str:
+    """The fix for an unknown robot name: the closest of ``known``, if one is close."""
+    close = difflib.get_close_matches(name.strip().lower(), known, n=1, cutoff=0.6)
+    if close:
+        return f"did you mean {close[0]!r}?"
+    return f"use one of {known}, or a URDF file with pe.UrdfRobot(path, tip=...)."
+
+
 def urdf_path(name: str) -> Path:
     """The URDF file of a library arm inside the installed ``example-robot-data``."""
     if name not in URDF_ARMS:
-        raise InputError("name", f"one of {sorted(URDF_ARMS)}", repr(name))
+        raise InputError(
+            "name", f"one of {sorted(URDF_ARMS)}", repr(name), _suggest(name, sorted(URDF_ARMS))
+        )
     try:
         distribution = importlib.metadata.distribution("example-robot-data")
     except importlib.metadata.PackageNotFoundError as exn:
         raise MissingDependencyError(
             f"The robot {name!r} comes from example-robot-data, which is not installed. "
-            "Fix: pip install 'polyell[robots]'."
+            f"Fix: {install_hint('robots')}."
         ) from exn
     root = Path(str(distribution.locate_file("cmeel.prefix/share/example-robot-data/robots")))
     path = root / URDF_ARMS[name].urdf
     if not path.is_file():
         raise MissingDependencyError(
             f"example-robot-data {distribution.version} has no {URDF_ARMS[name].urdf}. "
-            "Fix: pip install --upgrade 'polyell[robots]'."
+            f"Fix: {install_hint('robots')} --upgrade."
         )
     return path
 
@@ -112,7 +123,7 @@ def load(name: str, **options: Any) -> PlanarArm | UrdfRobot:
             tau_max=[100.0, 30.0, 4.0],
         )
     if name not in URDF_ARMS:
-        raise InputError("name", f"one of {names()}", repr(name))
+        raise InputError("name", f"one of {names()}", repr(name), _suggest(name, names()))
     unknown = sorted(set(options) - set(URDF_OPTIONS))
     if unknown:
         raise InputError(

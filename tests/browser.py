@@ -10,8 +10,11 @@ from __future__ import annotations
 
 import os
 import shutil
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -48,10 +51,15 @@ class PageVisit:
     values: dict[str, object] = field(default_factory=dict)  # results of the checks
 
 
-def load(page_path: Path, screenshot: Path, checks: dict[str, str], wait_for: str) -> PageVisit:
-    """Open ``page_path`` offline, wait for ``wait_for`` (a CSS selector), run ``checks``.
+@contextmanager
+def session(
+    page_path: Path, wait_for: str, viewport: tuple[int, int] = (1100, 900)
+) -> Iterator[tuple[Any, PageVisit]]:
+    """Open ``page_path`` offline and wait for ``wait_for``; yield the Playwright page.
 
-    ``checks`` maps names to JavaScript expressions evaluated in the page.
+    Every request that is not a local file is recorded in the visit and refused; console
+    errors and page exceptions are collected.  Use it to click, evaluate and take several
+    screenshots of one page.
     """
     from playwright.sync_api import sync_playwright
 
@@ -60,7 +68,7 @@ def load(page_path: Path, screenshot: Path, checks: dict[str, str], wait_for: st
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=chromium(), args=CHROMIUM_ARGS)
         try:
-            page = browser.new_page(viewport={"width": 1100, "height": 900})
+            page = browser.new_page(viewport={"width": viewport[0], "height": viewport[1]})
 
             def route(r):
                 url = r.request.url
@@ -79,12 +87,27 @@ def load(page_path: Path, screenshot: Path, checks: dict[str, str], wait_for: st
             page.goto(own, wait_until="load", timeout=60_000)
             page.wait_for_selector(wait_for, timeout=60_000)
             page.wait_for_timeout(500)  # let the plots and the math settle
-            for name, expression in checks.items():
-                visit.values[name] = page.evaluate(expression)
-            page.screenshot(path=str(screenshot), full_page=True)
-            visit.screenshot = screenshot
+            yield page, visit
         finally:
             browser.close()
+
+
+def load(
+    page_path: Path,
+    screenshot: Path,
+    checks: dict[str, str],
+    wait_for: str,
+    viewport: tuple[int, int] = (1100, 900),
+) -> PageVisit:
+    """Open ``page_path`` offline, wait for ``wait_for`` (a CSS selector), run ``checks``.
+
+    ``checks`` maps names to JavaScript expressions evaluated in the page.
+    """
+    with session(page_path, wait_for, viewport) as (page, visit):
+        for name, expression in checks.items():
+            visit.values[name] = page.evaluate(expression)
+        page.screenshot(path=str(screenshot), full_page=True)
+        visit.screenshot = screenshot
     return visit
 
 

@@ -10,7 +10,7 @@ import pytest
 
 import polyell as pe
 from polyell.export import comparison_meshes, export_comparison, mesh
-from reference import PAPER_ARM, PAPER_TAU_MAX, paper_analysis, random_problem
+from reference import PAPER_ARM, PAPER_Q_SINGULAR, PAPER_TAU_MAX, paper_analysis, random_problem
 
 
 def read_obj(path):
@@ -114,3 +114,35 @@ def test_command_line_writes_the_meshes(tmp_path, capsys):
     assert "wrote" in capsys.readouterr().err
     objects = read_obj(tmp_path / "sets.obj")
     assert list(objects) == ["polytope", "chiacchio", "yoshikawa", "mvie", "outer"]
+
+
+@pytest.mark.parametrize(("seed", "n"), [(0, 3), (1, 4), (2, 5), (3, 7)])
+def test_polytope_edges_are_the_zonotopes_edges(seed, n):
+    """Independent checks: Euler's formula with the facets of P.A, and every edge of a
+    zonotope is a parallel copy of one generator, each generator giving 2 (n - 1) edges."""
+    from polyell.export import polytope_edges
+
+    analysis = random_problem(seed, 3, n)
+    P, M = analysis.polytope, analysis.M
+    edges = polytope_edges(P)
+    assert len(P.vertices) - len(edges) + len(P.A) == 2
+    vectors = P.vertices[edges[:, 1]] - P.vertices[edges[:, 0]]
+    generator = []
+    for v in vectors:  # 2 M_i up to sign: the edge joins vertices differing in one sign
+        matches = [
+            i for i in range(n) if np.allclose(np.abs(v), np.abs(2 * M[:, i]), rtol=1e-9, atol=0)
+        ]
+        assert len(matches) == 1
+        generator.append(matches[0])
+    assert np.bincount(generator, minlength=n).tolist() == [2 * (n - 1)] * n
+
+
+def test_polytope_edges_of_flat_sets():
+    from polyell.export import polytope_edges
+
+    flat = random_problem(1, 3, 5, rank=2).polytope  # a polygon in a plane
+    sides = polytope_edges(flat)
+    assert len(sides) == len(flat.vertices)
+    assert np.all(np.bincount(sides.ravel()) == 2)  # a closed loop through every vertex
+    segment = paper_analysis(PAPER_Q_SINGULAR).polytope
+    assert polytope_edges(segment).tolist() == [[0, 1]]

@@ -48,7 +48,7 @@ def test_3d_sets_are_meshes_on_the_boundaries():
     hull = figure.data[0]
     vertices = np.column_stack([hull.x, hull.y, hull.z])
     assert np.all(vertices @ P.A.T <= P.b + 1e-9)  # the hull's points are P's vertices
-    for trace in figure.data[2:-1]:
+    for trace in [t for t in figure.data if t.type == "mesh3d" and t.legendgroup != "polytope"]:
         kind = next(k for k in cmp.kinds if pe.comparison.tables.ellipsoid_label(k) == trace.name)
         E = cmp.ellipsoid(kind)
         points = np.column_stack([trace.x, trace.y, trace.z])
@@ -113,7 +113,7 @@ def test_report_loads_offline_without_errors_and_draws_the_sets(tmp_path):
     )
     assert visit.requests == []  # nothing fetched: plotly is inlined
     assert visit.errors == []
-    assert visit.values["plots"] == 2 and visit.values["traces"] == [6, 7]
+    assert visit.values["plots"] == 2 and visit.values["traces"] == [6, 8]
     assert visit.values["paths"] >= 5  # the 2-D polygon and four ellipses, drawn
     assert coloured_share(visit.screenshot) > 0.002  # coloured curves on the page
 
@@ -254,3 +254,212 @@ def test_histogram_counts_every_finite_value_on_shared_bins_in_bounded_size(coun
     expected, _ = np.histogram(100 * results["chiacchio_coverage"], bins=edges)
     assert np.array_equal(new.y, expected)
     assert len(figure.to_json()) < 40_000  # bins, not values: the same size for any count
+
+
+# --- issue 24: reports that fit the page, 3-D scenes that stay legible -------------------
+
+PANDA_POSTURES = {
+    "ready": [0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785],
+    "folded": [0.0, -0.5, 0.0, -2.0, 0.0, 1.6, 0.8],
+}
+#: The start of plotly's bundle, once per copy inlined.
+PLOTLY_BUNDLE = "* plotly.js v"
+
+
+def panda_comparisons():
+    robot = pe.robots.load("panda")
+    return {
+        name: pe.compare(pe.analyze(robot.dynamics(q), robot.tau_max), 64)
+        for name, q in PANDA_POSTURES.items()
+    }
+
+
+def wide_table(columns: int = 24) -> pd.DataFrame:
+    rng = np.random.default_rng(24)
+    names = [f"direction_error_{i}_of_every_ellipsoid" for i in range(columns)]
+    return pd.DataFrame(
+        rng.uniform(-1e6, 1e6, (4, columns)),
+        columns=names,
+        index=[f"posture {i}: new (eq. 32/38)" for i in range(4)],
+    )
+
+
+@pytest.mark.parametrize("width", [1100, 720])
+def test_report_tables_fit_the_page_and_plotly_is_inlined_once(tmp_path, width):
+    comparisons = panda_comparisons()
+    sections = [(name, interactive_sets(cmp)) for name, cmp in comparisons.items()]
+    sections += [("a wide table", wide_table()), ("scores", comparisons["ready"].to_frame())]
+    sections += [
+        ("histogram", interactive_histogram(pd.DataFrame({"a_coverage": [0.1, 0.5]}), "coverage"))
+    ]
+    page = write_report(tmp_path / "report.html", "fit", sections)
+    text = page.read_text()
+    assert text.count(PLOTLY_BUNDLE) == 1  # three figures, one copy of plotly
+    visit = load(
+        page,
+        tmp_path / "fit.png",
+        {
+            "page": "[document.documentElement.scrollWidth, document.documentElement.clientWidth]",
+            "boxes": "[...document.querySelectorAll('.table-box')].map(b => {"
+            " const r = b.getBoundingClientRect(), body = document.body.getBoundingClientRect();"
+            " return [r.left >= body.left - 0.5, r.right <= body.right + 0.5,"
+            " b.clientWidth, b.scrollWidth]})",
+            "plots": "[...document.querySelectorAll('.js-plotly-plot')].map(p => "
+            "p.getBoundingClientRect().right <= document.documentElement.clientWidth)",
+            "header_lines": "[...document.querySelectorAll('thead th')].map(th => "
+            "Math.round(th.getBoundingClientRect().height))",
+        },
+        wait_for=".js-plotly-plot .main-svg",
+        viewport=(width, 900),
+    )
+    assert visit.requests == [] and visit.errors == []
+    scroll_width, client_width = visit.values["page"]
+    assert scroll_width <= client_width  # the page never scrolls sideways
+    boxes = visit.values["boxes"]
+    assert len(boxes) == 2 and all(left and right for left, right, *_ in boxes)
+    wide_box = boxes[0]
+    assert wide_box[3] > wide_box[2]  # the wide table scrolls inside its own box
+    assert all(visit.values["plots"])
+    assert max(visit.values["header_lines"]) > min(visit.values["header_lines"])  # wrapped
+
+
+def scene_pixels(page, index: int, path):
+    """A screenshot of the 3-D scene of plot ``index``, as an (h, w, 3) float array."""
+    import matplotlib.image
+
+    box = page.evaluate(
+        f"(() => {{ const gd = document.querySelectorAll('.js-plotly-plot')[{index}];"
+        " const r = gd._fullLayout.scene._scene.container.getBoundingClientRect();"
+        " return {x: r.left + window.scrollX, y: r.top + window.scrollY,"
+        " width: r.width, height: r.height}; })()"
+    )
+    page.screenshot(path=str(path), clip=box, full_page=True)
+    return matplotlib.image.imread(path)[..., :3]
+
+
+def dark(image) -> float:
+    """Share of dark, grey pixels: the polytope's edges (#222) through the ellipsoids."""
+    luminance = image.mean(axis=-1)
+    return float(((luminance < 0.3) & (image.max(axis=-1) - image.min(axis=-1) < 0.2)).mean())
+
+
+def test_3d_scenes_show_the_polytope_through_the_ellipsoids_with_whole_axis_titles(tmp_path):
+    from browser import session
+
+    comparisons = panda_comparisons()
+    page_path = write_report(
+        tmp_path / "scenes.html",
+        "scenes",
+        [(name, interactive_sets(cmp)) for name, cmp in comparisons.items()],
+    )
+    with session(page_path, ".js-plotly-plot .main-svg") as (page, visit):
+        for index in range(len(comparisons)):
+            shown = scene_pixels(page, index, tmp_path / f"scene{index}.png")
+            # nothing is cut at the scene's edges: its outer frame is background only
+            ring = np.concatenate(
+                [
+                    shown[:4].reshape(-1, 3),
+                    shown[-4:].reshape(-1, 3),
+                    shown[:, :4].reshape(-1, 3),
+                    shown[:, -4:].reshape(-1, 3),
+                ]
+            )
+            assert ring.mean(axis=-1).min() > 0.8, f"scene {index}: drawn up to its edge"
+            # the axis titles are drawn whole inside the scene (the camera sees them all)
+            titles = page.evaluate(
+                f"(() => {{ const s = document.querySelectorAll('.js-plotly-plot')[{index}]"
+                "._fullLayout.scene; return [s.xaxis.title.text, s.yaxis.title.text,"
+                " s.zaxis.title.text]; })()"
+            )
+            assert all(t.endswith("[m/s^2]") for t in titles)
+            # the polytope is visible through every ellipsoid: hiding its group takes its
+            # dark edges away
+            page.evaluate(
+                f"(() => {{ const gd = document.querySelectorAll('.js-plotly-plot')[{index}];"
+                " const group = gd.data.map((t, i) => t.legendgroup === 'polytope' ? i : -1)"
+                ".filter(i => i >= 0); return Plotly.restyle(gd, {visible: 'legendonly'}, group);"
+                " })()"
+            )
+            page.wait_for_timeout(300)
+            hidden = scene_pixels(page, index, tmp_path / f"scene{index}_hidden.png")
+            assert dark(shown) > dark(hidden) + 0.002, (dark(shown), dark(hidden))
+        # each ellipsoid is toggled by its legend entry
+        plot = page.locator(".js-plotly-plot").nth(0)
+        names = page.evaluate(
+            "document.querySelectorAll('.js-plotly-plot')[0].data.map(t => t.name)"
+        )
+        outer = names.index("outer (min. volume)")
+        plot.locator(".legendtext", has_text="outer (min. volume)").click(force=True)
+        page.wait_for_timeout(700)  # plotly waits to tell a click from a double click
+        state = f"document.querySelectorAll('.js-plotly-plot')[0].data[{outer}].visible"
+        assert page.evaluate(state) == "legendonly"
+        plot.locator(".legendtext", has_text="outer (min. volume)").click(force=True)
+        page.wait_for_timeout(700)
+        assert page.evaluate(state) is True
+    assert visit.requests == [] and visit.errors == []
+
+
+def test_3d_ellipsoids_are_translucent_and_the_polytope_is_one_legend_group():
+    cmp = panda_comparisons()["ready"]
+    figure = interactive_sets(cmp)
+    polytope = [t for t in figure.data if t.legendgroup == "polytope"]
+    assert [t.type for t in polytope] == ["mesh3d", "scatter3d", "scatter3d"]
+    assert sum(bool(t.showlegend) for t in polytope) == 1  # one entry toggles all three
+    edges = polytope[1]
+    P = cmp.analysis.polytope
+    path = np.column_stack([edges.x, edges.y, edges.z]).astype(float)
+    segments = path.reshape(-1, 3, 3)  # two ends and a break per edge
+    assert np.all(np.isnan(segments[:, 2]))
+    ends = segments[:, :2].reshape(-1, 3)
+    assert np.all(ends @ P.A.T <= P.b + 1e-9 * np.abs(P.b).max())  # on P, at its vertices
+    meshes = [t for t in figure.data if t.type == "mesh3d" and t.legendgroup != "polytope"]
+    assert len(meshes) == 4
+    assert all(t.opacity < polytope[0].opacity < 1 for t in meshes)
+    assert len({t.legendgroup for t in meshes}) == 4  # each its own legend entry
+
+
+PANDA_STUDY = """
+title = "Panda, three postures"
+[robot]
+library = "panda"
+[[points]]
+name = "ready"
+q = [0, -0.785, 0, -2.356, 0, 1.571, 0.785]
+direction = [1, 0, 0]
+[[points]]
+name = "stretched"
+q = [0, 0.3, 0, -1.2, 0, 1.5, 0.8]
+direction = [0, 0, 1]
+[[points]]
+name = "folded"
+q = [0, -0.5, 0, -2.0, 0, 1.6, 0.8]
+direction = [0, 1, 0]
+[compare]
+directions = 64
+[output]
+formats = ["html"]
+"""
+
+
+def test_panda_study_report_fits_the_page(tmp_path):
+    from polyell.studies import load_study, run_study
+
+    path = tmp_path / "panda.toml"
+    path.write_text(PANDA_STUDY)
+    run_study(load_study(path), tmp_path / "out")
+    page = tmp_path / "out" / "report.html"
+    assert page.read_text().count(PLOTLY_BUNDLE) == 1
+    visit = load(
+        page,
+        tmp_path / "panda.png",
+        {
+            "page": "[document.documentElement.scrollWidth, document.documentElement.clientWidth]",
+            "scenes": "[...document.querySelectorAll('.js-plotly-plot')]"
+            ".filter(p => p._fullLayout.scene).length",
+        },
+        wait_for=".js-plotly-plot .main-svg",
+    )
+    assert visit.requests == [] and visit.errors == []
+    assert visit.values["scenes"] == 3
+    scroll_width, client_width = visit.values["page"]
+    assert scroll_width <= client_width

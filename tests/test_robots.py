@@ -31,3 +31,23 @@ def test_a_payload_object_is_carried():
     q = [0.0, -0.5, 0.0, -2.0, 0.0, 1.6, 0.8]
     # A load at the tip pulls down: the gravity torque of the shoulder (joint 2) grows.
     assert abs(heavy.dynamics(q).g[1]) > abs(light.dynamics(q).g[1])
+
+
+@pytest.mark.parametrize(
+    ("name", "meant"),
+    [("pandaa", "panda"), ("Panda", "panda"), ("ur_5", "ur5"), ("chiacchio", "chiacchio2000")],
+)
+def test_a_misspelled_name_gets_the_closest_one(name, meant):
+    with pytest.raises(pe.InputError) as info:
+        pe.robots.load(name)
+    assert str(info.value).endswith(f"Fix: did you mean {meant!r}?")
+    if meant != "chiacchio2000":  # the library arms by their URDF, too
+        with pytest.raises(pe.InputError, match=f"did you mean {meant!r}"):
+            pe.robots.urdf_path(name)
+
+
+def test_a_name_like_none_lists_every_name():
+    with pytest.raises(pe.InputError) as info:
+        pe.robots.load("quadruped")
+    assert "did you mean" not in str(info.value)
+    assert "use one of ['chiacchio2000', 'kinova', 'panda'" in str(info.value)

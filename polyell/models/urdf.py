@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from polyell.errors import InputError, MissingDependencyError
+from polyell.errors import InputError, MissingDependencyError, install_hint
 from polyell.models.dynamics import Dynamics
 from polyell.validation import array_ndim, check_array, check_spd, check_torque_limits
 
@@ -43,8 +43,8 @@ def import_pinocchio() -> ModuleType:
         import pinocchio
     except ImportError as exn:
         raise MissingDependencyError(
-            "Real robots need Pinocchio, which is not installed. Fix: pip install "
-            "'polyell[robots]' (the 'pin' distribution on PyPI)."
+            "Real robots need Pinocchio, which is not installed. Fix: "
+            f"{install_hint('robots')} (the 'pin' distribution on PyPI)."
         ) from exn
     return pinocchio
 

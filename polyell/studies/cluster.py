@@ -17,7 +17,7 @@ import os
 import re
 from typing import Any
 
-from polyell.errors import InputError, MissingDependencyError
+from polyell.errors import InputError, MissingDependencyError, install_hint
 
 __all__ = ["check_scheduler", "local_cluster"]
 
@@ -103,7 +103,7 @@ def local_cluster(n_workers: int | None = None) -> Any:
         from dask.distributed import LocalCluster
     except ImportError as exn:
         raise MissingDependencyError(
-            "Distributed sweeps need Dask. Fix: pip install 'polyell[studies]'."
+            "Distributed sweeps need Dask. Fix: " + install_hint("studies") + "."
         ) from exn
     count = (os.cpu_count() or 1) if n_workers is None else n_workers
     if not isinstance(count, int) or isinstance(count, bool) or count < 1:

@@ -7,7 +7,9 @@ sweep is chunked.
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Sequence
+from typing import Any, overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -16,13 +18,19 @@ from polyell.errors import InputError
 from polyell.validation import MAX_AXIS_VALUES, array_ndim, check_array, check_integer
 
 __all__ = [
+    "MAX_IN_MEMORY",
     "ConfigurationSet",
     "Grid",
     "RandomConfigurations",
     "grid",
+    "joint_bounds",
     "random_configurations",
     "uniform_rows",
 ]
+
+#: Most numbers (rows times joints) a configuration set gives as one array
+#: (``np.asarray``): 100 million, 0.8 GB.  Larger sets are read with ``rows`` in parts.
+MAX_IN_MEMORY = 100_000_000
 
 
 def uniform_rows(
@@ -54,7 +62,12 @@ def uniform_rows(
 
 
 class ConfigurationSet:
-    """A sequence of joint configurations, produced by ranges of rows."""
+    """A sequence of joint configurations, produced by ranges of rows.
+
+    ``np.asarray(configurations)`` gives every row, shape (len, n), in radians (metres for
+    prismatic joints); a set of more than :data:`MAX_IN_MEMORY` numbers is read in parts
+    with :meth:`rows` instead (``pe.sweep`` does).
+    """
 
     n: int
 
@@ -64,6 +77,25 @@ class ConfigurationSet:
     def rows(self, start: int, stop: int) -> NDArray[np.float64]:
         """Configurations ``start`` to ``stop - 1``, shape (stop - start, n)."""
         raise NotImplementedError
+
+    def __array__(self, dtype: Any = None, copy: bool | None = None) -> NDArray[Any]:
+        """Every configuration, shape (len, n): the array protocol of numpy."""
+        if copy is False:
+            raise ValueError(
+                "a configuration set makes its rows on demand: it cannot be viewed without "
+                "a copy (use np.asarray, or copy=None)"
+            )
+        total = len(self)
+        if total * self.n > MAX_IN_MEMORY:
+            raise InputError(
+                "configurations",
+                f"at most {MAX_IN_MEMORY:,} numbers (rows times joints) as one array",
+                f"{total:,} rows of {self.n} joints",
+                "read them in parts with .rows(start, stop), or pass the set itself to "
+                "pe.sweep (it reads it lazily).",
+            )
+        rows = self.rows(0, total)
+        return rows if dtype is None else rows.astype(dtype, copy=False)
 
 
 class Grid(ConfigurationSet):
@@ -170,8 +202,119 @@ class RandomConfigurations(ConfigurationSet):
         return f"RandomConfigurations(count={self.count}, seed={self.seed})"
 
 
+def joint_bounds(robot: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """A robot's joint limits: lower and upper positions, shape (n,) each.
+
+    A URDF robot's (:attr:`~polyell.UrdfRobot.position_limits`, ``[-pi, pi]`` for a
+    continuous joint); ``[-pi, pi]`` for every joint of a robot without limits (the
+    planar arm's revolute joints).
+
+    Parameters
+    ----------
+    robot : PlanarArm or UrdfRobot
+        Anything with ``n`` joints and ``dynamics(q)``.
+
+    Raises
+    ------
+    InputError
+        For an object that is not a robot.
+    """
+    if not _is_robot(robot):
+        raise InputError(
+            "robot",
+            "a robot (pe.PlanarArm, pe.UrdfRobot, pe.robots.load(...))",
+            type(robot).__name__,
+        )
+    limits = getattr(robot, "position_limits", None)
+    if limits is None:
+        return np.full(robot.n, -np.pi), np.full(robot.n, np.pi)
+    low, high = limits
+    return np.array(low, dtype=float), np.array(high, dtype=float)
+
+
+def _is_robot(value: object) -> bool:
+    return hasattr(value, "dynamics") and hasattr(value, "n") and not isinstance(value, type)
+
+
+def _in_box(count: int, low: ArrayLike, high: ArrayLike, seed: int = 0) -> RandomConfigurations:
+    return RandomConfigurations(count, low, high, seed)
+
+
+def _for_robot(
+    robot: Any,
+    count: int,
+    seed: int = 0,
+    *,
+    low: ArrayLike | None = None,
+    high: ArrayLike | None = None,
+) -> RandomConfigurations:
+    lower, upper = joint_bounds(robot)
+    for name, given in (("low", low), ("high", high)):
+        if given is not None:
+            bound = check_array(name, given, (robot.n,))
+            lower, upper = (bound, upper) if name == "low" else (lower, bound)
+    return RandomConfigurations(count, lower, upper, seed)
+
+
+@overload
 def random_configurations(
     count: int, low: ArrayLike, high: ArrayLike, seed: int = 0
-) -> RandomConfigurations:
-    """``count`` seeded uniform configurations in the box ``[low, high]`` (lazy)."""
-    return RandomConfigurations(count, low, high, seed)
+) -> RandomConfigurations: ...
+
+
+@overload
+def random_configurations(
+    robot: Any,
+    count: int,
+    seed: int = 0,
+    *,
+    low: ArrayLike | None = None,
+    high: ArrayLike | None = None,
+) -> RandomConfigurations: ...
+
+
+def random_configurations(*args: Any, **kwargs: Any) -> RandomConfigurations:
+    """Seeded uniform configurations (lazy): in a robot's joint limits, or in a box.
+
+    Two forms:
+
+    * ``random_configurations(robot, count, seed=0, *, low=None, high=None)``: in the
+      robot's joint limits (:func:`joint_bounds`; ``low`` or ``high`` replace them);
+    * ``random_configurations(count, low, high, seed=0)``: in the box ``[low, high]``.
+
+    Parameters
+    ----------
+    robot : PlanarArm or UrdfRobot
+    count : int
+        Configurations, at least 1.
+    low, high : array-like, shape (n,)
+        Bounds of each joint [rad, or m for a prismatic joint].
+    seed : int, optional
+        Row ``i`` depends on ``seed`` and ``i`` only (not on how the rows are read).
+
+    Returns
+    -------
+    RandomConfigurations
+        ``np.asarray`` of it is the (count, n) array of rows.
+
+    Examples
+    --------
+    >>> import numpy as np, polyell as pe
+    >>> arm = pe.robots.load("chiacchio2000")
+    >>> q = np.asarray(pe.random_configurations(arm, 4, seed=1))
+    >>> q.shape, bool(np.all(np.abs(q) <= np.pi))
+    ((4, 3), True)
+    """
+    robot_form = (bool(args) and _is_robot(args[0])) or "robot" in kwargs
+    form = _for_robot if robot_form else _in_box
+    try:
+        inspect.signature(form).bind(*args, **kwargs)
+    except TypeError as exn:
+        raise InputError(
+            "arguments",
+            "random_configurations(robot, count, seed=0) or "
+            "random_configurations(count, low, high, seed=0)",
+            str(exn),
+            "pass a robot and a count, or a count and the bounds of every joint.",
+        ) from None
+    return form(*args, **kwargs)

@@ -34,7 +34,7 @@ from polyell.comparison.comparison import (
     SCORE_NAMES,
     compare,
 )
-from polyell.errors import InputError, MissingDependencyError, StorageError
+from polyell.errors import InputError, MissingDependencyError, StorageError, install_hint
 from polyell.geometry.directions import default_direction_count, sphere_directions
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.models.dynamics import Dynamics
@@ -180,7 +180,7 @@ def _client(scheduler: str) -> Any:
         from dask.distributed import Client
     except ImportError as exn:
         raise MissingDependencyError(
-            "Distributed sweeps need Dask. Fix: pip install 'polyell[studies]'."
+            "Distributed sweeps need Dask. Fix: " + install_hint("studies") + "."
         ) from exn
     if scheduler == "processes":
         return Client(local_cluster())

@@ -202,7 +202,7 @@ def test_every_library_arm_loads():
 
 def test_missing_extras_name_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "pinocchio", None)
-    with pytest.raises(pe.MissingDependencyError, match=r"polyell\[robots\]"):
+    with pytest.raises(pe.MissingDependencyError, match=r"pip install '\.\[robots\]'"):
         pe.UrdfRobot("<robot/>", "tip")
     monkeypatch.undo()
 
@@ -210,6 +210,8 @@ def test_missing_extras_name_the_extra(monkeypatch):
         raise importlib.metadata.PackageNotFoundError(name)
 
     monkeypatch.setattr(importlib.metadata, "distribution", missing)
-    with pytest.raises(pe.MissingDependencyError, match=r"pip install 'polyell\[robots\]'"):
+    with pytest.raises(
+        pe.MissingDependencyError, match=r"polyell repository, run pip install '\.\[robots\]'"
+    ):
         pe.robots.load("ur5")
     assert pe.robots.load("chiacchio2000").n == 3  # no extra needed
