@@ -24,16 +24,8 @@ from dataclasses import dataclass
 from difflib import get_close_matches
 from typing import Annotated, Any, ClassVar, Literal, Union, get_args, get_origin
 
-from pydantic import (
-    BaseModel,
-    ConfigDict,
-    Field,
-    PlainValidator,
-    ValidationError,
-    WithJsonSchema,
-    model_validator,
-)
-from pydantic_core import PydanticUndefined
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic_core import PydanticUndefined, core_schema
 
 from polyell import robots
 from polyell.comparison.candidates import BUILT_IN_KINDS
@@ -104,15 +96,23 @@ def did_you_mean(given: Sequence[object], valid: Sequence[str]) -> str:
 # JSON Schema of the value and the phrase the reference page and the messages use.
 
 
-@dataclass(frozen=True)
-class Kind:
-    """The phrase naming a value's type on the reference page (``"list of strings"``)."""
+@dataclass(frozen=True, eq=False)
+class Check:
+    """A value type's check, JSON Schema and name, as ``Annotated`` metadata pydantic reads.
 
+    ``check`` returns the value or raises InputError with a path relative to the key
+    (``""``, ``"[0]"``, ``".num"``); ``phrase`` names the type on the reference page.
+    """
+
+    check: Callable[[Any], Any]
+    schema: dict[str, Any]
     phrase: str
 
+    def __get_pydantic_core_schema__(self, source: Any, handler: Any) -> Any:
+        return core_schema.no_info_plain_validator_function(self.check)
 
-def _value(base: Any, check: Callable[[Any], Any], schema: dict[str, Any], phrase: str) -> Any:
-    return Annotated[base, PlainValidator(check), WithJsonSchema(schema), Kind(phrase)]
+    def __get_pydantic_json_schema__(self, schema: Any, handler: Any) -> dict[str, Any]:
+        return dict(self.schema)
 
 
 _NUMBER_SCHEMA: dict[str, Any] = {
@@ -290,9 +290,9 @@ def _choices(valid: tuple[str, ...]) -> Callable[[object], tuple[str, ...]]:
     return check
 
 
-def _integer(low: int, high: int) -> Any:
-    return _value(
-        int,
+def Integer(low: int, high: int) -> Check:
+    """An integer from ``low`` to ``high``."""
+    return Check(
         lambda value: check_integer("", value, low, high),
         {"type": "integer", "minimum": low, "maximum": high},
         "integer",
@@ -305,62 +305,74 @@ def _grid_value(value: object) -> float | RangeTable:
     return evaluate("", value)  # type: ignore[arg-type]
 
 
-Number = _value(float, lambda value: evaluate("", value), _NUMBER_SCHEMA, "number")
-Numbers = _value(Any, _numbers, _NUMBERS_SCHEMA, _NUMBERS)
-String = _value(str, _string, {"type": "string"}, "string")
-Strings = _value(
-    Any, _strings, {"type": "array", "items": {"type": "string"}}, "list of strings"
-)
-Title = _value(str, _title, {"type": "string"}, "string")
-FileName = _value(
-    str, _file_name, {"type": "string", "pattern": f"^{POINT_NAME.pattern}$"}, "string"
-)
-RobotName = _value(
-    str, _robot_name, {"type": "string", "pattern": f"^{ROBOT_NAME.pattern}$"}, "string"
-)
-Library = _value(str, _library, {"type": "string", "enum": robots.names()}, "string")
-Task = _value(
-    Any,
-    _task,
-    {"oneOf": [{"type": "string"}, {"type": "array", "items": {"type": "string"}}]},
-    "string or list of strings",
-)
-Vector3 = _value(
-    Any, _vector3, {**_NUMBERS_SCHEMA, "minItems": 3, "maxItems": 3}, _NUMBERS
-)
-Matrix3 = _value(
-    Any,
-    _matrix3,
-    {"type": "array", "items": {"type": "array", "items": _NUMBER_SCHEMA}},
-    "3 x 3 list of lists",
-)
-Matrix = _value(
-    Any,
-    _matrix,
-    {
-        "type": "array",
-        "items": {"oneOf": [_NUMBER_SCHEMA, {"type": "array", "items": _NUMBER_SCHEMA}]},
-    },
-    "matrix: list of rows, or the diagonal",
-)
+Number = Annotated[float, Check(lambda value: evaluate("", value), _NUMBER_SCHEMA, "number")]
+Numbers = Annotated[tuple[float, ...], Check(_numbers, _NUMBERS_SCHEMA, _NUMBERS)]
+String = Annotated[str, Check(_string, {"type": "string"}, "string")]
+Strings = Annotated[
+    tuple[str, ...],
+    Check(_strings, {"type": "array", "items": {"type": "string"}}, "list of strings"),
+]
+Title = Annotated[str, Check(_title, {"type": "string"}, "string")]
+FileName = Annotated[
+    str, Check(_file_name, {"type": "string", "pattern": f"^{POINT_NAME.pattern}$"}, "string")
+]
+RobotName = Annotated[
+    str, Check(_robot_name, {"type": "string", "pattern": f"^{ROBOT_NAME.pattern}$"}, "string")
+]
+Library = Annotated[str, Check(_library, {"type": "string", "enum": robots.names()}, "string")]
+Task = Annotated[
+    str | tuple[str, ...],
+    Check(
+        _task,
+        {"oneOf": [{"type": "string"}, {"type": "array", "items": {"type": "string"}}]},
+        "string or list of strings",
+    ),
+]
+Vector3 = Annotated[
+    tuple[float, ...], Check(_vector3, {**_NUMBERS_SCHEMA, "minItems": 3, "maxItems": 3}, _NUMBERS)
+]
+Matrix3 = Annotated[
+    tuple[tuple[float, ...], ...],
+    Check(
+        _matrix3,
+        {"type": "array", "items": {"type": "array", "items": _NUMBER_SCHEMA}},
+        "3 x 3 list of lists",
+    ),
+]
+Matrix = Annotated[
+    tuple[tuple[float, ...], ...],
+    Check(
+        _matrix,
+        {
+            "type": "array",
+            "items": {"oneOf": [_NUMBER_SCHEMA, {"type": "array", "items": _NUMBER_SCHEMA}]},
+        },
+        "matrix: list of rows, or the diagonal",
+    ),
+]
 _DIRECTION_SCHEMA = {"oneOf": [{"type": "string"}, {"type": "array", "items": _NUMBER_SCHEMA}]}
-Directions = _value(
-    Any,
-    _directions,
-    {"type": "array", "items": _DIRECTION_SCHEMA, "minItems": 1},
-    "list of names or vectors",
-)
-JointAngles = _value(
-    Any,
-    _per_robot,
-    {"oneOf": [_NUMBERS_SCHEMA, {"type": "object", "additionalProperties": _NUMBERS_SCHEMA}]},
-    f"{_NUMBERS}, or a table of them per robot",
-)
+Directions = Annotated[
+    tuple[str | tuple[float, ...], ...],
+    Check(
+        _directions,
+        {"type": "array", "items": _DIRECTION_SCHEMA, "minItems": 1},
+        "list of names or vectors",
+    ),
+]
+JointAngles = Annotated[
+    tuple[float, ...] | dict[str, tuple[float, ...]],
+    Check(
+        _per_robot,
+        {"oneOf": [_NUMBERS_SCHEMA, {"type": "object", "additionalProperties": _NUMBERS_SCHEMA}]},
+        f"{_NUMBERS}, or a table of them per robot",
+    ),
+]
 
 
-def _choice_list(valid: tuple[str, ...]) -> Any:
+def Choices(valid: tuple[str, ...]) -> Check:
+    """A list of strings among ``valid``."""
     schema = {"type": "array", "items": {"enum": list(valid)}}
-    return _value(Any, _choices(valid), schema, "list of strings")
+    return Check(_choices(valid), schema, "list of strings")
 
 
 _GRID_SCHEMA: dict[str, Any] = {
@@ -400,7 +412,10 @@ def _grid(value: object) -> dict[str, float | RangeTable]:
     return values
 
 
-Grid = _value(Any, _grid, _GRID_SCHEMA, "number or { start, stop, num } per joint")
+Grid = Annotated[
+    dict[str, "float | RangeTable"],
+    Check(_grid, _GRID_SCHEMA, "number or { start, stop, num } per joint"),
+]
 
 
 def key(
@@ -686,7 +701,9 @@ class RangeTable(Table):
 
     start: Number = key(what="First value [rad].", example='"-pi"')
     stop: Number = key(what="Last value [rad].", example='"pi"')
-    num: _integer(1, MAX_STUDY_CONFIGURATIONS) = key(what="How many values.", example="61")  # type: ignore[valid-type]
+    num: Annotated[int, Integer(1, MAX_STUDY_CONFIGURATIONS)] = key(
+        what="How many values.", example="61"
+    )
 
 
 class RandomTable(Table):
@@ -704,8 +721,12 @@ seed = 1
 low = [-1, -1, -1]
 high = [1, 1, 1]"""
 
-    count: _integer(1, MAX_STUDY_CONFIGURATIONS) = key(what="How many.", example="300")  # type: ignore[valid-type]
-    seed: _integer(0, MAX_SEED) = key(0, what="Seed of the generator.", example="2000")  # type: ignore[valid-type]
+    count: Annotated[int, Integer(1, MAX_STUDY_CONFIGURATIONS)] = key(
+        what="How many.", example="300"
+    )
+    seed: Annotated[int, Integer(0, MAX_SEED)] = key(
+        0, what="Seed of the generator.", example="2000"
+    )
     low: Numbers | None = key(
         None,
         what="Lower joint bounds [rad].",
@@ -753,7 +774,7 @@ samples = 4096
 seed = 3
 chunk = 5000"""
 
-    directions: _integer(1, MAX_DIRECTIONS) | None = key(  # type: ignore[valid-type]
+    directions: Annotated[int, Integer(1, MAX_DIRECTIONS)] | None = key(
         None,
         what="Directions of the directional statistics.",
         example="72",
@@ -761,14 +782,16 @@ chunk = 5000"""
     )
     mvie: bool = key(True, what="Compute the maximum-volume inscribed ellipsoid.", example="true")
     outer: bool = key(True, what="Compute the minimum-volume enclosing ellipsoid.", example="false")
-    samples: _integer(MIN_SAMPLES, MAX_SAMPLES) = key(  # type: ignore[valid-type]
+    samples: Annotated[int, Integer(MIN_SAMPLES, MAX_SAMPLES)] = key(
         2**13,
         what="Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the polytope, "
         "2 to 4194304 (2^22), in every kind of study.",
         example="4096",
     )
-    seed: _integer(0, MAX_SEED) = key(0, what="Seed of those estimates, 0 or more.", example="3")  # type: ignore[valid-type]
-    chunk: _integer(1, 10_000_000) = key(  # type: ignore[valid-type]
+    seed: Annotated[int, Integer(0, MAX_SEED)] = key(
+        0, what="Seed of those estimates, 0 or more.", example="3"
+    )
+    chunk: Annotated[int, Integer(1, 10_000_000)] = key(
         20_000, what="Configurations per chunk of a sweep.", example="5000"
     )
 
@@ -840,21 +863,23 @@ split = "posture"
 digits = 4
 percent = false"""
 
-    formats: _choice_list(FORMATS) = key(  # type: ignore[valid-type]
+    formats: Annotated[tuple[str, ...], Choices(FORMATS)] = key(
         ("pdf", "png"),
         what='Among "pdf", "png", "svg", "html" (one interactive report).',
         example='["png", "html"]',
     )
-    dpi: _integer(10, 2400) = key(300, what="Resolution of raster figures.", example="200")  # type: ignore[valid-type]
+    dpi: Annotated[int, Integer(10, 2400)] = key(
+        300, what="Resolution of raster figures.", example="200"
+    )
     maps: Strings = key(
         (),
         what="Grid studies with two varying joints: `<ellipsoid>_<score>` heat maps.",
         example='["chiacchio_coverage"]',
     )
-    histograms: _choice_list(SCORE_NAMES) = key(  # type: ignore[valid-type]
+    histograms: Annotated[tuple[str, ...], Choices(SCORE_NAMES)] = key(
         (), what="Grid and random studies: score histograms.", example='["coverage"]'
     )
-    series: _choice_list(SCORE_NAMES) | None = key(  # type: ignore[valid-type]
+    series: Annotated[tuple[str, ...], Choices(SCORE_NAMES)] | None = key(
         None,
         what="Trajectory studies: scores over time.",
         example='["mvie_ratio"]',
@@ -866,7 +891,7 @@ percent = false"""
         example='["polytope", "chiacchio", "yoshikawa"]',
         default_text="all",
     )
-    scores: _choice_list(SCORE_NAMES) | None = key(  # type: ignore[valid-type]
+    scores: Annotated[tuple[str, ...], Choices(SCORE_NAMES)] | None = key(
         None,
         what="Scores the tables show, in order.",
         example='["coverage", "inscribed_scale"]',
@@ -878,7 +903,9 @@ percent = false"""
         what='"posture": one table per posture; "combined": one table.',
         example='"posture"',
     )
-    digits: _integer(1, MAX_DIGITS) = key(3, what="Significant digits of the tables.", example="4")  # type: ignore[valid-type]
+    digits: Annotated[int, Integer(1, MAX_DIGITS)] = key(
+        3, what="Significant digits of the tables.", example="4"
+    )
     percent: bool = key(True, what="Fractions as percentages (true) or fractions.", example="false")
 
 
@@ -918,7 +945,7 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
     points: list[PointTable] | None = key(
         None, what="Named configurations: `[[points]]`.", default_text="—"
     )
-    grid: Grid | None = key(  # type: ignore[valid-type]
+    grid: Grid | None = key(
         None,
         what="A grid over the joints: one key per joint, `q1` to `qn`: a fixed value, or a "
         "range `{ start, stop, num }` (all three keys; `num` evenly spaced values, ends "
@@ -1101,10 +1128,11 @@ def validate(model: type[Table], data: object, root: str = "") -> Any:
 
 def parse_study(table: dict[str, Any], file_name: str) -> StudyFile:
     """A study file's table, validated (errors name the key, or ``file_name`` at the top)."""
-    return validate(StudyFile, table, file_name)  # type: ignore[no-any-return]
+    study: StudyFile = validate(StudyFile, table, file_name)
+    return study
 
 
-def parse_robot(table: dict[str, Any], where: str) -> RobotTable:
+def parse_robot(table: object, where: str) -> RobotTable:
     """A robot file's table (or a study's ``[robot]``), validated; errors start with ``where``."""
     try:
         return RobotTable.model_validate(table)
@@ -1122,7 +1150,7 @@ def parse_robot(table: dict[str, Any], where: str) -> RobotTable:
 def phrase(annotation: Any, metadata: Sequence[Any] = ()) -> str:
     """The reference page's name of a value's type, from its annotation."""
     for item in metadata:
-        if isinstance(item, Kind):
+        if isinstance(item, Check):
             return item.phrase
     origin = get_origin(annotation)
     if origin is Annotated:
@@ -1211,6 +1239,9 @@ def _clean(schema: Any, properties: bool = False) -> Any:
     cleaned: dict[str, Any] = {}
     for name, value in schema.items():
         if name in ("title", "x-default") or (name == "default" and value is None):
+            continue
+        if name == "description" and isinstance(value, str):
+            cleaned[name] = " ".join(value.split())
             continue
         if name == "x-example":
             if value:

@@ -602,6 +602,7 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
     study = parse_study(table, Path(path).name)
     folder = Path(path).parent
     several = study.robots is not None
+    robots_: tuple[Robot, ...]
     if study.robot is not None:
         robots_ = (_build_robot(study.robot, "robot", folder),)
     else:
