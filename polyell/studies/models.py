@@ -240,6 +240,12 @@ def _direction(value: object) -> str | tuple[float, ...]:
                 repr(value)[:60],
             )
         return value
+    if not isinstance(value, list):
+        raise InputError(
+            "",
+            'a direction named by task rows ("x", "-z", "xy", "wx") or a unit vector',
+            _describe(value),
+        )
     vector = _numbers(value)
     norm = math.sqrt(math.fsum(v * v for v in vector))
     if not abs(norm - 1.0) <= 1e-6:
