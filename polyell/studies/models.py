@@ -278,7 +278,10 @@ def _directions(value: object) -> tuple[str | tuple[float, ...], ...]:
 def _per_robot(value: object) -> tuple[float, ...] | dict[str, tuple[float, ...]]:
     """Joint angles, or a table of them per robot (``{ panda = [...], ur5 = [...] }``)."""
     if isinstance(value, dict):
-        return {str(name): tuple(evaluate_list(f".{name}", q)) for name, q in value.items()}
+        for name in value:
+            if not ROBOT_NAME.fullmatch(name):
+                raise InputError("", "a table of joint angles by robot name", f"a key {name!r}")
+        return {name: tuple(evaluate_list(f".{name}", q)) for name, q in value.items()}
     return _numbers(value)
 
 
@@ -411,6 +414,12 @@ def _grid(value: object) -> dict[str, float | RangeTable]:
         )
     values = {}
     for name, item in value.items():
+        if not re.fullmatch(r"q[1-9][0-9]{0,8}", name):
+            raise InputError(
+                "",
+                "keys q1, q2, ... (one per joint)",
+                f"a key {name!r}",
+            )
         try:
             values[name] = _grid_value(item)
         except InputError as exn:
