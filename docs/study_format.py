@@ -1,9 +1,9 @@
-"""Write ``docs/study_format.md`` and the JSON Schemas from ``polyell.studies.file_format``."""
+"""Write ``docs/study_format.md`` and the JSON Schemas from ``polyell.studies.models``."""
 
 import json
 from pathlib import Path
 
-from polyell.studies.file_format import json_schema, reference_page
+from polyell.studies.models import json_schema, reference_page
 
 if __name__ == "__main__":
     here = Path(__file__).parent

@@ -277,7 +277,7 @@ FILES = [
         "unknown output key",
         lambda t: load_study(toml(t, STUDY + "[output]\nformat = 'png'\n")),
         pe.InputError,
-        "keys among ['formats', 'dpi', 'maps', 'histograms', 'series']",
+        "keys among ['formats', 'dpi', 'maps', 'histograms', 'series', 'sets', 'scores',",
     ),
     ("invalid TOML", lambda t: load_study(toml(t, "robot = [")), pe.InputError, "valid TOML"),
     (

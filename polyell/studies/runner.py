@@ -34,13 +34,14 @@ from polyell.storage import (
     write_text_atomically,
 )
 from polyell.studies.cluster import check_scheduler
-from polyell.studies.spec import StudySpec
+from polyell.studies.spec import Point, Robot, StudySpec
 from polyell.studies.sweep import sweep
 from polyell.studies.trajectory import Trajectory, tangent_limits
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
 
+    from polyell.analysis import Analysis
     from polyell.studies.spec import GridAxis
 
 __all__ = ["STUDY_FILES", "run_study"]
@@ -81,9 +82,8 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
     frames = []
     report: list[tuple[str, Any]] = _about(spec)
     for point in spec.points:
-        analysis = analyze(
-            spec.robot.model.dynamics(point.q), spec.robot.tau_max, spec.robot.tau_min
-        )
+        robot = _robot_of(spec, point.robot)
+        analysis = analyze(robot.model.dynamics(point.q), robot.tau_max, robot.tau_min)
         cmp = compare(
             analysis,
             spec.directions,
@@ -95,12 +95,12 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
         )
         q_text = ", ".join(f"{v:.6g}" for v in point.q)
         numbers += [
-            f"## {point.name}{': ' + point.title if point.title else ''}",
+            f"## {point.label}{': ' + point.title if point.title else ''}",
             "",
             f"q = ({q_text}) rad",
             "",
             "```text",
-            format_analysis(analysis, point.direction, "t", point.inverse_at),
+            _along_directions(analysis, point),
             "```",
             "",
             "Scores (`pe.compare`):",
@@ -108,16 +108,19 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
             cmp.to_markdown(),
         ]
         frame = cmp.to_frame()
-        frame.index = [f"{point.name}: {ellipsoid_label(k)}" for k in frame.index]
+        frame.index = [f"{point.label}: {ellipsoid_label(k)}" for k in frame.index]
         frames.append(frame)
         if "html" in spec.formats:
             from polyell.interactive import interactive_sets
 
-            heading = f"{point.name}{': ' + point.title if point.title else ''}"
+            heading = f"{point.label}{': ' + point.title if point.title else ''}"
             if analysis.dynamics.m in (2, 3):
                 report.append((heading, interactive_sets(cmp)))
-            report.append((f"{point.name}: scores (fractions; volumes in the task's units)", frame))
-        stem = folder / f"sets_{point.name}"
+            report.append(
+                (f"{point.label}: scores (fractions; volumes in the task's units)", frame)
+            )
+        stem = folder / f"sets_{point.stem}"
+        title = point.title or point.label
         mvie = cmp.mvie if spec.mvie and cmp["mvie"].defined else None
         kinds = (
             ("chiacchio", "yoshikawa", "mvie") if mvie is not None else ("chiacchio", "yoshikawa")
@@ -128,19 +131,15 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
             if cmp[kind].defined
         }
         if analysis.dynamics.m == 2:
-            figure = plot_sets(
-                analysis, kinds=kinds, mvie=mvie, extra=extra, title=point.title or point.name
-            )
+            figure = plot_sets(analysis, kinds=kinds, mvie=mvie, extra=extra, title=title)
             written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
             if analysis.polytope.dim == 2:
                 figure = plot_directional_limits(analysis, kinds=kinds, mvie=mvie, extra=extra)
                 written += save_figure(
-                    figure, folder / f"limits_{point.name}", spec.figure_formats, spec.dpi
+                    figure, folder / f"limits_{point.stem}", spec.figure_formats, spec.dpi
                 )
         elif analysis.dynamics.m == 3:
-            figure = plot_sets_3d(
-                analysis, kinds=kinds, mvie=mvie, extra=extra, title=point.title or point.name
-            )
+            figure = plot_sets_3d(analysis, kinds=kinds, mvie=mvie, extra=extra, title=title)
             written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
     written.append(write_text_atomically(folder / "numbers.md", "\n".join(numbers)))
     if "html" in spec.formats:
@@ -183,21 +182,67 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
 def _run_many(
     spec: StudySpec, folder: Path, progress: bool, scheduler: str | None, seconds: dict[str, float]
 ) -> list[Path]:
+    """A grid or random study: one sweep per robot, tables and figures side by side.
+
+    A study of ``[[robots]]`` keeps each robot's dataset in ``results/robot=<name>/`` (a
+    Hive partition: ``pd.read_parquet(out / "results")`` reads a ``robot`` column), and
+    writes a ``robot`` column into ``results.csv`` and ``summary.csv``; its figures are
+    named ``map_<robot>.<name>``, ``histogram_<robot>.<score>``.
+    """
     if spec.trajectory is not None:
         return _run_trajectory(spec, folder, progress, scheduler, seconds)
-    model = spec.robot.model
-    configurations = spec.configurations()
-    first = model.dynamics(configurations[0])
-    m = first.m
-    dataset = _sweep(spec, configurations, m, folder, progress, scheduler, seconds)
     import pandas as pd
 
-    results = pd.read_parquet(dataset).sort_values("configuration").reset_index(drop=True)
-    written = [write_atomically(folder / "results.csv", lambda name: _csv(name, results))]
-    summary = summarize(results)
-    written += _write_summary(spec, folder, summary, len(results))
-    kinds = result_kinds(results.columns)
-    varying = [axis for axis in spec.grid if axis.values.size > 1]
+    runs: dict[str, pd.DataFrame] = {}
+    for index, robot in enumerate(spec.robots):
+        configurations = spec.configurations(index)
+        m = robot.model.dynamics(configurations[0]).m
+        out = folder / "results" / f"robot={robot.name}" if spec.by_robot else folder / "results"
+        dataset = _sweep(spec, robot, configurations, m, out, progress, scheduler, seconds)
+        results = pd.read_parquet(dataset).sort_values("configuration").reset_index(drop=True)
+        runs[robot.name if spec.by_robot else ""] = results
+    if spec.by_robot:
+        table = pd.concat([r.assign(robot=name) for name, r in runs.items()], ignore_index=True)
+        table = table[["robot", *[c for c in table.columns if c != "robot"]]]
+    else:
+        table = runs[""]
+    written = [write_atomically(folder / "results.csv", lambda name: _csv(name, table))]
+    summaries = {name: summarize(results) for name, results in runs.items()}
+    written += _write_summary(spec, folder, summaries, len(table))
+    # Maps of one score share one colour scale, so that colours compare across candidates
+    # (and robots).
+    scales: dict[str, tuple[float, float]] = {}
+    for name in spec.maps:
+        _, score = _split(name)
+        finite = table[name].to_numpy(dtype=float)
+        finite = finite[np.isfinite(finite)] * score_display(score)[1]
+        if finite.size:
+            low, high = scales.get(score, (np.inf, -np.inf))
+            scales[score] = (min(low, finite.min()), max(high, finite.max()))
+    sections = _about(spec)
+    for name, results in runs.items():
+        files, robot_sections = _many_outputs(spec, folder, name, results, summaries[name], scales)
+        written += files
+        sections += robot_sections
+    if "html" in spec.formats:
+        from polyell.interactive import write_report
+
+        written.append(write_report(folder / "report.html", spec.title, sections))
+    return written
+
+
+def _many_outputs(
+    spec: StudySpec,
+    folder: Path,
+    robot: str,
+    results: pd.DataFrame,
+    summary: pd.DataFrame,
+    scales: dict[str, tuple[float, float]],
+) -> tuple[list[Path], list[tuple[str, Any]]]:
+    """The figures of one robot's sweep, and its sections of the report.
+
+    ``robot`` is its name in a study of several robots, else ``""``.
+    """
     if spec.maps or spec.series or spec.histograms:  # matplotlib: a second of start-up
         from polyell.figures import (
             plot_score_histogram,
@@ -205,15 +250,11 @@ def _run_many(
             plot_score_series,
             save_figure,
         )
-    # Maps of one score share one colour scale, so that colours compare across candidates.
-    scales: dict[str, tuple[float, float]] = {}
-    for name in spec.maps:
-        _, score = _split(name)
-        finite = results[name].to_numpy(dtype=float)
-        finite = finite[np.isfinite(finite)] * score_display(score)[1]
-        if finite.size:
-            low, high = scales.get(score, (np.inf, -np.inf))
-            scales[score] = (min(low, finite.min()), max(high, finite.max()))
+
+    prefix, by = (f"{robot}.", f"{robot}: ") if robot else ("", "")
+    written: list[Path] = []
+    kinds = result_kinds(results.columns)
+    varying = [axis for axis in spec.grid if axis.values.size > 1]
     for name in spec.maps:
         if len(varying) != 2:
             break
@@ -228,41 +269,47 @@ def _run_many(
             xlabel=f"${x_axis.name[0]}_{x_axis.name[1:]}$ [rad]",
             ylabel=f"${y_axis.name[0]}_{y_axis.name[1:]}$ [rad]",
             label=label,
-            title=f"{ellipsoid_label(kind)}: {label}",
+            title=f"{by}{ellipsoid_label(kind)}: {label}",
             limits=scales.get(score),
         )
-        written += save_figure(figure, folder / f"map_{name}", spec.figure_formats, spec.dpi)
+        stem = folder / f"map_{prefix}{name}"
+        written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
+    title = f"{by}{spec.title}"
     for score in spec.series:
-        figure = plot_score_series(results, score, kinds=kinds, title=spec.title)
-        written += save_figure(figure, folder / f"series_{score}", spec.figure_formats, spec.dpi)
+        figure = plot_score_series(results, score, kinds=kinds, title=title)
+        stem = folder / f"series_{prefix}{score}"
+        written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
     measured = [kind for kind in kinds if kind not in ("mvie", "outer")]  # not the optima
     for score in spec.histograms:
-        figure = plot_score_histogram(results, score, kinds=measured, title=f"{spec.title}")
-        written += save_figure(figure, folder / f"histogram_{score}", spec.figure_formats, spec.dpi)
+        figure = plot_score_histogram(results, score, kinds=measured, title=title)
+        stem = folder / f"histogram_{prefix}{score}"
+        written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
+    sections: list[tuple[str, Any]] = []
     if "html" in spec.formats:
-        written.append(_many_report(spec, folder, results, summary, varying, measured))
-    return written
+        sections = _many_report(spec, robot, results, summary, varying, measured)
+    return written, sections
 
 
 def _sweep(
     spec: StudySpec,
+    robot: Robot,
     configurations: Any,
     m: int,
-    folder: Path,
+    out: Path,
     progress: bool,
     scheduler: str | None,
     seconds: dict[str, float],
 ) -> Path:
-    """The study's sweep: a Parquet dataset in its folder, so that a killed study resumes.
+    """A robot's sweep: a Parquet dataset in ``out``, so that a killed study resumes.
 
-    Its duration goes into ``seconds["sweep"]`` (the manifest's timings).
+    Its duration is added to ``seconds["sweep"]`` (the manifest's timings).
     """
     started = time.perf_counter()
     dataset = sweep(
-        spec.robot.model,
+        robot.model,
         configurations,
-        spec.robot.tau_max,
-        spec.robot.tau_min,
+        robot.tau_max,
+        robot.tau_min,
         scores=_scores(spec),
         directions=spec.directions or default_direction_count(m),
         mvie=spec.mvie,
@@ -273,22 +320,45 @@ def _sweep(
         scheduler=scheduler,
         chunk=spec.chunk,
         progress=progress,
-        out=folder / "results",
+        out=out,
     )
-    seconds["sweep"] = time.perf_counter() - started
+    seconds["sweep"] = seconds.get("sweep", 0.0) + time.perf_counter() - started
     return Path(dataset)
 
 
-def _write_summary(spec: StudySpec, folder: Path, summary: pd.DataFrame, count: int) -> list[Path]:
-    """``summary.csv``, ``.md`` and ``.tex`` of a study over ``count`` configurations."""
-    caption = f"{spec.title}: scores over {count} configurations."
+def _write_summary(
+    spec: StudySpec, folder: Path, summaries: dict[str, pd.DataFrame], count: int
+) -> list[Path]:
+    """``summary.csv``, ``.md`` and ``.tex`` of a study over ``count`` configurations.
+
+    ``summaries`` holds one summary per robot (the key ``""`` for a study of one): several
+    give a ``robot`` column in the CSV and one table per robot in Markdown and LaTeX.
+    """
+    import pandas as pd
+
     markdown = _heading(spec, f"{spec.title}: summary over {count} configurations")
-    latex = format_summary_table(summary, "latex", caption=caption, label="tab:summary")
+    if list(summaries) == [""]:
+        summary = summaries[""]
+        caption = f"{spec.title}: scores over {count} configurations."
+        latex = format_summary_table(summary, "latex", caption=caption, label="tab:summary")
+        markdown += format_summary_table(summary, "markdown")
+        csv = summary.to_csv()
+    else:
+        latex_tables, markdown_tables = [], []
+        for robot, summary in summaries.items():
+            caption = f"{spec.title}: scores of {robot} over its configurations."
+            latex_tables.append(
+                format_summary_table(
+                    summary, "latex", caption=caption, label=f"tab:summary-{robot}"
+                )
+            )
+            markdown_tables.append(f"## {robot}\n\n" + format_summary_table(summary, "markdown"))
+        latex = "\n".join(latex_tables)
+        markdown += "\n".join(markdown_tables)
+        csv = pd.concat(summaries, names=["robot"]).to_csv()
     return [
-        write_text_atomically(folder / "summary.csv", summary.to_csv()),
-        write_text_atomically(
-            folder / "summary.md", markdown + format_summary_table(summary, "markdown")
-        ),
+        write_text_atomically(folder / "summary.csv", csv),
+        write_text_atomically(folder / "summary.md", markdown),
         write_text_atomically(folder / "summary.tex", latex),
     ]
 
@@ -316,9 +386,12 @@ def _run_trajectory(
 
     trajectory = spec.trajectory
     assert trajectory is not None
-    model = spec.robot.model
+    robot = spec.robot  # a trajectory study has one robot (checked when it loads)
+    model = robot.model
     first = model.dynamics(trajectory.q[0])
-    dataset = _sweep(spec, trajectory, first.m, folder, progress, scheduler, seconds)
+    dataset = _sweep(
+        spec, robot, trajectory, first.m, folder / "results", progress, scheduler, seconds
+    )
     import pandas as pd
     import pyarrow.parquet as pq
 
@@ -345,7 +418,7 @@ def _run_trajectory(
                 if tangent:  # the accelerations along the path, where the arm moves
                     assert trajectory.qd is not None
                     piece = Trajectory(trajectory.q[start:stop], trajectory.qd[start:stop])
-                    limits = tangent_limits(model, piece, spec.robot.tau_max, spec.robot.tau_min)
+                    limits = tangent_limits(model, piece, robot.tau_max, robot.tau_min)
                     frame = frame.assign(**limits)
                 write_csv(frame, handle, header=index == 0)
                 for decimator in series.values():
@@ -363,7 +436,7 @@ def _run_trajectory(
                 values = pd.read_parquet(dataset, columns=[column])
                 summaries.append(summarize(values, (score,)))
     summary = pd.concat(summaries) if summaries else summarize(pd.DataFrame())
-    written += _write_summary(spec, folder, summary, count)
+    written += _write_summary(spec, folder, {"": summary}, count)
     shown = {score: decimator.result() for score, decimator in series.items()}
     for score, frame in shown.items():
         figure = plot_score_series(frame, score, kinds=kinds, title=spec.title)
@@ -399,30 +472,50 @@ def _run_trajectory(
 
 def _many_report(
     spec: StudySpec,
-    folder: Path,
+    robot: str,
     results: pd.DataFrame,
     summary: pd.DataFrame,
     varying: list[GridAxis],
     measured: list[str],
-) -> Path:
-    """The interactive report of a grid, random or trajectory study (``formats`` "html")."""
-    from polyell.interactive import (
-        interactive_histogram,
-        interactive_map,
-        interactive_series,
-        write_report,
-    )
+) -> list[tuple[str, Any]]:
+    """The report's sections of one robot's grid or random sweep (``formats`` "html")."""
+    from polyell.interactive import interactive_histogram, interactive_map, interactive_series
 
-    sections = _about(spec)
+    by = f"{robot}: " if robot else ""
+    sections: list[tuple[str, Any]] = []
     if len(varying) == 2 and spec.maps:  # one figure, a menu over the maps
         figure = interactive_map(results, spec.maps, varying[1].name, varying[0].name)
-        sections.append(("Heat maps (choose the score in the menu)", figure))
+        sections.append((f"{by}Heat maps (choose the score in the menu)", figure))
     for score in spec.series:
-        sections.append((score_display(score)[0], interactive_series(results, score)))
+        sections.append((by + score_display(score)[0], interactive_series(results, score)))
     for score in spec.histograms:
-        sections.append((score_display(score)[0], interactive_histogram(results, score, measured)))
-    sections.append((f"Summary over {len(results)} configurations (fractions)", summary))
-    return write_report(folder / "report.html", spec.title, sections)
+        figure = interactive_histogram(results, score, measured)
+        sections.append((by + score_display(score)[0], figure))
+    sections.append((f"{by}Summary over {len(results)} configurations (fractions)", summary))
+    return sections
+
+
+def _along_directions(analysis: Analysis, point: Point) -> str:
+    """The numbers of a point: its sets once, then its limits along each direction.
+
+    :func:`format_analysis` along the first direction, then the limits and inverse maps
+    along each further one.
+    """
+    texts = [
+        format_analysis(
+            analysis, direction, "t" if label.startswith("(") else label, point.inverse_at
+        )
+        for direction, label in zip(point.directions, point.labels, strict=True)
+    ]
+    marker = "\nAchievable accelerations along "
+    return "\n".join([texts[0], *(text[text.index(marker) :] for text in texts[1:])])
+
+
+def _robot_of(spec: StudySpec, name: str) -> Robot:
+    """The robot a point (or sweep) of the study runs on (``""``: the study's only one)."""
+    if not name:
+        return spec.robot
+    return next(robot for robot in spec.robots if robot.name == name)
 
 
 def _csv(name: str, frame: pd.DataFrame) -> None:

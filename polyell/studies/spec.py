@@ -1,85 +1,38 @@
-"""Study and robot descriptions in TOML: parsed strictly, with errors that list the valid keys.
+"""Study and robot files: read, validated by the typed models, built into a :class:`StudySpec`.
 
-A study file::
-
-    title = "Chiacchio (2000), section 6"
-
-    [robot]                      # a robot file has these keys at its top level
-    library = "chiacchio2000"    # or: planar = { lengths = [...], masses = [...], ... }
-    tau_max = [100, 30, 4]       # optional when the robot carries limits
-
-    [[points]]                   # named configurations ...
-    name = "redundant"
-    q = ["pi/2", "-pi/2", "-pi/2"]
-    direction = [1, 0]           # limits and inverse maps reported along it (default: x)
-    inverse_at = "hi"            # the end of the new ellipsoid's interval for the inverses
-
-    [grid]                       # ... or a grid: fixed values and ranges per joint
-    q1 = "pi/2"
-    q2 = { start = "-pi", stop = "pi", num = 41 }
-
-    [trajectory]                 # ... or a path from a file: columns q1..qn, optionally
-    file = "path.csv"            # qd1..qdn and t (CSV, Parquet, .npy or .npz)
-
-    [random]                     # ... or seeded uniform samples within the joint limits
-    count = 300
-    seed = 1
-    low = [...]                  # optional, default the URDF's limits (else -pi)
-    high = [...]                 # optional, default the URDF's limits (else pi)
-
-    [compare]
-    directions = 360             # the default set's size
-    mvie = true
-    samples = 8192
-    seed = 0
-    chunk = 20000                # configurations per task of a grid or random study
-
-    [output]
-    formats = ["pdf", "png"]
-    dpi = 300
-    maps = ["chiacchio_coverage"]    # heat maps of a grid study (<ellipsoid>_<score>)
-    histograms = ["coverage"]        # per score, both ellipsoids (grid or random study)
-    series = ["coverage"]            # scores along a trajectory, each candidate
-
-Numbers may be written as expressions: ``"pi/2"``, ``"sqrt(3)/2"``.
+The format itself (keys, types, defaults, messages, the reference page and the JSON
+Schemas) is :mod:`polyell.studies.models`; this module reads the TOML file, has the models
+validate it, and checks what needs the robots (joint counts, task rows, joint limits,
+candidate sizes) before anything is written.  ``docs/study_format.md`` describes the format.
 """
 
 from __future__ import annotations
 
 import math
 import os
-import re
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
 from polyell import robots
 from polyell.comparison.candidates import Candidate, check_candidates
-from polyell.comparison.comparison import (
-    COMPARED_KINDS,
-    MAX_SAMPLES,
-    MAX_SEED,
-    MIN_SAMPLES,
-    SCORE_NAMES,
-)
+from polyell.comparison.layout import TableLayout
 from polyell.errors import InputError
-from polyell.expressions import evaluate, evaluate_list
 from polyell.models.planar_arm import PlanarArm
+from polyell.models.task import task_unit
 from polyell.models.urdf import Payload, UrdfRobot
 from polyell.studies.configurations import uniform_rows
-from polyell.studies.file_format import keys
 from polyell.studies.trajectory import Trajectory, load_trajectory
-from polyell.validation import (
-    MAX_DIRECTIONS,
-    _describe,
-    check_array,
-    check_integer,
-    check_torque_limits,
-)
+from polyell.validation import check_torque_limits
+
+if TYPE_CHECKING:  # pydantic is imported where study files are read (start-up time)
+    from polyell.studies import models
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -87,213 +40,110 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 __all__ = [
+    "MAX_STUDY_CONFIGURATIONS",
     "GridAxis",
     "Point",
     "Robot",
     "StudySpec",
     "load_robot_file",
     "load_study",
+    "named_direction",
     "robot_from_table",
 ]
 
-_TOP_KEYS = keys("top")
-_CANDIDATE_KEYS = keys("candidates")
-_TRAJECTORY_KEYS = keys("trajectory")
-_RANDOM_KEYS = keys("random")
-_ROBOT_KEYS = keys("robot")
-_PAYLOAD_KEYS = keys("payload")
-_PLANAR_KEYS = keys("planar")
-_POINT_KEYS = keys("points")
-_RANGE_KEYS = ("start", "stop", "num")
-_COMPARE_KEYS = keys("compare")
-_OUTPUT_KEYS = keys("output")
-#: Figure formats, and "html": one self-contained interactive report (plotly).
-_FORMATS = ("pdf", "png", "svg", "html")
-
-
-def _check_keys(where: str, table: object, valid: tuple[str, ...]) -> dict[str, Any]:
-    if not isinstance(table, dict):
-        raise InputError(where, f"a table with keys among {list(valid)}", _describe(table))
-    unknown = sorted(set(table) - set(valid))
-    if unknown:
-        raise InputError(
-            where,
-            f"keys among {list(valid)}",
-            f"unknown key(s) {unknown}",
-            "check the spelling against the valid keys.",
-        )
-    return table
-
-
-#: A point's name becomes part of file names: letters, digits, ``_ . -``, not leading ``.``.
-_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,63}")
 #: Most configurations of a grid or random study (all held in memory for its tables;
-#: larger sweeps go through pe.sweep(..., out=...)).
+#: larger sweeps go through pe.sweep(..., out=...)).  The same as the models' bound.
 MAX_STUDY_CONFIGURATIONS = 10_000_000
 
 
-def _string(where: str, value: object) -> str:
-    if not isinstance(value, str):
-        raise InputError(where, "a string", _describe(value))
-    return value
-
-
-def _figure_title(where: str, value: object) -> str:
-    """A title that figures show, checked when the study loads (:func:`figures.check_title`).
-
-    A typo in a ``$...$`` formula is refused with the key that holds it, instead of failing
-    when the first figure is drawn.
-    """
-    title = _string(where, value)
-    if "$" not in title:  # no mathtext: no need to load matplotlib
-        return title
-    from polyell.figures import check_title
-
-    return check_title(title, where)
-
-
-def _strings(where: str, value: object) -> tuple[str, ...]:
-    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        raise InputError(where, "a list of strings", _describe(value))
-    return tuple(value)
-
-
-def _boolean(where: str, value: object) -> bool:
-    if not isinstance(value, bool):
-        raise InputError(where, "true or false", _describe(value))
-    return value
-
-
-def _file_name(where: str, value: object) -> str:
-    """A name that can become part of a file name inside the output folder, and nothing else."""
-    name = _string(where, value)
-    if not _NAME.fullmatch(name):
-        raise InputError(
-            where,
-            "1-64 letters, digits, '_', '.' or '-', not starting with '.' (it names files)",
-            repr(name),
-            "no '/' or '..': nothing a study says may write outside the output folder.",
-        )
-    return name
-
-
-def _list(where: str, value: object) -> list[Any]:
-    if not isinstance(value, list):
-        raise InputError(where, "a list", _describe(value))
-    return value
+@contextmanager
+def _within(where: str) -> Iterator[None]:
+    """Name the key ``where`` in an InputError raised inside (``tau_max``: ``robot.tau_max``)."""
+    try:
+        yield
+    except InputError as exn:
+        argument = exn.argument if exn.argument.startswith(where) else f"{where}.{exn.argument}"
+        raise InputError(argument, exn.expected, exn.got, exn.fix) from None
 
 
 @dataclass(frozen=True)
 class Robot:
-    """A robot model with its torque limits, as described in a file."""
+    """A robot model with its torque limits, as described in a file.
+
+    ``name`` labels its outputs in a study of several robots (``""``: the study's only one).
+    """
 
     model: PlanarArm | UrdfRobot
     tau_max: NDArray[np.float64]
     tau_min: NDArray[np.float64]
+    name: str = ""
 
 
-def _planar(table: object, where: str) -> PlanarArm:
-    planar = _check_keys(where, table, _PLANAR_KEYS)
-    for key in ("lengths", "masses"):
-        if key not in planar:
-            raise InputError(where, f"a '{key}' list", "no such key")
-    lists = {
-        key: evaluate_list(f"{where}.{key}", planar[key])
-        for key in ("com", "inertia")
-        if key in planar
+def _build_robot(table: models.RobotTable, where: str, folder: Path | None) -> Robot:
+    """The robot of a validated robot table; model errors name the key (``robot.tau_max``)."""
+    options: dict[str, Any] = {
+        name: getattr(table, name)
+        for name in ("tip", "task", "locked_joints", "gravity", "weights")
+        if getattr(table, name) is not None
     }
-    return PlanarArm(
-        evaluate_list(f"{where}.lengths", planar["lengths"]),
-        evaluate_list(f"{where}.masses", planar["masses"]),
-        com=lists.get("com"),
-        inertia=lists.get("inertia"),
-        gravity=evaluate(f"{where}.gravity", planar.get("gravity", 9.81)),
-    )
-
-
-def _urdf_options(table: dict[str, Any], where: str) -> dict[str, Any]:
-    """Keyword arguments of UrdfRobot from the optional keys of a robot table."""
-    options: dict[str, Any] = {}
-    if "tip" in table:
-        options["tip"] = _string(f"{where}.tip", table["tip"])
-    if "task" in table:
-        task = table["task"]
-        options["task"] = task if isinstance(task, str) else _list(f"{where}.task", task)
-    if "locked_joints" in table:
-        options["locked_joints"] = _strings(f"{where}.locked_joints", table["locked_joints"])
-    if "gravity" in table:
-        options["gravity"] = evaluate_list(f"{where}.gravity", table["gravity"])
-    if "weights" in table:
-        options["weights"] = evaluate_list(f"{where}.weights", table["weights"])
-    if "payload" in table:
-        payload = _check_keys(f"{where}.payload", table["payload"], _PAYLOAD_KEYS)
-        if "mass" not in payload:
-            raise InputError(f"{where}.payload", "a 'mass' [kg]", "no such key")
-        inertia = _list(f"{where}.payload.inertia", payload.get("inertia", [[0, 0, 0]] * 3))
-        rows = [
-            evaluate_list(f"{where}.payload.inertia[{i}]", _list(f"{where}.payload.inertia", row))
-            for i, row in enumerate(inertia)
-        ]
-        options["payload"] = Payload(
-            evaluate(f"{where}.payload.mass", payload["mass"]),
-            tuple(
-                check_array(
-                    f"{where}.payload.com",
-                    evaluate_list(
-                        f"{where}.payload.com",
-                        _list(f"{where}.payload.com", payload.get("com", [0, 0, 0])),
-                    ),
-                    (3,),
+    if table.payload is not None:
+        payload = table.payload
+        with _within(f"{where}.payload"):
+            options["payload"] = Payload(payload.mass, payload.com, payload.inertia)
+    model: PlanarArm | UrdfRobot
+    with _within(where):
+        if table.planar is not None:
+            planar = table.planar
+            with _within(f"{where}.planar"):
+                model = PlanarArm(
+                    planar.lengths,
+                    planar.masses,
+                    com=planar.com,
+                    inertia=planar.inertia,
+                    gravity=planar.gravity,
                 )
-            ),
-            tuple(map(tuple, check_array(f"{where}.payload.inertia", rows, (3, 3)))),
-        )
-    return options
+        elif table.library is not None:
+            model = robots.load(table.library, **options)
+        else:
+            assert table.urdf is not None
+            path = Path(table.urdf)
+            if folder is not None and not path.is_absolute():
+                path = folder / path
+            model = UrdfRobot(path, **options)
+        if table.tau_max is not None:
+            tau_max, tau_min = check_torque_limits(table.tau_max, table.tau_min, model.n)
+        elif model.tau_max is not None and model.tau_min is not None:
+            if table.tau_min is not None:
+                raise InputError(
+                    "tau_min", "tau_min only with tau_max", "tau_min alone", "give both."
+                )
+            tau_max, tau_min = model.tau_max, model.tau_min
+        else:
+            raise InputError(
+                "tau_max",
+                "torque limits for a robot without its own",
+                "no tau_max key",
+                "add tau_max = [...] (N m, one per joint).",
+            )
+    return Robot(model, tau_max, tau_min, table.name or "")
 
 
 def robot_from_table(table: object, where: str = "robot", folder: Path | None = None) -> Robot:
-    """Build a robot from a ``[robot]`` table.
+    """Build a robot from a ``[robot]`` table (a dict, as TOML gives it).
 
     Exactly one of ``library`` (a name of :func:`polyell.robots.names`), ``planar`` (a
     link table) or ``urdf`` (a file, relative to ``folder``, with ``tip``); URDF robots
     also take ``task``, ``locked_joints``, ``gravity``, ``weights`` and ``payload``
     (``{ mass, com, inertia }``); every robot takes ``tau_max`` and ``tau_min``.
+
+    Raises
+    ------
+    InputError
+        Naming the key (``robot.tau_max``) on any bad value.
     """
-    table = _check_keys(where, table, _ROBOT_KEYS)
-    sources = [key for key in ("library", "planar", "urdf") if key in table]
-    if len(sources) != 1:
-        raise InputError(
-            where,
-            "exactly one of 'library' (a name), 'planar' (a link table), 'urdf' (a file)",
-            f"keys {sorted(table)}",
-            f'e.g. library = "chiacchio2000"; names: {robots.names()}.',
-        )
-    options = _urdf_options(table, where)
-    model: PlanarArm | UrdfRobot
-    if "planar" in table:
-        if options:
-            raise InputError(where, "no URDF options for a planar arm", f"{sorted(options)}")
-        model = _planar(table["planar"], f"{where}.planar")
-    elif "library" in table:
-        model = robots.load(_string(f"{where}.library", table["library"]), **options)
-    else:
-        if "tip" not in options:
-            raise InputError(where, "a 'tip' frame name for a URDF robot", "no tip key")
-        path = Path(_string(f"{where}.urdf", table["urdf"]))
-        if folder is not None and not path.is_absolute():
-            path = folder / path
-        model = UrdfRobot(path, **options)
-    if "tau_max" in table:
-        upper = evaluate_list(f"{where}.tau_max", table["tau_max"])
-        lower = evaluate_list(f"{where}.tau_min", table["tau_min"]) if "tau_min" in table else None
-        tau_max, tau_min = check_torque_limits(upper, lower, model.n)
-    elif model.tau_max is not None and model.tau_min is not None:
-        tau_max, tau_min = model.tau_max, model.tau_min
-    else:
-        raise InputError(
-            f"{where}.tau_max", "torque limits for a robot without its own", "no tau_max key"
-        )
-    return Robot(model, tau_max, tau_min)
+    from polyell.studies.models import parse_robot
+
+    return _build_robot(parse_robot(table, where), where, folder)
 
 
 def _read_toml(path: str | os.PathLike[str], what: str = "study") -> dict[str, Any]:
@@ -348,13 +198,48 @@ def load_robot_file(path: str | os.PathLike[str]) -> Robot:
 
 @dataclass(frozen=True)
 class Point:
-    """A named configuration with the direction its numbers are reported along."""
+    """A named configuration of one robot, with the directions its limits are reported along.
+
+    Attributes
+    ----------
+    name : str
+        The point's name (it names files).
+    q : ndarray, shape (n,)
+        Joint angles [rad].
+    directions : ndarray, shape (k, m)
+        Unit directions of the task space, one per row.
+    labels : tuple of str, length k
+        Their names: a task-row name (``"x"``, ``"-xz"``) or the vector, rounded.
+    inverse_at : {"lo", "hi"}
+        The end of the new ellipsoid's interval the inverse maps are applied to.
+    title : str
+        Figure title.
+    robot : str
+        The robot's name in a study of several robots, ``""`` in a study of one.
+    """
 
     name: str
     q: NDArray[np.float64]
-    direction: NDArray[np.float64]
+    directions: NDArray[np.float64]
+    labels: tuple[str, ...]
     inverse_at: Literal["lo", "hi"] = "hi"
     title: str = ""
+    robot: str = ""
+
+    @property
+    def direction(self) -> NDArray[np.float64]:
+        """The first direction, shape (m,)."""
+        return self.directions[0]
+
+    @property
+    def label(self) -> str:
+        """``robot/name`` in a study of several robots, else ``name``."""
+        return f"{self.robot}/{self.name}" if self.robot else self.name
+
+    @property
+    def stem(self) -> str:
+        """The point's part of file names: ``robot.name`` (robot names hold no ``.``)."""
+        return f"{self.robot}.{self.name}" if self.robot else self.name
 
 
 @dataclass(frozen=True)
@@ -367,15 +252,22 @@ class GridAxis:
 
 @dataclass(frozen=True)
 class StudySpec:
-    """A parsed study: a robot, configurations (points or a grid), options and outputs."""
+    """A parsed study: robots, configurations, options and outputs.
+
+    The configurations are points, a grid, random ones or a trajectory.
+
+    ``points`` holds every point on every robot (point by point, robots in file order);
+    ``random_q`` one array of configurations per robot; ``layout`` the tables' layout;
+    ``by_robot`` is True for a study of ``[[robots]]`` (its outputs are labelled by robot).
+    """
 
     path: Path
     title: str
     description: str
-    robot: Robot
+    robots: tuple[Robot, ...]
     points: tuple[Point, ...] = ()
     grid: tuple[GridAxis, ...] = ()
-    samples_q: NDArray[np.float64] | None = None
+    random_q: tuple[NDArray[np.float64], ...] = ()
     trajectory: Trajectory | None = None
     directions: int | None = None
     mvie: bool = True
@@ -389,6 +281,20 @@ class StudySpec:
     maps: tuple[str, ...] = field(default_factory=tuple)
     histograms: tuple[str, ...] = field(default_factory=tuple)
     series: tuple[str, ...] = field(default_factory=tuple)
+    layout: TableLayout = field(default_factory=TableLayout)
+    by_robot: bool = False
+
+    @property
+    def robot(self) -> Robot:
+        """The study's robot (a study of several: see :attr:`robots`)."""
+        if len(self.robots) != 1:
+            raise InputError(
+                "spec.robot",
+                "a study of one robot",
+                f"{len(self.robots)} robots {[r.name for r in self.robots]}",
+                "use spec.robots.",
+            )
+        return self.robots[0]
 
     @property
     def figure_formats(self) -> tuple[str, ...]:
@@ -403,43 +309,206 @@ class StudySpec:
     @property
     def is_batch(self) -> bool:
         """True for many configurations (a grid, random samples or a trajectory)."""
-        return bool(self.grid) or self.samples_q is not None or self.trajectory is not None
+        return bool(self.grid) or bool(self.random_q) or self.trajectory is not None
 
-    def configurations(self) -> NDArray[np.float64]:
-        """All configurations: a grid's (the last joint fastest), random or a trajectory's."""
+    def configurations(self, robot: int = 0) -> NDArray[np.float64]:
+        """All configurations of robot number ``robot``, shape (K, n).
+
+        A grid's (the last joint fastest), the robot's random ones, or a trajectory's.
+        """
         if self.trajectory is not None:
             return self.trajectory.q
-        if self.samples_q is not None:
-            return self.samples_q
+        if self.random_q:
+            return self.random_q[robot]
         mesh = np.meshgrid(*[axis.values for axis in self.grid], indexing="ij")
         return np.stack([m.ravel() for m in mesh], axis=1)
 
 
-def _point(table: object, index: int, n: int) -> Point:
-    where = f"points[{index}]"
-    table = _check_keys(where, table, _POINT_KEYS)
-    for key in ("name", "q"):
-        if key not in table:
-            raise InputError(where, f"a '{key}' key", f"keys {sorted(table)}")
-    q = np.array(evaluate_list(f"{where}.q", table["q"]))
-    if q.size != n:
-        raise InputError(f"{where}.q", f"{n} joint angles", f"{q.size}")
-    direction = np.array(evaluate_list(f"{where}.direction", table.get("direction", [1, 0])))
-    if abs(np.linalg.norm(direction) - 1.0) > 1e-6:
+# ---------------------------------------------------------------------------------------
+# What needs the robots
+
+
+def _rows(model: PlanarArm | UrdfRobot) -> tuple[str, ...]:
+    """The names of the robot's task rows (x, y, ...; wx, wy, wz angular)."""
+    if isinstance(model, UrdfRobot):
+        return tuple(model.row_names)
+    return tuple(model.dynamics(np.zeros(model.n)).task)
+
+
+def named_direction(name: str, rows: tuple[str, ...]) -> NDArray[np.float64]:
+    """The unit vector a direction's name stands for, on a task with these rows.
+
+    An optional sign, then task rows, each at most once: ``"x"``, ``"-z"``, ``"xy"`` (the
+    unit diagonal (1, 1, 0)/sqrt 2 on an x, y, z task), ``"-xz"``, ``"wx"`` (an angular row).
+
+    Raises
+    ------
+    InputError
+        If the name is not made of the task's rows (argument ``direction``).
+    """
+    sign = -1.0 if name[:1] == "-" else 1.0
+    rest = name[1:] if name[:1] in "+-" else name
+    found: list[int] = []
+    by_length = sorted(rows, key=len, reverse=True)
+    while rest:
+        row = next((r for r in by_length if rest.startswith(r)), None)
+        if row is None or rows.index(row) in found:
+            found = []
+            break
+        found.append(rows.index(row))
+        rest = rest[len(row) :]
+    if not found:
+        from polyell.studies.models import did_you_mean
+
         raise InputError(
-            f"{where}.direction", "a unit vector", f"norm {np.linalg.norm(direction):.6g}"
+            "direction",
+            f"task rows {list(rows)} with an optional sign: e.g. {rows[0]!r}, "
+            f"'-{rows[-1]}'"
+            + (f", '{rows[0]}{rows[1]}' (a unit diagonal)" if len(rows) > 1 else "")
+            + ", or a unit vector",
+            repr(name),
+            did_you_mean([name.lstrip("+-")], rows),
         )
-    inverse_at = table.get("inverse_at", "hi")
-    if inverse_at not in ("lo", "hi"):
-        raise InputError(f"{where}.inverse_at", "'lo' or 'hi'", _describe(inverse_at))
-    end: Literal["lo", "hi"] = "lo" if inverse_at == "lo" else "hi"
-    name = _file_name(f"{where}.name", table["name"])
-    return Point(name, q, direction, end, _figure_title(f"{where}.title", table.get("title", "")))
+    vector = np.zeros(len(rows))
+    vector[found] = sign / math.sqrt(len(found))
+    return vector
 
 
-def _grid(table: object, n: int) -> tuple[GridAxis, ...]:
+def _vector_label(vector: NDArray[np.float64]) -> str:
+    return "(" + ", ".join(f"{v:.4g}" for v in vector) + ")"
+
+
+def _directions(
+    table: models.PointTable, rows: tuple[str, ...], where: str
+) -> tuple[NDArray[np.float64], tuple[str, ...]]:
+    """The point's directions (k, m) and their labels; default the task's axes."""
+    m = len(rows)
+    if table.directions is not None:
+        items, key = list(table.directions), f"{where}.directions"
+    elif table.direction is not None:
+        items, key = [table.direction], f"{where}.direction"
+    else:
+        return np.eye(m), rows
+    vectors, labels = [], []
+    for j, item in enumerate(items):
+        at = f"{key}[{j}]" if table.directions is not None else key
+        if isinstance(item, str):
+            with _within(at):
+                try:
+                    vectors.append(named_direction(item, rows))
+                except InputError as exn:
+                    raise InputError(at, exn.expected, exn.got, exn.fix) from None
+            labels.append(item)
+        else:
+            if len(item) != m:
+                raise InputError(
+                    at,
+                    f"a unit vector of {m} numbers, one per task row {list(rows)}",
+                    f"{len(item)} numbers {list(item)}",
+                    f"e.g. {rows[0]!r} or a vector of {m} numbers.",
+                )
+            vector = np.array(item, dtype=float)
+            vectors.append(vector)
+            labels.append(_vector_label(vector))
+    if len(set(labels)) != len(labels):
+        raise InputError(key, "distinct directions", f"{labels}")
+    return np.array(vectors), tuple(labels)
+
+
+def _point_q(
+    table: models.PointTable, where: str, robot: Robot, names: list[str] | None
+) -> NDArray[np.float64]:
+    """The point's joint angles on ``robot`` (``names``: the robots of ``[[robots]]``)."""
+    n = robot.model.n
+    key = f"{where}.q"
+    if isinstance(table.q, dict):
+        if names is None:
+            raise InputError(
+                key,
+                f"a list of {n} joint angles (a table of them per robot needs [[robots]])",
+                f"a table with keys {sorted(table.q)}",
+            )
+        unknown = sorted(set(table.q) - set(names))
+        missing = [name for name in names if name not in table.q]
+        if unknown or missing:
+            from polyell.studies.models import did_you_mean
+
+            raise InputError(
+                key,
+                f"one list of joint angles per robot {names}",
+                f"unknown robot(s) {unknown}" if unknown else f"none for {missing}",
+                did_you_mean(unknown, names),
+            )
+        values, key = table.q[robot.name], f"{key}.{robot.name}"
+    else:
+        values = table.q
+    if len(values) != n:
+        several = names is not None and len(names) > 1
+        raise InputError(
+            key,
+            f"{n} joint angles" + (f" (robot {robot.name!r})" if several else ""),
+            f"{len(values)}",
+            "give q per robot: q = { "
+            + ", ".join(f"{name} = [...]" for name in names or ())
+            + " }."
+            if several and not isinstance(table.q, dict)
+            else "",
+        )
+    return np.array(values, dtype=float)
+
+
+def _points(
+    tables: list[models.PointTable], robots_: tuple[Robot, ...], several: bool
+) -> tuple[Point, ...]:
+    names = [robot.name for robot in robots_] if several else None
+    points = []
+    for index, table in enumerate(tables):
+        where = f"points[{index}]"
+        for robot in robots_:
+            q = _point_q(table, where, robot, names)
+            with _within(f"{where}.q"):
+                rows = tuple(robot.model.dynamics(q).task)
+            directions, labels = _directions(table, rows, where)
+            points.append(
+                Point(
+                    table.name,
+                    q,
+                    directions,
+                    labels,
+                    table.inverse_at,
+                    table.title,
+                    robot.name if several else "",
+                )
+            )
+    return tuple(points)
+
+
+def _same_joint_count(robots_: tuple[Robot, ...], where: str, what: str) -> int:
+    counts = {robot.name: robot.model.n for robot in robots_}
+    if len(set(counts.values())) != 1:
+        raise InputError(
+            where,
+            f"robots with the same number of joints ({what})",
+            f"joint counts {counts}",
+            "use [random] without low and high (each robot samples within its own joint "
+            "limits) or [[points]] with q per robot, or one study per robot.",
+        )
+    return robots_[0].model.n
+
+
+def _grid(table: dict[str, Any], robots_: tuple[Robot, ...]) -> tuple[GridAxis, ...]:
+    n = _same_joint_count(robots_, "grid", "a grid's q1..qn are shared")
     names = tuple(f"q{i + 1}" for i in range(n))
-    table = _check_keys("grid", table, names)
+    unknown = sorted(set(table) - set(names))
+    if unknown:
+        from polyell.studies.models import did_you_mean
+
+        raise InputError(
+            "grid",
+            f"keys among {list(names)}",
+            f"unknown key(s) {unknown}",
+            did_you_mean(unknown, names) or f"the robot has {n} joints.",
+        )
     axes = []
     for name in names:
         if name not in table:
@@ -447,18 +516,10 @@ def _grid(table: object, n: int) -> tuple[GridAxis, ...]:
                 "grid", f"a value or range for every joint {list(names)}", f"no {name}"
             )
         value = table[name]
-        if isinstance(value, dict):
-            spec = _check_keys(f"grid.{name}", value, _RANGE_KEYS)
-            if set(spec) != set(_RANGE_KEYS):
-                raise InputError(f"grid.{name}", "{ start, stop, num }", _describe(value))
-            num = check_integer(f"grid.{name}.num", spec["num"], 1, MAX_STUDY_CONFIGURATIONS)
-            values = np.linspace(
-                evaluate(f"grid.{name}.start", spec["start"]),
-                evaluate(f"grid.{name}.stop", spec["stop"]),
-                num,
-            )
+        if isinstance(value, float):
+            values = np.array([value])
         else:
-            values = np.array([evaluate(f"grid.{name}", value)])
+            values = np.linspace(value.start, value.stop, value.num)
         axes.append(GridAxis(name, values))
     total = math.prod(axis.values.size for axis in axes)
     if total > MAX_STUDY_CONFIGURATIONS:
@@ -471,162 +532,142 @@ def _grid(table: object, n: int) -> tuple[GridAxis, ...]:
     return tuple(axes)
 
 
-def _random(table: object, robot: Robot) -> NDArray[np.float64]:
-    table = _check_keys("random", table, _RANDOM_KEYS)
-    if "count" not in table:
-        raise InputError("random", "a 'count' of configurations", "no such key")
-    count = check_integer("random.count", table["count"], 1, MAX_STUDY_CONFIGURATIONS)
-    seed = check_integer("random.seed", table.get("seed", 0), 0, MAX_SEED)
-    model = robot.model
-    limits = getattr(model, "position_limits", None)
-    low, high = (
-        limits if limits is not None else (np.full(model.n, -np.pi), np.full(model.n, np.pi))
-    )
-    if "low" in table:
-        low = np.array(evaluate_list("random.low", table["low"]))
-    if "high" in table:
-        high = np.array(evaluate_list("random.high", table["high"]))
-    if low.size != model.n or high.size != model.n or np.any(low > high):
-        raise InputError(
-            "random", f"low <= high with {model.n} entries each", f"low={low}, high={high}"
+def _random(
+    table: models.RandomTable, robots_: tuple[Robot, ...]
+) -> tuple[NDArray[np.float64], ...]:
+    if (table.low is not None or table.high is not None) and len(robots_) > 1:
+        _same_joint_count(robots_, "random", "low and high are shared")
+    samples = []
+    for robot in robots_:
+        model = robot.model
+        limits = getattr(model, "position_limits", None)
+        low, high = (
+            limits if limits is not None else (np.full(model.n, -np.pi), np.full(model.n, np.pi))
         )
-    return uniform_rows(np.random.default_rng(seed), low, high, count)
+        if table.low is not None:
+            low = np.array(table.low)
+        if table.high is not None:
+            high = np.array(table.high)
+        if low.size != model.n or high.size != model.n or np.any(low > high):
+            raise InputError(
+                "random", f"low <= high with {model.n} entries each", f"low={low}, high={high}"
+            )
+        samples.append(uniform_rows(np.random.default_rng(table.seed), low, high, table.count))
+    return tuple(samples)
 
 
-def _matrix(where: str, value: object) -> NDArray[np.float64]:
-    """A square matrix: a list of rows, or a list of numbers (its diagonal)."""
-    rows = _list(where, value)
-    if rows and all(isinstance(row, list) for row in rows):
-        matrix = [evaluate_list(f"{where}[{i}]", row) for i, row in enumerate(rows)]
-        if any(len(row) != len(matrix) for row in matrix):
-            lengths = [len(row) for row in matrix]
-            raise InputError(where, f"{len(matrix)} rows of {len(matrix)} numbers", f"{lengths}")
-        return np.array(matrix)
-    return np.diag(evaluate_list(where, rows))
-
-
-def _candidate(table: object, index: int) -> Candidate:
-    where = f"candidates[{index}]"
-    candidate = _check_keys(where, table, _CANDIDATE_KEYS)
-    if "name" not in candidate:
-        raise InputError(where, "a 'name' (it prefixes the candidate's columns)", "no such key")
-    name = _string(f"{where}.name", candidate["name"])
-    matrices = {
-        key: _matrix(f"{where}.{key}", candidate[key])
-        for key in ("weighting", "core")
-        if key in candidate
-    }
-    center = (
-        np.array(evaluate_list(f"{where}.center", candidate["center"]))
-        if "center" in candidate
-        else None
-    )
-    return Candidate(name, center=center, **matrices)
+def _candidates(
+    tables: list[models.CandidateTable], robots_: tuple[Robot, ...], m: dict[str, int]
+) -> tuple[Candidate, ...]:
+    candidates = []
+    for index, table in enumerate(tables):
+        where = f"candidates[{index}]"
+        matrices = {
+            key: np.array(getattr(table, key))
+            for key in ("weighting", "core")
+            if getattr(table, key) is not None
+        }
+        center = np.array(table.center) if table.center is not None else None
+        with _within(where):
+            candidate = Candidate(table.name, center=center, **matrices)
+        for robot in robots_:
+            try:
+                candidate.check_sizes(m[robot.name], robot.model.n)
+            except InputError as exn:
+                key = exn.argument.split(".")[-1]
+                on = f" of robot {robot.name!r}" if robot.name else ""
+                raise InputError(f"{where}.{key}", exn.expected + on, exn.got) from None
+        candidates.append(candidate)
+    with _within("candidates"):
+        return check_candidates(tuple(candidates))
 
 
 def load_study(path: str | os.PathLike[str]) -> StudySpec:
-    """Parse and check a study file.
+    """Parse and check a study file (the format: ``docs/study_format.md``).
+
+    Everything is checked here, before a study writes anything: the keys and values
+    (:mod:`polyell.studies.models`), and what needs the robots (joint counts, the task's
+    rows for named directions, joint limits, candidate sizes).
 
     Raises
     ------
     InputError
-        On a missing file, invalid TOML, an unknown key (the message lists the valid
-        ones), or any bad value.
+        On a missing file, invalid TOML, an unknown key (the message lists the valid ones
+        and the closest), or any bad value; the message names the key's path
+        (``points[2].directions[0]``).
     """
+    from polyell.studies.models import parse_study
+
     table = _read_toml(path)
-    data = _check_keys(Path(path).name, table, _TOP_KEYS)
-    if "robot" not in data:
-        raise InputError(Path(path).name, "a [robot] table", "none")
-    robot = robot_from_table(data["robot"], folder=Path(path).parent)
-    n = robot.model.n
-    if sum(key in data for key in ("points", "grid", "random", "trajectory")) != 1:
+    study = parse_study(table, Path(path).name)
+    folder = Path(path).parent
+    several = study.robots is not None
+    robots_: tuple[Robot, ...]
+    if study.robot is not None:
+        robots_ = (_build_robot(study.robot, "robot", folder),)
+    else:
+        assert study.robots is not None
+        robots_ = tuple(
+            _build_robot(table, f"robots[{i}]", folder) for i, table in enumerate(study.robots)
+        )
+    rows = {robot.name: _rows(robot.model) for robot in robots_}
+    units = {name: task_unit(task) for name, task in rows.items()}
+    if len(set(units.values())) > 1:
         raise InputError(
-            Path(path).name,
-            "exactly one of [[points]], [grid], [random] and [trajectory]",
-            f"keys {sorted(data)}",
+            "robots",
+            "tasks of one unit (their numbers share the tables)",
+            f"units {units}",
+            'give every robot the same kind of task (e.g. task = "linear").',
         )
+    candidates = _candidates(study.candidates, robots_, {k: len(v) for k, v in rows.items()})
+    points = _points(study.points, robots_, several) if study.points is not None else ()
+    grid = _grid(study.grid, robots_) if study.grid is not None else ()
+    random_q = _random(study.random, robots_) if study.random is not None else ()
     trajectory = None
-    if "trajectory" in data:
-        table = _check_keys("trajectory", data["trajectory"], _TRAJECTORY_KEYS)
-        if "file" not in table:
-            raise InputError("trajectory", "a 'file' (CSV, Parquet, .npy or .npz)", "no file key")
-        file = Path(_string("trajectory.file", table["file"]))
-        trajectory = load_trajectory(file if file.is_absolute() else Path(path).parent / file, n)
-    points = tuple(_point(t, i, n) for i, t in enumerate(_list("points", data.get("points", []))))
-    names = [point.name for point in points]
-    if len(set(names)) != len(names):
-        raise InputError("points", "distinct point names (they name files)", f"{names}")
-    if "points" in data and not points:
-        raise InputError("points", "at least one [[points]] table", "none")
-    grid = _grid(data["grid"], n) if "grid" in data else ()
-    samples_q = _random(data["random"], robot) if "random" in data else None
-    compare = _check_keys("compare", data.get("compare", {}), _COMPARE_KEYS)
-    output = _check_keys("output", data.get("output", {}), _OUTPUT_KEYS)
-    formats = _strings("output.formats", output.get("formats", ["pdf", "png"]))
-    if not formats or any(f not in _FORMATS for f in formats):
-        raise InputError("output.formats", f"a list among {list(_FORMATS)}", _describe(formats))
-    candidates = check_candidates(
-        tuple(
-            _candidate(t, i) for i, t in enumerate(_list("candidates", data.get("candidates", [])))
+    if study.trajectory is not None:
+        file = Path(study.trajectory.file)
+        trajectory = load_trajectory(
+            file if file.is_absolute() else folder / file, robots_[0].model.n
         )
-    )
-    kinds = (*COMPARED_KINDS, *(candidate.name for candidate in candidates))
-    valid_maps = [f"{kind}_{score}" for kind in kinds for score in SCORE_NAMES]
-    maps = _strings("output.maps", output.get("maps", []))
-    for name in maps:
-        if name not in valid_maps:
-            raise InputError(
-                "output.maps",
-                "names <ellipsoid>_<score>",
-                repr(name),
-                f"for example 'chiacchio_coverage'; valid: {valid_maps}",
-            )
-    if maps and sum(axis.values.size > 1 for axis in grid) != 2:
+    output = study.output
+    if output.maps and sum(axis.values.size > 1 for axis in grid) != 2:
         raise InputError(
             "output.maps", "a grid with exactly two varying joints", f"{len(grid)} grid axes"
         )
-    histograms = _strings("output.histograms", output.get("histograms", []))
-    for name in histograms:
-        if name not in SCORE_NAMES:
-            raise InputError(
-                "output.histograms", f"score names among {list(SCORE_NAMES)}", _describe(name)
-            )
-    if histograms and "points" in data:
-        raise InputError("output.histograms", "a grid or random study", "a study of points")
-    default_series = ["coverage", "inscribed_scale"] if trajectory is not None else []
-    series = _strings("output.series", output.get("series", default_series))
-    for name in series:
-        if name not in SCORE_NAMES:
-            raise InputError(
-                "output.series", f"score names among {list(SCORE_NAMES)}", _describe(name)
-            )
-    if series and trajectory is None:
-        raise InputError("output.series", "a [trajectory] study", "another kind of study")
+    series = output.series
+    if series is None:
+        series = ("coverage", "inscribed_scale") if trajectory is not None else ()
+    with _within("output"):
+        layout = TableLayout(
+            sets=output.sets,
+            scores=output.scores,
+            transpose=output.transpose,
+            split=output.split,
+            digits=output.digits,
+            percent=output.percent,
+        )
+    compare = study.compare
     return StudySpec(
         path=Path(path),
-        title=_figure_title("title", data.get("title", Path(path).stem)),
-        description=_string("description", data.get("description", "")),
-        robot=robot,
+        title=study.title if study.title is not None else Path(path).stem,
+        description=study.description,
+        robots=robots_,
         points=points,
         grid=grid,
-        samples_q=samples_q,
+        random_q=random_q,
         trajectory=trajectory,
-        directions=(
-            check_integer("compare.directions", compare["directions"], 1, MAX_DIRECTIONS)
-            if "directions" in compare
-            else None
-        ),
-        mvie=_boolean("compare.mvie", compare.get("mvie", True)),
-        outer=_boolean("compare.outer", compare.get("outer", True)),
+        directions=compare.directions,
+        mvie=compare.mvie,
+        outer=compare.outer,
         candidates=candidates,
-        samples=check_integer(
-            "compare.samples", compare.get("samples", 2**13), MIN_SAMPLES, MAX_SAMPLES
-        ),
-        seed=check_integer("compare.seed", compare.get("seed", 0), 0, MAX_SEED),
-        chunk=check_integer("compare.chunk", compare.get("chunk", 20_000), 1, 10_000_000),
-        formats=formats,
-        dpi=check_integer("output.dpi", output.get("dpi", 300), 10, 2400),
-        maps=maps,
-        histograms=histograms,
+        samples=compare.samples,
+        seed=compare.seed,
+        chunk=compare.chunk,
+        formats=output.formats,
+        dpi=output.dpi,
+        maps=tuple(output.maps),
+        histograms=output.histograms,
         series=series,
+        layout=layout,
+        by_robot=several,
     )

@@ -343,3 +343,117 @@ def test_no_report_unless_html_is_asked_for(tmp_path):
     written = run_study(load_study(spec_path), tmp_path / "o")
     assert "report.html" not in {path.name for path in written}
     assert not (tmp_path / "o" / "report.html").exists()
+
+
+# --- several robots and several directions (issue 24) ---------------------------------------
+
+
+def _interval_by_linear_program(dynamics, tau_max, tau_min, t):
+    """[lo, hi] of a with a t = J B^-1 (tau - g) + xdd_bias, tau_min <= tau <= tau_max, by
+    scipy's LP on the raw dynamics (independent of polyell's polytope)."""
+    from scipy.optimize import linprog
+
+    A = dynamics.J @ np.linalg.solve(dynamics.B, np.eye(dynamics.n))
+    n = A.shape[1]
+    # variables (a, tau): a t - A tau = xdd_bias - A g
+    equality = np.hstack([t[:, None], -A])
+    right = dynamics.xdd_bias - A @ dynamics.g
+    bounds = [(None, None), *zip(tau_min, tau_max, strict=True)]
+    ends = []
+    for sign in (1.0, -1.0):
+        cost = np.zeros(n + 1)
+        cost[0] = sign
+        result = linprog(cost, A_eq=equality, b_eq=right, bounds=bounds, method="highs")
+        assert result.status == 0, result.message
+        ends.append(result.x[0])
+    return ends
+
+
+def _shrunk_two_robot_study(tmp_path):
+    text = (REPO / "studies" / "two_robots.toml").read_text()
+    for old, new in (
+        ("directions = 1000", "directions = 50"),
+        ("mvie = true", "mvie = false"),
+        ("outer = true", "outer = false"),
+        ('formats = ["pdf", "png", "html"]', 'formats = ["svg", "html"]'),
+        ("dpi = 200", "dpi = 20"),
+    ):
+        assert old in text
+        text = text.replace(old, new)
+    path = tmp_path / "two_robots.toml"
+    path.write_text(text)
+    return path
+
+
+def test_the_shipped_two_robot_study_runs_from_one_file(tmp_path):
+    spec = load_study(_shrunk_two_robot_study(tmp_path))
+    out = tmp_path / "out"
+    run_study(spec, out)
+    files = set(json.loads((out / "manifest.json").read_text())["files"])
+    for stem in ("panda.ready", "ur5.ready", "panda.reach", "ur5.reach"):
+        assert f"sets_{stem}.svg" in files and (out / f"sets_{stem}.svg").stat().st_size > 0
+    table = pd.read_csv(out / "comparison.csv", index_col="ellipsoid")
+    numbers = (out / "numbers.md").read_text()
+    for point in spec.points:
+        robot = pe.robots.load(point.robot, task="linear")
+        # the q of the file, written out: the robot's own joint count
+        assert point.q.size == robot.n
+        expected = pe.compare(
+            pe.analyze(robot.dynamics(point.q), robot.tau_max), 50, mvie=False, outer=False
+        )
+        for score in ("coverage", "inscribed_scale", "volume"):
+            assert table.loc[f"{point.label}: new (eq. 32/38)", score] == pytest.approx(
+                getattr(expected["chiacchio"], score), rel=1e-12
+            )
+        section = numbers.split(f"## {point.label}")[1].split("\n## ")[0]
+        assert point.labels == ("x", "y", "z", "xz")
+        for label, t in zip(point.labels, point.directions, strict=True):
+            line = section.split(f"Achievable accelerations along {label} = ")[1]
+            polytope = line.split("\n")[1].split()  # "polytope [lo, hi]"
+            assert polytope[0] == "polytope"
+            lo, hi = (float(v) for v in " ".join(polytope[1:]).strip("[]").split(","))
+            exact = _interval_by_linear_program(
+                robot.dynamics(point.q), robot.tau_max, robot.tau_min, t
+            )
+            np.testing.assert_allclose([lo, hi], exact, rtol=1e-4, atol=1e-6)
+    report = (out / "report.html").read_text()
+    assert "panda/ready" in report and "ur5/reach" in report
+
+
+def test_a_random_study_of_two_robots_runs_one_sweep_each(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text(
+        '[[robots]]\nname = "ur5"\nlibrary = "ur5"\n'
+        '[[robots]]\nname = "arm"\nlibrary = "chiacchio2000"\ntau_max = [50, 20, 2]\n'
+        "[random]\ncount = 3\nseed = 5\n[compare]\ndirections = 12\nmvie = false\n"
+        'outer = false\n[output]\nformats = ["svg"]\ndpi = 20\nhistograms = ["coverage"]\n'
+    )
+    spec = load_study(path)
+    out = tmp_path / "out"
+    run_study(spec, out)
+    results = pd.read_csv(out / "results.csv")
+    assert list(results.columns[:2]) == ["robot", "configuration"]
+    assert results["robot"].tolist() == ["ur5"] * 3 + ["arm"] * 3
+    robots = {"ur5": pe.robots.load("ur5"), "arm": pe.robots.load("chiacchio2000")}
+    limits = {"ur5": None, "arm": np.array([50.0, 20.0, 2.0])}
+    for index, row in results.iterrows():
+        robot = robots[row["robot"]]
+        q = row[[f"q{i + 1}" for i in range(robot.n)]].to_numpy(dtype=float)
+        np.testing.assert_array_equal(
+            q, spec.configurations(0 if row["robot"] == "ur5" else 1)[index % 3]
+        )
+        tau = robot.tau_max if limits[row["robot"]] is None else limits[row["robot"]]
+        expected = pe.compare(pe.analyze(robot.dynamics(q), tau), 12, mvie=False, outer=False)
+        assert row["chiacchio_coverage"] == pytest.approx(expected["chiacchio"].coverage, rel=1e-12)
+    assert np.isnan(results.loc[results["robot"] == "arm", "q4"]).all()
+    summary = pd.read_csv(out / "summary.csv", index_col=[0, 1, 2])
+    for name in ("ur5", "arm"):
+        mean = results.loc[results["robot"] == name, "yoshikawa_coverage"].mean()
+        assert summary.loc[(name, "yoshikawa", "coverage"), "mean"] == pytest.approx(mean)
+    dataset = pd.read_parquet(out / "results")  # a Hive partition per robot
+    assert sorted(set(dataset["robot"].astype(str))) == ["arm", "ur5"] and len(dataset) == 6
+    assert (out / "histogram_ur5.coverage.svg").exists() and (
+        out / "histogram_arm.coverage.svg"
+    ).exists()
+    assert "## ur5" in (out / "summary.md").read_text()
+    assert (out / "summary.tex").read_text().count("\\begin{table}") == 2

@@ -73,7 +73,10 @@ def test_robot_file(tmp_path):
     [
         (POINTS + "[outputs]\n", "keys among ['title', 'description', 'robot'"),
         (POINTS.replace("library", "libary"), "unknown key(s) ['libary']"),
-        (POINTS.replace('"chiacchio2000"', '"kuka"'), "name: expected one of ['chiacchio2000',"),
+        (
+            POINTS.replace('"chiacchio2000"', '"kuka"'),
+            "robot.library: expected one of ['chiacchio2000',",
+        ),
         (POINTS.replace('"-pi/2"]', '"-pi/2", 0]'), "points[0].q: expected 3 joint angles"),
         (POINTS.replace('"pi/2",', '"pi/two",'), "points[0].q[0]: expected a number"),
         (POINTS + "[compare]\ndirection = 3\n", "unknown key(s) ['direction']"),

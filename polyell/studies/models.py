@@ -1,0 +1,1287 @@
+"""The study and robot file format: one typed model (pydantic v2) per TOML table.
+
+The one source of the format: what :func:`parse_study` and :func:`parse_robot` accept, their
+defaults, their error messages (the key's path, what was expected, what arrived and the fix,
+"did you mean" for a misspelled key or name), the reference page ``docs/study_format.md``
+(:func:`reference_page`) and the JSON Schemas ``docs/study.schema.json`` and
+``docs/robot.schema.json`` (:func:`json_schema`).
+
+The models check everything a file says on its own; what needs the robot (joint counts, task
+rows, joint limits) is checked when :mod:`polyell.studies.spec` builds the study, before any
+output is written.  This module imports pydantic: only the study loader imports it
+(``import polyell`` does not).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import sys
+import types
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from difflib import get_close_matches
+from typing import Annotated, Any, ClassVar, Literal, Union, get_args, get_origin
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic_core import PydanticUndefined, core_schema
+
+from polyell import robots
+from polyell.comparison.candidates import BUILT_IN_KINDS
+from polyell.comparison.comparison import MAX_SAMPLES, MAX_SEED, MIN_SAMPLES, SCORE_NAMES
+from polyell.comparison.layout import LAYOUT_SETS, MAX_DIGITS
+from polyell.errors import InputError
+from polyell.expressions import evaluate, evaluate_list
+from polyell.validation import MAX_DIRECTIONS, _describe, check_integer
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+__all__ = [
+    "FORMATS",
+    "MAX_STUDY_CONFIGURATIONS",
+    "ROBOT_NAME",
+    "TABLES",
+    "CandidateTable",
+    "CompareTable",
+    "OutputTable",
+    "PayloadTable",
+    "PlanarTable",
+    "PointTable",
+    "RandomTable",
+    "RangeTable",
+    "RobotTable",
+    "StudyFile",
+    "TrajectoryTable",
+    "did_you_mean",
+    "json_schema",
+    "keys",
+    "parse_robot",
+    "parse_study",
+    "reference_page",
+]
+
+#: Most configurations of a grid or random study (all held in memory for its tables;
+#: larger sweeps go through pe.sweep(..., out=...)).
+MAX_STUDY_CONFIGURATIONS = 10_000_000
+#: Figure formats, and "html": one self-contained interactive report (plotly).
+FORMATS = ("pdf", "png", "svg", "html")
+#: A point's name becomes part of file names: letters, digits, ``_ . -``, not leading ``.``.
+POINT_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,63}")
+#: A robot's name prefixes its points' file names (``sets_<robot>.<point>``): no ``.``.
+ROBOT_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]{0,31}")
+#: A named direction: an optional sign, then task rows (``"x"``, ``"-xz"``, ``"wx"``).
+DIRECTION_NAME = re.compile(r"[+-]?[A-Za-z0-9]{1,32}")
+#: The keys of a robot table that only URDF robots take.
+URDF_KEYS = ("tip", "task", "locked_joints", "gravity", "weights", "payload")
+
+
+def did_you_mean(given: Sequence[object], valid: Sequence[str]) -> str:
+    """A fix naming the valid word closest to each misspelled one (difflib), if any."""
+    pairs = [
+        (str(word), close[0])
+        for word in given
+        if (close := get_close_matches(str(word), valid, n=1, cutoff=0.6))
+    ]
+    if not pairs:
+        return ""
+    return "did you mean " + ", ".join(f"{close!r} for {word!r}" for word, close in pairs) + "?"
+
+
+# ---------------------------------------------------------------------------------------
+# Value types: a validator that raises InputError with a path relative to the key, the
+# JSON Schema of the value and the phrase the reference page and the messages use.
+
+
+@dataclass(frozen=True, eq=False)
+class Check:
+    """A value type's check, JSON Schema and name, as ``Annotated`` metadata pydantic reads.
+
+    ``check`` returns the value or raises InputError with a path relative to the key
+    (``""``, ``"[0]"``, ``".num"``); ``phrase`` names the type on the reference page.
+    """
+
+    check: Callable[[Any], Any]
+    schema: dict[str, Any]
+    phrase: str
+
+    def __get_pydantic_core_schema__(self, source: Any, handler: Any) -> Any:
+        return core_schema.no_info_plain_validator_function(self.check)
+
+    def __get_pydantic_json_schema__(self, schema: Any, handler: Any) -> dict[str, Any]:
+        return dict(self.schema)
+
+
+_NUMBER_SCHEMA: dict[str, Any] = {
+    "type": ["number", "string"],
+    "description": "a number or an expression",
+}
+_NUMBERS_SCHEMA: dict[str, Any] = {"type": ["array", "string"], "items": _NUMBER_SCHEMA}
+_NUMBERS = "list of numbers or expressions"
+
+
+def _numbers(value: object) -> tuple[float, ...]:
+    return tuple(evaluate_list("", value))  # type: ignore[arg-type]
+
+
+def _string(value: object) -> str:
+    if not isinstance(value, str):
+        raise InputError("", "a string", _describe(value))
+    return value
+
+
+def _strings(value: object) -> tuple[str, ...]:
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        raise InputError("", "a list of strings", _describe(value))
+    return tuple(value)
+
+
+def _title(value: object) -> str:
+    """A title that figures show: a ``$...$`` typo is refused when the file loads."""
+    title = _string(value)
+    if "$" not in title:  # no mathtext: no need to load matplotlib
+        return title
+    from polyell.figures import check_title
+
+    return check_title(title, "")
+
+
+def _file_name(value: object) -> str:
+    name = _string(value)
+    if not POINT_NAME.fullmatch(name):
+        raise InputError(
+            "",
+            "1-64 letters, digits, '_', '.' or '-', not starting with '.' (it names files)",
+            repr(name),
+            "no '/' or '..': nothing a study says may write outside the output folder.",
+        )
+    return name
+
+
+def _robot_name(value: object) -> str:
+    name = _string(value)
+    if not ROBOT_NAME.fullmatch(name):
+        raise InputError(
+            "",
+            "1-32 letters, digits, '_' or '-' (it prefixes file names: sets_<robot>.<point>)",
+            repr(name),
+            'e.g. name = "panda".',
+        )
+    return name
+
+
+def _library(value: object) -> str:
+    name = _string(value)
+    if name not in robots.names():
+        raise InputError(
+            "", f"one of {robots.names()}", repr(name), did_you_mean([name], robots.names())
+        )
+    return name
+
+
+def _task(value: object) -> str | tuple[str, ...]:
+    if isinstance(value, str):
+        return value
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        raise InputError(
+            "",
+            'a list of task rows (among x y z wx wy wz), or "linear", "angular" or "planar"',
+            _describe(value),
+        )
+    return tuple(value)
+
+
+def _vector3(value: object) -> tuple[float, ...]:
+    if not isinstance(value, list):
+        raise InputError("", "a list of 3 numbers (x, y, z)", _describe(value))
+    vector = _numbers(value)
+    if len(vector) != 3:
+        raise InputError("", "3 numbers (x, y, z)", f"{len(vector)}: {_describe(value)}")
+    return vector
+
+
+def _matrix3(value: object) -> tuple[tuple[float, ...], ...]:
+    if not isinstance(value, list) or len(value) != 3:
+        raise InputError("", "a 3 x 3 list of lists", _describe(value))
+    rows = tuple(tuple(evaluate_list(f"[{i}]", row)) for i, row in enumerate(value))
+    if any(len(row) != 3 for row in rows):
+        raise InputError("", "a 3 x 3 list of lists", f"rows of {[len(r) for r in rows]}")
+    return rows
+
+
+def _matrix(value: object) -> tuple[tuple[float, ...], ...]:
+    """A square matrix: a list of rows, or a list of numbers (its diagonal)."""
+    if not isinstance(value, list):
+        raise InputError(
+            "", "a list of rows, or a list of numbers (the diagonal)", _describe(value)
+        )
+    if value and all(isinstance(row, list) for row in value):
+        rows = tuple(tuple(evaluate_list(f"[{i}]", row)) for i, row in enumerate(value))
+        if any(len(row) != len(rows) for row in rows):
+            lengths = [len(row) for row in rows]
+            raise InputError("", f"{len(rows)} rows of {len(rows)} numbers", f"{lengths}")
+        return rows
+    diagonal = evaluate_list("", value)
+    return tuple(
+        tuple(d if i == j else 0.0 for j in range(len(diagonal))) for i, d in enumerate(diagonal)
+    )
+
+
+def _direction(value: object) -> str | tuple[float, ...]:
+    """A named direction (checked against the robot's task rows later) or a unit vector."""
+    if isinstance(value, str):
+        if not DIRECTION_NAME.fullmatch(value):
+            raise InputError(
+                "",
+                'a direction named by task rows ("x", "-z", "xy", "wx") or a unit vector',
+                repr(value)[:60],
+            )
+        return value
+    if not isinstance(value, list):
+        raise InputError(
+            "",
+            'a direction named by task rows ("x", "-z", "xy", "wx") or a unit vector',
+            _describe(value),
+        )
+    vector = _numbers(value)
+    norm = math.sqrt(math.fsum(v * v for v in vector))
+    if not abs(norm - 1.0) <= 1e-6:
+        raise InputError(
+            "",
+            "a unit vector, or a direction named by task rows",
+            f"norm {norm:.6g}",
+            'divide by the norm, or name it: "xy" is the unit diagonal (1, 1, 0)/sqrt(2).',
+        )
+    return vector
+
+
+def _directions(value: object) -> tuple[str | tuple[float, ...], ...]:
+    if not isinstance(value, list) or not value:
+        raise InputError(
+            "",
+            'a non-empty list of directions: names ("x", "-z", "xy") or unit vectors',
+            _describe(value),
+            'e.g. directions = ["x", "y", "xy"].',
+        )
+    items = []
+    for j, item in enumerate(value):
+        try:
+            items.append(_direction(item))
+        except InputError as exn:
+            raise InputError(f"[{j}]{exn.argument}", exn.expected, exn.got, exn.fix) from None
+    return tuple(items)
+
+
+def _per_robot(value: object) -> tuple[float, ...] | dict[str, tuple[float, ...]]:
+    """Joint angles, or a table of them per robot (``{ panda = [...], ur5 = [...] }``)."""
+    if isinstance(value, dict):
+        for name in value:
+            if not ROBOT_NAME.fullmatch(name):
+                raise InputError("", "a table of joint angles by robot name", f"a key {name!r}")
+        return {name: tuple(evaluate_list(f".{name}", q)) for name, q in value.items()}
+    return _numbers(value)
+
+
+def _choices(valid: tuple[str, ...]) -> Callable[[object], tuple[str, ...]]:
+    def check(value: object) -> tuple[str, ...]:
+        if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+            raise InputError("", "a list of strings", _describe(value), f"among {list(valid)}.")
+        unknown = [v for v in value if v not in valid]
+        if unknown:
+            raise InputError(
+                "", f"a list among {list(valid)}", _describe(value), did_you_mean(unknown, valid)
+            )
+        return tuple(value)
+
+    return check
+
+
+def Integer(low: int, high: int) -> Check:
+    """An integer from ``low`` to ``high``."""
+    return Check(
+        lambda value: check_integer("", value, low, high),
+        {"type": "integer", "minimum": low, "maximum": high},
+        "integer",
+    )
+
+
+def _grid_value(value: object) -> float | RangeTable:
+    if isinstance(value, dict):
+        return validate(RangeTable, value)
+    return evaluate("", value)  # type: ignore[arg-type]
+
+
+Number = Annotated[float, Check(lambda value: evaluate("", value), _NUMBER_SCHEMA, "number")]
+Numbers = Annotated[tuple[float, ...], Check(_numbers, _NUMBERS_SCHEMA, _NUMBERS)]
+String = Annotated[str, Check(_string, {"type": "string"}, "string")]
+Strings = Annotated[
+    tuple[str, ...],
+    Check(_strings, {"type": "array", "items": {"type": "string"}}, "list of strings"),
+]
+Title = Annotated[str, Check(_title, {"type": "string"}, "string")]
+FileName = Annotated[
+    str, Check(_file_name, {"type": "string", "pattern": f"^{POINT_NAME.pattern}$"}, "string")
+]
+RobotName = Annotated[
+    str, Check(_robot_name, {"type": "string", "pattern": f"^{ROBOT_NAME.pattern}$"}, "string")
+]
+Library = Annotated[str, Check(_library, {"type": "string", "enum": robots.names()}, "string")]
+Task = Annotated[
+    str | tuple[str, ...],
+    Check(
+        _task,
+        {"oneOf": [{"type": "string"}, {"type": "array", "items": {"type": "string"}}]},
+        "string or list of strings",
+    ),
+]
+Vector3 = Annotated[
+    tuple[float, ...], Check(_vector3, {**_NUMBERS_SCHEMA, "minItems": 3, "maxItems": 3}, _NUMBERS)
+]
+Matrix3 = Annotated[
+    tuple[tuple[float, ...], ...],
+    Check(
+        _matrix3,
+        {"type": "array", "items": {"type": "array", "items": _NUMBER_SCHEMA}},
+        "3 x 3 list of lists",
+    ),
+]
+Matrix = Annotated[
+    tuple[tuple[float, ...], ...],
+    Check(
+        _matrix,
+        {
+            "type": "array",
+            "items": {"oneOf": [_NUMBER_SCHEMA, {"type": "array", "items": _NUMBER_SCHEMA}]},
+        },
+        "matrix: list of rows, or the diagonal",
+    ),
+]
+_DIRECTION_SCHEMA = {"oneOf": [{"type": "string"}, {"type": "array", "items": _NUMBER_SCHEMA}]}
+Directions = Annotated[
+    tuple[str | tuple[float, ...], ...],
+    Check(
+        _directions,
+        {"type": "array", "items": _DIRECTION_SCHEMA, "minItems": 1},
+        "list of names or vectors",
+    ),
+]
+JointAngles = Annotated[
+    tuple[float, ...] | dict[str, tuple[float, ...]],
+    Check(
+        _per_robot,
+        {"oneOf": [_NUMBERS_SCHEMA, {"type": "object", "additionalProperties": _NUMBERS_SCHEMA}]},
+        f"{_NUMBERS}, or a table of them per robot",
+    ),
+]
+
+
+def Choices(valid: tuple[str, ...]) -> Check:
+    """A list of strings among ``valid``."""
+    schema = {"type": "array", "items": {"enum": list(valid)}}
+    return Check(_choices(valid), schema, "list of strings")
+
+
+_GRID_SCHEMA: dict[str, Any] = {
+    "type": "object",
+    "patternProperties": {
+        "^q[1-9][0-9]*$": {
+            "oneOf": [
+                _NUMBER_SCHEMA,
+                {
+                    "type": "object",
+                    "properties": {
+                        "start": _NUMBER_SCHEMA,
+                        "stop": _NUMBER_SCHEMA,
+                        "num": {"type": "integer", "minimum": 1},
+                    },
+                    "required": ["start", "stop", "num"],
+                    "additionalProperties": False,
+                },
+            ]
+        }
+    },
+    "additionalProperties": False,
+}
+
+
+def _grid(value: object) -> dict[str, float | RangeTable]:
+    if not isinstance(value, dict):
+        raise InputError(
+            "", "a table: q1 = value or q1 = { start, stop, num } per joint", _describe(value)
+        )
+    values = {}
+    for name, item in value.items():
+        if not re.fullmatch(r"q[1-9][0-9]{0,8}", name):
+            raise InputError(
+                "",
+                "keys q1, q2, ... (one per joint)",
+                f"a key {name!r}",
+            )
+        try:
+            values[name] = _grid_value(item)
+        except InputError as exn:
+            raise InputError(f".{name}{exn.argument}", exn.expected, exn.got, exn.fix) from None
+    return values
+
+
+Grid = Annotated[
+    dict[str, "float | RangeTable"],
+    Check(_grid, _GRID_SCHEMA, "number or { start, stop, num } per joint"),
+]
+
+
+def key(
+    default: Any = PydanticUndefined,
+    *,
+    what: str,
+    example: str = "",
+    default_text: str | None = None,
+    factory: Callable[[], Any] | None = None,
+) -> Any:
+    """A key of a table: its meaning, a TOML example of its value and how its default reads."""
+    extra: dict[str, Any] = {"x-example": example}
+    if default_text is not None:
+        extra["x-default"] = default_text
+    if factory is not None:
+        return Field(default_factory=factory, description=what, json_schema_extra=extra)
+    if default is PydanticUndefined:
+        return Field(description=what, json_schema_extra=extra)
+    return Field(default=default, description=what, json_schema_extra=extra)
+
+
+# ---------------------------------------------------------------------------------------
+# Tables
+
+
+class Table(BaseModel):
+    """A TOML table: its keys are the model's fields; unknown keys are refused by name."""
+
+    model_config = ConfigDict(
+        extra="forbid", strict=True, frozen=True, arbitrary_types_allowed=True
+    )
+
+    #: The table's heading on the reference page (``"[robot]"``).
+    heading: ClassVar[str] = ""
+    #: A study (or robot file) that uses the table: the reference page shows it, the tests load it.
+    example: ClassVar[str] = ""
+
+    @model_validator(mode="before")
+    @classmethod
+    def _known_keys(cls, data: Any) -> Any:
+        valid = list(cls.model_fields)
+        if not isinstance(data, dict):
+            raise InputError("", f"a table with keys among {valid}", _describe(data))
+        unknown = sorted(str(name) for name in set(data) - set(valid))
+        if unknown:
+            raise InputError(
+                "",
+                f"keys among {valid}",
+                f"unknown key(s) {unknown}",
+                did_you_mean(unknown, valid) or "check the spelling against the valid keys.",
+            )
+        for name, field in cls.model_fields.items():
+            if field.is_required() and name not in data:
+                extra = field.json_schema_extra
+                assert isinstance(extra, dict)
+                raise InputError(
+                    "",
+                    f"a '{name}' {phrase(field.annotation, field.metadata)}",
+                    "no such key",
+                    f"add {name} = {extra['x-example']}" if extra["x-example"] else "",
+                )
+        return data
+
+
+class PlanarTable(Table):
+    """A planar arm in the vertical plane.
+
+    Relative joint angles, gravity along -y, the end-effector position as task.
+    """
+
+    heading: ClassVar[str] = "[robot.planar]"
+    example: ClassVar[str] = """[robot]
+tau_max = [100, 30, 4]
+[robot.planar]
+lengths = [1.0, 0.8, 0.5]
+masses = [4.0, 2.0, 0.6]
+com = [0.5, 0.4, 0.25]
+inertia = [0.3, 0.1, 0.01]
+gravity = 9.81
+[[points]]
+name = "p"
+q = [0.1, 0.2, 0.3]"""
+
+    lengths: Numbers = key(what="Link lengths [m].", example="[1.0, 0.8, 0.5]")
+    masses: Numbers = key(what="Link masses [kg].", example="[4.0, 2.0, 0.6]")
+    com: Numbers | None = key(
+        None,
+        what="Centre of mass along each link [m].",
+        example="[0.5, 0.4, 0.25]",
+        default_text="half the lengths",
+    )
+    inertia: Numbers | None = key(
+        None,
+        what="Link inertia about its centre of mass [kg m^2].",
+        example="[0.3, 0.1, 0.01]",
+        default_text="m l^2 / 12",
+    )
+    gravity: Number = key(9.81, what="Gravity [m/s^2].", example="9.81")
+
+
+class PayloadTable(Table):
+    """A rigid load attached to the tip frame of a URDF robot."""
+
+    heading: ClassVar[str] = "[robot.payload]"
+    example: ClassVar[str] = """[robot]
+library = "panda"
+payload = { mass = 1.5, com = [0, 0, 0.05], inertia = [[1e-3, 0, 0], [0, 1e-3, 0], [0, 0, 1e-3]] }
+[[points]]
+name = "ready"
+q = [0, -0.5, 0, -2, 0, 1.6, 0.8]"""
+
+    mass: Number = key(what="Mass [kg].", example="1.5")
+    com: Vector3 = key(
+        (0.0, 0.0, 0.0), what="Centre of mass in the tip frame [m].", example="[0, 0, 0.05]"
+    )
+    inertia: Matrix3 = key(
+        ((0.0,) * 3,) * 3,
+        what="Inertia about the com [kg m^2].",
+        example="[[1e-3, 0, 0], [0, 1e-3, 0], [0, 0, 1e-3]]",
+        default_text="zero",
+    )
+
+
+class RobotTable(Table):
+    """A robot: exactly one of `library`, `planar` and `urdf`.
+
+    A robot file is this table at the top level of its own TOML file; a study has one
+    `[robot]` or several `[[robots]]`, each of these keys plus a `name`.
+    """
+
+    heading: ClassVar[str] = "[robot]"
+    example: ClassVar[str] = """[robot]
+name = "panda"
+library = "panda"
+task = "linear"
+payload = { mass = 1.0, com = [0, 0, 0.05] }
+[[points]]
+name = "ready"
+q = [0, -0.5, 0, -2, 0, 1.6, 0.8]"""
+
+    name: RobotName | None = key(
+        None,
+        what="Names the robot in outputs (`panda/home`); required in `[[robots]]`.",
+        example='"panda"',
+        default_text="—",
+    )
+    library: Library | None = key(
+        None, what="A robot of `pe.robots.names()`.", example='"panda"', default_text="—"
+    )
+    planar: PlanarTable | None = key(
+        None, what="A planar arm: see `[robot.planar]`.", default_text="—"
+    )
+    urdf: String | None = key(
+        None,
+        what="A URDF file, relative to the study file.",
+        example='"arm.urdf"',
+        default_text="—",
+    )
+    tip: String | None = key(
+        None, what="The task frame of a URDF.", example='"tool0"', default_text="required with urdf"
+    )
+    task: Task | None = key(
+        None,
+        what='URDF robots: "linear", "angular", "planar" or rows among x y z wx wy wz.',
+        example='["x", "z"]',
+        default_text='"linear"',
+    )
+    locked_joints: Strings | None = key(
+        None, what="URDF joints held fixed.", example='["j7"]', default_text="[]"
+    )
+    gravity: Numbers | None = key(
+        None,
+        what="URDF robots: gravity [m/s^2].",
+        example="[0, 0, -9.81]",
+        default_text="[0, 0, -9.81]",
+    )
+    weights: Numbers | None = key(
+        None,
+        what="Per task row, to mix linear and angular rows.",
+        example="[1, 1, 0.2]",
+        default_text="—",
+    )
+    payload: PayloadTable | None = key(
+        None,
+        what="A load at the tip: see `[robot.payload]`.",
+        example="{ mass = 1.0 }",
+        default_text="—",
+    )
+    tau_max: Numbers | None = key(
+        None,
+        what="Upper torque limits [N m].",
+        example="[100, 30, 4]",
+        default_text="the robot's own",
+    )
+    tau_min: Numbers | None = key(
+        None, what="Lower torque limits [N m].", example="[-90, -30, -4]", default_text="-tau_max"
+    )
+
+    @model_validator(mode="after")
+    def _one_source(self) -> RobotTable:
+        sources = [
+            name for name in ("library", "planar", "urdf") if getattr(self, name) is not None
+        ]
+        if len(sources) != 1:
+            raise InputError(
+                "",
+                "exactly one of 'library' (a name), 'planar' (a link table), 'urdf' (a file)",
+                f"keys {sorted(self.model_fields_set)}",
+                f'e.g. library = "chiacchio2000"; names: {robots.names()}.',
+            )
+        options = [name for name in URDF_KEYS if getattr(self, name) is not None]
+        if options and (self.planar is not None or self.library == "chiacchio2000"):
+            raise InputError("", "no URDF options for a planar arm", f"{options}", "drop them.")
+        if self.urdf is not None and self.tip is None:
+            raise InputError(
+                "", "a 'tip' frame name for a URDF robot", "no tip key", 'add tip = "tool0".'
+            )
+        return self
+
+
+class PointTable(Table):
+    """Named configurations (postures).
+
+    Each gets its numbers, its scores, its directional limits along each of its
+    `directions` and its figures. A named direction is a sign and
+    task rows: "x", "-z", "xy" (the unit diagonal (1, 1, 0)/sqrt 2), "-xz", "wx" on an
+    angular task; a vector is a unit vector of the task's size. With several robots each
+    point is evaluated on every robot (`panda/home`); give `q` per robot as a table when
+    their joint counts differ.
+    """
+
+    heading: ClassVar[str] = "[[points]]"
+    example: ClassVar[str] = '''[robot]
+library = "chiacchio2000"
+[[points]]
+name = "singular"
+title = "Figure 2"
+q = ["pi/6", 0, 0]
+directions = ["x", "xy", ["-1/2", "sqrt(3)/2"]]
+inverse_at = "lo"'''
+
+    name: FileName = key(what="Names files: letters, digits, `_ . -`.", example='"redundant"')
+    q: JointAngles = key(
+        what="Joint angles [rad]; several robots: `{ panda = [...], ur5 = [...] }`.",
+        example='["pi/2", "-pi/2", "-pi/2"]',
+    )
+    directions: Directions | None = key(
+        None,
+        what="Directions of the reported limits: names of task rows or unit vectors.",
+        example='["x", "xy", ["-1/2", "sqrt(3)/2"]]',
+        default_text="the task's axes",
+    )
+    direction: Numbers | None = key(
+        None,
+        what="One unit direction: the same as `directions = [direction]` (kept for older files).",
+        example='["-1/2", "sqrt(3)/2"]',
+        default_text="—",
+    )
+    inverse_at: Literal["lo", "hi"] = key(
+        "hi", what='End of the interval mapped back: "lo" or "hi".', example='"lo"'
+    )
+    title: Title = key("", what="Figure title.", example='"Figure 1"')
+
+    @model_validator(mode="after")
+    def _one_direction_key(self) -> PointTable:
+        if self.direction is not None and self.directions is not None:
+            raise InputError(
+                "",
+                "one of 'directions' (a list) and 'direction' (one vector)",
+                "both",
+                "move the vector into directions and drop direction.",
+            )
+        if self.direction is not None:
+            try:
+                _direction(list(self.direction))
+            except InputError as exn:
+                raise InputError(".direction", exn.expected, exn.got, exn.fix) from None
+        return self
+
+
+class RangeTable(Table):
+    """Evenly spaced values of one joint, ends included."""
+
+    start: Number = key(what="First value [rad].", example='"-pi"')
+    stop: Number = key(what="Last value [rad].", example='"pi"')
+    num: Annotated[int, Integer(1, MAX_STUDY_CONFIGURATIONS)] = key(
+        what="How many values.", example="61"
+    )
+
+
+class RandomTable(Table):
+    """Seeded uniform configurations within the joint limits.
+
+    With several robots each samples within its own limits.
+    """
+
+    heading: ClassVar[str] = "[random]"
+    example: ClassVar[str] = """[robot]
+library = "chiacchio2000"
+[random]
+count = 5
+seed = 1
+low = [-1, -1, -1]
+high = [1, 1, 1]"""
+
+    count: Annotated[int, Integer(1, MAX_STUDY_CONFIGURATIONS)] = key(
+        what="How many.", example="300"
+    )
+    seed: Annotated[int, Integer(0, MAX_SEED)] = key(
+        0, what="Seed of the generator.", example="2000"
+    )
+    low: Numbers | None = key(
+        None,
+        what="Lower joint bounds [rad].",
+        example="[-1, -1, -1]",
+        default_text="the URDF's limits, or -pi",
+    )
+    high: Numbers | None = key(
+        None,
+        what="Upper joint bounds [rad].",
+        example="[1, 1, 1]",
+        default_text="the URDF's limits, or pi",
+    )
+
+
+class TrajectoryTable(Table):
+    """A path the user already has.
+
+    CSV, Parquet, .npy or .npz with columns `q1..qn`, optionally `qd1..qdn` (then the
+    accelerations along the path's tangent) and `t`. One robot only.
+    """
+
+    heading: ClassVar[str] = "[trajectory]"
+    example: ClassVar[str] = '''[robot]
+library = "chiacchio2000"
+[trajectory]
+file = "planar3r_path.csv"'''
+
+    file: String = key(what="The file, relative to the study file.", example='"path.csv"')
+
+
+class CompareTable(Table):
+    """How the ellipsoids are scored (`pe.compare`, `pe.sweep`)."""
+
+    heading: ClassVar[str] = "[compare]"
+    example: ClassVar[str] = """[robot]
+library = "chiacchio2000"
+[[points]]
+name = "p"
+q = [0.1, 0.2, 0.3]
+[compare]
+directions = 72
+mvie = true
+outer = false
+samples = 4096
+seed = 3
+chunk = 5000"""
+
+    directions: Annotated[int, Integer(1, MAX_DIRECTIONS)] | None = key(
+        None,
+        what="Directions of the directional statistics.",
+        example="72",
+        default_text="360 in 2-D, 256 in 3-D, 2000 above",
+    )
+    mvie: bool = key(True, what="Compute the maximum-volume inscribed ellipsoid.", example="true")
+    outer: bool = key(True, what="Compute the minimum-volume enclosing ellipsoid.", example="false")
+    samples: Annotated[int, Integer(MIN_SAMPLES, MAX_SAMPLES)] = key(
+        2**13,
+        what="Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the polytope, "
+        "2 to 4194304 (2^22), in every kind of study.",
+        example="4096",
+    )
+    seed: Annotated[int, Integer(0, MAX_SEED)] = key(
+        0, what="Seed of those estimates, 0 or more.", example="3"
+    )
+    chunk: Annotated[int, Integer(1, 10_000_000)] = key(
+        20_000, what="Configurations per chunk of a sweep.", example="5000"
+    )
+
+
+class CandidateTable(Table):
+    """Your own ellipsoids (`pe.Candidate`), scored like the built-in ones.
+
+    Exactly one of `weighting` and `core`. A matrix is a list of rows, or a list of
+    numbers (its diagonal).
+    """
+
+    heading: ClassVar[str] = "[[candidates]]"
+    example: ClassVar[str] = """[robot]
+library = "chiacchio2000"
+[[points]]
+name = "p"
+q = [0.1, 0.2, 0.3]
+[[candidates]]
+name = "heavy_wrist"
+weighting = [1, 1, 4]
+[[candidates]]
+name = "disc"
+core = [[1e-3, 0], [0, 2e-3]]
+center = [0, -9.81]"""
+
+    name: String = key(what="Lower-case identifier; prefixes its columns.", example='"heavy_wrist"')
+    weighting: Matrix | None = key(
+        None,
+        what="W of normalized torques: tau_n^T W tau_n <= 1 (n x n).",
+        example="[1, 1, 4]",
+        default_text="—",
+    )
+    core: Matrix | None = key(
+        None,
+        what="N of {(x - c)^T N (x - c) <= 1} [(m/s^2)^-2] (m x m).",
+        example="[[1e-3, 0], [0, 2e-3]]",
+        default_text="—",
+    )
+    center: Numbers | None = key(
+        None,
+        what="Centre c of a core-defined candidate [m/s^2].",
+        example="[0, -9.81]",
+        default_text="xg",
+    )
+
+
+class OutputTable(Table):
+    """What is written besides the tables, and how the tables are laid out.
+
+    `sets` to `percent` lay out the tables for print (`polyell.comparison.layout`).
+    """
+
+    heading: ClassVar[str] = "[output]"
+    example: ClassVar[str] = """[robot]
+library = "chiacchio2000"
+[grid]
+q1 = "pi/2"
+q2 = { start = "-pi", stop = "pi", num = 3 }
+q3 = { start = "-pi", stop = "pi", num = 3 }
+[output]
+formats = ["png", "html"]
+dpi = 200
+maps = ["chiacchio_coverage"]
+histograms = ["coverage"]
+sets = ["polytope", "chiacchio", "yoshikawa"]
+scores = ["coverage", "inscribed_scale"]
+transpose = true
+split = "posture"
+digits = 4
+percent = false"""
+
+    formats: Annotated[tuple[str, ...], Choices(FORMATS)] = key(
+        ("pdf", "png"),
+        what='Among "pdf", "png", "svg", "html" (one interactive report).',
+        example='["png", "html"]',
+    )
+    dpi: Annotated[int, Integer(10, 2400)] = key(
+        300, what="Resolution of raster figures.", example="200"
+    )
+    maps: Strings = key(
+        (),
+        what="Grid studies with two varying joints: `<ellipsoid>_<score>` heat maps.",
+        example='["chiacchio_coverage"]',
+    )
+    histograms: Annotated[tuple[str, ...], Choices(SCORE_NAMES)] = key(
+        (), what="Grid and random studies: score histograms.", example='["coverage"]'
+    )
+    series: Annotated[tuple[str, ...], Choices(SCORE_NAMES)] | None = key(
+        None,
+        what="Trajectory studies: scores over time.",
+        example='["mvie_ratio"]',
+        default_text='["coverage", "inscribed_scale"] for a trajectory',
+    )
+    sets: Strings | None = key(
+        None,
+        what=f"Sets the tables show, in order: among {', '.join(LAYOUT_SETS)} and candidate names.",
+        example='["polytope", "chiacchio", "yoshikawa"]',
+        default_text="all",
+    )
+    scores: Annotated[tuple[str, ...], Choices(SCORE_NAMES)] | None = key(
+        None,
+        what="Scores the tables show, in order.",
+        example='["coverage", "inscribed_scale"]',
+        default_text="the defaults",
+    )
+    transpose: bool = key(False, what="Sets as columns (true) or as rows.", example="true")
+    split: Literal["posture", "combined"] = key(
+        "combined",
+        what='"posture": one table per posture; "combined": one table.',
+        example='"posture"',
+    )
+    digits: Annotated[int, Integer(1, MAX_DIGITS)] = key(
+        3, what="Significant digits of the tables.", example="4"
+    )
+    percent: bool = key(True, what="Fractions as percentages (true) or fractions.", example="false")
+
+
+class StudyFile(Table):
+    """A study file.
+
+    It holds a robot (`[robot]`) or several (`[[robots]]`), exactly one of `[[points]]`,
+    `[grid]`, `[random]` and `[trajectory]`, and optional comparison, candidate and output
+    settings.
+    """
+
+    heading: ClassVar[str] = "top level"
+    example: ClassVar[str] = """title = "The paper's arm"
+[robot]
+library = "chiacchio2000"
+[[points]]
+name = "redundant"
+q = ["pi/2", "-pi/2", "-pi/2"]"""
+
+    title: Title | None = key(
+        None, what="Heading of every output.", example='"Panda study"', default_text="the file name"
+    )
+    description: String = key(
+        "",
+        what="Free text, written under the title of `numbers.md`, `comparison.md` and "
+        "`summary.md`, at the top of `report.html` and into `manifest.json`.",
+        example='"..."',
+    )
+    robot: RobotTable | None = key(
+        None, what="The robot: see `[robot]`.", default_text="one of robot and robots"
+    )
+    robots: list[RobotTable] | None = key(
+        None,
+        what="Several robots compared side by side: `[robot]` tables with a `name`.",
+        default_text="—",
+    )
+    points: list[PointTable] | None = key(
+        None, what="Named configurations: `[[points]]`.", default_text="—"
+    )
+    grid: Grid | None = key(
+        None,
+        what="A grid over the joints: one key per joint, `q1` to `qn`: a fixed value, or a "
+        "range `{ start, stop, num }` (all three keys; `num` evenly spaced values, ends "
+        "included); several robots need the same joint count.",
+        example='{ q1 = "pi/2", q2 = { start = "-pi", stop = "pi", num = 61 } }',
+        default_text="—",
+    )
+    random: RandomTable | None = key(
+        None, what="Random configurations: `[random]`.", default_text="—"
+    )
+    trajectory: TrajectoryTable | None = key(
+        None, what="A path from a file: `[trajectory]`.", default_text="—"
+    )
+    compare: CompareTable = key(
+        factory=CompareTable, what="Comparison settings: `[compare]`.", default_text="—"
+    )
+    candidates: list[CandidateTable] = key(
+        factory=list, what="Your ellipsoids: `[[candidates]]`.", default_text="—"
+    )
+    output: OutputTable = key(
+        factory=OutputTable, what="Formats, figures, table layout: `[output]`.", default_text="—"
+    )
+
+    @model_validator(mode="after")
+    def _consistent(self) -> StudyFile:
+        if (self.robot is None) == (self.robots is None):
+            raise InputError(
+                "",
+                "one [robot] table, or [[robots]] tables (each with a name)",
+                "both" if self.robot is not None else "neither",
+                'e.g. [robot]\nlibrary = "chiacchio2000"'.replace("\n", " "),
+            )
+        if self.robots is not None:
+            if not self.robots:
+                raise InputError("robots", "at least one [[robots]] table", "none")
+            for i, robot in enumerate(self.robots):
+                if robot.name is None:
+                    raise InputError(
+                        f"robots[{i}]",
+                        "a 'name' (it labels the robot's outputs)",
+                        "no such key",
+                        'add name = "panda".',
+                    )
+            names = [robot.name for robot in self.robots]
+            if len(set(names)) != len(names):
+                raise InputError("robots", "distinct robot names", f"{names}")
+        kinds = [
+            k for k in ("points", "grid", "random", "trajectory") if getattr(self, k) is not None
+        ]
+        if len(kinds) != 1:
+            raise InputError(
+                "",
+                "exactly one of [[points]], [grid], [random] and [trajectory]",
+                f"keys {sorted(self.model_fields_set)}",
+            )
+        if self.trajectory is not None and self.robots is not None and len(self.robots) > 1:
+            raise InputError(
+                "trajectory",
+                "one robot (a path's columns q1..qn are one robot's joints)",
+                f"{len(self.robots)} [[robots]]",
+                "run one study per robot, or compare several robots on [[points]], [grid] "
+                "or [random].",
+            )
+        if self.points is not None:
+            if not self.points:
+                raise InputError("points", "at least one [[points]] table", "none")
+            names = [point.name for point in self.points]
+            if len(set(names)) != len(names):
+                raise InputError("points", "distinct point names (they name files)", f"{names}")
+        self._check_output()
+        return self
+
+    def _check_output(self) -> None:
+        output = self.output
+        candidates = [candidate.name for candidate in self.candidates]
+        kinds = (*BUILT_IN_KINDS, *candidates)
+        valid_maps = [f"{kind}_{score}" for kind in kinds for score in SCORE_NAMES]
+        for name in output.maps:
+            if name not in valid_maps:
+                raise InputError(
+                    "output.maps",
+                    "names <ellipsoid>_<score>",
+                    repr(name),
+                    did_you_mean([name], valid_maps)
+                    or f"for example 'chiacchio_coverage'; valid: {valid_maps}",
+                )
+        if output.histograms and self.points is not None:
+            raise InputError("output.histograms", "a grid or random study", "a study of points")
+        if output.series and self.trajectory is None:
+            raise InputError("output.series", "a [trajectory] study", "another kind of study")
+        for name in output.sets or ():
+            if name not in (*LAYOUT_SETS, *candidates):
+                valid = [*LAYOUT_SETS, *candidates]
+                raise InputError(
+                    "output.sets",
+                    f"set names among {valid}",
+                    repr(name),
+                    did_you_mean([name], valid) or "a candidate is named in [[candidates]].",
+                )
+        if output.sets is not None or output.scores is not None:
+            for field in ("sets", "scores"):
+                values = getattr(output, field)
+                if values is not None and len(set(values)) != len(values):
+                    raise InputError(f"output.{field}", "distinct names", f"{list(values)}")
+                if values is not None and not values:
+                    raise InputError(
+                        f"output.{field}", "a non-empty list", "[]", "leave the key out for all."
+                    )
+
+
+#: The tables of the format, in the order of the reference page.
+TABLES: dict[str, type[Table]] = {
+    "top": StudyFile,
+    "robot": RobotTable,
+    "planar": PlanarTable,
+    "payload": PayloadTable,
+    "points": PointTable,
+    "random": RandomTable,
+    "trajectory": TrajectoryTable,
+    "compare": CompareTable,
+    "candidates": CandidateTable,
+    "output": OutputTable,
+}
+
+
+# ---------------------------------------------------------------------------------------
+# Parsing: pydantic's errors as the package's own
+
+
+def _join(path: str, argument: str) -> str:
+    """A relative argument (``""``, ``"[0]"``, ``".q"``, or a key) appended to ``path``."""
+    if not argument:
+        return path
+    if argument[0] in "[.":
+        return path + argument
+    return f"{path}.{argument}"
+
+
+def as_input_error(error: ValidationError, root: str = "") -> InputError:
+    """The first error of a validation as an InputError naming the key's path.
+
+    ``root`` names the file for errors of its top level; ``""`` leaves the argument
+    relative (``".num"``), for a caller that prefixes its own path.
+    """
+    first = error.errors(include_url=False)[0]
+    path = "".join(f"[{step}]" if isinstance(step, int) else f".{step}" for step in first["loc"])
+    cause = first.get("ctx", {}).get("error")
+    if isinstance(cause, InputError):
+        argument = _join(path, cause.argument)
+        expected, got, fix = cause.expected, cause.got, cause.fix
+    else:
+        expected = {
+            "bool_type": "true or false",
+            "string_type": "a string",
+            "list_type": "a list of tables",
+            "model_type": "a table",
+            "dict_type": "a table",
+            "literal_error": str(first.get("ctx", {}).get("expected", "")),
+        }.get(first["type"], first["msg"])
+        argument, got, fix = path, _describe(first["input"]), ""
+        if first["type"] == "literal_error" and isinstance(first["input"], str):
+            valid = re.findall(r"'([^']*)'", expected)
+            fix = did_you_mean([first["input"]], valid)
+    if root:
+        argument = argument.lstrip(".") or root
+    return InputError(argument, expected, got, fix)
+
+
+def validate(model: type[Table], data: object, root: str = "") -> Any:
+    """``model`` validated from ``data``; any failure is one InputError (:func:`as_input_error`)."""
+    try:
+        return model.model_validate(data)
+    except ValidationError as error:
+        raise as_input_error(error, root) from None
+    except RecursionError:  # nesting deeper than the validators follow
+        raise InputError(
+            root or "", "values nested at most a few levels", "nesting too deep to follow"
+        ) from None
+
+
+def parse_study(table: dict[str, Any], file_name: str) -> StudyFile:
+    """A study file's table, validated (errors name the key, or ``file_name`` at the top)."""
+    study: StudyFile = validate(StudyFile, table, file_name)
+    return study
+
+
+def parse_robot(table: object, where: str) -> RobotTable:
+    """A robot file's table (or a study's ``[robot]``), validated; errors start with ``where``."""
+    try:
+        return RobotTable.model_validate(table)
+    except ValidationError as error:
+        relative = as_input_error(error)
+        raise InputError(
+            _join(where, relative.argument), relative.expected, relative.got, relative.fix
+        ) from None
+
+
+# ---------------------------------------------------------------------------------------
+# The reference page and the JSON Schemas, from the models
+
+
+def phrase(annotation: Any, metadata: Sequence[Any] = ()) -> str:
+    """The reference page's name of a value's type, from its annotation."""
+    for item in metadata:
+        if isinstance(item, Check):
+            return item.phrase
+    origin = get_origin(annotation)
+    if origin is Annotated:
+        return phrase(get_args(annotation)[0], get_args(annotation)[1:])
+    if origin in (Union, types.UnionType):
+        return " or ".join(phrase(arg) for arg in get_args(annotation) if arg is not type(None))
+    if origin is list:
+        return "array of tables"
+    if origin is Literal:
+        return "string"
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return "table"
+    return {bool: "boolean", str: "string", int: "integer", float: "number"}[annotation]
+
+
+def keys(table: str) -> tuple[str, ...]:
+    """The valid keys of a table (what the parser accepts)."""
+    return tuple(TABLES[table].model_fields)
+
+
+def _toml(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, list | tuple):
+        return "[" + ", ".join(_toml(item) for item in value) + "]"
+    return repr(value)
+
+
+def _default(field: Any) -> str:
+    extra = field.json_schema_extra
+    if "x-default" in extra:
+        return str(extra["x-default"])
+    if field.is_required():
+        return "required"
+    return _toml(field.default)
+
+
+def reference_page() -> str:
+    """The Markdown reference page of the format (``docs/study_format.md``)."""
+    lines = [
+        "# Study and robot files",
+        "",
+        "<!-- Generated by `python docs/study_format.py` from the models the parser validates"
+        " with (polyell/studies/models.py); the tests keep it current. -->",
+        "",
+        "A study is a TOML file run by `polyell study FILE --out DIR` (or",
+        "`pe.studies.run_study(pe.studies.load_study(FILE), DIR)`). Numbers may be",
+        'expressions of numbers, `pi`, `sqrt()` and `+ - * / **` written as strings (`"-pi/2"`).',
+        "Unknown keys are refused with the list of valid ones (and the closest, if it is a",
+        "misspelling); every message names the key's path, e.g. `points[2].directions[0]`.",
+        "The same models give JSON Schemas for editors that check TOML (e.g. Even Better TOML,",
+        "with `#:schema ./study.schema.json` as the first line): `docs/study.schema.json` and",
+        "`docs/robot.schema.json`.",
+        "",
+    ]
+    for model in TABLES.values():
+        description = " ".join((model.__doc__ or "").split())
+        lines += [f"## {model.heading}", "", description, ""]
+        lines += ["| key | type | default | meaning | example |", "|---|---|---|---|---|"]
+        for name, field in model.model_fields.items():
+            extra = field.json_schema_extra
+            assert isinstance(extra, dict)
+            example = f"`{extra['x-example']}`" if extra["x-example"] else ""
+            kind = phrase(field.annotation, field.metadata)
+            cells = [f"`{name}`", kind, _default(field), str(field.description), example]
+            lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
+        lines += ["", "```toml", model.example, "```", ""]
+    return "\n".join(lines)
+
+
+def _clean(schema: Any, properties: bool = False) -> Any:
+    """Pydantic's schema without titles, with the TOML examples as JSON values."""
+    if isinstance(schema, list):
+        return [_clean(item) for item in schema]
+    if not isinstance(schema, dict):
+        return schema
+    if properties:  # a map of key names to schemas: keep every name
+        return {name: _clean(value) for name, value in schema.items()}
+    options = schema.get("anyOf")
+    if isinstance(options, list) and {"type": "null"} in options:  # TOML has no null
+        rest = [option for option in options if option != {"type": "null"}]
+        schema = {key: value for key, value in schema.items() if key != "anyOf"}
+        schema = {**rest[0], **schema} if len(rest) == 1 else {"anyOf": rest, **schema}
+    cleaned: dict[str, Any] = {}
+    for name, value in schema.items():
+        if name in ("title", "x-default") or (name == "default" and value is None):
+            continue
+        if name == "description" and isinstance(value, str):
+            cleaned[name] = " ".join(value.split())
+            continue
+        if name == "x-example":
+            if value:
+                cleaned["examples"] = [tomllib.loads(f"v = {value}")["v"]]
+            continue
+        cleaned[name] = _clean(
+            value, properties=name in ("properties", "$defs", "patternProperties")
+        )
+    return cleaned
+
+
+def json_schema(kind: str = "study") -> dict[str, Any]:
+    """A JSON Schema (draft 2020-12) of study files (``"study"``) or robot files (``"robot"``).
+
+    For editors that check TOML against a schema (e.g. Even Better TOML, with
+    ``#:schema ./study.schema.json`` on the first line); the parser's checks go further
+    (values, sizes, names, what needs the robot).
+    """
+    model = StudyFile if kind == "study" else RobotTable
+    title = "polyell study file" if kind == "study" else "polyell robot file"
+    schema = _clean(model.model_json_schema())
+    schema.pop("description", None)
+    return {
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "title": title,
+        "description": " ".join((model.__doc__ or "").split()),
+        **schema,
+    }

@@ -1,0 +1,382 @@
+"""The typed study format (issue 24): directions, several robots, table layout, messages.
+
+Named directions are checked against vectors written out by hand, joint counts and task
+sizes against the library robots, and every refusal against the key path it must name.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import polyell as pe
+from polyell.comparison.layout import TableLayout
+from polyell.studies import load_study
+from polyell.studies.spec import named_direction
+
+ROOT = Path(__file__).resolve().parents[2]
+PANDA_Q = "[0, -0.5, 0, -2, 0, 1.6, 0.8]"
+UR5_Q = "[0, -1.2, 1.5, -1.9, -1.57, 0]"
+PAPER = '[robot]\nlibrary = "chiacchio2000"\n'
+PANDA = '[robot]\nlibrary = "panda"\n'
+TWO = '[[robots]]\nname = "panda"\nlibrary = "panda"\n[[robots]]\nname = "ur5"\nlibrary = "ur5"\n'
+
+
+def load(tmp_path: Path, text: str) -> pe.studies.StudySpec:
+    path = tmp_path / "study.toml"
+    path.write_text(textwrap.dedent(text))
+    return load_study(path)
+
+
+def refused(tmp_path: Path, text: str) -> str:
+    with pytest.raises(pe.InputError) as info:
+        load(tmp_path, text)
+    return str(info.value)
+
+
+def test_import_polyell_does_not_import_pydantic():
+    code = (
+        "import sys, polyell, polyell.studies\n"
+        "assert not [m for m in sys.modules if m.startswith('pydantic')], 'before'\n"
+        "polyell.studies.load_study('studies/chiacchio2000.toml')\n"
+        "assert 'pydantic' in sys.modules, 'after'\n"  # the check above can fail
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=300
+    )
+    assert result.returncode == 0, result.stderr
+
+
+# --- directions ---------------------------------------------------------------------------
+
+
+def test_named_directions_are_the_unit_vectors_written_out():
+    r = 1 / np.sqrt(2)
+    xyz = ("x", "y", "z")
+    expected = {
+        "x": [1, 0, 0],
+        "-z": [0, 0, -1],
+        "+y": [0, 1, 0],
+        "xy": [r, r, 0],
+        "yx": [r, r, 0],
+        "-xz": [-r, 0, -r],
+        "xyz": [1 / np.sqrt(3)] * 3,
+    }
+    for name, vector in expected.items():
+        np.testing.assert_allclose(named_direction(name, xyz), vector, rtol=0, atol=1e-15)
+    angular = ("wx", "wy", "wz")
+    np.testing.assert_allclose(named_direction("-wxwz", angular), [-r, 0, -r], atol=1e-15)
+    np.testing.assert_allclose(named_direction("wy", angular), [0, 1, 0])
+    six = ("x", "y", "z", "wx", "wy", "wz")
+    np.testing.assert_allclose(named_direction("xwx", six), [r, 0, 0, r, 0, 0], atol=1e-15)
+    for bad in ("xx", "q", "-", "x-y", "zw", ""):
+        with pytest.raises(pe.InputError, match="direction: expected task rows"):
+            named_direction(bad, xyz)
+
+
+@pytest.mark.parametrize(
+    ("robot", "q", "rows"),
+    [
+        (PAPER, "[0.1, 0.2, 0.3]", ("x", "y")),
+        (PANDA, PANDA_Q, ("x", "y", "z")),
+        (PANDA + 'task = "angular"\n', PANDA_Q, ("wx", "wy", "wz")),
+        (PANDA + 'task = ["x", "z"]\n', PANDA_Q, ("x", "z")),
+        (
+            PANDA + 'task = ["x", "y", "z", "wx", "wy", "wz"]\nweights = [1, 1, 1, 1, 1, 1]\n',
+            PANDA_Q,
+            ("x", "y", "z", "wx", "wy", "wz"),
+        ),
+    ],
+)
+def test_the_default_directions_are_the_tasks_axes_whatever_its_size(tmp_path, robot, q, rows):
+    spec = load(tmp_path, f'{robot}[[points]]\nname = "p"\nq = {q}\n')
+    (point,) = spec.points
+    assert point.labels == rows
+    np.testing.assert_array_equal(point.directions, np.eye(len(rows)))
+    # and named ones resolve on the same rows
+    named = load(
+        tmp_path, f'{robot}[[points]]\nname = "p"\nq = {q}\ndirections = ["-{rows[-1]}"]\n'
+    )
+    np.testing.assert_array_equal(named.points[0].directions, -np.eye(len(rows))[-1:])
+
+
+def test_directions_mix_names_and_vectors_with_expressions(tmp_path):
+    spec = load(
+        tmp_path,
+        PANDA + f'[[points]]\nname = "p"\nq = {PANDA_Q}\n'
+        'directions = ["z", "-xz", ["sqrt(1/2)", "-sqrt(1/2)", 0]]\n',
+    )
+    point = spec.points[0]
+    r = 1 / np.sqrt(2)
+    np.testing.assert_allclose(point.directions, [[0, 0, 1], [-r, 0, -r], [r, -r, 0]], atol=1e-15)
+    assert point.labels == ("z", "-xz", "(0.7071, -0.7071, 0)")
+    np.testing.assert_array_equal(point.direction, [0, 0, 1])  # the first
+
+
+def test_the_older_direction_key_is_a_list_of_one(tmp_path):
+    spec = load(
+        tmp_path,
+        PAPER + '[[points]]\nname = "p"\nq = [0, 0, 0]\ndirection = ["-1/2", "sqrt(3)/2"]\n',
+    )
+    np.testing.assert_allclose(spec.points[0].directions, [[-0.5, np.sqrt(3) / 2]])
+    message = refused(
+        tmp_path,
+        PAPER + '[[points]]\nname = "p"\nq = [0, 0, 0]\ndirection = [1, 0]\ndirections = ["x"]\n',
+    )
+    assert message.startswith("points[0]: expected one of 'directions' (a list) and 'direction'")
+
+
+@pytest.mark.parametrize(
+    ("directions", "start"),
+    [
+        ('["x", [1, 0]]', "points[2].directions[1]: expected a unit vector of 3 numbers"),
+        ("[[1, 1, 0]]", "points[2].directions[0]: expected a unit vector, or a direction named"),
+        ('["x", "q"]', "points[2].directions[1]: expected task rows ['x', 'y', 'z']"),
+        ('["xx"]', "points[2].directions[0]: expected task rows"),
+        ('"x"', "points[2].directions: expected a non-empty list of directions"),
+        ("[]", "points[2].directions: expected a non-empty list of directions"),
+        ('["x", "x"]', "points[2].directions: expected distinct directions"),
+        ('["x", 5]', "points[2].directions[1]: expected a direction named by task rows"),
+        ('["x", ["pi/0", 0, 0]]', "points[2].directions[1][0]: expected a number"),
+        ('["x y"]', "points[2].directions[0]: expected a direction named by task rows"),
+    ],
+)
+def test_bad_directions_are_refused_at_load_naming_the_key(tmp_path, directions, start):
+    points = "".join(f'[[points]]\nname = "p{i}"\nq = {PANDA_Q}\n' for i in range(3))
+    message = refused(tmp_path, PANDA + points + f"directions = {directions}\n")
+    assert message.startswith(start), message
+
+
+def test_a_2d_direction_on_a_3d_task_leaves_no_output_folder(tmp_path, capsys):
+    """Issue 24: the documented default [1, 0] failed at run time, after the folder existed."""
+    from polyell.cli import main
+
+    path = tmp_path / "s.toml"
+    path.write_text(PANDA + f'[[points]]\nname = "p"\nq = {PANDA_Q}\ndirection = [1, 0]\n')
+    assert main(["study", str(path), "--out", str(tmp_path / "out"), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("polyell: error: points[0].direction: expected a unit vector of 3")
+    assert len(err.splitlines()) == 1
+    assert not (tmp_path / "out").exists()
+
+
+# --- several robots -----------------------------------------------------------------------
+
+
+def test_points_of_two_robots_with_q_per_robot(tmp_path):
+    spec = load(
+        tmp_path,
+        TWO + f'[[points]]\nname = "home"\nq = {{ panda = {PANDA_Q}, ur5 = {UR5_Q} }}\n'
+        f'[[points]]\nname = "up"\nq = {{ ur5 = {UR5_Q}, panda = {PANDA_Q} }}\n'
+        'directions = ["z"]\n',
+    )
+    assert [r.name for r in spec.robots] == ["panda", "ur5"] and spec.by_robot
+    assert [p.label for p in spec.points] == ["panda/home", "ur5/home", "panda/up", "ur5/up"]
+    assert [p.stem for p in spec.points] == ["panda.home", "ur5.home", "panda.up", "ur5.up"]
+    assert [p.q.size for p in spec.points] == [7, 6, 7, 6]
+    np.testing.assert_allclose(spec.points[1].q, [0, -1.2, 1.5, -1.9, -1.57, 0])
+    with pytest.raises(pe.InputError, match=r"spec\.robot: expected a study of one robot"):
+        spec.robot  # noqa: B018
+
+
+def test_random_configurations_of_each_robot_lie_within_its_own_limits(tmp_path):
+    spec = load(tmp_path, TWO + "[random]\ncount = 50\nseed = 4\n")
+    for index, robot in enumerate(spec.robots):
+        q = spec.configurations(index)
+        low, high = robot.model.position_limits
+        assert q.shape == (50, robot.model.n) and np.all((q >= low) & (q <= high))
+
+
+@pytest.mark.parametrize(
+    ("text", "start"),
+    [
+        (PAPER + TWO + "[random]\ncount = 1\n", "study.toml: expected one [robot] table, or"),
+        ("[random]\ncount = 1\n", "study.toml: expected one [robot] table"),
+        (
+            TWO.replace('name = "ur5"\n', "") + "[random]\ncount = 1\n",
+            "robots[1]: expected a 'name'",
+        ),
+        (TWO.replace('"ur5"', '"panda"', 1) + "[random]\ncount = 1\n", "robots: expected distinct"),
+        (TWO.replace('"ur5"', '"ur.5"', 1) + "[random]\ncount = 1\n", "robots[1].name: expected"),
+        (
+            TWO.replace("libary", "x").replace('library = "ur5"', 'libary = "ur5"'),
+            "robots[1]: expected keys among",
+        ),
+        (TWO + "[grid]\nq1 = 0\n", "grid: expected robots with the same number of joints"),
+        (
+            TWO + "[random]\ncount = 1\nlow = [0, 0, 0, 0, 0, 0]\n",
+            "random: expected robots with the same",
+        ),
+        (TWO + '[trajectory]\nfile = "p.csv"\n', "trajectory: expected one robot"),
+        (
+            TWO + f'[[points]]\nname = "p"\nq = {PANDA_Q}\n',
+            "points[0].q: expected 6 joint angles (robot 'ur5')",
+        ),
+        (
+            TWO + f'[[points]]\nname = "p"\nq = {{ panda = {PANDA_Q}, ur6 = {UR5_Q} }}\n',
+            "points[0].q: expected one list of joint angles per robot",
+        ),
+        (
+            TWO + f'[[points]]\nname = "p"\nq = {{ panda = {PANDA_Q} }}\n',
+            "points[0].q: expected one list",
+        ),
+        (
+            TWO + f'[[points]]\nname = "p"\nq = {{ panda = {PANDA_Q}, ur5 = [0, 0] }}\n',
+            "points[0].q.ur5: expected 6 joint angles",
+        ),
+        (
+            PANDA + f'[[points]]\nname = "p"\nq = {{ panda = {PANDA_Q} }}\n',
+            "points[0].q: expected a list of 7 joint angles",
+        ),
+        (
+            TWO.replace('library = "ur5"', 'library = "ur5"\ntask = "angular"')
+            + "[random]\ncount = 1\n",
+            "robots: expected tasks of one unit",
+        ),
+        (
+            TWO.replace('library = "ur5"', 'library = "ur5"\ntau_max = [1, 2]')
+            + "[random]\ncount = 1\n",
+            "robots[1].tau_max: expected",
+        ),
+    ],
+)
+def test_bad_robot_combinations_are_refused_naming_the_key(tmp_path, text, start):
+    message = refused(tmp_path, text)
+    assert message.startswith(start), message
+
+
+def test_a_misspelled_robot_in_a_q_table_gets_a_suggestion(tmp_path):
+    message = refused(
+        tmp_path, TWO + f'[[points]]\nname = "p"\nq = {{ panda = {PANDA_Q}, ur55 = {UR5_Q} }}\n'
+    )
+    assert "unknown robot(s) ['ur55']" in message and "did you mean 'ur5' for 'ur55'?" in message
+
+
+def test_joint_counts_differ_so_a_shared_q_list_says_how_to_give_one_per_robot(tmp_path):
+    message = refused(tmp_path, TWO + f'[[points]]\nname = "p"\nq = {PANDA_Q}\n')
+    assert "Fix: give q per robot: q = { panda = [...], ur5 = [...] }." in message
+
+
+# --- messages -------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("text", "start", "suggestion"),
+    [
+        (
+            PAPER + '[[points]]\nname = "p"\nq = [0, 0, 0]\n[ouput]\n',
+            "study.toml: expected keys among",
+            "'output' for 'ouput'",
+        ),
+        (
+            PAPER.replace("library", "libary") + "[random]\ncount = 1\n",
+            "robot: expected keys among",
+            "'library' for 'libary'",
+        ),
+        (
+            PAPER + '[[points]]\nname = "p"\nq = [0, 0, 0]\ndirectons = ["x"]\n',
+            "points[0]: expected keys",
+            "'directions' for 'directons'",
+        ),
+        (
+            PAPER + "[random]\ncount = 1\n[compare]\nsample = 3\n",
+            "compare: expected keys among",
+            "'samples' for 'sample'",
+        ),
+        (
+            PAPER.replace("chiacchio2000", "pandas") + "[random]\ncount = 1\n",
+            "robot.library: expected one of",
+            "'panda' for 'pandas'",
+        ),
+        (
+            PAPER + "[random]\ncount = 1\n[output]\nformats = ['hmtl']\n",
+            "output.formats: expected a list among",
+            "'html' for 'hmtl'",
+        ),
+        (
+            PAPER + "[grid]\nq1 = 0\nq2 = 0\nq33 = 0\n",
+            "grid: expected keys among ['q1', 'q2', 'q3']",
+            "'q3' for 'q33'",
+        ),
+        (
+            PAPER + '[[points]]\nname = "p"\nq = [0, 0, 0]\ninverse_at = "high"\n',
+            "points[0].inverse_at: expected 'lo' or 'hi'",
+            "'hi' for 'high'",
+        ),
+    ],
+)
+def test_misspellings_get_did_you_mean(tmp_path, text, start, suggestion):
+    message = refused(tmp_path, text)
+    assert message.startswith(start), message
+    assert f"Fix: did you mean {suggestion}?" in message
+
+
+def test_a_missing_key_names_its_table_and_shows_an_example(tmp_path):
+    message = refused(tmp_path, PAPER + '[[points]]\nname = "p"\n')
+    assert message == (
+        "points[0]: expected a 'q' list of numbers or expressions, or a table of them per "
+        'robot, got no such key. Fix: add q = ["pi/2", "-pi/2", "-pi/2"]'
+    )
+    message = refused(tmp_path, PAPER + "[grid]\nq1 = 0\nq2 = 0\nq3 = { start = 0, stop = 1 }\n")
+    assert message.startswith(
+        "grid.q3: expected a 'num' integer, got no such key. Fix: add num = 61"
+    )
+
+
+# --- table layout ---------------------------------------------------------------------------
+
+LAYOUT = (
+    PAPER
+    + '[[points]]\nname = "p"\nq = [0.1, 0.2, 0.3]\n'
+    + '[[candidates]]\nname = "disc"\ncore = [1e-3, 1e-3]\n[output]\n'
+)
+
+
+def test_the_output_layout_keys_reach_the_spec(tmp_path):
+    assert load(tmp_path, LAYOUT).layout == TableLayout()
+    spec = load(
+        tmp_path,
+        LAYOUT + 'sets = ["polytope", "disc", "chiacchio"]\nscores = ["coverage"]\n'
+        'transpose = true\nsplit = "posture"\ndigits = 17\npercent = false\n',
+    )
+    assert spec.layout == TableLayout(
+        sets=("polytope", "disc", "chiacchio"),
+        scores=("coverage",),
+        transpose=True,
+        split="posture",
+        digits=17,
+        percent=False,
+    )
+
+
+@pytest.mark.parametrize(
+    ("extra", "start"),
+    [
+        ("digits = 0", "output.digits: expected an integer from 1 to 17, got int 0"),
+        ("digits = 18", "output.digits: expected an integer from 1 to 17"),
+        ("digits = 3.0", "output.digits: expected an integer from 1 to 17, got float"),
+        ('sets = ["chiachio"]', "output.sets: expected set names among ['polytope'"),
+        ('sets = ["ghost"]', "output.sets: expected set names among"),
+        ("sets = []", "output.sets: expected a non-empty list"),
+        ('sets = ["mvie", "mvie"]', "output.sets: expected distinct names"),
+        ('scores = ["cover"]', "output.scores: expected a list among"),
+        ('split = "postures"', "output.split: expected 'posture' or 'combined'"),
+        ('transpose = "yes"', "output.transpose: expected true or false"),
+        ("percent = 1", "output.percent: expected true or false"),
+    ],
+)
+def test_bad_layout_keys_are_refused(tmp_path, extra, start):
+    message = refused(tmp_path, LAYOUT + extra + "\n")
+    assert message.startswith(start), message
+    if "chiachio" in extra:
+        assert "did you mean 'chiacchio' for 'chiachio'?" in message
+
+
+def test_every_shipped_study_loads_with_the_default_layout():
+    for path in sorted((ROOT / "studies").glob("*.toml")):
+        assert load_study(path).layout == TableLayout(), path.name
