@@ -320,7 +320,7 @@ def test_a_missing_key_names_its_table_and_shows_an_example(tmp_path):
     message = refused(tmp_path, PAPER + '[[points]]\nname = "p"\n')
     assert message == (
         "points[0]: expected a 'q' list of numbers or expressions, or a table of them per "
-        'robot, got no such key. Fix: add q = ["pi/2", "-pi/2", "-pi/2"]'
+        'robot, got no such key. Fix: add q = ["pi/2", "-pi/2", "-pi/2"].'
     )
     message = refused(tmp_path, PAPER + "[grid]\nq1 = 0\nq2 = 0\nq3 = { start = 0, stop = 1 }\n")
     assert message.startswith(
