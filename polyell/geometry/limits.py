@@ -13,6 +13,8 @@ __all__ = [
     "facet_slack",
     "line_interval_in_ellipsoids",
     "line_interval_in_halfspaces",
+    "rounding_floor",
+    "snap_to_zero",
     "unit_ball_interval",
 ]
 
@@ -56,7 +58,25 @@ def facet_slack(
     -------
     ndarray, the shape of ``half_widths`` broadcast with ``reach``
     """
-    return ATOL_RELATIVE * half_widths + terms * np.finfo(float).eps * reach
+    return ATOL_RELATIVE * half_widths + rounding_floor(reach, terms)
+
+
+def rounding_floor(reach: NDArray[np.float64] | float, terms: int) -> NDArray[np.float64]:
+    """``terms * eps * reach``: the rounding of a facet's offset from the origin.
+
+    The second term of :func:`facet_slack`.  An offset ``b_i`` (the facet's signed distance
+    from the origin along its unit normal) below it in magnitude cannot be told from 0: the
+    origin is on that facet, and every line through it leaving P across the facet has its
+    far end at exactly 0 (:func:`snap_to_zero`), not at a rounding error of either sign.
+    """
+    return np.asarray(terms * np.finfo(float).eps * reach)
+
+
+def snap_to_zero(
+    offsets: NDArray[np.float64], floor: NDArray[np.float64] | float
+) -> NDArray[np.float64]:
+    """``offsets`` with the entries within ``floor`` (:func:`rounding_floor`) of 0 set to 0."""
+    return np.where(np.abs(offsets) <= floor, 0.0, offsets)
 
 
 def line_interval_in_halfspaces(
@@ -64,6 +84,7 @@ def line_interval_in_halfspaces(
     b: NDArray[np.float64],
     directions: NDArray[np.float64],
     slack: NDArray[np.float64] | float,
+    floor: NDArray[np.float64] | float = 0.0,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The interval ``{a : A (a t) <= b}`` for each direction ``t``.
 
@@ -84,6 +105,9 @@ def line_interval_in_halfspaces(
         line that misses ``{A x <= b}`` (``lo > hi``, a line grazing a vertex or an edge,
         to rounding) but meets ``{A x <= b + slack}`` touches the set in the single point
         ``(lo + hi) / 2``.
+    floor : float or ndarray, shape (F,)
+        :func:`rounding_floor`: offsets ``b_i`` within it of 0 are taken as 0 (the origin on
+        that facet), so that a line leaving P across it ends at exactly 0.
 
     Returns
     -------
@@ -92,6 +116,7 @@ def line_interval_in_halfspaces(
     """
     slopes = directions @ A.T  # (k, F)
     loose = b + slack
+    b = snap_to_zero(b, floor)
     lower, upper = _cut(b, slopes)
     blocked = ((slopes == 0) & (loose < 0)).any(axis=1)
     grazing = lower > upper

@@ -11,7 +11,12 @@ from numpy.typing import ArrayLike, NDArray
 from polyell.errors import InputError
 from polyell.geometry.cddlib import halfspaces_from_vertices
 from polyell.geometry.convex_set import ConvexSet
-from polyell.geometry.limits import DirectionalLimits, facet_slack, line_interval_in_halfspaces
+from polyell.geometry.limits import (
+    DirectionalLimits,
+    facet_slack,
+    line_interval_in_halfspaces,
+    rounding_floor,
+)
 from polyell.geometry.linprog import polytope_limits_lp
 from polyell.geometry.subspace import (
     RANK_RTOL,
@@ -273,6 +278,7 @@ class Polytope(ConvexSet):
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         # Points of a line near P are within |xg| + size of the origin: reach twice that.
         h = self._facets[2]
+        floor = rounding_floor(2.0 * self._reach, self._terms)
         return line_interval_in_halfspaces(
-            self.A, self.b, lines, facet_slack(h, 2.0 * self._reach, self._terms)
+            self.A, self.b, lines, facet_slack(h, 2.0 * self._reach, self._terms), floor
         )

@@ -24,7 +24,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from polyell.analysis import ELLIPSOID_KINDS, analyze
 from polyell.errors import InputError, UndefinedEllipsoidError
-from polyell.geometry.limits import DirectionalLimits, facet_slack, unit_ball_interval
+from polyell.geometry.limits import (
+    DirectionalLimits,
+    facet_slack,
+    rounding_floor,
+    snap_to_zero,
+    unit_ball_interval,
+)
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.models.dynamics import Dynamics
 from polyell.studies.batch import RANK_BAND, block_size
@@ -166,12 +172,13 @@ def _block(
     reach = np.linalg.norm(xg, axis=-1) + np.linalg.norm(M, axis=1).sum(axis=-1)
     slope = np.einsum("kcm,km->kc", normals, T)
     centre = np.einsum("kcm,km->kc", normals, xg)
-    a, b = _line_in_pairs(slope, centre, h)
+    floor = rounding_floor(2.0 * reach[:, None], m + n + 2)  # the origin on a facet: 0
+    a, b = _line_in_pairs(slope, centre, h, floor)
     missed = a > b
     if missed.any():
         loose = h[missed] + facet_slack(h[missed], 2.0 * reach[missed, None], m + n + 2)
         touch = np.zeros_like(missed)
-        touch[missed] = np.less_equal(*_line_in_pairs(slope[missed], centre[missed], loose))
+        touch[missed] = np.less_equal(*_line_in_pairs(slope[missed], centre[missed], loose, 0.0))
         a, b = np.where(touch, 0.5 * (a + b), a), np.where(touch, 0.5 * (a + b), b)
     empty = a > b
     lo["polytope"][rows], hi["polytope"][rows] = (
@@ -190,14 +197,18 @@ def _block(
     return scalar
 
 
-def _line_in_pairs(slope: Array, centre: Array, h: Array) -> tuple[Array, Array]:
+def _line_in_pairs(
+    slope: Array, centre: Array, h: Array, floor: Array | float
+) -> tuple[Array, Array]:
     """``[a, b]``, (K,): the line ``lambda t`` in the facet pairs ``|a_i . x - a_i . xg| <= h_i``.
 
     ``slope`` ``a_i . t``, ``centre`` ``a_i . xg`` and ``h``, all (K, C); ``a > b`` when the
-    line misses them (NaN, from a 0/0, also counts as missing).
+    line misses them (NaN, from a 0/0, also counts as missing).  Offsets ``centre -+ h``
+    within ``floor`` of 0 are 0 (:func:`~polyell.geometry.limits.snap_to_zero`).
     """
+    offsets = snap_to_zero(centre - h, floor), snap_to_zero(centre + h, floor)
     with np.errstate(divide="ignore", invalid="ignore"):
-        ends = np.stack([(centre - h) / slope, (centre + h) / slope])  # (2, K, C)
+        ends = np.stack([offsets[0] / slope, offsets[1] / slope])  # (2, K, C)
     parallel = slope == 0  # no bound, or an empty line if the origin is beyond the pair
     inside = np.abs(centre) <= h
     lower_end = np.where(parallel, np.where(inside, -np.inf, np.inf), ends.min(0))

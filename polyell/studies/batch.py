@@ -27,7 +27,7 @@ from polyell.comparison.candidates import Candidate
 from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES
 from polyell.comparison.metrics import INSIDE_RTOL, scale_rtol
 from polyell.geometry.ellipsoid import unit_ball_volume
-from polyell.geometry.limits import facet_slack
+from polyell.geometry.limits import facet_slack, rounding_floor
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.geometry.zonotope import cross, subsets
 from polyell.inverse import classic_terms
@@ -235,6 +235,7 @@ def _block_rows(
     reach = np.linalg.norm(xg, axis=-1) + size_p
     terms = m + n + 2
     limits_slack = facet_slack(h, 2.0 * reach[:, None], terms)  # as Polytope.limits
+    limits_floor = rounding_floor(2.0 * reach[:, None], terms)
 
     # Every scored set as (axes, semi-axes, witness, centre or None for xg).
     ellipsoids: dict[str, tuple[Array, Array, Array, Array | None]] = {
@@ -316,7 +317,7 @@ def _block_rows(
                 np.full(len(M), np.nan) if volumes is None else volume / volumes
             )
         records.append((kind, record, defined))
-    statistics = direction_scores(normals, h, xg, limits_slack, scored, directions)
+    statistics = direction_scores(normals, h, xg, limits_slack, limits_floor, scored, directions)
     for (kind, record, defined), stats in zip(records, statistics, strict=True):
         record |= {f"{kind}_{key}": value for key, value in stats.items()}
         if not defined.all():  # an MVIE not certified: undefined, as in compare

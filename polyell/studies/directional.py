@@ -26,6 +26,8 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from polyell.geometry.limits import snap_to_zero
+
 __all__ = ["PASS_ELEMENTS", "STATISTICS", "direction_scores", "polytope_far_ends"]
 
 Array = NDArray[np.float64]
@@ -53,6 +55,7 @@ def direction_scores(
     half_widths: Array,
     center: Array,
     slack: Array,
+    floor: Array,
     ellipsoids: Sequence[tuple[Array, Array, Array]],
     directions: Array,
 ) -> list[dict[str, Array]]:
@@ -68,6 +71,9 @@ def direction_scores(
         The polytopes' centres ``x_g``.
     slack : ndarray, shape (K, C)
         :func:`~polyell.geometry.limits.facet_slack` for the lines that graze a polytope.
+    floor : ndarray, shape (K, 1)
+        :func:`~polyell.geometry.limits.rounding_floor`: a facet within it of the origin
+        passes through the origin.
     ellipsoids : sequence of (center (K, m), axes (K, m, m), semi_axes (K, m))
         The scored ellipsoids ``{c + U diag(s) u : |u| <= 1}``, semi-axes positive.
     directions : ndarray, shape (k, m)
@@ -86,7 +92,7 @@ def direction_scores(
     for start in range(0, K, step):
         rows = slice(start, start + step)
         hi_p, feasible_p = polytope_far_ends(
-            normals[rows], half_widths[rows], center[rows], Tt, slack[rows]
+            normals[rows], half_widths[rows], center[rows], Tt, slack[rows], floor[rows]
         )
         with np.errstate(divide="ignore"):
             scale = 1.0 / np.abs(hi_p)  # shared by every ellipsoid (inf where hi_P = 0)
@@ -98,17 +104,19 @@ def direction_scores(
 
 
 def polytope_far_ends(
-    normals: Array, half_widths: Array, center: Array, Tt: Array, slack: Array
+    normals: Array, half_widths: Array, center: Array, Tt: Array, slack: Array, floor: Array
 ) -> tuple[Array, NDArray[np.bool_]]:
     """Far ends ``hi_P`` (K, k) of the lines ``{a t}`` in each polytope, and which meet it.
 
-    ``Tt`` holds the directions as columns (m, k).  Rows whose origin is strictly inside take
-    the gauge; the others cut the line with every facet pair (both ends), and a line that
-    misses P but meets it grown by ``slack`` touches it at ``(lo + hi) / 2``, as
+    ``Tt`` holds the directions as columns (m, k).  Rows whose origin is inside by more than
+    ``floor`` (:func:`~polyell.geometry.limits.rounding_floor`, (K, 1)) on every facet take
+    the gauge; the others cut the line with every facet pair (both ends), an offset within
+    ``floor`` of 0 taken as 0 (the origin on that facet: a far end of exactly 0), and a
+    line that misses P but meets it grown by ``slack`` touches it at ``(lo + hi) / 2``, as
     :meth:`Polytope.limits`.  NaN where the line misses P.
     """
     offsets = np.einsum("kcm,km->kc", normals, center)
-    inside = (np.abs(offsets) < half_widths).all(axis=1)
+    inside = (np.abs(offsets) < half_widths - floor).all(axis=1)
     hi = np.empty((len(normals), Tt.shape[1]))
     meets = np.ones(hi.shape, dtype=bool)
     if inside.any():
@@ -117,53 +125,55 @@ def polytope_far_ends(
         with np.errstate(invalid="ignore"):  # 0 / inf: a dependent subset, no constraint
             polar = np.concatenate([a / (h + o[..., None]), a / (o[..., None] - h)], axis=1)
         gauge = np.empty((len(polar), Tt.shape[1]))
-        step = max(1, PASS_ELEMENTS // (polar.shape[1] * Tt.shape[1]))
+        step = max(1, PASS_ELEMENTS // max(1, polar.shape[1] * Tt.shape[1]))
         for start in range(0, len(polar), step):  # (step, 2C, k) products: in cache
             block = slice(start, start + step)
             np.max(polar[block] @ Tt, axis=1, out=gauge[block])
         hi[rows] = 1.0 / gauge
     if not inside.all():
-        rows_out = ~inside
-        hi[rows_out], meets[rows_out] = _cut_far_ends(
-            normals[rows_out], offsets[rows_out], half_widths[rows_out], Tt, slack[rows_out]
+        out = ~inside
+        hi[out], meets[out] = _cut_far_ends(
+            normals[out], offsets[out], half_widths[out], Tt, slack[out], floor[out]
         )
     return hi, meets
 
 
 def _cut_far_ends(
-    normals: Array, offsets: Array, half_widths: Array, Tt: Array, slack: Array
+    normals: Array, offsets: Array, half_widths: Array, Tt: Array, slack: Array, floor: Array
 ) -> tuple[Array, NDArray[np.bool_]]:
-    """:func:`polytope_far_ends` for rows whose origin is not strictly inside."""
-    lower, upper = _rays(normals, offsets, half_widths, Tt)
+    """:func:`polytope_far_ends` for rows whose origin is not inside by more than ``floor``."""
+    ends = snap_to_zero(offsets - half_widths, floor), snap_to_zero(offsets + half_widths, floor)
+    lower, upper = _rays(normals, *ends, Tt)
     missed = lower > upper
     grazing = np.zeros_like(missed)
     rows = np.flatnonzero(missed.any(axis=1))
     if rows.size:  # a touch, to rounding: does the line meet P grown by the slack?
-        loose = _rays(normals[rows], offsets[rows], half_widths[rows] + slack[rows], Tt)
-        grazing[rows] = missed[rows] & (loose[0] <= loose[1])
+        loose = half_widths[rows] + slack[rows]
+        o = offsets[rows]
+        loose_ends = _rays(normals[rows], o - loose, o + loose, Tt)
+        grazing[rows] = missed[rows] & (loose_ends[0] <= loose_ends[1])
     upper = np.where(grazing, 0.5 * (lower + upper), upper)
     meets = (lower <= upper) | grazing  # False for NaN: 0/0, a line on a facet's boundary
     return np.where(meets, upper, np.nan), meets
 
 
-def _rays(normals: Array, offsets: Array, half_widths: Array, Tt: Array) -> tuple[Array, Array]:
-    """Both ends (K, k) of the lines in the facet pairs ``|a . x - o| <= h``.
+def _rays(normals: Array, below: Array, above: Array, Tt: Array) -> tuple[Array, Array]:
+    """Both ends (K, k) of the lines in the facet pairs ``below <= a . x <= above`` (K, C).
 
-    The pair ``+-a`` bounds ``a . (lambda t)`` to ``[o - h, o + h]``, so with ``s = a . t``
-    it gives ``lambda`` between ``(o - h)/s`` and ``(o + h)/s``; one pair at a time.
+    With ``s = a . t`` the pair bounds ``lambda`` between ``below / s`` and ``above / s``
+    (their order by the sign of s, -0 included); one pair at a time.
     """
     K, k = len(normals), Tt.shape[1]
     lower, upper = np.full((K, k), -np.inf), np.full((K, k), np.inf)
-    slopes, reach, bound = np.empty((K, k)), np.empty((K, k)), np.empty((K, k))
+    slopes, bound = np.empty((K, k)), np.empty((K, k))
     with np.errstate(divide="ignore", invalid="ignore"):
-        # s = 0 gives -inf/+inf (no bound) when |o| <= h, and an empty line otherwise.
+        # s = 0 gives -inf/+inf (no bound) when below < 0 < above, an empty line otherwise.
         for j in range(normals.shape[1]):
             np.matmul(normals[:, j], Tt, out=slopes)
-            np.copysign(half_widths[:, j, None], slopes, out=reach)  # +-h, the slope's sign
-            offset = offsets[:, j, None]
-            np.divide(np.subtract(offset, reach, out=bound), slopes, out=bound)
+            negative = np.signbit(slopes)
+            np.divide(np.where(negative, above[:, j, None], below[:, j, None]), slopes, out=bound)
             np.maximum(lower, bound, out=lower)  # NaN (0/0) propagates: an empty line
-            np.divide(np.add(offset, reach, out=bound), slopes, out=bound)
+            np.divide(np.where(negative, below[:, j, None], above[:, j, None]), slopes, out=bound)
             np.minimum(upper, bound, out=upper)
     return lower, upper
 
@@ -204,7 +214,8 @@ def _statistics(
     """:func:`~polyell.comparison.metrics.direction_errors` for every row (``scale = 1/|hi_P|``)."""
     used = feasible_e & feasible_p & (hi_p != 0)
     error = np.subtract(hi_e, hi_p)
-    np.multiply(error, scale, out=error)
+    with np.errstate(invalid="ignore"):  # 0 * inf where hi_P = 0: not used
+        np.multiply(error, scale, out=error)
     everywhere = bool(used.all())
     if not everywhere:
         error[~used] = 0.0
@@ -217,8 +228,7 @@ def _statistics(
             "direction_error_rms": np.sqrt(np.einsum("kd,kd->k", error, error) / count),
             "direction_bias": error.sum(axis=1) / count,
         }
-    if not everywhere:
-        stats = {key: np.where(count == 0, np.nan, value) for key, value in stats.items()}
+    stats = {key: np.where(count == 0, np.nan, value) for key, value in stats.items()}
     mismatch = feasible_e != feasible_p
     stats["feasibility_mismatch"] = mismatch.sum(axis=1) * 1.0
     stats["directions_used"] = count

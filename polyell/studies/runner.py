@@ -22,7 +22,6 @@ from polyell.comparison.summary import (
 )
 from polyell.comparison.tables import ellipsoid_label, format_scores_table, score_display
 from polyell.errors import InputError
-from polyell.geometry.directions import default_direction_count
 from polyell.models.task import task_unit
 from polyell.report import format_analysis
 from polyell.storage import (
@@ -196,9 +195,8 @@ def _run_many(
     runs: dict[str, pd.DataFrame] = {}
     for index, robot in enumerate(spec.robots):
         configurations = spec.configurations(index)
-        m = robot.model.dynamics(configurations[0]).m
         out = folder / "results" / f"robot={robot.name}" if spec.by_robot else folder / "results"
-        dataset = _sweep(spec, robot, configurations, m, out, progress, scheduler, seconds)
+        dataset = _sweep(spec, robot, configurations, out, progress, scheduler, seconds)
         results = pd.read_parquet(dataset).sort_values("configuration").reset_index(drop=True)
         runs[robot.name if spec.by_robot else ""] = results
     if spec.by_robot:
@@ -294,7 +292,6 @@ def _sweep(
     spec: StudySpec,
     robot: Robot,
     configurations: Any,
-    m: int,
     out: Path,
     progress: bool,
     scheduler: str | None,
@@ -311,7 +308,7 @@ def _sweep(
         robot.tau_max,
         robot.tau_min,
         scores=_scores(spec),
-        directions=spec.directions or default_direction_count(m),
+        directions=spec.directions,  # None: compare's default, by each configuration's rank
         mvie=spec.mvie,
         outer=spec.outer,
         candidates=spec.candidates,
@@ -389,9 +386,7 @@ def _run_trajectory(
     robot = spec.robot  # a trajectory study has one robot (checked when it loads)
     model = robot.model
     first = model.dynamics(trajectory.q[0])
-    dataset = _sweep(
-        spec, robot, trajectory, first.m, folder / "results", progress, scheduler, seconds
-    )
+    dataset = _sweep(spec, robot, trajectory, folder / "results", progress, scheduler, seconds)
     import pandas as pd
     import pyarrow.parquet as pq
 

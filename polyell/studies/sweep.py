@@ -15,7 +15,7 @@ import logging
 import os
 import pickle
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast
@@ -84,9 +84,12 @@ class _Job:
     tau_max: NDArray[np.float64]
     tau_min: NDArray[np.float64]
     directions: NDArray[np.float64]
-    direction_count: int | None  # the user's count, for the scalar path; None for vectors
+    # What the scalar path passes to compare(): the user's count, the vectors, or None for
+    # compare's default (its count follows the rank: 360 on a singular 3-D configuration).
+    scalar_directions: Any
     columns: tuple[str, ...]
     options: BatchOptions
+    joints: int = 0  # q columns written: n, or more (NaN) to match other robots' datasets
 
     def size(self) -> int:
         if self.configurations is None:
@@ -123,7 +126,10 @@ class _Job:
         if isinstance(self.configurations, Trajectory) and self.configurations.t is not None:
             frame["t"] = self.configurations.t[start:stop]
         if q is not None:
-            frame = frame.join(pd.DataFrame(q, columns=[f"q{i + 1}" for i in range(q.shape[1])]))
+            padded = np.full((len(q), max(self.joints, q.shape[1])), np.nan)
+            padded[:, : q.shape[1]] = q
+            names = [f"q{i + 1}" for i in range(padded.shape[1])]
+            frame = frame.join(pd.DataFrame(padded, columns=names))
         return frame.join(pd.DataFrame({name: values[name] for name in self.columns}))
 
 
@@ -135,10 +141,9 @@ def _scalar_rows(
     for k in np.flatnonzero(rows):
         options = job.options
         analysis = analyze(dyn[int(k)], job.tau_max, job.tau_min, rank_rtol=options.rank_rtol)
-        directions = job.directions if job.direction_count is None else job.direction_count
         row = compare(
             analysis,
-            directions,
+            job.scalar_directions,
             samples=options.samples,
             seed=options.seed,
             mvie=options.mvie,
@@ -222,6 +227,8 @@ def _job(
             raise InputError("source", "a batched Dynamics (J of shape (K, m, n))", "a single one")
         if configurations is not None:
             raise InputError("configurations", "None with a batched Dynamics", "configurations")
+        if len(source) == 0:
+            raise InputError("source", "at least one configuration", "a batch of none")
         n, m = source.n, source.m
     else:
         if not hasattr(source, "dynamics"):
@@ -256,21 +263,30 @@ def _job(
             )
     for candidate in options.candidates:
         candidate.check_sizes(m, n)
-    if directions is None:  # the default of pe.compare: rows equal compare(...) as they are
-        directions = default_direction_count(m)
-    count = int(directions) if isinstance(directions, int | np.integer) else None
-    T = (
-        sphere_directions(count, m)
-        if count is not None
-        else np.atleast_2d(check_directions("directions", directions, m))
-    )
+    # The default of pe.compare, so that rows equal compare(...) as they are: on full-rank
+    # configurations (the batch) its count for m, on the others the count for their rank.
+    if isinstance(directions, bool | float | np.floating | np.bool_):
+        raise InputError(
+            "directions",
+            "None, a count (int) or unit vectors of shape (k, m)",
+            repr(directions),
+            "pass e.g. directions=256, or leave the default.",
+        )
+    count = default_direction_count(m) if directions is None else directions
+    scalar_directions: Any
+    if isinstance(count, int | np.integer) and not isinstance(count, bool):
+        T = sphere_directions(int(count), m)
+        scalar_directions = None if directions is None else int(count)
+    else:
+        T = np.atleast_2d(check_directions("directions", cast(ArrayLike, directions), m))
+        scalar_directions = T
     computed = {"mvie": options.mvie, "outer": options.outer}
     kinds = [kind for kind in COMPARED_KINDS if computed.get(kind, True)]
     kinds += [candidate.name for candidate in options.candidates]
     polytope = ("polytope_dim", "polytope_volume", "polytope_ball_radius", "polytope_origin_radius")
     columns = (*polytope, *(f"{k}_{s}" for k in kinds for s in scores))
     options = replace(options, vertices=options.outer or "enclosing_scale" in scores)
-    return _Job(source, configurations, upper, lower, T, count, columns, options)
+    return _Job(source, configurations, upper, lower, T, scalar_directions, columns, options, n)
 
 
 def sweep(
@@ -359,22 +375,9 @@ def sweep(
         ``polytope_origin_radius`` and the score columns; or the
         dataset folder with ``out=``.
     """
-    if isinstance(source, Mapping | list | tuple):
-        arguments: dict[str, Any] = {
-            "scores": scores,
-            "directions": directions,
-            "scheduler": scheduler,
-            "chunk": chunk,
-            "mvie": mvie,
-            "outer": outer,
-            "candidates": candidates,
-            "samples": samples,
-            "seed": seed,
-            "rank_rtol": rank_rtol,
-            "progress": progress,
-        }
-        robots = _named("source", source, "robots")
-        return _sweep_robots(robots, configurations, tau_max, tau_min, out, arguments)
+    robots = (
+        _named("source", source, "robots") if isinstance(source, Mapping | list | tuple) else None
+    )
     chunk = check_integer("chunk", chunk, 1, 10_000_000)
     scores = _check_scores(scores)
     for name, flag in (("mvie", mvie), ("outer", outer), ("progress", progress)):
@@ -395,18 +398,25 @@ def sweep(
         seed=check_integer("seed", seed, 0, MAX_SEED),
     )
     check_scheduler(scheduler)  # before any work: a malformed address is refused at once
+    if robots is not None:
+        return _sweep_robots(
+            robots, configurations, tau_max, tau_min, scores, directions, options, out,
+            lambda job, folder: _run(job, folder, chunk, scheduler, progress),
+        )  # fmt: skip
     job = _job(source, configurations, tau_max, tau_min, scores, directions, options)
+    if out is not None:
+        _refuse_mixed(Path(out), several=False)
+    return _run(job, out, chunk, scheduler, progress)
+
+
+def _run(
+    job: _Job, out: Any, chunk: int, scheduler: str | None, progress: bool
+) -> pd.DataFrame | Path:
+    """Compute a job: returned as a frame, or into the dataset ``out`` (resuming it)."""
     count = -(-job.size() // chunk)
-    todo = list(range(count))
     if out is None:
-        return _execute(job, todo, chunk, None, scheduler, progress)
-    folder = Path(out)
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as exn:
-        raise InputError(
-            "out", "a folder polyell can create", f"{folder} ({exn.strerror})"
-        ) from None
+        return _execute(job, list(range(count)), chunk, None, scheduler, progress)
+    folder = _folder(out)
     with dataset_lock(folder):
         todo = _resume(folder, job, chunk, count)
         if len(todo) < count:
@@ -438,15 +448,68 @@ def _named(argument: str, value: Mapping[Any, Any] | Sequence[Any], what: str) -
     return items
 
 
+def _folder(out: Any) -> Path:
+    folder = Path(out)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exn:
+        raise InputError(
+            "out", "a folder polyell can create", f"{folder} ({exn.strerror})"
+        ) from None
+    return folder
+
+
+#: The list of robots of a dataset of several (one ``robot=<name>/`` dataset each).
+_ROBOTS_FILE = "_robots.json"
+
+
+def _refuse_mixed(folder: Path, several: bool, names: Sequence[str] = ()) -> None:
+    """Refuse to mix a sweep of one robot and one of several (or other robots) in ``out``."""
+    if not folder.is_dir():
+        return
+    partitions = sorted(p.name for p in folder.iterdir() if p.name.startswith("robot="))
+    single = (folder / "_sweep.json").exists() or bool(existing_parts(folder))
+    listed = folder / _ROBOTS_FILE
+    if not several and (partitions or listed.exists()):
+        raise InputError(
+            "out",
+            "an empty folder, or one holding a sweep of one robot",
+            f"{folder} holds a sweep of several robots ({', '.join(partitions)})",
+            "choose another folder for this sweep.",
+        )
+    if several and single:
+        raise InputError(
+            "out",
+            "an empty folder, or one holding a sweep of the same robots",
+            f"{folder} holds a sweep of one robot",
+            "choose another folder for this sweep.",
+        )
+    if several and listed.exists():
+        try:
+            held = json.loads(listed.read_text(encoding="utf-8"))["robots"]
+        except (OSError, ValueError, KeyError, TypeError):
+            held = f"an unreadable {_ROBOTS_FILE}"
+        if held != list(names):
+            raise InputError(
+                "out",
+                f"an empty folder, or one holding a sweep of the robots {list(names)}",
+                f"{folder} holds a sweep of {held}",
+                "choose another folder, or delete it to start over.",
+            )
+
+
 def _sweep_robots(
     robots: dict[str, Any],
     configurations: Any,
     tau_max: Any,
     tau_min: Any,
+    scores: tuple[str, ...],
+    directions: Any,
+    options: BatchOptions,
     out: Any,
-    options: dict[str, Any],
+    run: Callable[[_Job, Path | None], pd.DataFrame | Path],
 ) -> pd.DataFrame | Path:
-    """:func:`sweep` of several robots: one sweep each, side by side under a ``robot`` key."""
+    """:func:`sweep` of several robots: one job each, side by side under a ``robot`` key."""
     for name, value in (("tau_max", tau_max), ("tau_min", tau_min)):
         if value is not None:
             raise InputError(
@@ -468,18 +531,26 @@ def _sweep_robots(
             )
     else:
         sets = dict.fromkeys(robots, configurations)
+    jobs = {}
+    for name, robot in robots.items():
+        try:
+            jobs[name] = _job(robot, sets[name], None, None, scores, directions, options)
+        except InputError as exn:  # which robot: its name in the argument
+            argument = f"{exn.argument} of robot {name!r}"
+            raise InputError(argument, exn.expected, exn.got, exn.fix) from None
+    joints = max(job.joints for job in jobs.values())  # every dataset: the same q columns
+    jobs = {name: replace(job, joints=joints) for name, job in jobs.items()}
     import pandas as pd
 
     if out is None:
-        frames = [
-            cast("pd.DataFrame", sweep(robot, sets[name], **options)).assign(robot=name)
-            for name, robot in robots.items()
-        ]
+        frames = [cast("pd.DataFrame", run(job, None)).assign(robot=n) for n, job in jobs.items()]
         frame = pd.concat(frames, ignore_index=True)
         return frame[["robot", *(c for c in frame.columns if c != "robot")]]
-    folder = Path(out)
-    for name, robot in robots.items():
-        sweep(robot, sets[name], out=folder / f"robot={name}", **options)
+    folder = _folder(out)
+    _refuse_mixed(folder, several=True, names=list(jobs))
+    write_text_atomically(folder / _ROBOTS_FILE, json.dumps({"robots": list(jobs)}) + "\n")
+    for name, job in jobs.items():
+        run(job, folder / f"robot={name}")
     return folder
 
 

@@ -111,7 +111,7 @@ def test_gauge_and_facet_cuts_agree():
     center = rng.normal(size=(K, m)) * 0.2
     T = sphere_directions(k, m)
     Tt = np.ascontiguousarray(T.T)
-    hi, meets = polytope_far_ends(normals, h, center, Tt, np.zeros((K, C)))
+    hi, meets = polytope_far_ends(normals, h, center, Tt, np.zeros((K, C)), np.zeros((K, 1)))
     assert meets.all() and (hi > 0).all()
     # The same far ends by cutting each line with every facet pair, one row at a time.
     offsets = np.einsum("kcm,km->kc", normals, center)
@@ -121,3 +121,67 @@ def test_gauge_and_facet_cuts_agree():
             slopes > 0, (offsets + h)[..., None] / slopes, (offsets - h)[..., None] / slopes
         )
     np.testing.assert_allclose(hi, cuts.min(axis=1), rtol=TOL)
+
+
+@pytest.mark.filterwarnings("error")  # no raw numpy warning either
+@pytest.mark.parametrize("angle", [0.0, 0.3, 1e-9])
+def test_origin_on_a_facet_leaves_the_outward_half_out_of_the_statistics(angle):
+    """Found by the independent check: the origin on a facet, to rounding.
+
+    J a rotation, B = I, g = (1, 0), |tau| <= 1: x_g = -R e_1, so the origin lies on the
+    facet of tau_1 = -1.  Every line leaving P across it has its far end at exactly 0 (not a
+    rounding error used as a denominator): those directions are not used, and the other
+    half give the same statistics in the sweep, in compare() and by hand.
+    """
+    R = np.array([[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]])
+    T = sphere_directions(358, 2)  # none along the facet (358 is not a multiple of 4)
+    dyn = pe.Dynamics(R[None], np.eye(2)[None], np.array([[1.0, 0.0]]))
+    row = pe.sweep(dyn, tau_max=[1.0, 1.0], directions=T).iloc[0]
+    analysis = pe.analyze(dyn[0], [1.0, 1.0])
+    expected = pe.compare(analysis, T, mvie=False, outer=False).to_row()
+    inward = T @ R[:, 0] < -1e-12  # into P across the facet (its outward normal is -R e_1)
+    hi_p = analysis.polytope.limits(T).hi
+    assert (hi_p[T @ R[:, 0] > 1e-12] == 0).all()
+    for kind in ("chiacchio", "yoshikawa"):
+        E = analysis.ellipsoid(kind)
+        hi_e = E.limits(T).hi
+        used = inward & ~np.isnan(hi_e)
+        error = (hi_e[used] - hi_p[used]) / np.abs(hi_p[used])
+        # The origin is on the ellipsoids' boundary too: lines near their tangents.
+        tol = TOL + 32.0 * EPS * far_end_condition(E, T, np.where(used, hi_p, np.nan))
+        assert row[f"{kind}_directions_used"] == expected[f"{kind}_directions_used"] == used.sum()
+        for name, value in (
+            ("direction_error_mean", np.abs(error).mean()),
+            ("direction_error_max", np.abs(error).max()),
+            ("direction_bias", error.mean()),
+        ):
+            assert row[f"{kind}_{name}"] == pytest.approx(value, abs=tol)
+            assert expected[f"{kind}_{name}"] == pytest.approx(value, abs=tol)
+
+
+def test_a_singular_configuration_uses_the_default_count_of_its_rank():
+    """Found by the independent check: rank 2 in 3-D took the 3-D count in the sweep."""
+    J = np.random.default_rng(0).normal(size=(1, 3, 2))
+    dyn = pe.Dynamics(J, np.eye(2)[None], np.zeros((1, 2)))
+    row = pe.sweep(dyn, tau_max=[1.0, 1.0]).iloc[0]
+    expected = pe.compare(pe.analyze(dyn[0], [1.0, 1.0]), mvie=False, outer=False).to_row()
+    assert expected["chiacchio_directions_used"] == default_direction_count(2)
+    for name, value in expected.items():
+        if name in row.index:
+            np.testing.assert_allclose(row[name], value, rtol=1e-12, atol=1e-12, err_msg=name)
+
+
+@pytest.mark.filterwarnings("error")
+def test_an_empty_direction_set_gives_no_statistics():
+    dyn, tau_max, tau_min = random_batch(1, 3, 3, 7, 0.3, False)
+    row = pe.sweep(dyn, tau_max=tau_max, tau_min=tau_min, directions=np.zeros((0, 3))).iloc[0]
+    assert row["chiacchio_directions_used"] == 0
+    assert np.isnan(row["chiacchio_direction_error_max"])
+    assert np.isnan(row["yoshikawa_direction_error_mean"])
+
+
+@pytest.mark.parametrize("directions", [True, 10.0, np.float64(3.0)])
+def test_a_direction_count_must_be_an_integer(directions):
+    dyn, tau_max, _ = random_batch(1, 2, 3, 7, 0.3, False)
+    with pytest.raises(pe.InputError, match="a count"):
+        pe.sweep(dyn, tau_max=tau_max, directions=directions)

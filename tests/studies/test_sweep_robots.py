@@ -43,13 +43,44 @@ def test_a_list_is_named_by_position_and_shares_one_set_of_the_same_joint_count(
     np.testing.assert_array_equal(first.to_numpy(float), second.to_numpy(float))
 
 
-def test_datasets_per_robot_read_back_with_the_robot_column(tmp_path):
-    configurations = sets(6)
-    robots = {"paper": ARM, "two_link": TWO_LINK}
+@pytest.mark.parametrize("names", [("paper", "two_link"), ("b_paper", "a_two_link")])
+def test_datasets_per_robot_read_back_whole_with_the_robot_column(tmp_path, names):
+    """Every robot's dataset has the same q columns (NaN beyond its joints), so pyarrow,
+    which takes the first file's schema, keeps q3 whichever robot sorts first (found by the
+    independent check: a 2-joint robot sorting first dropped q3)."""
+    configurations = dict(zip(names, sets(6).values(), strict=True))
+    robots = dict(zip(names, (ARM, TWO_LINK), strict=True))
+    in_memory = pe.sweep(robots, configurations, directions=8)
     folder = pe.sweep(robots, configurations, directions=8, out=tmp_path / "d")
-    assert sorted(p.name for p in folder.iterdir()) == ["robot=paper", "robot=two_link"]
+    assert sorted(p.name for p in folder.iterdir() if p.is_dir()) == sorted(
+        f"robot={n}" for n in names
+    )
     back = pd.read_parquet(folder)
-    assert back["robot"].astype(str).value_counts().to_dict() == {"paper": 6, "two_link": 6}
+    back["robot"] = back["robot"].astype(str)
+    back = back.sort_values(["robot", "configuration"]).reset_index(drop=True)
+    expected = in_memory.sort_values(["robot", "configuration"]).reset_index(drop=True)
+    assert set(back.columns) == set(expected.columns)
+    pd.testing.assert_frame_equal(back[expected.columns], expected)
+
+
+def test_a_dataset_folder_holds_one_kind_of_sweep(tmp_path):
+    q = sets(6)
+    robots = {"paper": ARM, "two_link": TWO_LINK}
+    pe.sweep(robots, q, directions=8, out=tmp_path / "several")
+    with pytest.raises(pe.InputError, match="several robots"):
+        pe.sweep(ARM, q["paper"], directions=8, out=tmp_path / "several")
+    with pytest.raises(pe.InputError, match="robots"):  # fewer robots: stale rows would stay
+        pe.sweep({"paper": ARM}, {"paper": q["paper"]}, directions=8, out=tmp_path / "several")
+    pe.sweep(ARM, q["paper"], directions=8, out=tmp_path / "one")
+    with pytest.raises(pe.InputError, match="one robot"):
+        pe.sweep(robots, q, directions=8, out=tmp_path / "one")
+    pe.sweep(robots, q, directions=8, out=tmp_path / "several")  # the same: resumes
+
+
+def test_an_error_names_the_robot():
+    with pytest.raises(pe.InputError, match="robot 'two_link'"):
+        pe.sweep({"paper": ARM, "two_link": TWO_LINK}, {"paper": np.zeros((2, 3)),
+                  "two_link": np.zeros((2, 3))})  # fmt: skip
 
 
 @pytest.mark.parametrize(
