@@ -17,6 +17,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from polyell.analysis import Analysis, EllipsoidKind
 from polyell.comparison.candidates import BUILT_IN_KINDS, Candidate, check_candidates
+from polyell.comparison.directions import DirectionSpec
+from polyell.comparison.layout import TableLayout
 from polyell.comparison.metrics import (
     check_same_affine_set,
     direction_errors,
@@ -25,8 +27,6 @@ from polyell.comparison.metrics import (
     overlap,
     witness_torque_max,
 )
-from polyell.comparison.directions import DirectionSpec
-from polyell.comparison.layout import TableLayout
 from polyell.comparison.tables import format_comparison_table
 from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.directions import directions_in
@@ -283,9 +283,7 @@ class Comparison:
         layout: TableLayout | None = None,
     ) -> str:
         """The comparison table in LaTeX (booktabs), with an optional caption and label."""
-        return format_comparison_table(
-            self, "latex", layout=layout, caption=caption, label=label
-        )
+        return format_comparison_table(self, "latex", layout=layout, caption=caption, label=label)
 
     def limits_table(
         self,

@@ -55,9 +55,7 @@ def table_sets(comparison: Comparison, sets: Sequence[str] | None, argument: str
         ]
     unknown = [kind for kind in sets if kind not in available]
     if unknown:
-        raise InputError(
-            argument, f"sets among {available}", repr(unknown), "check the spelling."
-        )
+        raise InputError(argument, f"sets among {available}", repr(unknown), "check the spelling.")
     return list(sets)
 
 

@@ -121,8 +121,13 @@ def limits_print_tables(frame: pd.DataFrame, layout: TableLayout) -> list[PrintT
                     rows.append(((*first, label, set_labels[kind]), cells))
         title = str(chosen[0]) if split else ""
         tables.append(
-            PrintTable(stub, columns * (len(kinds) if layout.transpose else 1), tuple(rows),
-                       groups, title)
+            PrintTable(
+                stub,
+                columns * (len(kinds) if layout.transpose else 1),
+                tuple(rows),
+                groups,
+                title,
+                grouped=named,
+            )
         )
     return tables
-

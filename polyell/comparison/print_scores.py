@@ -149,10 +149,12 @@ def scores_print_tables(
                     rows.append(((*stub, label), cells))
         if layout.transpose:
             stub_head = (*posture_stub, Label("set", "set"))
-            columns = tuple(quantity_label(q, layout.percent, unit, common_power) for q in quantities)
+            columns = tuple(
+                quantity_label(q, layout.percent, unit, common_power) for q in quantities
+            )
         else:
             stub_head = (*posture_stub, Label("score", "score"))
             columns = sets
         title = next(iter(group)) if split else ""
-        tables.append(PrintTable(stub_head, columns, tuple(rows), title=title))
+        tables.append(PrintTable(stub_head, columns, tuple(rows), title=title, grouped=named))
     return tables

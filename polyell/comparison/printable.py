@@ -19,8 +19,8 @@ from polyell.comparison.labels import Quantity
 from polyell.comparison.latex_text import escape_latex, latex_unit
 
 __all__ = [
-    "MISSING",
     "EMPTY",
+    "MISSING",
     "Cell",
     "Label",
     "PrintTable",
@@ -104,8 +104,10 @@ def _exact(value: float, shift: int) -> Decimal:
 
 
 def _g(number: Decimal, precision: int) -> str:
-    """A finite decimal as Python's ``g`` writes it: fixed if ``1e-4 <= |x| < 10**precision``,
-    else e-notation; no trailing zeros."""
+    """A finite decimal as Python's ``g`` writes it, without trailing zeros.
+
+    Fixed notation if ``1e-4 <= |x| < 10**precision``, else e-notation.
+    """
     if number == 0:
         return "0"
     number = number.normalize()
@@ -134,8 +136,11 @@ def rounded_text(value: float, digits: int, shift: int = 0) -> str:
 
 
 def decimal_text(value: float, shift: int = 0) -> str:
-    """``value * 10**shift`` at full precision: the shortest decimal that reads back as
-    ``value`` (``repr``), its point moved by ``shift`` places, exactly."""
+    """``value * 10**shift`` at full precision, exactly.
+
+    The shortest decimal that reads back as ``value`` (``repr``), its point moved by
+    ``shift`` places.
+    """
     if not math.isfinite(value):
         return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
     if value == 0:
@@ -215,6 +220,9 @@ class PrintTable:
         covering every column; empty: none.
     title : str
         What the table is of (a posture's name for a table per posture); may be empty.
+    grouped : bool
+        Whether LaTeX prints the first stub column (the posture) as a row spanning the
+        table above its rows rather than as a column (a narrower table).
     """
 
     stub: tuple[Label, ...]
@@ -222,6 +230,7 @@ class PrintTable:
     rows: tuple[tuple[tuple[Label, ...], tuple[Cell, ...]], ...]
     groups: tuple[tuple[Label, int], ...] = field(default=())
     title: str = ""
+    grouped: bool = False
 
     def group_of(self) -> list[str]:
         """The plain label of each number column's group ('' without groups)."""

@@ -111,7 +111,9 @@ def render_tables(
     if style == "html":
         from polyell.comparison.write_html import html_tables
 
-        return html_tables(tables, digits, None if caption is None else check_text("caption", caption))
+        return html_tables(
+            tables, digits, None if caption is None else check_text("caption", caption)
+        )
     raise InputError("style", f"one of {list(STYLES)}", repr(style)[:80])
 
 
@@ -158,7 +160,7 @@ def format_comparison_table(
     caption: str | None = None,
     label: str | None = None,
 ) -> str:
-    """The comparison table of one or several postures, laid out for print.
+    r"""The comparison table of one or several postures, laid out for print.
 
     Parameters
     ----------
@@ -204,7 +206,7 @@ def format_limits_table(
     caption: str | None = None,
     label: str | None = None,
 ) -> str:
-    """The directional-limits table (:func:`polyell.limits_table`) laid out for print.
+    r"""The directional-limits table (:func:`polyell.limits_table`) laid out for print.
 
     Parameters
     ----------
@@ -277,6 +279,7 @@ def render_table(
     lines.append(r"\midrule")
     for name, *cells in body:
         first = markup.get(name) or escape_latex(name, "row")
+        first = "{}" + first if first.startswith("[") else first  # not \\'s optional argument
         lines.append(" & ".join([first, *(escape_latex(c, "cell") for c in cells)]) + r" \\")
     lines += [r"\bottomrule", r"\end{tabular}", r"\end{table}"]
     return "\n".join(lines) + "\n"

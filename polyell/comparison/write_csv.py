@@ -27,7 +27,13 @@ def csv_tables(tables: Sequence[PrintTable]) -> str:
     writer = csv.writer(buffer, lineterminator="\n")
     split = any(table.title for table in tables)
     with_error = sorted(
-        {j for table in tables for _, cells in table.rows for j, c in enumerate(cells) if c.has_error()}
+        {
+            j
+            for table in tables
+            for _, cells in table.rows
+            for j, c in enumerate(cells)
+            if c.has_error()
+        }
     )
     for k, table in enumerate(tables):
         headers = flat_headers(table)

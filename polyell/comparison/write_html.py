@@ -26,18 +26,20 @@ def html_tables(tables: Sequence[PrintTable], digits: int, caption: str | None =
         s = len(table.stub)
         head = []
         if table.groups:
-            cells = [f'<th colspan="{s}"></th>'] + [
+            spans = [f'<th colspan="{s}"></th>'] + [
                 f'<th colspan="{span}" scope="colgroup">{_text(group.plain)}</th>'
                 for group, span in table.groups
             ]
-            head.append("<tr>" + "".join(cells) + "</tr>")
+            head.append("<tr>" + "".join(spans) + "</tr>")
         head.append(
             "<tr>"
-            + "".join(f'<th scope="col">{_text(h.plain)}</th>' for h in (*table.stub, *table.columns))
+            + "".join(
+                f'<th scope="col">{_text(h.plain)}</th>' for h in (*table.stub, *table.columns)
+            )
             + "</tr>"
         )
         rows.append("<thead>" + "".join(head) + "</thead>")
-        body = []
+        body: list[str] = []
         for labels, cells in table.rows:
             body.append(
                 "<tr>"

@@ -13,7 +13,7 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 
-from polyell.comparison.latex_text import check_latex_label, escape_latex
+from polyell.comparison.latex_text import check_latex_label, check_text, escape_latex
 from polyell.comparison.printable import Cell, Label, PrintTable
 
 __all__ = ["latex_cell", "latex_tables"]
@@ -23,7 +23,9 @@ def _stacked(label: Label, align: str) -> str:
     """A header: its LaTeX, or its lines in a nested tabular aligned like its column."""
     if len(label.lines) < 2:
         return label.latex
-    return rf"\begin{{tabular}}[b]{{@{{}}{align}@{{}}}}" + r"\\".join(label.lines) + r"\end{tabular}"
+    # "\\{}": a line starting with "[" (a unit) is text, not the optional argument of \\
+    inner = r"\\{}".join(label.lines)
+    return rf"\begin{{tabular}}[b]{{@{{}}{align}@{{}}}}{inner}\end{{tabular}}"
 
 
 def latex_cell(cell: Cell, digits: int) -> str:
@@ -41,13 +43,34 @@ def latex_cell(cell: Cell, digits: int) -> str:
 _NUMBER = re.compile(r"-?[0-9]+(\.[0-9]+)?(e[+-][0-9]+)?")
 
 
+def _row(cells: list[str]) -> str:
+    r"""One row; ``{}`` before a first cell starting with "[", which ``\\`` would take."""
+    line = " & ".join(cells) + r" \\"
+    return "{}" + line if line.startswith("[") else line
+
+
+#: Body lines (rows and posture lines) up to which a table is set in ``\small``; a longer
+#: one is set in ``\footnotesize``.  With narrower gaps between columns (``\tabcolsep``
+#: 4pt), as journals print tables, the default layouts of up to three postures then fit
+#: the width and the height of a one-column article page (tests/comparison/test_print_fit.py).
+SMALL_ROWS = 40
+
+
+def _preamble(body_lines: int) -> list[str]:
+    size = r"\small" if body_lines <= SMALL_ROWS else r"\footnotesize"
+    return [size, r"\setlength{\tabcolsep}{4pt}"]
+
+
 def _table(table: PrintTable, digits: int, caption: str | None, label: str | None) -> list[str]:
-    lines = [r"\begin{table}", r"\centering"]
+    grouped = table.grouped and len(table.stub) > 1
+    postures = len({labels[0].plain for labels, _ in table.rows}) if grouped else 0
+    lines = [r"\begin{table}", r"\centering", *_preamble(len(table.rows) + postures)]
     if caption is not None:
         lines.append(rf"\caption{{{escape_latex(caption, 'caption')}}}")
     if label is not None:
         lines.append(rf"\label{{{check_latex_label(label)}}}")
-    s, c = len(table.stub), len(table.columns)
+    stub = table.stub[1:] if grouped else table.stub
+    s, c = len(stub), len(table.columns)
     lines += [rf"\begin{{tabular}}{{{'l' * s}{'r' * c}}}", r"\toprule"]
     if table.groups:
         spans, rules, start = [], [], s + 1
@@ -55,21 +78,29 @@ def _table(table: PrintTable, digits: int, caption: str | None, label: str | Non
             spans.append(rf"\multicolumn{{{span}}}{{c}}{{{_stacked(group, 'c')}}}")
             rules.append(rf"\cmidrule(lr){{{start}-{start + span - 1}}}")
             start += span
-        lines.append(" & ".join([""] * s + spans) + r" \\")
+        lines.append(_row([""] * s + spans))
         lines.append(" ".join(rules))
-    header = [_stacked(h, "l") for h in table.stub] + [_stacked(h, "r") for h in table.columns]
-    lines += [" & ".join(header) + r" \\", r"\midrule"]
+    header = [_stacked(h, "l") for h in stub] + [_stacked(h, "r") for h in table.columns]
+    lines += [_row(header), r"\midrule"]
     previous: tuple[str, ...] = ()
     for labels, cells in table.rows:
         plain = tuple(label.plain for label in labels)
-        if s > 1 and previous and plain[0] != previous[0]:
-            lines.append(r"\midrule")  # a new posture (or direction)
-        shown = []
-        for k, label in enumerate(labels):
-            repeated = k < s - 1 and plain[: k + 1] == previous[: k + 1]
-            shown.append("" if repeated else label.latex)
+        if grouped and plain[:1] != previous[:1]:
+            if previous:
+                lines.append(r"\midrule")
+            # the posture above its rows, across the table
+            lines.append(rf"\multicolumn{{{s + c}}}{{@{{}}l}}{{\itshape {labels[0].latex}}} \\")
+            previous = plain[:1]
+        elif not grouped and s > 1 and previous and plain[0] != previous[0]:
+            lines.append(r"\midrule")
+        own = labels[1:] if grouped else labels
+        start = 1 if grouped else 0
+        shown = [
+            "" if k < s - 1 and plain[: start + k + 1] == previous[: start + k + 1] else label.latex
+            for k, label in enumerate(own)
+        ]
         previous = plain
-        lines.append(" & ".join(shown + [latex_cell(cell, digits) for cell in cells]) + r" \\")
+        lines.append(_row(shown + [latex_cell(cell, digits) for cell in cells]))
     lines += [r"\bottomrule", r"\end{tabular}", r"\end{table}"]
     return lines
 
@@ -83,7 +114,7 @@ def latex_tables(
     caption: str | None = None,
     label: str | None = None,
 ) -> str:
-    """The tables as LaTeX ``table`` floats, one after the other.
+    r"""The tables as LaTeX ``table`` floats, one after the other.
 
     Parameters
     ----------
@@ -98,6 +129,8 @@ def latex_tables(
     """
     if label is not None:
         check_latex_label(label)
+    if caption is not None:
+        caption = check_text("caption", caption)
     parts = []
     for table in tables:
         title = f" ({table.title})" if table.title else ""

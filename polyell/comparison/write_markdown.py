@@ -22,9 +22,7 @@ def markdown_grid(header: list[str], body: list[list[str]], stub: int = 1) -> st
     """A GitHub Markdown table: the first ``stub`` columns left-aligned, the others right."""
     rows = [[escape_markdown(text, "cell") for text in row] for row in [header, *body]]
     widths = [max(3, *(len(row[i]) for row in rows)) for i in range(len(header))]
-    rule = [
-        ":" + "-" * (w - 1) if i < stub else "-" * (w - 1) + ":" for i, w in enumerate(widths)
-    ]
+    rule = [":" + "-" * (w - 1) if i < stub else "-" * (w - 1) + ":" for i, w in enumerate(widths)]
     lines = [
         "| "
         + " | ".join(
