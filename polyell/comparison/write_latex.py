@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Sequence
+from dataclasses import replace
 
 from polyell.comparison.latex_text import check_latex_label, check_text, escape_latex
 from polyell.comparison.printable import Cell, Label, PrintTable
@@ -54,6 +55,30 @@ def _row(cells: list[str]) -> str:
 #: 4pt), as journals print tables, the default layouts of up to three postures then fit
 #: the width and the height of a one-column article page (tests/comparison/test_print_fit.py).
 SMALL_ROWS = 40
+
+
+#: Body lines beyond which a table of several postures is set as one float per posture:
+#: a float cannot break across pages, and ``\footnotesize`` fits about 50 lines on one.
+PAGE_LINES = 48
+
+
+def _page_parts(table: PrintTable) -> list[PrintTable]:
+    """The table, or one table per posture where it would not fit the page's height."""
+    postures = list(dict.fromkeys(labels[0].plain for labels, _ in table.rows))
+    if not table.grouped or len(table.rows) + len(postures) <= PAGE_LINES or len(postures) < 2:
+        return [table]
+    return [
+        replace(
+            table,
+            stub=table.stub[1:],
+            rows=tuple(
+                (labels[1:], cells) for labels, cells in table.rows if labels[0].plain == name
+            ),
+            title=name,
+            grouped=False,
+        )
+        for name in postures
+    ]
 
 
 def _preamble(body_lines: int) -> list[str]:
@@ -126,11 +151,17 @@ def latex_tables(
     label : str, optional
         A ``\label`` key; a table of one posture among several adds ``-<posture>``
         (characters a key cannot hold become ``-``).
+
+    A combined table of several postures longer than :data:`PAGE_LINES` body lines
+    (three postures of five directions in the directional-limits table) is written as
+    one float per posture, as ``split="posture"`` would: one float cannot be taller than
+    a page.
     """
     if label is not None:
         check_latex_label(label)
     if caption is not None:
         caption = check_text("caption", caption)
+    tables = [part for table in tables for part in _page_parts(table)]
     parts = []
     for table in tables:
         title = f" ({table.title})" if table.title else ""

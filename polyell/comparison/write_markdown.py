@@ -45,6 +45,7 @@ def markdown_tables(tables: Sequence[PrintTable], digits: int) -> str:
             for labels, cells in table.rows
         ]
         grid = markdown_grid(flat_headers(table), body, len(table.stub))
-        title = f"**{escape_markdown(table.title, 'posture')}**\n\n" if table.title else ""
+        name = escape_markdown(table.title, "posture").strip()
+        title = f"**{name}**\n\n" if name else ""
         parts.append(title + grid)
     return "\n".join(parts)

@@ -19,8 +19,8 @@ from hypothesis import strategies as st
 from latex_check import compile_tables, engine, parse_table, unescape
 
 import polyell as pe
-from polyell.comparison.summary import format_summary_table, summarize
 from polyell.comparison.print_scores import DEFAULT_SCORES
+from polyell.comparison.summary import format_summary_table, summarize
 from polyell.comparison.tables import (
     check_text,
     escape_latex,

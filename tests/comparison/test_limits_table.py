@@ -105,7 +105,7 @@ def test_several_postures_in_one_frame(paper, panda):
     assert table[["posture", "direction"]].values.tolist() == [
         ["home", "x"], ["home", "y"], ["home", "z"], ["moved", "x+y"]
     ]  # fmt: skip
-    lo, hi = polytope_limits_lp(
+    _, hi = polytope_limits_lp(
         other.analysis.polytope.generators, other.analysis.polytope.center,
         np.array([[2**-0.5, 2**-0.5, 0]]),
     )  # fmt: skip
