@@ -13,7 +13,9 @@ from polyell.comparison import (
     Candidate,
     Comparison,
     Scores,
+    TableLayout,
     compare,
+    limits_table,
 )
 from polyell.errors import (
     InputError,
@@ -62,6 +64,7 @@ __all__ = [
     "Scores",
     "SolverError",
     "StorageError",
+    "TableLayout",
     "UndefinedEllipsoidError",
     "UnreachableAccelerationError",
     "UrdfRobot",
@@ -70,6 +73,7 @@ __all__ = [
     "compare",
     "grid",
     "limits_along",
+    "limits_table",
     "local_cluster",
     "random_configurations",
     "robots",

@@ -443,6 +443,7 @@ def test_the_suite_covers_the_public_api():
     elsewhere = {  # exercised in their own test files (studies, robots, subspace)
         "AffineSubspace", "DirectionalLimits", "InverseSolution", "UrdfRobot", "Payload",
         "grid", "random_configurations", "local_cluster", "robots",
+        "TableLayout", "limits_table",  # tests/comparison/test_print_*.py, test_limits_table.py
     }  # fmt: skip
     for name in pe.__all__:
         item = getattr(pe, name)

@@ -2,5 +2,16 @@
 
 from polyell.comparison.candidates import Candidate
 from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES, Comparison, Scores, compare
+from polyell.comparison.layout import TableLayout
+from polyell.comparison.limits import limits_table
 
-__all__ = ["COMPARED_KINDS", "SCORE_NAMES", "Candidate", "Comparison", "Scores", "compare"]
+__all__ = [
+    "COMPARED_KINDS",
+    "SCORE_NAMES",
+    "Candidate",
+    "Comparison",
+    "Scores",
+    "TableLayout",
+    "compare",
+    "limits_table",
+]

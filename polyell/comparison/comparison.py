@@ -17,6 +17,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from polyell.analysis import Analysis, EllipsoidKind
 from polyell.comparison.candidates import BUILT_IN_KINDS, Candidate, check_candidates
+from polyell.comparison.directions import DirectionSpec
+from polyell.comparison.layout import TableLayout
 from polyell.comparison.metrics import (
     check_same_affine_set,
     direction_errors,
@@ -25,13 +27,12 @@ from polyell.comparison.metrics import (
     overlap,
     witness_torque_max,
 )
-from polyell.comparison.tables import format_scores_table
+from polyell.comparison.tables import format_comparison_table
 from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.directions import directions_in
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
 from polyell.geometry.outer import min_volume_enclosing_ellipsoid
-from polyell.models.task import task_unit
 from polyell.storage import write_text_atomically
 from polyell.validation import check_directions, check_integer
 
@@ -266,26 +267,66 @@ class Comparison:
 
         return pd.DataFrame([r.as_dict() for r in self.records.values()]).set_index("kind")
 
-    def to_markdown(self) -> str:
-        """The comparison table in Markdown (rounded, units in the headers)."""
-        return format_scores_table(
-            self.to_frame(), self.analysis.polytope.dim, "markdown", unit=self._unit
-        )
+    def to_markdown(self, layout: TableLayout | None = None) -> str:
+        """The comparison table in Markdown (rounded, units in the headers).
 
-    def to_latex(self, caption: str | None = None, label: str | None = None) -> str:
+        ``layout`` chooses the sets, scores, orientation and rounding (default
+        ``TableLayout()``); the LaTeX, CSV and HTML forms are
+        :func:`~polyell.comparison.tables.format_comparison_table`.
+        """
+        return format_comparison_table(self, "markdown", layout=layout)
+
+    def to_latex(
+        self,
+        caption: str | None = None,
+        label: str | None = None,
+        layout: TableLayout | None = None,
+    ) -> str:
         """The comparison table in LaTeX (booktabs), with an optional caption and label."""
-        return format_scores_table(
-            self.to_frame(),
-            self.analysis.polytope.dim,
-            "latex",
-            unit=self._unit,
-            caption=caption,
-            label=label,
-        )
+        return format_comparison_table(self, "latex", layout=layout, caption=caption, label=label)
 
-    @property
-    def _unit(self) -> str:
-        return task_unit(self.analysis.dynamics.task)
+    def limits_table(
+        self,
+        directions: Sequence[DirectionSpec] | None = None,
+        *,
+        sets: Sequence[str] | None = None,
+    ) -> pd.DataFrame:
+        """Directional limits of the polytope and every ellipsoid, and their errors.
+
+        Parameters
+        ----------
+        directions : list, optional
+            Names made of the task's rows (``"x"``, ``"-z"``, ``"xy"`` for the unit
+            diagonal, ``"x-y"``) or unit vectors
+            (:func:`~polyell.comparison.directions.named_direction`).  Default: the task's
+            coordinate axes (an interval holds both ends: ``-x`` adds nothing to ``x``).
+        sets : list of str, optional
+            Among ``"polytope"``, the kinds of :attr:`kinds`; default: the polytope and
+            every ellipsoid computed.
+
+        Returns
+        -------
+        DataFrame
+            One row per direction and set (directions first) with the columns
+            ``direction``, ``set``, ``defined``, ``lower``, ``upper`` [``unit``],
+            ``lower_error``, ``upper_error`` (fractions ``(e - p) / |p|`` against the
+            polytope's same end, NaN where either end is missing or the polytope's is 0)
+            and ``unit``; see :func:`polyell.limits_table` for several postures and
+            :func:`~polyell.comparison.tables.format_limits_table` to print it.
+
+        Examples
+        --------
+        >>> import numpy as np, polyell as pe
+        >>> arm = pe.PlanarArm(lengths=[1.0, 0.8, 0.5], masses=[4.0, 2.0, 0.6])
+        >>> q = [np.pi / 2, -np.pi / 2, -np.pi / 2]
+        >>> cmp = pe.compare(pe.analyze(arm.dynamics(q), tau_max=[100, 30, 4]), 16)
+        >>> table = cmp.limits_table(["x", "-y"], sets=["polytope", "chiacchio"])
+        >>> table[["direction", "set"]].values.tolist()
+        [['x', 'polytope'], ['x', 'chiacchio'], ['-y', 'polytope'], ['-y', 'chiacchio']]
+        """
+        from polyell.comparison.limits import limits_frame
+
+        return limits_frame(self, directions, sets=sets)
 
     def to_csv(self, path: str | os.PathLike[str] | None = None) -> str:
         """The scores at full precision as CSV; also written to ``path`` if given.

@@ -11,15 +11,17 @@ from difflib import get_close_matches
 from typing import Literal
 
 from polyell.comparison.candidates import BUILT_IN_KINDS, CANDIDATE_NAME
-from polyell.comparison.comparison import SCORE_NAMES
 from polyell.errors import InputError
 from polyell.validation import _describe, check_integer
 
-__all__ = ["LAYOUT_SETS", "SPLITS", "TableLayout"]
+__all__ = ["LAYOUT_SETS", "LIMIT_QUANTITIES", "SPLITS", "TableLayout"]
 
 #: The sets a table can show besides user-defined candidates: the exact polytope, both
 #: ellipsoid definitions, the maximum-volume inscribed and the minimum-volume enclosing one.
 LAYOUT_SETS = ("polytope", *BUILT_IN_KINDS)
+#: The quantities of the directional-limits table (its columns), beside the score names of
+#: the comparison table.
+LIMIT_QUANTITIES = ("lower", "upper", "lower_error", "upper_error")
 #: One table per posture, or one table for all postures.
 SPLITS = ("posture", "combined")
 #: Significant digits a table may print (a float64 holds 17).
@@ -60,9 +62,14 @@ class TableLayout:
         ``"yoshikawa"``, ``"mvie"``, ``"outer"`` and candidate names (lower-case
         identifiers); ``None``: every set the comparison holds.
     scores : tuple of str, optional
-        The scores shown, among :data:`polyell.SCORE_NAMES`; ``None``: the writer's defaults.
+        The quantities shown: names of :data:`polyell.SCORE_NAMES` choose the rows of the
+        comparison table, :data:`LIMIT_QUANTITIES` the columns of the directional-limits
+        table; a table none of whose quantities is listed shows its defaults.  ``None``: the
+        defaults of both.
     transpose : bool, optional
-        False: one row per set (and posture), scores as columns; True: sets as columns.
+        Swap each table's default orientation: the comparison table has sets as columns
+        and scores as rows, the directional-limits table sets as rows (under each posture
+        and direction) and its limits and errors as columns.
     split : {"combined", "posture"}, optional
         One table for all postures, or one table per posture.
     digits : int, optional
@@ -73,7 +80,7 @@ class TableLayout:
     Raises
     ------
     InputError
-        If a field has the wrong type or value (the message names the field).
+        If a field has the wrong type or value (the message names it: ``layout.digits``).
 
     Examples
     --------
@@ -92,20 +99,23 @@ class TableLayout:
     def __post_init__(self) -> None:
         if self.sets is not None:
             object.__setattr__(
-                self, "sets", _names("sets", self.sets, LAYOUT_SETS, "set names", True)
+                self, "sets", _names("layout.sets", self.sets, LAYOUT_SETS, "set names", True)
             )
         if self.scores is not None:
-            scores = _names("scores", self.scores, SCORE_NAMES, "score names")
+            from polyell.comparison.comparison import SCORE_NAMES  # (it imports this module)
+
+            valid = (*SCORE_NAMES, *LIMIT_QUANTITIES)
+            scores = _names("layout.scores", self.scores, valid, "score names")
             object.__setattr__(self, "scores", scores)
         for name in ("transpose", "percent"):
             if not isinstance(getattr(self, name), bool):
-                raise InputError(name, "True or False", _describe(getattr(self, name)))
+                raise InputError(f"layout.{name}", "True or False", _describe(getattr(self, name)))
         if self.split not in SPLITS:
             close = get_close_matches(str(self.split), SPLITS, n=1)
             raise InputError(
-                "split",
+                "layout.split",
                 "'posture' (one table per posture) or 'combined' (one table)",
                 _describe(self.split),
                 f"did you mean {close[0]!r}?" if close else "",
             )
-        check_integer("digits", self.digits, 1, MAX_DIGITS)
+        check_integer("layout.digits", self.digits, 1, MAX_DIGITS)

@@ -28,6 +28,7 @@ __all__ = [
     "inscribed_scale",
     "inside_rtol",
     "overlap",
+    "relative_error",
     "scale_rtol",
     "witness_torque_max",
 ]
@@ -259,14 +260,39 @@ class DirectionErrors(NamedTuple):
     used: int
 
 
+def relative_error(
+    ellipsoid: NDArray[np.float64], polytope: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """``(e - p) / |p|`` of directional limits, elementwise; NaN where either is NaN or p = 0.
+
+    Parameters
+    ----------
+    ellipsoid, polytope : ndarray, shape (k,)
+        The same end (``hi`` or ``lo``) of the intervals of an ellipsoid and of the polytope
+        [m/s^2 or rad/s^2]; NaN where the interval is empty.
+
+    Returns
+    -------
+    ndarray, shape (k,)
+        Dimensionless.  For upper limits > 0 means the ellipsoid promises too much; for
+        lower limits < 0 does (it reaches further down).
+    """
+    e, p = np.asarray(ellipsoid, dtype=float), np.asarray(polytope, dtype=float)
+    used = ~np.isnan(e) & ~np.isnan(p) & (p != 0)
+    error = np.full(np.broadcast_shapes(e.shape, p.shape), np.nan)
+    error[used] = (e[used] - p[used]) / np.abs(p[used])
+    return error
+
+
 def direction_errors(ellipsoid: DirectionalLimits, polytope: DirectionalLimits) -> DirectionErrors:
     """Statistics of the upper directional limits of an ellipsoid against the polytope's."""
     feasible_e, feasible_p = ellipsoid.feasible, polytope.feasible
     mismatch = int(np.count_nonzero(feasible_e != feasible_p))
-    used = feasible_e & feasible_p & (polytope.hi != 0)
+    errors = relative_error(ellipsoid.hi, polytope.hi)
+    used = ~np.isnan(errors)
     if not used.any():
         return DirectionErrors(np.nan, np.nan, np.nan, np.nan, mismatch, 0)
-    error = (ellipsoid.hi[used] - polytope.hi[used]) / np.abs(polytope.hi[used])
+    error = errors[used]
     return DirectionErrors(
         float(np.mean(np.abs(error))),
         float(np.max(np.abs(error))),

@@ -265,11 +265,14 @@ def test_mvie_of_a_panda_polytope_that_duplicate_facet_pairs_made_inaccurate():
     assert cmp["mvie"].volume >= cmp["chiacchio"].volume  # the largest inscribed one
 
 
-def test_tables_show_a_rounded_negative_zero_as_zero(paper):
+def test_tables_show_a_negative_zero_as_zero_and_tiny_values_as_they_are(paper):
     frame = paper.to_frame()
     frame.loc["mvie", "direction_bias"] = -1e-12  # rounding noise about an exact 0
+    frame.loc["chiacchio", "direction_bias"] = -0.0
     table = format_scores_table(frame, paper.analysis.rank, "markdown")
-    assert "-0.00" not in table and "|   0.00 |" in table
+    row = next(line for line in table.splitlines() if line.startswith("| direction bias"))
+    cells = [cell.strip() for cell in row.split("|")[2:-1]]
+    assert cells[0] == "0" and cells[2] == "-1e-10"  # a fraction of -1e-12 in percent
 
 
 def test_compare_without_mvie_is_explicit(paper):

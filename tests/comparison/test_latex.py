@@ -19,9 +19,9 @@ from hypothesis import strategies as st
 from latex_check import compile_tables, engine, parse_table, unescape
 
 import polyell as pe
+from polyell.comparison.print_scores import DEFAULT_SCORES
 from polyell.comparison.summary import format_summary_table, summarize
 from polyell.comparison.tables import (
-    SCORE_ROWS,
     check_text,
     escape_latex,
     escape_markdown,
@@ -71,7 +71,7 @@ def test_hostile_caption_and_names_are_printed_not_run(paper):
     assert parsed.caption == HOSTILE
     assert parsed.header[-1] == "x_y & z % w"
     assert [row[0] for row in parsed.rows][4] == "coverage [%]"
-    assert len(parsed.rows) == len(SCORE_ROWS)
+    assert len(parsed.rows) == len(DEFAULT_SCORES)
 
 
 def test_a_label_that_is_not_a_key_is_refused(paper):
@@ -137,9 +137,9 @@ def test_any_scores_any_caption_every_row_kept(paper, caption, name, values):
     markdown = format_scores_table(frame, 2, "markdown")
     parsed = parse_table(tex)
     assert parsed.caption == normalized(caption)
-    assert len(parsed.rows) == len(SCORE_ROWS) == len(markdown.splitlines()) - 2
+    assert len(parsed.rows) == len(DEFAULT_SCORES) == len(markdown.splitlines()) - 2
     assert parsed.header[-1] == name
-    for row, (score, *_rest) in zip(parsed.rows, SCORE_ROWS, strict=True):
+    for row, score in zip(parsed.rows, DEFAULT_SCORES, strict=True):
         value = frame.loc[name, score]
         if np.isnan(value):
             assert row[-1] == "n/a"

@@ -1,0 +1,97 @@
+"""The tables of a points study: the comparison and the directional limits, in each format."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from polyell.comparison.latex_text import check_text
+from polyell.comparison.layout import TableLayout
+from polyell.comparison.limits import Directions, limits_table, posture_comparisons
+from polyell.comparison.tables import Style, format_comparison_table, format_limits_table
+from polyell.errors import InputError
+from polyell.storage import write_text_atomically
+
+if TYPE_CHECKING:
+    from polyell.comparison.comparison import Comparison
+
+__all__ = ["TABLE_FORMATS", "write_point_tables"]
+
+#: File formats of the tables and the style each is written in.
+TABLE_FORMATS: dict[str, Style] = {"tex": "latex", "md": "markdown", "csv": "csv"}
+
+
+def write_point_tables(
+    comparisons: Mapping[str, Comparison],
+    directions_per_point: Directions,
+    folder: str | os.PathLike[str],
+    layout: TableLayout | None = None,
+    title: str = "",
+    formats: Sequence[str] = ("tex", "md", "csv"),
+) -> list[Path]:
+    """Write ``limits.<format>`` and ``comparison.<format>`` for comparisons at named postures.
+
+    Parameters
+    ----------
+    comparisons : mapping of str to Comparison
+        By posture name, in the order of the tables.
+    directions_per_point : list, mapping or None
+        The directions of the limits (:func:`polyell.limits_table`): one list for every
+        posture, a list per posture name, or None (the task's coordinate axes).
+    folder : str or Path
+        An existing folder.
+    layout : TableLayout, optional
+        Default ``TableLayout()`` (fits a one-column page for up to three postures).
+    title : str, optional
+        Heads the Markdown files and starts the LaTeX captions.
+    formats : sequence of {"tex", "md", "csv"}
+        The files written, each atomically.
+
+    Returns
+    -------
+    list of Path
+        The files, limits first.
+
+    Raises
+    ------
+    InputError
+        For an unknown format, a folder that does not exist, bad directions (naming
+        ``directions['home'][k]``) or a bad layout (naming its field); nothing is written
+        then (every table is made before the first file is written).
+    StorageError
+        If a file cannot be written.
+    """
+    wanted = [formats] if isinstance(formats, str) else list(formats)
+    unknown = [f for f in wanted if f not in TABLE_FORMATS]
+    if unknown or not wanted:
+        raise InputError("formats", f"some of {list(TABLE_FORMATS)}", repr(formats)[:80])
+    if not isinstance(folder, str | os.PathLike) or not Path(folder).is_dir():
+        raise InputError("folder", "an existing folder", repr(folder)[:120])
+    title = check_text("title", title)
+    named = posture_comparisons(comparisons)
+    limits = limits_table(named, directions_per_point)
+    unit = str(limits["unit"].iloc[0]) if limits["unit"].nunique() == 1 else "task units"
+    prefix = f"{title}: " if title else ""
+    limits_caption = (
+        f"{prefix}directional limits [{unit}] of the exact polytope and of each ellipsoid, "
+        "and each limit's error relative to the polytope's, (e - p)/|p|."
+    )
+    comparison_caption = f"{prefix}scores of each ellipsoid against the exact polytope."
+    texts: dict[str, str] = {}
+    for extension in wanted:
+        style = TABLE_FORMATS[extension]
+        limits_text = format_limits_table(
+            limits, style, layout=layout, caption=limits_caption, label="tab:limits"
+        )
+        comparison_text = format_comparison_table(
+            named, style, layout=layout, caption=comparison_caption, label="tab:comparison"
+        )
+        if extension == "md":
+            limits_text = f"# {prefix}directional limits\n\n{limits_caption}\n\n{limits_text}"
+            comparison_text = f"# {prefix}comparison\n\n{comparison_caption}\n\n{comparison_text}"
+        texts[f"limits.{extension}"] = limits_text
+        texts[f"comparison.{extension}"] = comparison_text
+    order = sorted(texts, key=lambda name: (not name.startswith("limits"), name))
+    return [write_text_atomically(Path(folder) / name, texts[name]) for name in order]

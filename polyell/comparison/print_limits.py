@@ -1,0 +1,133 @@
+"""The directional-limits table laid out for print, from :func:`~polyell.limits_table`'s frame."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from polyell.comparison.labels import Quantity, set_label
+from polyell.comparison.layout import TableLayout
+from polyell.comparison.limits import LIMIT_COLUMNS, LIMIT_QUANTITIES
+from polyell.comparison.print_scores import check_scores, single_unit
+from polyell.comparison.printable import (
+    EMPTY,
+    MISSING,
+    Cell,
+    Label,
+    PrintTable,
+    quantity_label,
+    text_label,
+)
+from polyell.errors import InputError
+
+if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
+    import pandas as pd
+
+__all__ = ["limits_print_tables"]
+
+
+def _check_frame(frame: pd.DataFrame) -> None:
+    import pandas as pd
+
+    missing = [c for c in LIMIT_COLUMNS if c not in getattr(frame, "columns", ())]
+    if not isinstance(frame, pd.DataFrame) or missing:
+        raise InputError(
+            "frame",
+            f"a directional-limits table with the columns {list(LIMIT_COLUMNS)}",
+            f"{type(frame).__name__} without {missing}",
+            "make it with pe.limits_table or Comparison.limits_table.",
+        )
+
+
+def _cell(row: pd.Series, quantity: Quantity, percent: bool) -> Cell:
+    defined = bool(row["defined"])
+    value = float(row[quantity.name])
+    if quantity.kind == "share":
+        return Cell(value, 2 if percent else 0)
+    return Cell(value, missing=EMPTY if defined else MISSING)
+
+
+def _sets(frame: pd.DataFrame, layout: TableLayout) -> list[str]:
+    present = list(dict.fromkeys(frame["set"]))
+    if layout.sets is None:
+        return present
+    unknown = [kind for kind in layout.sets if kind not in present]
+    if unknown:
+        raise InputError(
+            "layout.sets",
+            f"sets among {present}",
+            repr(unknown),
+            "check the spelling, or compute the set (mvie=True, outer=True, candidates).",
+        )
+    return list(layout.sets)
+
+
+def limits_print_tables(frame: pd.DataFrame, layout: TableLayout) -> list[PrintTable]:
+    """The directional-limits table(s) to print.
+
+    Default orientation: one row per (posture,) direction and set, the limits and their
+    errors as columns; transposed: one row per (posture and) direction, each set a group
+    of columns.
+
+    Parameters
+    ----------
+    frame : DataFrame
+        From :func:`~polyell.limits_table` or ``Comparison.limits_table``.
+    layout : TableLayout
+        ``scores`` among ``lower``, ``upper``, ``lower_error``, ``upper_error`` choose
+        the columns (default: all four).
+
+    Returns
+    -------
+    list of PrintTable
+        One, or one per posture (``layout.split == "posture"``).
+    """
+    _check_frame(frame)
+    kinds = _sets(frame, layout)
+    quantities = check_scores(layout, LIMIT_QUANTITIES)
+    has_posture = "posture" in frame.columns
+    postures = list(dict.fromkeys(frame["posture"])) if has_posture else [""]
+    units = {
+        str(name): str(part["unit"].iloc[0])
+        for name, part in (frame.groupby("posture", sort=False) if has_posture else [("", frame)])
+    }
+    unit = single_unit(units, layout)
+    split = layout.split == "posture"
+    named = has_posture and not split
+    set_labels = {kind: text_label(set_label(kind), "sets") for kind in kinds}
+    columns = tuple(quantity_label(q, layout.percent, unit) for q in quantities)
+    stub = (
+        *((Label("posture", "posture"),) if named else ()),
+        Label("direction", "direction"),
+        *(() if layout.transpose else (Label("set", "set"),)),
+    )
+    groups = tuple((set_labels[kind], len(columns)) for kind in kinds) if layout.transpose else ()
+    tables = []
+    for chosen in [[p] for p in postures] if split else [postures]:
+        rows = []
+        for posture in chosen:
+            part = frame[frame["posture"] == posture] if has_posture else frame
+            first = (text_label(str(posture), "posture"),) if named else ()
+            for direction in dict.fromkeys(part["direction"]):
+                at = part[part["direction"] == direction].set_index("set")
+                label = text_label(str(direction), "directions")
+                if layout.transpose:
+                    cells = tuple(
+                        _cell(at.loc[kind], q, layout.percent) for kind in kinds for q in quantities
+                    )
+                    rows.append(((*first, label), cells))
+                    continue
+                for kind in kinds:
+                    cells = tuple(_cell(at.loc[kind], q, layout.percent) for q in quantities)
+                    rows.append(((*first, label, set_labels[kind]), cells))
+        title = str(chosen[0]) if split else ""
+        tables.append(
+            PrintTable(
+                stub,
+                columns * (len(kinds) if layout.transpose else 1),
+                tuple(rows),
+                groups,
+                title,
+                grouped=named,
+            )
+        )
+    return tables

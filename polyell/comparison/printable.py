@@ -1,0 +1,239 @@
+r"""A table ready to print, whatever the format: labels, cells and how numbers are written.
+
+The builders (:mod:`~polyell.comparison.scores_table`, :mod:`~polyell.comparison.limits_print`)
+fill a :class:`PrintTable`; the writers (LaTeX, Markdown, CSV, HTML) only lay it out, so
+that every format shows the same labels, units and numbers.
+
+Numbers are rounded to significant digits in decimal, from the exact binary value: a
+percentage is the fraction's digits with the decimal point moved two places (never
+``100 * x`` in floating point, which could round differently or overflow).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from decimal import ROUND_HALF_EVEN, Decimal, localcontext
+
+from polyell.comparison.labels import Quantity
+from polyell.comparison.latex_text import escape_latex, latex_unit
+
+__all__ = [
+    "EMPTY",
+    "MISSING",
+    "Cell",
+    "Label",
+    "PrintTable",
+    "decimal_text",
+    "quantity_label",
+    "rounded_text",
+    "text_label",
+]
+
+#: Shown where a set is undefined or a quantity cannot be computed.
+MISSING = "n/a"
+#: Shown where a directional limit does not exist (the line misses the set).
+EMPTY = "empty"
+
+
+@dataclass(frozen=True)
+class Label:
+    """A header or row label: plain text, its LaTeX, and the LaTeX lines of a stacked header.
+
+    Attributes
+    ----------
+    plain : str
+        The text Markdown, CSV and HTML show (``"lower [m/s^2]"``).
+    latex : str
+        The same in LaTeX (escaped, or the trusted markup of :mod:`labels`).
+    lines : tuple of str
+        The LaTeX split where a narrow column header may break (``"lower"``,
+        ``"[m/s$^{2}$]"``); empty: one line.
+    """
+
+    plain: str
+    latex: str
+    lines: tuple[str, ...] = ()
+
+
+def text_label(plain: str, argument: str = "label") -> Label:
+    """A label of plain text (a posture's or a candidate's name): escaped for LaTeX.
+
+    A set's label with a parenthesis (``new (eq. 32/38)``) may break before it.
+    """
+    head, sep, tail = plain.partition(" (")
+    lines = (escape_latex(head, argument), escape_latex("(" + tail, argument)) if sep else ()
+    return Label(plain, escape_latex(plain, argument), lines)
+
+
+def quantity_label(quantity: Quantity, percent: bool, unit: str, power: str = "1") -> Label:
+    """A quantity's label with its unit in brackets: ``coverage [%]``, ``lower [m/s^2]``.
+
+    Parameters
+    ----------
+    quantity : Quantity
+    percent : bool
+        Shares in percent (``[%]``) or as fractions (no unit).
+    unit : str
+        The task's unit (``m/s^2``); used by ``"task"`` and ``"volume"`` quantities.
+    power : str
+        The volume's power (``"3"``, or ``"r"`` for a table mixing dimensions).
+    """
+    if quantity.kind == "share":
+        units = ("%", r"\%") if percent else ("", "")
+    elif quantity.kind == "task":
+        units = (unit, latex_unit(unit))
+    elif quantity.kind == "volume":
+        units = (unit if power == "1" else f"({unit})^{power}", latex_unit(unit, power))
+    else:
+        units = ("", "")
+    if not units[0]:
+        return Label(quantity.plain, quantity.latex)
+    return Label(
+        f"{quantity.plain} [{units[0]}]",
+        f"{quantity.latex} [{units[1]}]",
+        (quantity.latex, f"[{units[1]}]"),
+    )
+
+
+def _exact(value: float, shift: int) -> Decimal:
+    """The exact decimal value of ``value * 10**shift``."""
+    with localcontext() as context:
+        context.prec = 1000  # more digits than any double has
+        return Decimal(value).scaleb(shift)
+
+
+def _g(number: Decimal, precision: int) -> str:
+    """A finite decimal as Python's ``g`` writes it, without trailing zeros.
+
+    Fixed notation if ``1e-4 <= |x| < 10**precision``, else e-notation.
+    """
+    if number == 0:
+        return "0"
+    number = number.normalize()
+    exponent = number.adjusted()
+    if -4 <= exponent < precision:
+        return format(number, "f")
+    sign, digits, _ = number.as_tuple()
+    mantissa = str(digits[0]) + ("." + "".join(map(str, digits[1:])) if len(digits) > 1 else "")
+    return f"{'-' if sign else ''}{mantissa}e{exponent:+03d}"
+
+
+def rounded_text(value: float, digits: int, shift: int = 0) -> str:
+    """``value * 10**shift`` to ``digits`` significant digits (round half to even, exact).
+
+    ``inf``, ``-inf`` and ``nan`` for non-finite values; 0 for both zeros.
+    """
+    if not math.isfinite(value):
+        return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
+    exact = _exact(value, shift)
+    if exact == 0:
+        return "0"
+    with localcontext() as context:
+        context.prec = digits
+        context.rounding = ROUND_HALF_EVEN
+        return _g(+exact, digits)
+
+
+def decimal_text(value: float, shift: int = 0) -> str:
+    """``value * 10**shift`` at full precision, exactly.
+
+    The shortest decimal that reads back as ``value`` (``repr``), its point moved by
+    ``shift`` places.
+    """
+    if not math.isfinite(value):
+        return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
+    if value == 0:
+        return "0"
+    return _g(Decimal(repr(value)).scaleb(shift), 17)
+
+
+@dataclass(frozen=True)
+class Cell:
+    """One number of a table, as data: shown rounded, written to CSV in full.
+
+    Attributes
+    ----------
+    value : float
+        The quantity (a share as a fraction).
+    shift : int
+        Decimal places the point moves when shown: 2 for a share in percent, else 0.
+    stderr : float
+        Standard error of an estimate, in the units of ``value``; 0: exact.
+    count : bool
+        A whole number (shown without rounding).
+    missing : str
+        Shown where ``value`` is NaN: :data:`MISSING` or :data:`EMPTY`.
+    """
+
+    value: float
+    shift: int = 0
+    stderr: float = 0.0
+    count: bool = False
+    missing: str = MISSING
+
+    def number(self, digits: int) -> str:
+        """The value as shown (no standard error)."""
+        if math.isnan(self.value):
+            return self.missing
+        if self.count and math.isfinite(self.value):
+            return str(int(self.value))
+        return rounded_text(self.value, digits, self.shift)
+
+    def has_error(self) -> bool:
+        """Whether the cell shows a standard error (estimated, finite, positive)."""
+        return math.isfinite(self.value) and math.isfinite(self.stderr) and self.stderr > 0
+
+    def error(self, digits: int) -> str:
+        """The standard error as shown: at most 2 significant digits."""
+        return rounded_text(self.stderr, min(2, digits), self.shift)
+
+    def text(self, digits: int) -> str:
+        """The value and, if estimated, ``± error``: what Markdown and HTML show."""
+        if self.has_error():
+            return f"{self.number(digits)} ± {self.error(digits)}"
+        return self.number(digits)
+
+    def exact(self) -> str:
+        """The value at full precision (CSV): :func:`decimal_text`, or the missing text."""
+        if math.isnan(self.value):
+            return self.missing
+        if self.count and math.isfinite(self.value):
+            return str(int(self.value))
+        return decimal_text(self.value, self.shift)
+
+
+@dataclass(frozen=True)
+class PrintTable:
+    """A table to print.
+
+    Attributes
+    ----------
+    stub : tuple of Label
+        The headers of the row-label columns (``posture``, ``direction``, ``set``).
+    columns : tuple of Label
+        The headers of the number columns.
+    rows : tuple of (tuple of Label, tuple of Cell)
+        Each row's labels (one per stub column) and cells (one per number column).
+    groups : tuple of (Label, int)
+        Headers spanning consecutive number columns (a set over its limits), in order,
+        covering every column; empty: none.
+    title : str
+        What the table is of (a posture's name for a table per posture); may be empty.
+    grouped : bool
+        Whether LaTeX prints the first stub column (the posture) as a row spanning the
+        table above its rows rather than as a column (a narrower table).
+    """
+
+    stub: tuple[Label, ...]
+    columns: tuple[Label, ...]
+    rows: tuple[tuple[tuple[Label, ...], tuple[Cell, ...]], ...]
+    groups: tuple[tuple[Label, int], ...] = field(default=())
+    title: str = ""
+    grouped: bool = False
+
+    def group_of(self) -> list[str]:
+        """The plain label of each number column's group ('' without groups)."""
+        if not self.groups:
+            return [""] * len(self.columns)
+        return [label.plain for label, span in self.groups for _ in range(span)]
