@@ -45,7 +45,8 @@ PAPER_Q = "pi/2,-pi/2,-pi/2"
 #: The outputs a study's summary points to, with what they hold.
 MAIN_OUTPUTS = {
     "numbers.md": "every number of each configuration (sets, limits, inverse maps)",
-    "comparison.md": "the scores of each ellipsoid (also .tex, .csv)",
+    "comparison.md": "the scores of each ellipsoid (also .tex, .csv; scores.csv: every digit)",
+    "limits.md": "the directional limits along each point's directions (also .tex, .csv)",
     "summary.md": "the scores' statistics over all configurations (also .tex, .csv)",
     "results.csv": "one row of scores per configuration",
     "report.html": "the interactive report (open it in a browser; works offline)",

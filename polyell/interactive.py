@@ -38,6 +38,7 @@ __all__ = [
     "ELLIPSOID_OPACITY",
     "HISTOGRAM_BINS",
     "POLYTOPE_OPACITY",
+    "HtmlTable",
     "SeriesDecimator",
     "decimate_series",
     "decimation_note",
@@ -625,6 +626,15 @@ def _breakable_headers(table: str) -> str:
     return re.sub(r"_(?=[^<>]*</th>)", "_<wbr>", head) + separator + body
 
 
+class HtmlTable(str):
+    """A table already written as HTML by polyell's own writers (escaped, in its box).
+
+    ``format_comparison_table(..., "html")`` and ``format_limits_table(..., "html")`` give
+    the same labels, units and percentages as the LaTeX and Markdown tables; wrapped in this
+    class, :func:`write_report` places them as they are (any other string is plain text).
+    """
+
+
 def write_report(path: str | Path, title: str, sections: Sequence[tuple[str, Any]]) -> Path:
     """One self-contained HTML file: a title and sections of figures, tables or text.
 
@@ -633,8 +643,9 @@ def write_report(path: str | Path, title: str, sections: Sequence[tuple[str, Any
     path : str or Path
     title : str
     sections : sequence of (heading, content)
-        ``content`` is a plotly figure, a pandas DataFrame (a table) or a string (a
-        paragraph of plain text).
+        ``content`` is a plotly figure, a pandas DataFrame (a table), an
+        :class:`HtmlTable` (a table of polyell's writers) or a string (a paragraph of plain
+        text).
 
     Returns
     -------
@@ -663,6 +674,8 @@ def write_report(path: str | Path, title: str, sections: Sequence[tuple[str, Any
         elif isinstance(content, pd.DataFrame):
             table = content.to_html(float_format=lambda v: f"{v:.4g}", border=0)
             parts.append(f"<div class='table-box'>{_breakable_headers(table)}</div>")
+        elif isinstance(content, HtmlTable):
+            parts.append(f"<div class='table-box'>{content}</div>")
         else:
             parts.append(f"<p>{html.escape(str(content))}</p>")
     style = (

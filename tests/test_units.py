@@ -73,7 +73,7 @@ def test_a_study_of_an_angular_task_writes_its_unit(tmp_path):
     )
     pe.studies.run_study(pe.studies.load_study(spec), tmp_path / "out")
     text = (tmp_path / "out" / "comparison.md").read_text()
-    assert "Volumes in (rad/s^2)^r" in text and "m/s^2" not in text
+    assert "volume [(rad/s^2)^3]" in text and "m/s^2" not in text
     assert "[rad/s^2]" in (tmp_path / "out" / "numbers.md").read_text()
 
 

@@ -30,6 +30,7 @@ def write_point_tables(
     layout: TableLayout | None = None,
     title: str = "",
     formats: Sequence[str] = ("tex", "md", "csv"),
+    description: str = "",
 ) -> list[Path]:
     """Write ``limits.<format>`` and ``comparison.<format>`` for comparisons at named postures.
 
@@ -48,6 +49,8 @@ def write_point_tables(
         Heads the Markdown files and starts the LaTeX captions.
     formats : sequence of {"tex", "md", "csv"}
         The files written, each atomically.
+    description : str, optional
+        Free text under the Markdown files' heading.
 
     Returns
     -------
@@ -70,6 +73,7 @@ def write_point_tables(
     if not isinstance(folder, str | os.PathLike) or not Path(folder).is_dir():
         raise InputError("folder", "an existing folder", repr(folder)[:120])
     title = check_text("title", title)
+    about = f"{check_text('description', description)}\n\n" if description else ""
     named = posture_comparisons(comparisons)
     limits = limits_table(named, directions_per_point)
     unit = str(limits["unit"].iloc[0]) if limits["unit"].nunique() == 1 else "task units"
@@ -89,8 +93,12 @@ def write_point_tables(
             named, style, layout=layout, caption=comparison_caption, label="tab:comparison"
         )
         if extension == "md":
-            limits_text = f"# {prefix}directional limits\n\n{limits_caption}\n\n{limits_text}"
-            comparison_text = f"# {prefix}comparison\n\n{comparison_caption}\n\n{comparison_text}"
+            limits_text = (
+                f"# {prefix}directional limits\n\n{about}{limits_caption}\n\n{limits_text}"
+            )
+            comparison_text = (
+                f"# {prefix}comparison\n\n{about}{comparison_caption}\n\n{comparison_text}"
+            )
         texts[f"limits.{extension}"] = limits_text
         texts[f"comparison.{extension}"] = comparison_text
     order = sorted(texts, key=lambda name: (not name.startswith("limits"), name))

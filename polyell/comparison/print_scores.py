@@ -97,6 +97,14 @@ def _sets(frames: Mapping[str, pd.DataFrame], layout: TableLayout) -> list[str]:
     return [kind for kind in layout.sets if kind != "polytope"]
 
 
+def _anywhere(frames: Mapping[str, pd.DataFrame], kinds: Sequence[str], name: str) -> bool:
+    """True if some set at some posture has a number for the score ``name``."""
+    return any(
+        name in frame.columns and frame.loc[list(kinds), name].notna().any()
+        for frame in frames.values()
+    )
+
+
 def scores_print_tables(
     frames: Mapping[str, pd.DataFrame],
     layout: TableLayout,
@@ -123,6 +131,8 @@ def scores_print_tables(
     """
     kinds = _sets(frames, layout)
     quantities = check_scores(layout, DEFAULT_SCORES)
+    if layout.scores is None:  # the defaults: not a ratio to an optimum no one computed
+        quantities = [q for q in quantities if _anywhere(frames, kinds, q.name)]
     unit = single_unit(units, layout)
     split = layout.split == "posture"
     named = not split and any(frames)

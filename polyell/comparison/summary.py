@@ -11,7 +11,14 @@ from polyell.comparison.tables import ellipsoid_label, render_table, score_displ
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
 
-__all__ = ["SUMMARY_SCORES", "format_summary_table", "result_kinds", "split_column", "summarize"]
+__all__ = [
+    "SUMMARY_SCORES",
+    "display_summary",
+    "format_summary_table",
+    "result_kinds",
+    "split_column",
+    "summarize",
+]
 
 #: Scores summarised over a study by default.
 SUMMARY_SCORES = (
@@ -99,10 +106,16 @@ def format_summary_table(
     caption: str | None = None,
     label: str | None = None,
 ) -> str:
-    """Render :func:`summarize` output with 4 significant digits.
+    """Render :func:`summarize` output as :func:`display_summary` shows it."""
+    return render_table(display_summary(summary), style, caption, label)
 
-    Percent scores (coverage, overreach, directional errors) are shown in percent, as in
-    the comparison tables (:data:`~polyell.comparison.tables.PERCENT_SCORES`).
+
+def display_summary(summary: pd.DataFrame) -> pd.DataFrame:
+    """:func:`summarize` output as every writer shows it: labels, percent, 4 digits.
+
+    Rows are named ``<set label>: <score label>`` (``new (eq. 32/38): coverage [%]``);
+    percent scores (coverage, overreach, directional errors) are in percent, as in the
+    comparison tables; cells are strings.
     """
     table = summary.copy()
     displays = [score_display(score) for _, score in table.index]
@@ -115,4 +128,4 @@ def format_summary_table(
     ]
     for column in table.columns:
         table[column] = [f"{int(v)}" if column == "defined" else f"{v:.4g}" for v in table[column]]
-    return render_table(table, style, caption, label)
+    return table

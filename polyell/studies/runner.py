@@ -12,15 +12,23 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from polyell.analysis import analyze
-from polyell.comparison.comparison import SCORE_NAMES, compare
+from polyell.comparison.comparison import SCORE_NAMES, Comparison, compare
+from polyell.comparison.limits import limits_table
+from polyell.comparison.point_tables import write_point_tables
 from polyell.comparison.summary import (
     SUMMARY_SCORES,
+    display_summary,
     format_summary_table,
     result_kinds,
     split_column,
     summarize,
 )
-from polyell.comparison.tables import ellipsoid_label, format_scores_table, score_display
+from polyell.comparison.tables import (
+    ellipsoid_label,
+    format_comparison_table,
+    format_limits_table,
+    score_display,
+)
 from polyell.errors import InputError
 from polyell.models.task import task_unit
 from polyell.report import format_analysis
@@ -49,7 +57,7 @@ __all__ = ["STUDY_FILES", "run_study"]
 #: own folder, ``results/``); a study run removes what a killed run left of them.
 STUDY_FILES = re.compile(
     r"numbers\.md|report\.html|manifest\.json|results\.csv"
-    r"|(?:comparison|summary)\.(?:csv|md|tex)"
+    r"|(?:comparison|limits|summary)\.(?:csv|md|tex)|scores\.csv"
     r"|(?:sets|limits|map|series|histogram)_[A-Za-z0-9_.-]+\.(?:pdf|png|svg)"
     r"|tangent_limits\.(?:pdf|png|svg)"
 )
@@ -79,6 +87,8 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
     written: list[Path] = []
     numbers = [_heading(spec, f"{spec.title}: the numbers").rstrip("\n"), ""]
     frames = []
+    comparisons: dict[str, Comparison] = {}
+    directions: dict[str, list[Any]] = {}
     report: list[tuple[str, Any]] = _about(spec)
     for point in spec.points:
         robot = _robot_of(spec, point.robot)
@@ -109,15 +119,20 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
         frame = cmp.to_frame()
         frame.index = [f"{point.label}: {ellipsoid_label(k)}" for k in frame.index]
         frames.append(frame)
+        comparisons[point.label] = cmp
+        directions[point.label] = _named_or_vectors(point)
         if "html" in spec.formats:
-            from polyell.interactive import interactive_sets
+            from polyell.interactive import HtmlTable, interactive_sets
 
             heading = f"{point.label}{': ' + point.title if point.title else ''}"
             if analysis.dynamics.m in (2, 3):
                 report.append((heading, interactive_sets(cmp)))
-            report.append(
-                (f"{point.label}: scores (fractions; volumes in the task's units)", frame)
-            )
+            limits = limits_table(cmp, directions[point.label])
+            for name, text in (
+                ("scores", format_comparison_table(cmp, "html", layout=spec.layout)),
+                ("directional limits", format_limits_table(limits, "html", layout=spec.layout)),
+            ):
+                report.append((f"{point.label}: {name}", HtmlTable(text)))
         stem = folder / f"sets_{point.stem}"
         title = point.title or point.label
         mvie = cmp.mvie if spec.mvie and cmp["mvie"].defined else None
@@ -147,34 +162,13 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
         written.append(write_report(folder / "report.html", spec.title, report))
     import pandas as pd
 
-    table = pd.concat(frames)
-    unit = task_unit(analysis.dynamics.task)  # the robot's task: the same at every point
-    dimension_note = "the volume is r-dimensional, r the polytope's dimension"
-    written.append(
-        write_text_atomically(folder / "comparison.csv", table.to_csv(index_label="ellipsoid"))
+    # The printed tables (LaTeX, Markdown, CSV: the same labels, units and percentages) and
+    # the exact scores for scripts (scores.csv: fractions, every digit).
+    written += write_point_tables(
+        comparisons, directions, folder, spec.layout, spec.title, description=spec.description
     )
-    written.append(
-        write_text_atomically(
-            folder / "comparison.md",
-            _heading(spec, f"{spec.title}: comparison")
-            + f"Volumes in ({unit})^r: {dimension_note}.\n\n"
-            + format_scores_table(table, None, "markdown", unit=unit),
-        )
-    )
-    written.append(
-        write_text_atomically(
-            folder / "comparison.tex",
-            format_scores_table(
-                table,
-                None,
-                "latex",
-                unit=unit,
-                caption=f"{spec.title}: scores of each ellipsoid "
-                f"against the exact polytope ({dimension_note}).",
-                label="tab:comparison",
-            ),
-        )
-    )
+    scores = pd.concat(frames).to_csv(index_label="ellipsoid")
+    written.append(write_text_atomically(folder / "scores.csv", scores))
     return written
 
 
@@ -486,8 +480,16 @@ def _many_report(
     for score in spec.histograms:
         figure = interactive_histogram(results, score, measured)
         sections.append((by + score_display(score)[0], figure))
-    sections.append((f"{by}Summary over {len(results)} configurations (fractions)", summary))
+    sections.append((f"{by}Summary over {len(results)} configurations", display_summary(summary)))
     return sections
+
+
+def _named_or_vectors(point: Point) -> list[Any]:
+    """The point's directions for :func:`polyell.limits_table`: names where it has them."""
+    return [
+        label if not label.startswith("(") else vector
+        for label, vector in zip(point.labels, point.directions, strict=True)
+    ]
 
 
 def _along_directions(analysis: Analysis, point: Point) -> str:

@@ -48,6 +48,10 @@ def test_paper_study_writes_numbers_tables_and_figures(paper_study):
         "comparison.md",
         "comparison.tex",
         "comparison.csv",
+        "limits.md",
+        "limits.tex",
+        "limits.csv",
+        "scores.csv",
         "sets_redundant.pdf",
         "sets_redundant.png",
         "sets_singular.pdf",
@@ -60,7 +64,7 @@ def test_paper_study_writes_numbers_tables_and_figures(paper_study):
 
 
 def test_paper_study_table_equals_compare(paper_study):
-    table = pd.read_csv(paper_study / "comparison.csv", index_col="ellipsoid")
+    table = pd.read_csv(paper_study / "scores.csv", index_col="ellipsoid")
     expected = pe.compare(paper_analysis(PAPER_Q_REDUNDANT), 360)
     for name in pe.SCORE_NAMES:
         np.testing.assert_allclose(
@@ -392,7 +396,7 @@ def test_the_shipped_two_robot_study_runs_from_one_file(tmp_path):
     files = set(json.loads((out / "manifest.json").read_text())["files"])
     for stem in ("panda.ready", "ur5.ready", "panda.reach", "ur5.reach"):
         assert f"sets_{stem}.svg" in files and (out / f"sets_{stem}.svg").stat().st_size > 0
-    table = pd.read_csv(out / "comparison.csv", index_col="ellipsoid")
+    table = pd.read_csv(out / "scores.csv", index_col="ellipsoid")
     numbers = (out / "numbers.md").read_text()
     for point in spec.points:
         robot = pe.robots.load(point.robot, task="linear")
