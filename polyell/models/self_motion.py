@@ -94,7 +94,7 @@ class SelfMotion:
     position : ndarray, shape (k,)
         The arc length [rad] along the traced curve from q0 (negative: the other way; a
         closed curve: from 0 to its length), for the figures of a study.  For a random
-        walk, the distance |q - q0| [rad].
+        walk, the distance ``|q - q0|`` [rad].
     length : float
         The traced curve's length [rad] (NaN for a random walk).
     closed : bool
