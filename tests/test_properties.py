@@ -443,6 +443,8 @@ def test_the_suite_covers_the_public_api():
     elsewhere = {  # exercised in their own test files (studies, robots, subspace)
         "AffineSubspace", "DirectionalLimits", "InverseSolution", "UrdfRobot", "Payload",
         "grid", "random_configurations", "local_cluster", "robots",
+        "self_motion", "SelfMotion", "posture_choice", "PostureChoice",  # tests/models, studies
+        "posture_choice_over_targets", "PostureChoiceOverTargets", "write_posture_tables",
     }  # fmt: skip
     for name in pe.__all__:
         item = getattr(pe, name)
