@@ -36,7 +36,11 @@ from polyell.geometry import (
     Polytope,
 )
 from polyell.models import Dynamics, Payload, PlanarArm, UrdfRobot
+from polyell.models.self_motion import SelfMotion, self_motion
 from polyell.studies import grid, limits_along, local_cluster, random_configurations, sweep
+from polyell.studies.posture import PostureChoice, posture_choice
+from polyell.studies.posture_tables import write_posture_tables
+from polyell.studies.posture_targets import PostureChoiceOverTargets, posture_choice_over_targets
 
 __version__ = "0.1.0"
 
@@ -60,8 +64,11 @@ __all__ = [
     "PlanarArm",
     "PolyellError",
     "Polytope",
+    "PostureChoice",
+    "PostureChoiceOverTargets",
     "ProjectedInputWarning",
     "Scores",
+    "SelfMotion",
     "SolverError",
     "StorageError",
     "TableLayout",
@@ -75,7 +82,11 @@ __all__ = [
     "limits_along",
     "limits_table",
     "local_cluster",
+    "posture_choice",
+    "posture_choice_over_targets",
     "random_configurations",
     "robots",
+    "self_motion",
     "sweep",
+    "write_posture_tables",
 ]

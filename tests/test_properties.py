@@ -444,6 +444,8 @@ def test_the_suite_covers_the_public_api():
         "AffineSubspace", "DirectionalLimits", "InverseSolution", "UrdfRobot", "Payload",
         "grid", "random_configurations", "local_cluster", "robots",
         "TableLayout", "limits_table",  # tests/comparison/test_print_*.py, test_limits_table.py
+        "self_motion", "SelfMotion", "posture_choice", "PostureChoice",  # tests/models, studies
+        "posture_choice_over_targets", "PostureChoiceOverTargets", "write_posture_tables",
     }  # fmt: skip
     for name in pe.__all__:
         item = getattr(pe, name)

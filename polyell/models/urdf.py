@@ -345,6 +345,44 @@ class UrdfRobot:
         config[:, circle_to + 1] = np.sin(angles[:, circle_source])
         return config
 
+    def tip_kinematics(
+        self, q: ArrayLike
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """Where the tip frame is at ``q``, and the task Jacobian: the task's coordinates.
+
+        The linear rows of ``J`` are the derivatives of the position, the angular rows the
+        world angular velocity of the rotation (``LOCAL_WORLD_ALIGNED``).  Cheaper than
+        :meth:`dynamics` (no inertia, no gravity).
+
+        Parameters
+        ----------
+        q : array-like, shape (nq,)
+            Joint positions [rad or m].
+
+        Returns
+        -------
+        position : ndarray, shape (3,)
+            The tip's origin in the world frame [m].
+        rotation : ndarray, shape (3, 3)
+            Its orientation, world from tip.
+        J : ndarray, shape (m, nq)
+            The task rows of the frame Jacobian times their weights, as ``dynamics(q).J``.
+        """
+        pin, model, data = self._pin, self.model, self._data
+        angles = check_array("q", q, (self.nq,), what="joint positions [rad or m]")
+        config = self._configurations(angles[None])[0]
+        pin.computeJointJacobians(model, data, config)
+        pin.updateFramePlacements(model, data)
+        J = np.reshape(
+            pin.getFrameJacobian(model, data, self._frame, pin.LOCAL_WORLD_ALIGNED), (6, self.nq)
+        )
+        placement = data.oMf[self._frame]
+        return (
+            np.array(placement.translation, dtype=float),
+            np.array(placement.rotation, dtype=float),
+            J[self.rows] * self.weights[:, None],
+        )
+
     def dynamics(self, q: ArrayLike, qd: ArrayLike | None = None) -> Dynamics:
         """Jacobian, inertia and gravity (or nonlinear) torques at ``q``.
 

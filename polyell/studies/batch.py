@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -42,7 +43,7 @@ from polyell.studies.block_sets import (
 from polyell.studies.directional import direction_scores
 from polyell.validation import check_magnitudes
 
-__all__ = ["batch_rows", "score_columns"]
+__all__ = ["BatchOptions", "BlockSets", "batch_rows", "block_sets", "score_columns"]
 
 Array = NDArray[np.float64]
 
@@ -181,17 +182,89 @@ def batch_rows(
     return columns, scalar
 
 
-def _block_rows(
+class BlockSets(NamedTuple):
+    """The sets of the full-rank rows of a block: the polytopes and every ellipsoid.
+
+    What :func:`batch_rows` scores and :func:`polyell.posture_choice` measures, computed in
+    one place (:func:`block_sets`).  Every array has a leading axis over the rows ``rows``.
+
+    Attributes
+    ----------
+    rows : ndarray of int, shape (k,)
+        The rows of the block these sets belong to (the others take the scalar path).
+    J, B, M, xg, bias : ndarray
+        ``J`` (k, m, n), ``B`` (k, n, n), ``M`` (k, m, n) (eq. 14), ``xg`` (k, m) (eq. 8)
+        and ``bias`` ``g - tau_c`` (k, n).
+    U, s, Vt : ndarray
+        The SVD of M: (k, m, m), (k, m), (k, m, n).
+    normals, offsets : ndarray, shape (k, C, m) and (k, C)
+        The facet pairs of each polytope, ``|a . (x - xg)| <= h`` (:func:`facets`).
+    whitened, whitened_offsets : ndarray, shape (k, C, m) and (k, C)
+        The same facets in whitened coordinates.
+    signs : ndarray, shape (k, V, n), or None
+        The vertices' sign vectors (with ``options.vertices``).
+    size : ndarray, shape (k,)
+        The sum of the generator lengths (the polytope's extent about xg).
+    volume : ndarray, shape (k,)
+        The polytope's volume [(task unit)^m].
+    origin_radius : ndarray, shape (k,)
+        The largest ball about the origin inside the polytope; NaN where the origin is
+        outside it (as ``Polytope.origin_radius``).
+    ellipsoids : dict of str to (axes, semi_axes, witness, center or None)
+        ``chiacchio``, ``yoshikawa`` and the optional ones: axes (k, m, m), semi-axes
+        (k, m) (NaN: not certified), the torque witness (k,) and the centre (k, m), None
+        for ``xg``.
+    """
+
+    rows: NDArray[np.int_]
+    J: Array
+    B: Array
+    M: Array
+    xg: Array
+    bias: Array
+    U: Array
+    s: Array
+    Vt: Array
+    normals: Array
+    offsets: Array
+    whitened: Array
+    whitened_offsets: Array
+    signs: Array | None
+    size: Array
+    volume: Array
+    origin_radius: Array
+    ellipsoids: dict[str, tuple[Array, Array, Array, Array | None]]
+
+
+def block_sets(
     J: Array,
     B: Array,
     g: Array,
     xdd_bias: Array,
     tau_max: Array,
     tau_min: Array,
-    directions: Array,
     options: BatchOptions,
-) -> tuple[dict[str, Array], NDArray[np.bool_]]:
-    """:func:`batch_rows` for one block of configurations, on validated arrays."""
+) -> tuple[BlockSets | None, NDArray[np.bool_]]:
+    """The polytopes and ellipsoids of one block of configurations, on validated arrays.
+
+    Parameters
+    ----------
+    J, B, g, xdd_bias : ndarray
+        A block: (K, m, n), (K, n, n), (K, n), (K, m).
+    tau_max, tau_min : ndarray, shape (n,)
+        Torque limits [N m].
+    options : BatchOptions
+        Which optional sets, and the rank tolerance.
+
+    Returns
+    -------
+    sets : BlockSets or None
+        The sets of the rows this path covers (None if it covers none).
+    scalar : ndarray of bool, shape (K,)
+        Rows to compute by the scalar path: a rank below m or within :data:`RANK_BAND` of
+        the threshold, more rows than joints, vertices not in general position (when they
+        are needed).
+    """
     K, m, n = J.shape
     # Inputs near 1e308 may overflow here; check_magnitudes refuses the inf and NaN that
     # come out (naming the argument), so no RuntimeWarning is emitted before it does.
@@ -203,13 +276,9 @@ def _block_rows(
         M = np.swapaxes(Binv_Jt, -1, -2) * half
         xg = xdd_bias - np.einsum("knm,kn->km", Binv_Jt, bias)
     check_magnitudes(M, xg)
-    U, s, Vt = np.linalg.svd(M, full_matrices=False)
-    columns = {name: np.full(K, np.nan) for name in score_columns(options.candidates)}
-    for kind in (*COMPARED_KINDS, *(c.name for c in options.candidates)):
-        columns[f"{kind}_feasibility_mismatch"][:] = 0.0
-        columns[f"{kind}_directions_used"][:] = 0.0
     if m > n:
-        return columns, np.ones(K, dtype=bool)
+        return None, np.ones(K, dtype=bool)
+    U, s, Vt = np.linalg.svd(M, full_matrices=False)
     # The rank decision is the scalar path's (Analysis computes M by a Cholesky solve and
     # its own SVD; both agree with these to rounding, not bit for bit): rows within
     # RANK_BAND of the threshold go there, so that one computation decides their rank.
@@ -222,20 +291,14 @@ def _block_rows(
         scalar |= ~generic
     ok = ~scalar
     if not ok.any():
-        return columns, scalar
+        return None, scalar
     J, B, M, xg, U, s, Vt = J[ok], B[ok], M[ok], xg[ok], U[ok], s[ok], Vt[ok]
     bias_ok = bias[ok]
     normals, h = block.normals[ok], block.offsets[ok]
     V1t = Vt[:, :m, :]
-    vertices = None if signs is None else signs[ok] @ np.swapaxes(M, 1, 2)  # about xg
-
-    volume_p = _zonotope_volume(s, V1t)
-    # Polytope.contains and .limits: the slack of facet_slack, reach |x| + |xg| + size.
     size_p = np.linalg.norm(M, axis=1).sum(axis=-1)  # sum of the generator lengths
     reach = np.linalg.norm(xg, axis=-1) + size_p
     terms = m + n + 2
-    limits_slack = facet_slack(h, 2.0 * reach[:, None], terms)  # as Polytope.limits
-    limits_floor = rounding_floor(2.0 * reach[:, None], terms)
 
     # Every scored set as (axes, semi-axes, witness, centre or None for xg).
     ellipsoids: dict[str, tuple[Array, Array, Array, Array | None]] = {
@@ -258,6 +321,55 @@ def _block_rows(
         ellipsoids["outer"] = (*outer, None)
     for candidate in options.candidates:
         ellipsoids[candidate.name] = candidate_ellipsoid(candidate, M, xg, U, s, V1t)
+    sets = BlockSets(
+        rows=np.flatnonzero(ok),
+        J=J,
+        B=B,
+        M=M,
+        xg=xg,
+        bias=bias_ok,
+        U=U,
+        s=s,
+        Vt=Vt,
+        normals=normals,
+        offsets=h,
+        whitened=block.whitened[ok],
+        whitened_offsets=block.whitened_offsets[ok],
+        signs=None if signs is None else signs[ok],
+        size=size_p,
+        volume=_zonotope_volume(s, V1t),
+        origin_radius=_origin_radius(normals, h, xg, facet_slack(h, reach[:, None], terms)),
+        ellipsoids=ellipsoids,
+    )
+    return sets, scalar
+
+
+def _block_rows(
+    J: Array,
+    B: Array,
+    g: Array,
+    xdd_bias: Array,
+    tau_max: Array,
+    tau_min: Array,
+    directions: Array,
+    options: BatchOptions,
+) -> tuple[dict[str, Array], NDArray[np.bool_]]:
+    """:func:`batch_rows` for one block of configurations, on validated arrays."""
+    K, m, n = J.shape
+    columns = {name: np.full(K, np.nan) for name in score_columns(options.candidates)}
+    for kind in (*COMPARED_KINDS, *(c.name for c in options.candidates)):
+        columns[f"{kind}_feasibility_mismatch"][:] = 0.0
+        columns[f"{kind}_directions_used"][:] = 0.0
+    sets, scalar = block_sets(J, B, g, xdd_bias, tau_max, tau_min, options)
+    if sets is None:
+        return columns, scalar
+    M, xg, normals, h, size_p = sets.M, sets.xg, sets.normals, sets.offsets, sets.size
+    ellipsoids, volume_p = sets.ellipsoids, sets.volume
+    vertices = None if sets.signs is None else sets.signs @ np.swapaxes(M, 1, 2)  # about xg
+    # Polytope.limits: the slack of facet_slack, reach |x| + |xg| + size.
+    reach = np.linalg.norm(xg, axis=-1) + size_p
+    limits_slack = facet_slack(h, 2.0 * reach[:, None], m + n + 2)
+    limits_floor = rounding_floor(2.0 * reach[:, None], m + n + 2)
 
     unit_ball = unit_ball_volume(m)
     optimum = {
@@ -269,9 +381,7 @@ def _block_rows(
         "polytope_volume": volume_p,
         # Isotropic radii: the facet pair +-a (offset h about xg) is at h - |a.xg| from 0.
         "polytope_ball_radius": np.min(h, axis=-1),
-        "polytope_origin_radius": _origin_radius(
-            normals, h, xg, facet_slack(h, reach[:, None], terms)
-        ),
+        "polytope_origin_radius": sets.origin_radius,
     }
     exact = np.ones(len(M), dtype=bool)
     scored: list[tuple[Array, Array, Array]] = []
@@ -325,7 +435,7 @@ def _block_rows(
             for name, values in record.items():  # (every ratio to it is NaN there already)
                 values[~defined] = undefined.get(name[len(kind) + 1 :], np.nan)
         rows |= record
-    indices = np.flatnonzero(ok)
+    indices = sets.rows
     for name, values in rows.items():
         columns[name][indices] = values
     scalar[indices[~exact]] = True  # neither inside nor around P to rounding: exact path

@@ -1,0 +1,357 @@
+r"""Which posture? Choosing a redundant arm's posture by an ellipsoid, against the polytope.
+
+A redundant arm reaches one task point in a continuum of postures (its self-motion,
+:func:`polyell.self_motion`); an ellipsoid index picks the posture that maximises it.
+:func:`posture_choice` measures, over a set of postures, every index of every set --
+the exact polytope (the truth), both ellipsoid definitions, the MVIE, the outer ellipsoid
+and user candidates -- and says how much of the truth each index's pick loses
+(DESIGN.md section 7).  The criteria, each the larger the better:
+
+* ``"limit"``: :math:`\min(-lo, hi)` of the interval :math:`[lo, hi]` of accelerations
+  along the task direction d, what is available both ways (0 when the interval misses the
+  origin: gravity alone pushes the arm along d);
+* ``"radius"``: the radius of the largest ball about the origin inside the set, the
+  acceleration available in every direction from rest (0 when the origin is outside, and
+  at a singular posture, where the set is flat);
+* ``"volume"``: the set's m-dimensional volume [(task unit)^m] (0 at a singular posture).
+
+The batch path is :func:`polyell.studies.batch.block_sets` (the sets of a sweep, computed
+once) with :func:`polyell.limits_along` for the intervals of the polytope and both
+definitions; postures the batch does not cover (singular or near it, an uncertified MVIE)
+take the scalar path of :func:`polyell.analyze`.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from polyell.analysis import analyze
+from polyell.comparison.candidates import Candidate, check_candidates
+from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
+from polyell.geometry.ellipsoid import Ellipsoid, unit_ball_volume
+from polyell.geometry.inradius import ellipsoid_origin_radius
+from polyell.geometry.limits import line_interval_in_ellipsoids
+from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
+from polyell.geometry.outer import min_volume_enclosing_ellipsoid
+from polyell.geometry.subspace import RANK_RTOL
+from polyell.models.self_motion import SelfMotion
+from polyell.studies.along import limits_along
+from polyell.studies.batch import BatchOptions, block_sets, block_size
+from polyell.validation import (
+    check_array,
+    check_fraction,
+    check_points,
+    source_torque_limits,
+)
+
+if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
+    import pandas as pd
+
+__all__ = ["CRITERIA", "QUANTITIES", "PostureChoice", "choice_table", "posture_choice"]
+
+Array = NDArray[np.float64]
+
+#: The criteria of a choice, each the larger the better.
+CRITERIA = ("limit", "radius", "volume")
+#: The per-posture quantities of each set: the interval along d, then the criteria.
+QUANTITIES = ("lo", "hi", *CRITERIA)
+#: The columns of a choice table.
+TABLE_COLUMNS = ("picked", "true_at_pick", "true_best", "regret", "spearman", "kendall")
+#: Fewest postures a choice compares (a rank correlation needs two).
+MIN_POSTURES = 2
+
+
+@dataclass(frozen=True)
+class PostureChoice:
+    """Every index of every set over a set of postures, and what choosing by each costs.
+
+    Attributes
+    ----------
+    table : DataFrame
+        Indexed by (kind, criterion), kind in ``polytope`` (the truth), ``chiacchio``,
+        ``yoshikawa``, ``mvie``, ``outer`` and the candidates' names (those computed),
+        criterion in :data:`CRITERIA`.  Columns: ``picked`` (the row of
+        ``configurations`` the index maximises; <NA> if it is undefined everywhere),
+        ``true_at_pick`` (the polytope's value of the criterion there), ``true_best``
+        (its maximum over the postures), ``regret`` (``1 - true_at_pick / true_best``,
+        in [0, 1]; 0 when the truth is 0 everywhere), ``spearman`` and ``kendall`` (rank
+        correlations of the index with the truth over the postures where both are
+        defined; NaN when either is constant).
+    values : DataFrame
+        One row per posture; columns (kind, quantity), quantity in :data:`QUANTITIES`:
+        ``lo``, ``hi`` (the interval along d, NaN if empty or undefined), ``limit``,
+        ``radius``, ``volume`` (NaN where the set is undefined: the classic ellipsoid at
+        a singular posture, an MVIE the solver could not certify).
+    direction : ndarray, shape (m,)
+        The unit task direction d.
+    configurations : ndarray, shape (k, n)
+        The postures [rad or m].
+    unit : str
+        The task's acceleration unit (m/s^2, rad/s^2 or weighted units).
+    """
+
+    table: pd.DataFrame
+    values: pd.DataFrame
+    direction: Array
+    configurations: Array
+    unit: str
+
+
+def _check_flag(name: str, value: object) -> bool:
+    if not isinstance(value, bool | np.bool_):
+        raise InputError(name, "True or False", repr(value))
+    return bool(value)
+
+
+def check_direction(direction: ArrayLike, m: int) -> Array:
+    """A non-zero task direction of m entries, made a unit vector."""
+    d = check_points("direction", direction, m)
+    if d.ndim != 1:
+        raise InputError("direction", f"one task direction of {m} entries", f"shape {d.shape}")
+    size = float(np.max(np.abs(d)))
+    if size == 0:
+        raise InputError(
+            "direction",
+            "a non-zero task direction",
+            "a zero vector",
+            "give the direction along which the limits are compared, e.g. [1, 0].",
+        )
+    scaled = d / size
+    unit: Array = scaled / np.linalg.norm(scaled)
+    return unit
+
+
+def posture_choice(
+    robot: Any,
+    configurations: ArrayLike | SelfMotion,
+    tau_max: ArrayLike | None = None,
+    tau_min: ArrayLike | None = None,
+    *,
+    direction: ArrayLike,
+    mvie: bool = True,
+    outer: bool = True,
+    candidates: Sequence[Candidate] = (),
+    rank_rtol: float = RANK_RTOL,
+) -> PostureChoice:
+    """Which posture each index picks, and how much of the truth (the polytope) it loses.
+
+    Parameters
+    ----------
+    robot : PlanarArm or UrdfRobot
+        Anything with ``dynamics(q)`` for a (k, n) batch (and its own torque limits when
+        none are given).
+    configurations : array-like, shape (k, n), or SelfMotion
+        The postures to choose from [rad or m], at least 2, e.g. from
+        :func:`polyell.self_motion`.
+    tau_max, tau_min : array-like, shape (n,), optional
+        Torque limits [N m]; default the robot's own.
+    direction : array-like, shape (m,)
+        The task direction d of the ``"limit"`` criterion (normalised here; not zero).
+    mvie, outer : bool, optional
+        Whether to include the maximum-volume inscribed and the minimum-volume enclosing
+        ellipsoids (a batched log-det program each).
+    candidates : sequence of Candidate, optional
+        User-defined ellipsoids, under their names.
+    rank_rtol : float, optional
+        As in :func:`polyell.analyze`.
+
+    Returns
+    -------
+    PostureChoice
+        The choice table and the per-posture values.
+
+    Raises
+    ------
+    InputError
+        For a robot without dynamics, configurations of the wrong shape or fewer than 2,
+        a direction of the wrong size or zero, torque limits that do not fit, a flag that
+        is not a bool, candidates that do not fit the arm.
+
+    Examples
+    --------
+    >>> import numpy as np, polyell as pe
+    >>> arm = pe.robots.load("chiacchio2000")
+    >>> motion = pe.self_motion(arm, [np.pi / 2, -np.pi / 2, -np.pi / 2], count=60)
+    >>> choice = pe.posture_choice(arm, motion, direction=[1.0, 0.0], mvie=False, outer=False)
+    >>> float(choice.table.loc[("polytope", "limit"), "regret"])
+    0.0
+    """
+    if not hasattr(robot, "dynamics") or not hasattr(robot, "n"):
+        raise InputError(
+            "robot",
+            "a robot with dynamics (pe.PlanarArm, pe.UrdfRobot)",
+            type(robot).__name__,
+        )
+    rank_rtol = check_fraction("rank_rtol", rank_rtol)
+    mvie, outer = _check_flag("mvie", mvie), _check_flag("outer", outer)
+    if isinstance(configurations, SelfMotion):
+        configurations = configurations.configurations
+    q = check_array("configurations", configurations, ("K", robot.n), what="joint positions")
+    if len(q) < MIN_POSTURES:
+        raise InputError(
+            "configurations",
+            f"at least {MIN_POSTURES} postures to choose from",
+            f"{len(q)}",
+            "sample the self-motion with pe.self_motion(robot, q0, count=...).",
+        )
+    dyn = robot.dynamics(q)
+    upper, lower = source_torque_limits(robot, tau_max, tau_min, dyn.n)
+    d = check_direction(direction, dyn.m)
+    found = check_candidates(candidates)
+    for candidate in found:
+        candidate.check_sizes(dyn.m, dyn.n)
+    kinds = ["polytope", "chiacchio", "yoshikawa"]
+    kinds += [name for name, on in (("mvie", mvie), ("outer", outer)) if on]
+    kinds += [candidate.name for candidate in found]
+    K, m = len(dyn), dyn.m
+    values = {kind: {name: np.full(K, np.nan) for name in QUANTITIES} for kind in kinds}
+
+    along = limits_along(dyn, None, np.broadcast_to(d, (K, m)), upper, lower, rank_rtol=rank_rtol)
+    for kind in ("polytope", "chiacchio", "yoshikawa"):
+        values[kind]["lo"][:], values[kind]["hi"][:] = along[kind]
+    options = BatchOptions(
+        mvie=mvie, outer=outer, vertices=outer, candidates=found, rank_rtol=rank_rtol
+    )
+    scalar = np.zeros(K, dtype=bool)
+    size = block_size(m, dyn.n, outer)
+    for start in range(0, K, size):
+        block = slice(start, start + size)
+        sets, flagged = block_sets(
+            dyn.J[block], dyn.B[block], dyn.g[block], dyn.xdd_bias[block], upper, lower, options
+        )
+        scalar[block] = flagged
+        if sets is None:
+            continue
+        rows = sets.rows + start
+        values["polytope"]["radius"][rows] = np.nan_to_num(sets.origin_radius, nan=0.0)
+        values["polytope"]["volume"][rows] = sets.volume
+        for kind, (axes, semi, _, center) in sets.ellipsoids.items():
+            centre = sets.xg if center is None else center
+            certified = ~np.isnan(semi).any(axis=-1)
+            scalar[rows[~certified]] = True  # (an MVIE the batch could not certify)
+            ok = rows[certified]
+            c, U, s = centre[certified], axes[certified], semi[certified]
+            values[kind]["radius"][ok] = ellipsoid_origin_radius(c, U, s)
+            values[kind]["volume"][ok] = unit_ball_volume(m) * np.prod(s, axis=-1)
+            if kind not in ("chiacchio", "yoshikawa"):
+                lo, hi = line_interval_in_ellipsoids(c, U, s, d[None])
+                values[kind]["lo"][ok], values[kind]["hi"][ok] = lo[:, 0], hi[:, 0]
+    for k in np.flatnonzero(scalar):
+        _scalar_row(dyn[int(k)], upper, lower, d, found, kinds, values, int(k), rank_rtol)
+    defined = {kind: ~np.isnan(values[kind]["volume"]) for kind in kinds}
+    for kind in kinds:
+        lo, hi = values[kind]["lo"], values[kind]["hi"]
+        with np.errstate(invalid="ignore"):
+            limit = np.maximum(np.fmin(-lo, hi), 0.0)
+        values[kind]["limit"] = np.where(
+            defined[kind], np.nan_to_num(limit, nan=0.0), np.nan
+        )  # an empty interval: nothing available
+    import pandas as pd
+
+    frame = pd.DataFrame(
+        {(kind, name): values[kind][name] for kind in kinds for name in QUANTITIES}
+    )
+    frame.columns = pd.MultiIndex.from_tuples(frame.columns, names=["kind", "quantity"])
+    frame.index.name = "posture"
+    table = choice_table(frame)
+    from polyell.models.task import task_unit
+
+    q.flags.writeable = False
+    d.flags.writeable = False
+    return PostureChoice(table, frame, d, q, task_unit(dyn.task))
+
+
+def _scalar_row(
+    dyn: Any,
+    upper: Array,
+    lower: Array,
+    d: Array,
+    candidates: tuple[Candidate, ...],
+    kinds: list[str],
+    values: dict[str, dict[str, Array]],
+    k: int,
+    rank_rtol: float,
+) -> None:
+    """Radius, volume (and intervals beyond both definitions) of one posture, one by one."""
+    analysis = analyze(dyn, upper, lower, rank_rtol=rank_rtol)
+    P = analysis.polytope
+    full = P.dim == dyn.m
+    radius = P.origin_radius
+    values["polytope"]["radius"][k] = radius if full and radius == radius else 0.0
+    values["polytope"]["volume"][k] = P.volume if full else 0.0
+    for kind in kinds[1:]:
+        try:
+            E = _ellipsoid(analysis, kind, candidates)
+        except (UndefinedEllipsoidError, SolverError):
+            for name in QUANTITIES:
+                values[kind][name][k] = np.nan
+            continue
+        if kind not in ("chiacchio", "yoshikawa"):
+            values[kind]["lo"][k], values[kind]["hi"][k] = E.limits(d)
+        if E.rank == dyn.m:
+            values[kind]["radius"][k] = ellipsoid_origin_radius(
+                E.center[None], E.axes[None], E.semi_axes[None]
+            )[0]
+            values[kind]["volume"][k] = E.volume
+        else:  # flat: no ball and no m-dimensional volume
+            values[kind]["radius"][k] = values[kind]["volume"][k] = 0.0
+
+
+def _ellipsoid(analysis: Any, kind: str, candidates: tuple[Candidate, ...]) -> Ellipsoid:
+    if kind in ("chiacchio", "yoshikawa"):
+        return analysis.ellipsoid(kind)
+    if kind == "mvie":
+        return max_volume_inscribed_ellipsoid(analysis.polytope)
+    if kind == "outer":
+        return min_volume_enclosing_ellipsoid(analysis.polytope)
+    return next(c for c in candidates if c.name == kind).ellipsoid(analysis)
+
+
+def choice_table(values: pd.DataFrame) -> pd.DataFrame:
+    """The choice table of per-posture values (the ``values`` of a :class:`PostureChoice`).
+
+    Parameters
+    ----------
+    values : DataFrame
+        One row per posture, columns (kind, criterion) with at least the ``polytope``'s.
+
+    Returns
+    -------
+    DataFrame
+        Indexed by (kind, criterion), the columns of :attr:`PostureChoice.table`.
+    """
+    import pandas as pd
+    from scipy import stats
+
+    kinds = list(dict.fromkeys(values.columns.get_level_values(0)))
+    records = []
+    for kind in kinds:
+        for criterion in CRITERIA:
+            index = values[(kind, criterion)].to_numpy(dtype=float)
+            truth = values[("polytope", criterion)].to_numpy(dtype=float)
+            best = float(np.nanmax(truth))
+            if np.isnan(index).all():
+                picked, at_pick, regret = pd.NA, np.nan, np.nan
+            else:
+                picked = int(np.nanargmax(index))
+                at_pick = float(truth[picked])
+                regret = 1.0 - at_pick / best if best > 0 else 0.0
+            both = ~np.isnan(index) & ~np.isnan(truth)
+            with warnings.catch_warnings():  # a constant index or truth: NaN, said in the doc
+                warnings.simplefilter("ignore", stats.ConstantInputWarning)
+                warnings.simplefilter("ignore", RuntimeWarning)
+                if both.sum() >= 2:
+                    spearman = float(stats.spearmanr(index[both], truth[both]).statistic)
+                    kendall = float(stats.kendalltau(index[both], truth[both]).statistic)
+                else:
+                    spearman = kendall = np.nan
+            records.append((kind, criterion, picked, at_pick, best, regret, spearman, kendall))
+    table = pd.DataFrame.from_records(records, columns=["kind", "criterion", *TABLE_COLUMNS])
+    table["picked"] = table["picked"].astype("Int64")
+    return table.set_index(["kind", "criterion"])
