@@ -3,17 +3,19 @@
 from __future__ import annotations
 
 from collections.abc import Iterable
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING
 
 from polyell.comparison.comparison import SCORE_NAMES
-from polyell.comparison.tables import ellipsoid_label, render_table, score_display
+from polyell.comparison.labels import QUANTITIES, set_label
+from polyell.comparison.layout import TableLayout
+from polyell.comparison.printable import Cell, Label, PrintTable, quantity_label, text_label
+from polyell.comparison.tables import Style, render_tables
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
 
 __all__ = [
     "SUMMARY_SCORES",
-    "display_summary",
     "format_summary_table",
     "result_kinds",
     "split_column",
@@ -101,31 +103,49 @@ def summarize(results: pd.DataFrame, scores: tuple[str, ...] = SUMMARY_SCORES) -
 
 def format_summary_table(
     summary: pd.DataFrame,
-    style: Literal["markdown", "latex"],
+    style: Style,
     *,
     caption: str | None = None,
     label: str | None = None,
+    layout: TableLayout | None = None,
 ) -> str:
-    """Render :func:`summarize` output as :func:`display_summary` shows it."""
-    return render_table(display_summary(summary), style, caption, label)
+    """Render :func:`summarize` output for print, as every table of polyell is written.
 
+    One row per score under a line per set (the sets' labels, ``new (eq. 32/38)``), the
+    statistics as columns; shares in percent (``layout.percent``), ``layout.digits``
+    significant digits.  A table taller than a page is one LaTeX float per set.
 
-def display_summary(summary: pd.DataFrame) -> pd.DataFrame:
-    """:func:`summarize` output as every writer shows it: labels, percent, 4 digits.
-
-    Rows are named ``<set label>: <score label>`` (``new (eq. 32/38): coverage [%]``);
-    percent scores (coverage, overreach, directional errors) are in percent, as in the
-    comparison tables; cells are strings.
+    Parameters
+    ----------
+    summary : DataFrame
+        From :func:`summarize`.
+    style : {"latex", "markdown", "csv", "html"}
+    caption, label : str, optional
+        LaTeX caption and label.
+    layout : TableLayout, optional
+        Its ``digits`` and ``percent`` (default ``TableLayout()``).
     """
-    table = summary.copy()
-    displays = [score_display(score) for _, score in table.index]
-    for column in table.columns:
-        if column != "defined":
-            table[column] = table[column] * [factor for _, factor in displays]
-    table.index = [
-        f"{ellipsoid_label(kind)}: {name}"
-        for (kind, _), (name, _) in zip(table.index, displays, strict=True)
-    ]
-    for column in table.columns:
-        table[column] = [f"{int(v)}" if column == "defined" else f"{v:.4g}" for v in table[column]]
-    return table
+    layout = TableLayout() if layout is None else layout
+    rows = []
+    for (kind, score), record in summary.iterrows():
+        quantity = QUANTITIES.get(str(score))
+        name = (
+            quantity_label(quantity, layout.percent, "")
+            if quantity is not None
+            else text_label(str(score))
+        )
+        shift = 2 if quantity is not None and quantity.kind == "share" and layout.percent else 0
+        cells = tuple(
+            Cell(float(record[column]), count=True)
+            if column == "defined"
+            else Cell(float(record[column]), shift)
+            for column in _STATISTICS
+        )
+        rows.append(((text_label(set_label(str(kind)), "sets"), name), cells))
+    table = PrintTable(
+        (Label("set", "set"), Label("score", "score")),
+        tuple(Label(column, column) for column in _STATISTICS),
+        tuple(rows),
+        grouped=True,
+    )
+    return render_tables([table], style, layout.digits, caption, label)

@@ -1049,6 +1049,20 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
                 )
         if output.histograms and self.points is not None:
             raise InputError("output.histograms", "a grid or random study", "a study of points")
+        # A score of an optimum, or a ratio to it, exists only where the optimum is computed.
+        computed = {"mvie": self.compare.mvie, "outer": self.compare.outer}
+        for field in ("maps", "histograms", "series"):
+            for name in getattr(output, field) or ():
+                for optimum, wanted in computed.items():
+                    if not wanted and (
+                        name.startswith(f"{optimum}_") or name.endswith(f"{optimum}_ratio")
+                    ):
+                        raise InputError(
+                            f"output.{field}",
+                            f"no score of the {_OPTIMA[optimum]} with [compare] {optimum} = false",
+                            repr(name),
+                            f"set {optimum} = true in [compare], or drop {name!r}.",
+                        )
         if output.series and self.trajectory is None:
             raise InputError("output.series", "a [trajectory] study", "another kind of study")
         for name in output.sets or ():
@@ -1069,6 +1083,10 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
                     raise InputError(
                         f"output.{field}", "a non-empty list", "[]", "leave the key out for all."
                     )
+
+
+#: The optima a study computes on request, by their [compare] key.
+_OPTIMA = {"mvie": "MVIE", "outer": "outer ellipsoid"}
 
 
 #: The tables of the format, in the order of the reference page.

@@ -17,7 +17,6 @@ from polyell.comparison.limits import limits_table
 from polyell.comparison.point_tables import write_point_tables
 from polyell.comparison.summary import (
     SUMMARY_SCORES,
-    display_summary,
     format_summary_table,
     result_kinds,
     split_column,
@@ -331,8 +330,10 @@ def _write_summary(
     if list(summaries) == [""]:
         summary = summaries[""]
         caption = f"{spec.title}: scores over {count} configurations."
-        latex = format_summary_table(summary, "latex", caption=caption, label="tab:summary")
-        markdown += format_summary_table(summary, "markdown")
+        latex = format_summary_table(
+            summary, "latex", caption=caption, label="tab:summary", layout=spec.layout
+        )
+        markdown += format_summary_table(summary, "markdown", layout=spec.layout)
         csv = summary.to_csv()
     else:
         latex_tables, markdown_tables = [], []
@@ -340,10 +341,15 @@ def _write_summary(
             caption = f"{spec.title}: scores of {robot} over its configurations."
             latex_tables.append(
                 format_summary_table(
-                    summary, "latex", caption=caption, label=f"tab:summary-{robot}"
+                    summary,
+                    "latex",
+                    caption=caption,
+                    label=f"tab:summary-{robot}",
+                    layout=spec.layout,
                 )
             )
-            markdown_tables.append(f"## {robot}\n\n" + format_summary_table(summary, "markdown"))
+            table = format_summary_table(summary, "markdown", layout=spec.layout)
+            markdown_tables.append(f"## {robot}\n\n{table}")
         latex = "\n".join(latex_tables)
         markdown += "\n".join(markdown_tables)
         csv = pd.concat(summaries, names=["robot"]).to_csv()
@@ -468,7 +474,12 @@ def _many_report(
     measured: list[str],
 ) -> list[tuple[str, Any]]:
     """The report's sections of one robot's grid or random sweep (``formats`` "html")."""
-    from polyell.interactive import interactive_histogram, interactive_map, interactive_series
+    from polyell.interactive import (
+        HtmlTable,
+        interactive_histogram,
+        interactive_map,
+        interactive_series,
+    )
 
     by = f"{robot}: " if robot else ""
     sections: list[tuple[str, Any]] = []
@@ -480,7 +491,8 @@ def _many_report(
     for score in spec.histograms:
         figure = interactive_histogram(results, score, measured)
         sections.append((by + score_display(score)[0], figure))
-    sections.append((f"{by}Summary over {len(results)} configurations", display_summary(summary)))
+    table = HtmlTable(format_summary_table(summary, "html", layout=spec.layout))
+    sections.append((f"{by}Summary over {len(results)} configurations", table))
     return sections
 
 

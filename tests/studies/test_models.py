@@ -380,3 +380,21 @@ def test_bad_layout_keys_are_refused(tmp_path, extra, start):
 def test_every_shipped_study_loads_with_the_default_layout():
     for path in sorted((ROOT / "studies").glob("*.toml")):
         assert load_study(path).layout == TableLayout(), path.name
+
+
+@pytest.mark.parametrize(
+    ("output", "fragment"),
+    [
+        ('histograms = ["mvie_ratio"]', "output.histograms: expected no score of the MVIE"),
+        ('histograms = ["outer_ratio"]', "output.histograms: expected no score of the outer"),
+    ],
+)
+def test_a_score_of_an_optimum_not_computed_is_refused_at_load(tmp_path, output, fragment):
+    spec = tmp_path / "s.toml"
+    spec.write_text(
+        '[robot]\nlibrary = "chiacchio2000"\n[random]\ncount = 4\nseed = 1\n'
+        f"[compare]\nmvie = false\nouter = false\n[output]\n{output}\n"
+    )
+    with pytest.raises(pe.InputError) as info:
+        pe.studies.load_study(spec)
+    assert str(info.value).startswith(fragment), str(info.value)
