@@ -97,8 +97,10 @@ def test_percent_scores_are_percent_in_every_display():
     assert series.get_ylabel() == "coverage [%]"
     assert series.get_lines()[0].get_ydata().max() == pytest.approx(60.0)
     table = format_summary_table(summarize(results), "markdown")
-    row = next(line for line in table.splitlines() if "new (eq. 32/38): coverage [%]" in line)
-    assert [cell.strip() for cell in row.split("|")][3] == "42.5"  # the mean 0.425, in percent
+    row = next(
+        line for line in table.splitlines() if "new (eq. 32/38)" in line and "coverage [%]" in line
+    )
+    assert [cell.strip() for cell in row.split("|")][4] == "42.5"  # the mean 0.425, in percent
 
 
 def test_maps_of_one_score_share_a_colour_scale(tmp_path, monkeypatch):
