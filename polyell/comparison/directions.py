@@ -111,6 +111,14 @@ def named_direction(
         return _from_name(spec, task, argument)
     if isinstance(spec, bool | int | float | np.number) or spec is None:
         raise InputError(argument, _name_expected(task), repr(spec))
+    size = np.shape(spec) if not isinstance(spec, str) else ()
+    if len(size) == 1 and size[0] != len(task):
+        raise InputError(
+            argument,
+            f"a unit vector of {len(task)} numbers, one per task row {list(task)}",
+            f"{size[0]} numbers",
+            f"name it (e.g. {task[0]!r}) or give {len(task)} numbers.",
+        )
     vector = check_directions(argument, spec, len(task))
     if vector.ndim != 1:
         raise InputError(argument, _name_expected(task), f"shape {vector.shape}")

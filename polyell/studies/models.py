@@ -30,10 +30,10 @@ from pydantic_core import PydanticUndefined, core_schema
 from polyell import robots
 from polyell.comparison.candidates import BUILT_IN_KINDS
 from polyell.comparison.comparison import MAX_SAMPLES, MAX_SEED, MIN_SAMPLES, SCORE_NAMES
-from polyell.comparison.layout import LAYOUT_SETS, MAX_DIGITS
+from polyell.comparison.layout import LAYOUT_SETS, LIMIT_QUANTITIES, MAX_DIGITS
 from polyell.errors import InputError
 from polyell.expressions import evaluate, evaluate_list
-from polyell.validation import MAX_DIRECTIONS, _describe, check_integer
+from polyell.validation import MAX_DIRECTIONS, ROUNDED_INPUT_RTOL, _describe, check_integer
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -73,8 +73,8 @@ FORMATS = ("pdf", "png", "svg", "html")
 POINT_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,63}")
 #: A robot's name prefixes its points' file names (``sets_<robot>.<point>``): no ``.``.
 ROBOT_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]{0,31}")
-#: A named direction: an optional sign, then task rows (``"x"``, ``"-xz"``, ``"wx"``).
-DIRECTION_NAME = re.compile(r"[+-]?[A-Za-z0-9]{1,32}")
+#: A named direction: task rows, each with an optional sign (``"x"``, ``"x-y"``, ``"wx"``).
+DIRECTION_NAME = re.compile(r"[+-]?[A-Za-z0-9][A-Za-z0-9+-]{0,63}")
 #: The keys of a robot table that only URDF robots take.
 URDF_KEYS = ("tip", "task", "locked_joints", "gravity", "weights", "payload")
 
@@ -248,11 +248,14 @@ def _direction(value: object) -> str | tuple[float, ...]:
         )
     vector = _numbers(value)
     norm = math.sqrt(math.fsum(v * v for v in vector))
-    if not abs(norm - 1.0) <= 1e-6:
+    # The rule of every direction polyell takes (validation.check_directions): unit length
+    # to ROUNDED_INPUT_RTOL, so that a vector typed to 5 digits is accepted.
+    if not abs(norm - 1.0) <= ROUNDED_INPUT_RTOL:
         raise InputError(
             "",
-            "a unit vector, or a direction named by task rows",
-            f"norm {norm:.6g}",
+            f"a unit vector (norm within {ROUNDED_INPUT_RTOL:g} of 1), or a direction "
+            "named by task rows",
+            f"norm {norm!r}",
             'divide by the norm, or name it: "xy" is the unit diagonal (1, 1, 0)/sqrt(2).',
         )
     return vector
@@ -291,8 +294,9 @@ def _choices(valid: tuple[str, ...]) -> Callable[[object], tuple[str, ...]]:
             raise InputError("", "a list of strings", _describe(value), f"among {list(valid)}.")
         unknown = [v for v in value if v not in valid]
         if unknown:
+            at = value.index(unknown[0])
             raise InputError(
-                "", f"a list among {list(valid)}", _describe(value), did_you_mean(unknown, valid)
+                f"[{at}]", f"one of {list(valid)}", repr(unknown[0]), did_you_mean(unknown, valid)
             )
         return tuple(value)
 
@@ -655,8 +659,8 @@ class PointTable(Table):
     """Named configurations (postures).
 
     Each gets its numbers, its scores, its directional limits along each of its
-    `directions` and its figures. A named direction is a sign and
-    task rows: "x", "-z", "xy" (the unit diagonal (1, 1, 0)/sqrt 2), "-xz", "wx" on an
+    `directions` and its figures. A named direction is task rows, each with an optional
+    sign: "x", "-z", "xy" (the unit diagonal (1, 1, 0)/sqrt 2), "x-y", "-x+z", "wx" on an
     angular task; a vector is a unit vector of the task's size. With several robots each
     point is evaluated on every robot (`panda/home`); give `q` per robot as a table when
     their joint counts differ.
@@ -906,9 +910,10 @@ percent = false"""
         example='["polytope", "chiacchio", "yoshikawa"]',
         default_text="all",
     )
-    scores: Annotated[tuple[str, ...], Choices(SCORE_NAMES)] | None = key(
+    scores: Annotated[tuple[str, ...], Choices((*SCORE_NAMES, *LIMIT_QUANTITIES))] | None = key(
         None,
-        what="Scores the tables show, in order.",
+        what="Scores the tables show, in order: score names for the comparison and summary "
+        "tables, `lower`, `upper`, `lower_error`, `upper_error` for the limits table.",
         example='["coverage", "inscribed_scale"]',
         default_text="the defaults",
     )
@@ -1051,11 +1056,13 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
             raise InputError("output.histograms", "a grid or random study", "a study of points")
         # A score of an optimum, or a ratio to it, exists only where the optimum is computed.
         computed = {"mvie": self.compare.mvie, "outer": self.compare.outer}
-        for field in ("maps", "histograms", "series"):
+        for field in ("maps", "histograms", "series", "sets", "scores"):
             for name in getattr(output, field) or ():
                 for optimum, wanted in computed.items():
                     if not wanted and (
-                        name.startswith(f"{optimum}_") or name.endswith(f"{optimum}_ratio")
+                        name == optimum
+                        or name.startswith(f"{optimum}_")
+                        or name.endswith(f"{optimum}_ratio")
                     ):
                         raise InputError(
                             f"output.{field}",

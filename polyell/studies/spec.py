@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 
 from polyell import robots
 from polyell.comparison.candidates import Candidate, check_candidates
+from polyell.comparison.directions import named_direction
 from polyell.comparison.layout import TableLayout
 from polyell.errors import InputError
 from polyell.models.planar_arm import PlanarArm
@@ -47,7 +48,6 @@ __all__ = [
     "StudySpec",
     "load_robot_file",
     "load_study",
-    "named_direction",
     "robot_from_table",
 ]
 
@@ -335,49 +335,6 @@ def _rows(model: PlanarArm | UrdfRobot) -> tuple[str, ...]:
     return tuple(model.dynamics(np.zeros(model.n)).task)
 
 
-def named_direction(name: str, rows: tuple[str, ...]) -> NDArray[np.float64]:
-    """The unit vector a direction's name stands for, on a task with these rows.
-
-    An optional sign, then task rows, each at most once: ``"x"``, ``"-z"``, ``"xy"`` (the
-    unit diagonal (1, 1, 0)/sqrt 2 on an x, y, z task), ``"-xz"``, ``"wx"`` (an angular row).
-
-    Raises
-    ------
-    InputError
-        If the name is not made of the task's rows (argument ``direction``).
-    """
-    sign = -1.0 if name[:1] == "-" else 1.0
-    rest = name[1:] if name[:1] in "+-" else name
-    found: list[int] = []
-    by_length = sorted(rows, key=len, reverse=True)
-    while rest:
-        row = next((r for r in by_length if rest.startswith(r)), None)
-        if row is None or rows.index(row) in found:
-            found = []
-            break
-        found.append(rows.index(row))
-        rest = rest[len(row) :]
-    if not found:
-        from polyell.studies.models import did_you_mean
-
-        raise InputError(
-            "direction",
-            f"task rows {list(rows)} with an optional sign: e.g. {rows[0]!r}, "
-            f"'-{rows[-1]}'"
-            + (f", '{rows[0]}{rows[1]}' (a unit diagonal)" if len(rows) > 1 else "")
-            + ", or a unit vector",
-            repr(name),
-            did_you_mean([name.lstrip("+-")], rows),
-        )
-    vector = np.zeros(len(rows))
-    vector[found] = sign / math.sqrt(len(found))
-    return vector
-
-
-def _vector_label(vector: NDArray[np.float64]) -> str:
-    return "(" + ", ".join(f"{v:.4g}" for v in vector) + ")"
-
-
 def _directions(
     table: models.PointTable, rows: tuple[str, ...], where: str
 ) -> tuple[NDArray[np.float64], tuple[str, ...]]:
@@ -390,26 +347,11 @@ def _directions(
     else:
         return np.eye(m), rows
     vectors, labels = [], []
-    for j, item in enumerate(items):
+    for j, item in enumerate(items):  # as pe.limits_table reads them: one rule, one label
         at = f"{key}[{j}]" if table.directions is not None else key
-        if isinstance(item, str):
-            with _within(at):
-                try:
-                    vectors.append(named_direction(item, rows))
-                except InputError as exn:
-                    raise InputError(at, exn.expected, exn.got, exn.fix) from None
-            labels.append(item)
-        else:
-            if len(item) != m:
-                raise InputError(
-                    at,
-                    f"a unit vector of {m} numbers, one per task row {list(rows)}",
-                    f"{len(item)} numbers {list(item)}",
-                    f"e.g. {rows[0]!r} or a vector of {m} numbers.",
-                )
-            vector = np.array(item, dtype=float)
-            vectors.append(vector)
-            labels.append(_vector_label(vector))
+        vector, label = named_direction(item, rows, argument=at)
+        vectors.append(vector)
+        labels.append(label)
     if len(set(labels)) != len(labels):
         raise InputError(key, "distinct directions", f"{labels}")
     return np.array(vectors), tuple(labels)

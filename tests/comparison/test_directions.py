@@ -48,7 +48,7 @@ def test_a_vector_is_checked_and_labelled_by_its_entries():
         ("", "each row at most once"),
         ("x*y", "task rows"),
         ([1.0, 1.0, 0.0], "unit"),
-        ([1.0, 0.0], "shape"),
+        ([1.0, 0.0], "a unit vector of 3 numbers"),
         ([np.nan, 0.0, 1.0], "finite"),
         (3, "task rows"),
         (None, "task rows"),

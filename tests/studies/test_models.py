@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 import polyell as pe
+from polyell.comparison.directions import named_direction
 from polyell.comparison.layout import TableLayout
 from polyell.studies import load_study
-from polyell.studies.spec import named_direction
 
 ROOT = Path(__file__).resolve().parents[2]
 PANDA_Q = "[0, -0.5, 0, -2, 0, 1.6, 0.8]"
@@ -64,18 +64,22 @@ def test_named_directions_are_the_unit_vectors_written_out():
         "+y": [0, 1, 0],
         "xy": [r, r, 0],
         "yx": [r, r, 0],
-        "-xz": [-r, 0, -r],
+        "-xz": [-r, 0, r],  # a sign belongs to the row after it, as the labels print it
+        "-x-z": [-r, 0, -r],
+        "x-y": [r, -r, 0],
         "xyz": [1 / np.sqrt(3)] * 3,
     }
     for name, vector in expected.items():
-        np.testing.assert_allclose(named_direction(name, xyz), vector, rtol=0, atol=1e-15)
+        np.testing.assert_allclose(named_direction(name, xyz)[0], vector, rtol=0, atol=1e-15)
+        again = named_direction(named_direction(name, xyz)[1], xyz)[0]  # the label reads back
+        np.testing.assert_allclose(again, vector, rtol=0, atol=1e-15)
     angular = ("wx", "wy", "wz")
-    np.testing.assert_allclose(named_direction("-wxwz", angular), [-r, 0, -r], atol=1e-15)
-    np.testing.assert_allclose(named_direction("wy", angular), [0, 1, 0])
+    np.testing.assert_allclose(named_direction("-wx-wz", angular)[0], [-r, 0, -r], atol=1e-15)
+    np.testing.assert_allclose(named_direction("wy", angular)[0], [0, 1, 0])
     six = ("x", "y", "z", "wx", "wy", "wz")
-    np.testing.assert_allclose(named_direction("xwx", six), [r, 0, 0, r, 0, 0], atol=1e-15)
-    for bad in ("xx", "q", "-", "x-y", "zw", ""):
-        with pytest.raises(pe.InputError, match="direction: expected task rows"):
+    np.testing.assert_allclose(named_direction("xwx", six)[0], [r, 0, 0, r, 0, 0], atol=1e-15)
+    for bad in ("xx", "q", "-", "zw", ""):
+        with pytest.raises(pe.InputError, match="direction: expected a direction named"):
             named_direction(bad, xyz)
 
 
@@ -113,8 +117,8 @@ def test_directions_mix_names_and_vectors_with_expressions(tmp_path):
     )
     point = spec.points[0]
     r = 1 / np.sqrt(2)
-    np.testing.assert_allclose(point.directions, [[0, 0, 1], [-r, 0, -r], [r, -r, 0]], atol=1e-15)
-    assert point.labels == ("z", "-xz", "(0.7071, -0.7071, 0)")
+    np.testing.assert_allclose(point.directions, [[0, 0, 1], [-r, 0, r], [r, -r, 0]], atol=1e-15)
+    assert point.labels == ("z", "-x+z", "(0.7071, -0.7071, 0)")
     np.testing.assert_array_equal(point.direction, [0, 0, 1])  # the first
 
 
@@ -135,9 +139,9 @@ def test_the_older_direction_key_is_a_list_of_one(tmp_path):
     ("directions", "start"),
     [
         ('["x", [1, 0]]', "points[2].directions[1]: expected a unit vector of 3 numbers"),
-        ("[[1, 1, 0]]", "points[2].directions[0]: expected a unit vector, or a direction named"),
-        ('["x", "q"]', "points[2].directions[1]: expected task rows ['x', 'y', 'z']"),
-        ('["xx"]', "points[2].directions[0]: expected task rows"),
+        ("[[1, 1, 0]]", "points[2].directions[0]: expected a unit vector (norm within"),
+        ('["x", "q"]', "points[2].directions[1]: expected a direction named after the task rows"),
+        ('["xx"]', "points[2].directions[0]: expected a direction named"),
         ('"x"', "points[2].directions: expected a non-empty list of directions"),
         ("[]", "points[2].directions: expected a non-empty list of directions"),
         ('["x", "x"]', "points[2].directions: expected distinct directions"),
@@ -295,7 +299,7 @@ def test_joint_counts_differ_so_a_shared_q_list_says_how_to_give_one_per_robot(t
         ),
         (
             PAPER + "[random]\ncount = 1\n[output]\nformats = ['hmtl']\n",
-            "output.formats: expected a list among",
+            "output.formats[0]: expected one of",
             "'html' for 'hmtl'",
         ),
         (
@@ -364,7 +368,7 @@ def test_the_output_layout_keys_reach_the_spec(tmp_path):
         ('sets = ["ghost"]', "output.sets: expected set names among"),
         ("sets = []", "output.sets: expected a non-empty list"),
         ('sets = ["mvie", "mvie"]', "output.sets: expected distinct names"),
-        ('scores = ["cover"]', "output.scores: expected a list among"),
+        ('scores = ["cover"]', "output.scores[0]: expected one of"),
         ('split = "postures"', "output.split: expected 'posture' or 'combined'"),
         ('transpose = "yes"', "output.transpose: expected true or false"),
         ("percent = 1", "output.percent: expected true or false"),

@@ -410,7 +410,7 @@ def test_the_shipped_two_robot_study_runs_from_one_file(tmp_path):
                 getattr(expected["chiacchio"], score), rel=1e-12
             )
         section = numbers.split(f"## {point.label}")[1].split("\n## ")[0]
-        assert point.labels == ("x", "y", "z", "xz")
+        assert point.labels == ("x", "y", "z", "x+z")
         for label, t in zip(point.labels, point.directions, strict=True):
             line = section.split(f"Achievable accelerations along {label} = ")[1]
             polytope = line.split("\n")[1].split()  # "polytope [lo, hi]"

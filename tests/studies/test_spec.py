@@ -80,7 +80,7 @@ def test_robot_file(tmp_path):
         (POINTS.replace('"-pi/2"]', '"-pi/2", 0]'), "points[0].q: expected 3 joint angles"),
         (POINTS.replace('"pi/2",', '"pi/two",'), "points[0].q[0]: expected a number"),
         (POINTS + "[compare]\ndirection = 3\n", "unknown key(s) ['direction']"),
-        (POINTS + "[output]\nformats = ['jpg']\n", "output.formats: expected a list among"),
+        (POINTS + "[output]\nformats = ['jpg']\n", "output.formats[0]: expected one of"),
         (POINTS + "[output]\nmaps = ['chiacchio_coverage']\n", "output.maps: expected a grid"),
         (POINTS + "[output]\nmaps = ['coverage']\n", "output.maps: expected names"),
         (
