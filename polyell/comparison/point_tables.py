@@ -76,10 +76,9 @@ def write_point_tables(
     about = f"{check_text('description', description)}\n\n" if description else ""
     named = posture_comparisons(comparisons)
     limits = limits_table(named, directions_per_point)
-    unit = str(limits["unit"].iloc[0]) if limits["unit"].nunique() == 1 else "task units"
     prefix = f"{title}: " if title else ""
-    limits_caption = (
-        f"{prefix}directional limits [{unit}] of the exact polytope and of each ellipsoid, "
+    limits_caption = (  # (the units are in the headers, typeset)
+        f"{prefix}directional limits of the exact polytope and of each ellipsoid, "
         "and each limit's error relative to the polytope's, (e - p)/|p|."
     )
     comparison_caption = f"{prefix}scores of each ellipsoid against the exact polytope."

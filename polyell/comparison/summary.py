@@ -123,11 +123,19 @@ def format_summary_table(
     caption, label : str, optional
         LaTeX caption and label.
     layout : TableLayout, optional
-        Its ``digits`` and ``percent`` (default ``TableLayout()``).
+        Its ``sets`` and ``scores`` (which rows, in that order; the others, e.g. a limit
+        quantity, do not apply), ``digits`` and ``percent``; default ``TableLayout()``.
     """
     layout = TableLayout() if layout is None else layout
+    kinds = list(dict.fromkeys(kind for kind, _ in summary.index))
+    scores = list(dict.fromkeys(score for _, score in summary.index))
+    if layout.sets is not None:
+        kinds = [kind for kind in layout.sets if kind in kinds]
+    if layout.scores is not None:
+        scores = [score for score in layout.scores if score in scores] or scores
+    chosen = [(k, s) for k in kinds for s in scores if (k, s) in summary.index]
     rows = []
-    for (kind, score), record in summary.iterrows():
+    for (kind, score), record in summary.loc[chosen].iterrows():
         quantity = QUANTITIES.get(str(score))
         name = (
             quantity_label(quantity, layout.percent, "")

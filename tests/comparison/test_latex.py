@@ -284,3 +284,12 @@ def test_a_study_with_a_hostile_title_writes_tables_that_keep_every_row(tmp_path
         path = engine(program)
         if path is not None:  # compiled where an engine is installed (the test above skips)
             check_compiled([tex], compile_tables(path, [tex], tmp_path / program))
+
+
+def test_the_summary_table_takes_the_layout_sets_scores_and_digits(paper, singular):
+    summary = summary_of(paper, singular)
+    layout = pe.TableLayout(sets=["yoshikawa"], scores=["coverage", "lower"], digits=2)
+    parsed = parse_table(format_summary_table(summary, "latex", layout=layout))
+    assert [(row[0], row[1]) for row in parsed.rows] == [("classic (eq. 27)", "coverage [%]")]
+    mean = summary.loc[("yoshikawa", "coverage"), "mean"]
+    assert parsed.rows[0][parsed.stub + 1] == f"{100 * mean:.2g}"  # the mean, 2 digits
