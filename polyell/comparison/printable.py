@@ -103,14 +103,16 @@ def _exact(value: float, shift: int) -> Decimal:
         return Decimal(value).scaleb(shift)
 
 
-def _g(number: Decimal, precision: int) -> str:
-    """A finite decimal as Python's ``g`` writes it, without trailing zeros.
+def _g(number: Decimal, precision: int, keep_zeros: bool = False) -> str:
+    """A finite decimal as Python's ``g`` writes it: without trailing zeros, or with them.
 
-    Fixed notation if ``1e-4 <= |x| < 10**precision``, else e-notation.
+    Fixed notation if ``1e-4 <= |x| < 10**precision``, else e-notation.  ``keep_zeros``:
+    the digits of ``number`` as they are (a rounded value keeps its significant zeros).
     """
     if number == 0:
         return "0"
-    number = number.normalize()
+    if not keep_zeros:
+        number = number.normalize()
     exponent = number.adjusted()
     if -4 <= exponent < precision:
         return format(number, "f")
@@ -122,7 +124,9 @@ def _g(number: Decimal, precision: int) -> str:
 def rounded_text(value: float, digits: int, shift: int = 0) -> str:
     """``value * 10**shift`` to ``digits`` significant digits (round half to even, exact).
 
-    ``inf``, ``-inf`` and ``nan`` for non-finite values; 0 for both zeros.
+    Every number shows its ``digits`` significant digits, trailing zeros included
+    (``58.0``, ``1.00``, ``0.500`` for 3): a column reads at one precision, as a journal
+    table does.  ``inf``, ``-inf`` and ``nan`` for non-finite values; 0 for both zeros.
     """
     if not math.isfinite(value):
         return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
@@ -132,7 +136,11 @@ def rounded_text(value: float, digits: int, shift: int = 0) -> str:
     with localcontext() as context:
         context.prec = digits
         context.rounding = ROUND_HALF_EVEN
-        return _g(+exact, digits)
+        rounded = +exact
+        # exactly ``digits`` significant digits: 0.5 -> 0.500 (exact; padding only)
+        context.prec = digits + 2
+        rounded = rounded.quantize(Decimal(1).scaleb(rounded.adjusted() - digits + 1))
+        return _g(rounded, digits, keep_zeros=True)
 
 
 def decimal_text(value: float, shift: int = 0) -> str:

@@ -521,7 +521,9 @@ def main() -> None:
         f"(names: {', '.join(parser_sections)}; `--memory` with no value skips (d)).",
         "",
         f"Machine: {machine()}, one BLAS thread per process. Timings are medians over "
-        f"{args.repeats} repeats with the min – max spread, all measured side by side in one run.",
+        f"{args.repeats} repeats (or as a section says) with the min – max spread; the "
+        "alternatives of a section are measured side by side in one run (a section rerun "
+        "alone keeps the others as they were).",
         "",
     ]
     lines: list[str] = []

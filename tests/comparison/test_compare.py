@@ -272,7 +272,7 @@ def test_tables_show_a_negative_zero_as_zero_and_tiny_values_as_they_are(paper):
     table = format_scores_table(frame, paper.analysis.rank, "markdown")
     row = next(line for line in table.splitlines() if line.startswith("| direction bias"))
     cells = [cell.strip() for cell in row.split("|")[2:-1]]
-    assert cells[0] == "0" and cells[2] == "-1e-10"  # a fraction of -1e-12 in percent
+    assert cells[0] == "0" and cells[2] == "-1.00e-10"  # a fraction of -1e-12 in percent
 
 
 def test_compare_without_mvie_is_explicit(paper):

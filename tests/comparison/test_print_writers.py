@@ -278,8 +278,9 @@ def test_percent_and_fractions_show_the_same_digits():
     def last_cells(table: str) -> list[str]:
         return [cell.strip() for cell in table.splitlines()[-1].split("|")[1:-1]]
 
-    assert last_cells(percent)[-2:] == ["12.35", "-1e-298"] and "lower error [%]" in percent
-    assert last_cells(fraction)[-2:] == ["0.1235", "-1e-300"] and "| lower error |" in fraction
+    # every number at its 4 significant digits, trailing zeros included
+    assert last_cells(percent)[-2:] == ["12.35", "-1.000e-298"] and "lower error [%]" in percent
+    assert last_cells(fraction)[-2:] == ["0.1235", "-1.000e-300"] and "| lower error |" in fraction
     rows = list(csv.reader(io.StringIO(format_limits_table(frame, "csv"))))
     assert rows[1][-2:] == ["12.3456", "-1e-298"]
     assert float(Decimal(rows[1][-2]).scaleb(-2)) == 0.123456  # exactly, not 12.3456 / 100
