@@ -816,8 +816,7 @@ outer = false"""
         example='["pi/2", "-pi/2", "-pi/2"]',
     )
     direction: Direction = key(
-        what='The task direction of the "limit" criterion: a name of task rows or a unit '
-        "vector.",
+        what='The task direction of the "limit" criterion: a name of task rows or a unit vector.',
         example='"x"',
     )
     count: Annotated[int, Integer(2, MAX_COUNT)] = key(
