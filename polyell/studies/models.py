@@ -992,8 +992,8 @@ class StudyFile(Table):
     """A study file.
 
     It holds a robot (`[robot]`) or several (`[[robots]]`), exactly one of `[[points]]`,
-    `[grid]`, `[random]`, `[trajectory]` and `[posture]`, and optional comparison, candidate and output
-    settings.
+    `[grid]`, `[random]`, `[trajectory]` and `[posture]`, and optional comparison,
+    candidate and output settings.
     """
 
     heading: ClassVar[str] = "top level"
