@@ -32,6 +32,7 @@ __all__ = [
     "check_title",
     "ellipsoid_outline",
     "plot_directional_limits",
+    "plot_posture_indices",
     "plot_score_histogram",
     "plot_score_map",
     "plot_score_series",
@@ -630,6 +631,108 @@ def plot_tangent_limits(results: pd.DataFrame, *, unit: str = "m/s$^2$") -> Figu
     ax.set_xlabel("t [s]" if "t" in results else "sample")
     ax.set_ylabel(f"along the tangent [{unit}]")
     ax.legend(fontsize="small")
+    return figure
+
+
+#: The criteria of a posture choice and how a figure names them.
+_POSTURE_CRITERIA = {
+    "limit": "limit along d",
+    "radius": "ball about the origin",
+    "volume": "volume",
+}
+
+
+def plot_posture_indices(
+    values: pd.DataFrame,
+    table: pd.DataFrame,
+    *,
+    position: Sequence[float] | NDArray[np.float64] | None = None,
+    xlabel: str | None = None,
+    title: str | None = None,
+) -> Figure:
+    """Each index of a posture choice along the postures, normalised to its own best.
+
+    One panel per criterion (limit along d, ball about the origin, volume); on each, the
+    truth (the polytope) and every ellipsoid, each divided by its largest value over the
+    postures, so that the curves share one axis from 0 to 1; the posture each index picks
+    is marked on its curve.
+
+    Parameters
+    ----------
+    values : DataFrame
+        :attr:`polyell.PostureChoice.values`: one row per posture, columns (kind, criterion).
+    table : DataFrame
+        :attr:`polyell.PostureChoice.table`: its ``picked`` column marks the picks.
+    position : array-like, shape (k,), optional
+        The postures' positions along the manifold (:attr:`polyell.SelfMotion.position`,
+        rad); default the posture number.  The curves are drawn in its order.
+    xlabel : str, optional
+        Default ``"position along the self-motion [rad]"`` with ``position``, else
+        ``"posture"``.
+    title : str, optional
+
+    Returns
+    -------
+    Figure
+    """
+    _check_texts(xlabel=xlabel, title=title)
+    if not isinstance(values, pd.DataFrame) or values.columns.nlevels != 2:
+        raise InputError(
+            "values", "PostureChoice.values (columns (kind, quantity))", type(values).__name__
+        )
+    if not isinstance(table, pd.DataFrame) or "picked" not in table.columns:
+        raise InputError("table", "PostureChoice.table (a 'picked' column)", type(table).__name__)
+    count = len(values)
+    if position is None:
+        x = np.arange(count, dtype=float)
+        xlabel = "posture" if xlabel is None else xlabel
+    else:
+        x = np.asarray(position, dtype=float)
+        if x.shape != (count,) or not np.all(np.isfinite(x)):
+            raise InputError(
+                "position", f"{count} finite positions, one per posture", f"shape {x.shape}"
+            )
+        xlabel = "position along the self-motion [rad]" if xlabel is None else xlabel
+    order = np.argsort(x, kind="stable")
+    kinds = list(dict.fromkeys(values.columns.get_level_values(0)))
+    criteria = [c for c in _POSTURE_CRITERIA if ("polytope", c) in values.columns]
+    figure = Figure(figsize=(6.0, 2.0 + 1.6 * len(criteria)), layout="constrained")
+    axes = figure.subplots(len(criteria), 1, sharex=True, squeeze=False)[:, 0]
+    for ax, criterion in zip(axes, criteria, strict=True):
+        for kind in kinds:
+            index = values[(kind, criterion)].to_numpy(dtype=float)
+            best = np.nanmax(index) if np.any(index > 0) else np.nan
+            if not best > 0:
+                continue  # undefined or zero everywhere: nothing to normalise
+            style = _style(kind, kinds)
+            label = "polytope (truth)" if kind == "polytope" else str(style["label"])
+            ax.plot(
+                x[order],
+                index[order] / best,
+                color=str(style["color"]),
+                linestyle=style["linestyle"],
+                linewidth=float(style["linewidth"]),  # type: ignore[arg-type]
+                label=label,
+            )
+            picked = table.loc[(kind, criterion), "picked"]
+            if not pd.isna(picked):
+                k = int(picked)
+                ax.plot(
+                    [x[k]],
+                    [index[k] / best],
+                    marker="o" if kind == "polytope" else "v",
+                    markersize=7 if kind == "polytope" else 5,
+                    markerfacecolor="white" if kind == "polytope" else str(style["color"]),
+                    markeredgecolor=str(style["color"]),
+                    linestyle="none",
+                )
+        ax.set_ylim(-0.05, 1.12)
+        ax.set_ylabel(f"{_POSTURE_CRITERIA[criterion]}\n/ own best")
+        ax.grid(True, color="0.9", linewidth=0.6)
+    axes[0].legend(fontsize="x-small", loc="lower left", ncol=2, framealpha=0.85)
+    axes[-1].set_xlabel(xlabel)
+    if title:
+        axes[0].set_title(title, fontsize="medium")
     return figure
 
 

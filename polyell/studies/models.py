@@ -33,6 +33,8 @@ from polyell.comparison.comparison import MAX_SAMPLES, MAX_SEED, MIN_SAMPLES, SC
 from polyell.comparison.layout import LAYOUT_SETS, LIMIT_QUANTITIES, MAX_DIGITS
 from polyell.errors import InputError
 from polyell.expressions import evaluate, evaluate_list
+from polyell.models.self_motion import MAX_COUNT
+from polyell.studies.posture_targets import MAX_TARGETS
 from polyell.validation import MAX_DIRECTIONS, ROUNDED_INPUT_RTOL, _describe, check_integer
 
 if sys.version_info >= (3, 11):
@@ -51,6 +53,7 @@ __all__ = [
     "PayloadTable",
     "PlanarTable",
     "PointTable",
+    "PostureTable",
     "RandomTable",
     "RangeTable",
     "RobotTable",
@@ -364,6 +367,10 @@ Matrix = Annotated[
     ),
 ]
 _DIRECTION_SCHEMA = {"oneOf": [{"type": "string"}, {"type": "array", "items": _NUMBER_SCHEMA}]}
+Direction = Annotated[
+    str | tuple[float, ...],
+    Check(_direction, _DIRECTION_SCHEMA, "name of task rows or unit vector"),
+]
 Directions = Annotated[
     tuple[str | tuple[float, ...], ...],
     Check(
@@ -776,6 +783,58 @@ file = "planar3r_path.csv"'''
     file: String = key(what="The file, relative to the study file.", example='"path.csv"')
 
 
+class PostureTable(Table):
+    """Which posture? The choice among a redundant arm's postures by each index.
+
+    The self-motion through `q0` (the postures with its task coordinates,
+    `pe.self_motion`) is sampled at `count` postures; every set's indices are computed
+    there and the posture each index picks is compared with the truth, the polytope
+    (`pe.posture_choice`): `posture_choice.{tex,md,csv}`, `posture_values.csv` and the
+    figure `posture_indices`. The criteria: the acceleration available both ways along
+    `direction`, the largest ball about the origin, the volume. With `targets`, the same
+    choice at that many seeded random reachable targets, aggregated
+    (`pe.posture_choice_over_targets`): `posture_targets.{tex,md,csv}`. Uses the
+    ellipsoids of `[compare]` (`mvie`, `outer`) and `[[candidates]]`; one robot.
+    """
+
+    heading: ClassVar[str] = "[posture]"
+    example: ClassVar[str] = """[robot]
+library = "chiacchio2000"
+[posture]
+q0 = ["pi/2", "-pi/2", "-pi/2"]
+direction = "x"
+count = 40
+seed = 0
+targets = 2
+[compare]
+mvie = false
+outer = false"""
+
+    q0: Numbers = key(
+        what="The configuration whose self-motion is sampled [rad]: non-singular, within "
+        "the joint limits, one angle per joint.",
+        example='["pi/2", "-pi/2", "-pi/2"]',
+    )
+    direction: Direction = key(
+        what='The task direction of the "limit" criterion: a name of task rows or a unit vector.',
+        example='"x"',
+    )
+    count: Annotated[int, Integer(2, MAX_COUNT)] = key(
+        200, what=f"Postures sampled, 2 to {MAX_COUNT:,}.", example="200"
+    )
+    seed: Annotated[int, Integer(0, MAX_SEED)] = key(
+        0,
+        what="Seed of the sampling (a manifold of dimension > 1) and of the targets.",
+        example="0",
+    )
+    targets: Annotated[int, Integer(1, MAX_TARGETS)] | None = key(
+        None,
+        what="Also aggregate the choice over this many seeded random targets.",
+        example="200",
+        default_text="the single q0",
+    )
+
+
 class CompareTable(Table):
     """How the ellipsoids are scored (`pe.compare`, `pe.sweep`)."""
 
@@ -933,8 +992,8 @@ class StudyFile(Table):
     """A study file.
 
     It holds a robot (`[robot]`) or several (`[[robots]]`), exactly one of `[[points]]`,
-    `[grid]`, `[random]` and `[trajectory]`, and optional comparison, candidate and output
-    settings.
+    `[grid]`, `[random]`, `[trajectory]` and `[posture]`, and optional comparison,
+    candidate and output settings.
     """
 
     heading: ClassVar[str] = "top level"
@@ -979,6 +1038,9 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
     trajectory: TrajectoryTable | None = key(
         None, what="A path from a file: `[trajectory]`.", default_text="—"
     )
+    posture: PostureTable | None = key(
+        None, what="The choice among a redundant arm's postures: `[posture]`.", default_text="—"
+    )
     compare: CompareTable = key(
         factory=CompareTable, what="Comparison settings: `[compare]`.", default_text="—"
     )
@@ -1013,13 +1075,22 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
             if len(set(names)) != len(names):
                 raise InputError("robots", "distinct robot names", f"{names}")
         kinds = [
-            k for k in ("points", "grid", "random", "trajectory") if getattr(self, k) is not None
+            k
+            for k in ("points", "grid", "random", "trajectory", "posture")
+            if getattr(self, k) is not None
         ]
         if len(kinds) != 1:
             raise InputError(
                 "",
-                "exactly one of [[points]], [grid], [random] and [trajectory]",
+                "exactly one of [[points]], [grid], [random], [trajectory] and [posture]",
                 f"keys {sorted(self.model_fields_set)}",
+            )
+        if self.posture is not None and self.robots is not None and len(self.robots) > 1:
+            raise InputError(
+                "posture",
+                "one robot (q0 is one robot's joint angles)",
+                f"{len(self.robots)} [[robots]]",
+                "run one posture study per robot.",
             )
         if self.trajectory is not None and self.robots is not None and len(self.robots) > 1:
             raise InputError(
@@ -1052,8 +1123,12 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
                     did_you_mean([name], valid_maps)
                     or f"for example 'chiacchio_coverage'; valid: {valid_maps}",
                 )
-        if output.histograms and self.points is not None:
-            raise InputError("output.histograms", "a grid or random study", "a study of points")
+        if output.histograms and (self.points is not None or self.posture is not None):
+            raise InputError(
+                "output.histograms",
+                "a grid or random study",
+                "a study of points" if self.points is not None else "a posture study",
+            )
         # A score of an optimum, or a ratio to it, exists only where the optimum is computed.
         computed = {"mvie": self.compare.mvie, "outer": self.compare.outer}
         for field in ("maps", "histograms", "series", "sets", "scores"):
@@ -1105,6 +1180,7 @@ TABLES: dict[str, type[Table]] = {
     "points": PointTable,
     "random": RandomTable,
     "trajectory": TrajectoryTable,
+    "posture": PostureTable,
     "compare": CompareTable,
     "candidates": CandidateTable,
     "output": OutputTable,

@@ -59,6 +59,8 @@ STUDY_FILES = re.compile(
     r"|(?:comparison|limits|summary)\.(?:csv|md|tex)|scores\.csv"
     r"|(?:sets|limits|map|series|histogram)_[A-Za-z0-9_.-]+\.(?:pdf|png|svg)"
     r"|tangent_limits\.(?:pdf|png|svg)"
+    r"|posture_(?:choice|targets)\.(?:csv|md|tex)|posture_values\.csv"
+    r"|posture_indices\.(?:pdf|png|svg)"
 )
 #: The lock a running study holds on its folder (hidden: not one of its outputs).
 STUDY_LOCK = ".polyell-study.lock"
@@ -168,6 +170,89 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
     )
     scores = pd.concat(frames).to_csv(index_label="ellipsoid")
     written.append(write_text_atomically(folder / "scores.csv", scores))
+    return written
+
+
+def _run_posture(spec: StudySpec, folder: Path) -> list[Path]:
+    """A posture study: the self-motion through q0, the choice of each index, the figure.
+
+    Writes ``posture_choice.{tex,md,csv}`` (:func:`polyell.write_posture_tables`),
+    ``posture_values.csv`` (one row per posture: its joint angles, its position along the
+    manifold and every set's values), ``posture_indices.<format>`` and, with ``targets``,
+    ``posture_targets.{tex,md,csv}`` (the choice aggregated over random targets).
+    """
+    from polyell.figures import plot_posture_indices, save_figure
+    from polyell.models.self_motion import self_motion
+    from polyell.studies.posture import posture_choice
+    from polyell.studies.posture_tables import write_posture_tables
+    from polyell.studies.posture_targets import posture_choice_over_targets
+
+    posture = spec.posture
+    assert posture is not None
+    robot = spec.robots[0]  # a posture study has one robot (checked when it loads)
+    motion = self_motion(robot.model, posture.q0, posture.count, seed=posture.seed)
+    options: dict[str, Any] = {
+        "direction": posture.direction,
+        "mvie": spec.mvie,
+        "outer": spec.outer,
+        "candidates": spec.candidates,
+    }
+    choice = posture_choice(robot.model, motion, robot.tau_max, robot.tau_min, **options)
+    along = f"along {posture.label}"
+    written = list(
+        write_posture_tables(
+            choice.table,
+            folder,
+            f"{spec.title}: the posture each index picks ({along}, {posture.count} postures)",
+            label="tab:posture-choice",
+        ).values()
+    )
+    import pandas as pd
+
+    joints = pd.DataFrame(
+        motion.configurations, columns=[f"q{i + 1}" for i in range(robot.model.n)]
+    )
+    values = choice.values.copy()
+    values.columns = [f"{kind}_{quantity}" for kind, quantity in values.columns]
+    frame = pd.concat([joints, values], axis=1).assign(position=motion.position)
+    frame = frame[["position", *[c for c in frame.columns if c != "position"]]]
+    frame.index.name = "posture"
+    written.append(write_text_atomically(folder / "posture_values.csv", frame.to_csv()))
+    traced = motion.method == "trace"  # a random walk's |q - q0| does not order a curve
+    figure = plot_posture_indices(
+        choice.values,
+        choice.table,
+        position=motion.position if traced else None,
+        title=f"{spec.title} ({along})",
+    )
+    written += save_figure(figure, folder / "posture_indices", spec.figure_formats, spec.dpi)
+    summary = None
+    if posture.targets is not None:
+        over = posture_choice_over_targets(
+            robot.model,
+            None,
+            robot.tau_max,
+            robot.tau_min,
+            count=posture.targets,
+            seed=posture.seed,
+            postures=posture.count,
+            **options,
+        )
+        summary = over.summary
+        title = f"{spec.title}: regret over {len(over.targets)} random targets ({along})"
+        written += write_posture_tables(
+            summary, folder, title, label="tab:posture-targets", stem="posture_targets"
+        ).values()
+    if "html" in spec.formats:
+        from polyell.interactive import write_report
+
+        sections = _about(spec)
+        sections.append(
+            (f"The posture each index picks ({along}; regret as a fraction)", choice.table)
+        )
+        if summary is not None:
+            sections.append((f"Over {posture.targets} random targets", summary))
+        written.append(write_report(folder / "report.html", spec.title, sections))
     return written
 
 
@@ -611,7 +696,9 @@ def run_study(
     seconds: dict[str, float] = {}
     with folder_lock(folder, STUDY_LOCK, "study"):
         remove_stale_temporaries(folder, STUDY_FILES)  # what a killed run left
-        if spec.is_batch:
+        if spec.posture is not None:
+            written = _run_posture(spec, folder)
+        elif spec.is_batch:
             written = _run_many(spec, folder, progress, scheduler, seconds)
         else:
             written = _run_points(spec, folder)

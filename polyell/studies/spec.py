@@ -44,6 +44,7 @@ __all__ = [
     "MAX_STUDY_CONFIGURATIONS",
     "GridAxis",
     "Point",
+    "Posture",
     "Robot",
     "StudySpec",
     "load_robot_file",
@@ -243,6 +244,34 @@ class Point:
 
 
 @dataclass(frozen=True)
+class Posture:
+    """A posture study's settings (``[posture]``), checked against the robot.
+
+    Attributes
+    ----------
+    q0 : ndarray, shape (n,)
+        The configuration whose self-motion is sampled [rad or m].
+    direction : ndarray, shape (m,)
+        The unit task direction of the ``"limit"`` criterion.
+    label : str
+        Its name (``"x"``) or the vector, rounded.
+    count : int
+        Postures sampled.
+    seed : int
+        Seed of the sampling and of the targets.
+    targets : int or None
+        Random targets the choice is aggregated over (None: q0's only).
+    """
+
+    q0: NDArray[np.float64]
+    direction: NDArray[np.float64]
+    label: str
+    count: int
+    seed: int = 0
+    targets: int | None = None
+
+
+@dataclass(frozen=True)
 class GridAxis:
     """Values of one joint angle over a grid (a single value when it is fixed)."""
 
@@ -254,7 +283,8 @@ class GridAxis:
 class StudySpec:
     """A parsed study: robots, configurations, options and outputs.
 
-    The configurations are points, a grid, random ones or a trajectory.
+    The configurations are points, a grid, random ones, a trajectory, or the self-motion
+    of a posture study (``posture``).
 
     ``points`` holds every point on every robot (point by point, robots in file order);
     ``random_q`` one array of configurations per robot; ``layout`` the tables' layout;
@@ -269,6 +299,7 @@ class StudySpec:
     grid: tuple[GridAxis, ...] = ()
     random_q: tuple[NDArray[np.float64], ...] = ()
     trajectory: Trajectory | None = None
+    posture: Posture | None = None
     directions: int | None = None
     mvie: bool = True
     outer: bool = True
@@ -498,6 +529,30 @@ def _random(
     return tuple(samples)
 
 
+def _posture(table: models.PostureTable, robot: Robot) -> Posture:
+    """The posture study's settings, checked as :func:`polyell.self_motion` checks them.
+
+    The robot's redundancy, q0's size, joint limits and rank, and that its self-motion is
+    not blocked both ways, are checked by sampling two postures (a few Newton steps).
+    """
+    from polyell.models.self_motion import self_motion
+
+    model = robot.model
+    if len(table.q0) != model.n:
+        raise InputError("posture.q0", f"{model.n} joint angles", f"{len(table.q0)}")
+    q0 = np.array(table.q0, dtype=float)
+    try:
+        self_motion(model, q0, 2, seed=table.seed)
+    except InputError as exn:
+        where = {"q0": "posture.q0", "robot": "robot" if not robot.name else "robots[0]"}
+        argument = where.get(exn.argument, f"posture.{exn.argument}")
+        raise InputError(argument, exn.expected, exn.got, exn.fix) from None
+    with _within("posture.q0"):
+        rows = tuple(model.dynamics(q0).task)
+    direction, label = named_direction(table.direction, rows, argument="posture.direction")
+    return Posture(q0, direction, label, table.count, table.seed, table.targets)
+
+
 def _candidates(
     tables: list[models.CandidateTable], robots_: tuple[Robot, ...], m: dict[str, int]
 ) -> tuple[Candidate, ...]:
@@ -571,6 +626,7 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
         trajectory = load_trajectory(
             file if file.is_absolute() else folder / file, robots_[0].model.n
         )
+    posture = _posture(study.posture, robots_[0]) if study.posture is not None else None
     output = study.output
     if output.maps and sum(axis.values.size > 1 for axis in grid) != 2:
         raise InputError(
@@ -598,6 +654,7 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
         grid=grid,
         random_q=random_q,
         trajectory=trajectory,
+        posture=posture,
         directions=compare.directions,
         mvie=compare.mvie,
         outer=compare.outer,
