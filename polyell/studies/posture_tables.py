@@ -13,7 +13,9 @@ import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from polyell.comparison.tables import escape_latex, escape_markdown
+from polyell.comparison.labels import set_label
+from polyell.comparison.printable import Cell, Label, PrintTable, text_label
+from polyell.comparison.tables import escape_latex, escape_markdown, render_tables
 from polyell.errors import InputError
 from polyell.storage import write_text_atomically
 
@@ -24,57 +26,27 @@ __all__ = ["POSTURE_TABLE_STEM", "format_posture_table", "write_posture_tables"]
 
 #: File names of the written tables: ``<stem>.tex``, ``<stem>.md``, ``<stem>.csv``.
 POSTURE_TABLE_STEM = "posture_choice"
-#: Display names of the kinds (a candidate keeps its own name).
-KIND_LABELS = {
-    "polytope": "polytope (truth)",
-    "chiacchio": "new (eq. 32/38)",
-    "yoshikawa": "classic (eq. 27)",
-    "mvie": "MVIE",
-    "outer": "outer (min. volume)",
-}
-
-
-#: How an undefined cell prints.
-MISSING = "n/a"
-
-
-def _number(value: object, kind: str) -> str:
-    """A cell: a posture index, a percentage, a correlation or a value (4 significant)."""
-    if value is None or (isinstance(value, float) and math.isnan(value)):
-        return MISSING
-    try:
-        number = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        return MISSING  # pandas' <NA>
-    if math.isnan(number):
-        return MISSING
-    if kind == "index":
-        return str(int(number))
-    if kind == "percent":
-        return f"{100.0 * number:.1f} %"
-    if kind == "correlation":
-        return f"{number:+.3f}"
-    return f"{number:.4g}"
-
-
-#: The columns shown, their header and their format.
+#: The columns shown: header lines (stacked in LaTeX, one line elsewhere) and kind.
 _COLUMNS = {
-    "picked": ("posture picked", "index"),
-    "true_at_pick": ("truth at pick", "value"),
-    "true_best": ("best truth", "value"),
-    "regret": ("regret", "percent"),
-    "spearman": ("Spearman", "correlation"),
-    "kendall": ("Kendall", "correlation"),
-    "median_regret": ("median regret", "percent"),
-    "worst_regret": ("worst regret", "percent"),
-    "mean_regret": ("mean regret", "percent"),
-    "median_spearman": ("median Spearman", "correlation"),
-    "median_kendall": ("median Kendall", "correlation"),
-    "targets": ("targets", "index"),
+    "picked": (("posture", "picked"), "index"),
+    "true_at_pick": (("truth", "at pick"), "value"),
+    "true_best": (("best", "truth"), "value"),
+    "regret": (("regret", "[%]"), "share"),
+    "spearman": (("Spear-", "man"), "value"),
+    "kendall": (("Kendall",), "value"),
+    "median_regret": (("median", "regret [%]"), "share"),
+    "worst_regret": (("worst", "regret [%]"), "share"),
+    "mean_regret": (("mean", "regret [%]"), "share"),
+    "median_spearman": (("median", "Spearman"), "value"),
+    "median_kendall": (("median", "Kendall"), "value"),
+    "targets": (("targets",), "index"),
 }
+#: Significant digits of the values (regret, correlations, the criteria's values).
+DIGITS = 3
 
 
-def _cells(table: pd.DataFrame) -> tuple[list[str], list[list[str]]]:
+def _print_table(table: pd.DataFrame) -> PrintTable:
+    """The choice table laid out by the package's table writers: a line per set."""
     if table.index.nlevels != 2:
         raise InputError(
             "table",
@@ -85,60 +57,51 @@ def _cells(table: pd.DataFrame) -> tuple[list[str], list[list[str]]]:
     columns = [c for c in table.columns if c in _COLUMNS]
     if not columns:
         raise InputError("table", f"columns among {list(_COLUMNS)}", f"{list(table.columns)}")
-    header = ["index", "criterion", *(_COLUMNS[c][0] for c in columns)]
-    body = []
-    for (kind, criterion), row in table.iterrows():
-        cells = [KIND_LABELS.get(str(kind), str(kind)), str(criterion)]
-        body.append(cells + [_number(row[c], _COLUMNS[c][1]) for c in columns])
-    return header, body
+    headers = []
+    for column in columns:
+        lines = _COLUMNS[column][0]
+        plain = " ".join(lines).replace("- ", "")
+        headers.append(Label(plain, escape_latex(plain, "column"), tuple(
+            escape_latex(line, "column") for line in lines
+        )) if len(lines) > 1 else Label(plain, escape_latex(plain, "column")))  # fmt: skip
+    rows = []
+    for (kind, criterion), record in table.iterrows():
+        cells = []
+        for column in columns:
+            value = float(record[column]) if record[column] is not None else math.nan
+            kind_of = _COLUMNS[column][1]
+            cells.append(Cell(value, 2 if kind_of == "share" else 0, count=kind_of == "index"))
+        stub = (text_label(set_label(str(kind)), "sets"), text_label(str(criterion), "criterion"))
+        rows.append((stub, tuple(cells)))
+    stub_head = (Label("set", "set"), Label("criterion", "criterion"))
+    return PrintTable(stub_head, tuple(headers), tuple(rows), grouped=True)
 
 
 def format_posture_table(
     table: pd.DataFrame, style: str, title: str = "", label: str | None = None
 ) -> str:
-    """A choice table as ``"latex"`` (booktabs, a ``table`` float) or ``"markdown"`` text.
+    """A choice table as ``"latex"`` (booktabs, a ``table`` float), ``"markdown"`` or ``"csv"``.
+
+    Written by the package's table writers (the same labels and rounding as every table:
+    a line per set, :data:`DIGITS` significant digits, regret in percent).
 
     Parameters
     ----------
     table : DataFrame
         :attr:`PostureChoice.table` or :attr:`PostureChoiceOverTargets.summary`.
-    style : {"latex", "markdown"}
+    style : {"latex", "markdown", "csv"}
     title : str, optional
         The LaTeX caption, or a Markdown heading line (plain text, escaped).
     label : str, optional
         A LaTeX label (letters, digits and ``:-_.``).
     """
-    header, body = _cells(table)
+    if style not in ("latex", "markdown", "csv"):
+        raise InputError("style", "'latex', 'markdown' or 'csv'", repr(style))
+    printable = _print_table(table)
     if style == "markdown":
-        lines = [f"**{escape_markdown(title, 'title')}**", ""] if title else []
-        lines.append("| " + " | ".join(escape_markdown(h, "column") for h in header) + " |")
-        lines.append("| :-- | :-- | " + " | ".join("--:" for _ in header[2:]) + " |")
-        for row in body:
-            lines.append("| " + " | ".join(escape_markdown(c, "cell") for c in row) + " |")
-        return "\n".join(lines) + "\n"
-    if style != "latex":
-        raise InputError("style", "'latex' or 'markdown'", repr(style))
-    lines = [r"\begin{table}", r"\centering"]
-    if title:
-        lines.append(rf"\caption{{{escape_latex(title, 'title')}}}")
-    if label is not None:
-        if (
-            not isinstance(label, str)
-            or not label
-            or any(not (c.isascii() and (c.isalnum() or c in ":-_.")) for c in label)
-        ):
-            raise InputError("label", "letters, digits and :-_. only", repr(label))
-        lines.append(rf"\label{{{label}}}")
-    lines += [rf"\begin{{tabular}}{{ll{'r' * (len(header) - 2)}}}", r"\toprule"]
-    lines.append(" & ".join(escape_latex(h, "column") for h in header) + r" \\")
-    lines.append(r"\midrule")
-    previous = None
-    for row in body:
-        first = escape_latex(row[0], "row") if row[0] != previous else ""
-        previous = row[0]
-        lines.append(" & ".join([first, *(escape_latex(c, "cell") for c in row[1:])]) + r" \\")
-    lines += [r"\bottomrule", r"\end{tabular}", r"\end{table}"]
-    return "\n".join(lines) + "\n"
+        heading = f"**{escape_markdown(title, 'title')}**\n\n" if title else ""
+        return heading + render_tables([printable], "markdown", DIGITS)
+    return render_tables([printable], style, DIGITS, title or None, label)  # type: ignore[arg-type]
 
 
 def write_posture_tables(
