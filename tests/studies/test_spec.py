@@ -85,7 +85,7 @@ def test_robot_file(tmp_path):
         (POINTS + "[output]\nmaps = ['coverage']\n", "output.maps: expected names"),
         (
             POINTS + "[grid]\nq1 = 0\n",
-            "exactly one of [[points]], [grid], [random] and [trajectory]",
+            "exactly one of [[points]], [grid], [random], [trajectory] and [posture]",
         ),
         ("[robot]\nplanar = { lengths = [1] }\n[grid]\nq1 = 0\n", "a 'masses' list"),
         ("[robot]\nplanar = { lengths = [1], masses = [1] }\n[grid]\nq1 = 0\n", "torque limits"),
