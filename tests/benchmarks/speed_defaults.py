@@ -23,6 +23,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from run_benchmarks import summary, timed_alternately
 
 import polyell as pe
 from polyell.geometry.directions import default_direction_count, sphere_directions
@@ -41,23 +42,6 @@ def random_arms(count: int, m: int, n: int, seed: int = ARM_SEED):
     B = A @ np.swapaxes(A, 1, 2) + n * np.eye(n)
     g = 2.0 * rng.normal(size=(count, n))
     return pe.Dynamics(J, B, g), rng.uniform(20.0, 40.0, n)
-
-
-def _alternately(functions, repeats: int) -> list[list[float]]:
-    for function in functions:
-        function()
-    times: list[list[float]] = [[] for _ in functions]
-    for _ in range(repeats):
-        for function, record in zip(functions, times, strict=True):
-            start = time.perf_counter()
-            function()
-            record.append(time.perf_counter() - start)
-    return times
-
-
-def _spread(values, digits: int = 3) -> str:
-    v = np.asarray(values, dtype=float)
-    return f"{np.median(v):.{digits}g} ({v.min():.{digits}g} – {v.max():.{digits}g})"
 
 
 def _ratio(slow: list[float], fast: list[float]) -> str:
@@ -84,11 +68,11 @@ def bench_defaults(repeats: int) -> list[str]:
         def run(directions, source=source, tau_max=tau_max, configurations=configurations):
             return lambda: pe.sweep(source, configurations, tau_max, directions=directions)
 
-        default, at_64 = _alternately([run(None), run(64)], repeats)
+        default, at_64 = timed_alternately([run(None), run(64)], repeats)
         rates = [count / t for t in default], [count / t for t in at_64]
         rows.append(
-            f"| {name} | {default_direction_count(m):,} | {_spread(rates[0], 4)} | "
-            f"{_spread(rates[1], 4)} | {_ratio(default, at_64)} |"
+            f"| {name} | {default_direction_count(m):,} | {summary(rates[0], digits=4)} | "
+            f"{summary(rates[1], digits=4)} | {_ratio(default, at_64)} |"
         )
         verdicts.append((name, np.median(rates[0]), np.median(default) / np.median(at_64)))
     first = verdicts[0]
@@ -271,7 +255,7 @@ def bench_floor(repeats: int) -> list[str]:
         def total(dyn=dyn, tau=tau, T=T):
             batch.batch_rows(dyn, tau, -tau, T)
 
-        times = _alternately([rest, gauge, ends, statistics, total], repeats)
+        times = timed_alternately([rest, gauge, ends, statistics, total], repeats)
         per = [len(dyn), rows, rows, rows, len(dyn)]
         flops = _floor_flops(m, n, k)
         lines += [
@@ -285,14 +269,14 @@ def bench_floor(repeats: int) -> list[str]:
             measured = np.asarray(t) / size * 1e6
             floor = count / peak * 1e6
             lines.append(
-                f"| {name} | {count:,.0f} | {floor:.2f} | {_spread(measured)} | "
+                f"| {name} | {count:,.0f} | {floor:.2f} | {summary(measured)} | "
                 f"{np.median(measured) / floor:.0f}× |"
             )
         measured = np.asarray(times[4]) / per[4] * 1e6
         floor = total_flops / peak * 1e6
         lines += [
             f"| **the whole sweep (`batch_rows`)** | {total_flops:,.0f} | {floor:.2f} | "
-            f"{_spread(measured)} | {np.median(measured) / floor:.0f}× |",
+            f"{summary(measured)} | {np.median(measured) / floor:.0f}× |",
             "",
         ]
     lines += [
@@ -347,9 +331,9 @@ def bench_study(repeats: int) -> list[str]:
         "",
         "| | seconds, median (min – max) |",
         "|---|---|",
-        f"| the whole command (interpreter, imports, outputs) | {_spread(totals)} |",
-        f"| `run_study` (the manifest's `seconds.total`) | {_spread(insides)} |",
-        f"| the sweep inside it | {_spread(sweeps)} |",
+        f"| the whole command (interpreter, imports, outputs) | {summary(totals)} |",
+        f"| `run_study` (the manifest's `seconds.total`) | {summary(insides)} |",
+        f"| the sweep inside it | {summary(sweeps)} |",
         "",
         f"Whole command / sweep: **{np.median(ratio):.2f}×** (run by run "
         f"{ratio.min():.2f}–{ratio.max():.2f}×; target at most 2×).",
