@@ -379,7 +379,7 @@ def _shrunk_two_robot_study(tmp_path):
         ("directions = 1000", "directions = 50"),
         ("mvie = true", "mvie = false"),
         ("outer = true", "outer = false"),
-        ('formats = ["pdf", "png", "html"]', 'formats = ["svg", "html"]'),
+        ('formats = ["pdf", "png"]', 'formats = ["svg", "html"]'),
         ("dpi = 200", "dpi = 20"),
     ):
         assert old in text
