@@ -833,6 +833,14 @@ outer = false"""
         example="200",
         default_text="the single q0",
     )
+    components: list[Numbers] | None = key(
+        None,
+        what="Further postures with q0's task coordinates, each in another connected "
+        "component of the self-motion (a planar arm's other elbow branch): each component "
+        "is sampled like q0's (`count` postures) and the choice is over all of them.",
+        example='[["0.2213", "pi/2", "-pi - 0.2213"]]',
+        default_text="q0's component only",
+    )
 
 
 class CompareTable(Table):

@@ -190,39 +190,44 @@ def _run_posture(spec: StudySpec, folder: Path) -> list[Path]:
     posture = spec.posture
     assert posture is not None
     robot = spec.robots[0]  # a posture study has one robot (checked when it loads)
-    motion = self_motion(robot.model, posture.q0, posture.count, seed=posture.seed)
+    motions = [
+        self_motion(robot.model, q, posture.count, seed=posture.seed) for q in posture.starts
+    ]
+    configurations = np.vstack([motion.configurations for motion in motions])
     options: dict[str, Any] = {
         "direction": posture.direction,
         "mvie": spec.mvie,
         "outer": spec.outer,
         "candidates": spec.candidates,
     }
-    choice = posture_choice(robot.model, motion, robot.tau_max, robot.tau_min, **options)
+    choice = posture_choice(robot.model, configurations, robot.tau_max, robot.tau_min, **options)
     along = f"along {posture.label}"
     written = list(
         write_posture_tables(
             choice.table,
             folder,
-            f"{spec.title}: the posture each index picks ({along}, {posture.count} postures)",
+            f"{spec.title}: the posture each index picks ({along}, {len(configurations)} postures)",
             label="tab:posture-choice",
         ).values()
     )
     import pandas as pd
 
-    joints = pd.DataFrame(
-        motion.configurations, columns=[f"q{i + 1}" for i in range(robot.model.n)]
-    )
+    joints = pd.DataFrame(configurations, columns=[f"q{i + 1}" for i in range(robot.model.n)])
     values = choice.values.copy()
     values.columns = [f"{kind}_{quantity}" for kind, quantity in values.columns]
-    frame = pd.concat([joints, values], axis=1).assign(position=motion.position)
-    frame = frame[["position", *[c for c in frame.columns if c != "position"]]]
+    component = np.concatenate([np.full(len(m.configurations), i) for i, m in enumerate(motions)])
+    position = np.concatenate([m.position for m in motions])
+    frame = pd.concat([joints, values], axis=1).assign(component=component, position=position)
+    frame = frame[["component", "position", *[c for c in frame.columns[:-2]]]]
     frame.index.name = "posture"
     written.append(write_text_atomically(folder / "posture_values.csv", frame.to_csv()))
-    traced = motion.method == "trace"  # a random walk's |q - q0| does not order a curve
+    # One traced curve has a position along it; a random walk's |q - q0|, or several
+    # components, do not order the postures along one curve: the posture number then.
+    traced = len(motions) == 1 and motions[0].method == "trace"
     figure = plot_posture_indices(
         choice.values,
         choice.table,
-        position=motion.position if traced else None,
+        position=motions[0].position if traced else None,
         title=f"{spec.title} ({along})",
     )
     written += save_figure(figure, folder / "posture_indices", spec.figure_formats, spec.dpi)

@@ -256,11 +256,13 @@ class Posture:
     label : str
         Its name (``"x"``) or the vector, rounded.
     count : int
-        Postures sampled.
+        Postures sampled in each component.
     seed : int
         Seed of the sampling and of the targets.
     targets : int or None
         Random targets the choice is aggregated over (None: q0's only).
+    components : tuple of ndarray, shape (n,)
+        Starts of further components of the self-motion (the same task coordinates).
     """
 
     q0: NDArray[np.float64]
@@ -269,6 +271,12 @@ class Posture:
     count: int
     seed: int = 0
     targets: int | None = None
+    components: tuple[NDArray[np.float64], ...] = ()
+
+    @property
+    def starts(self) -> tuple[NDArray[np.float64], ...]:
+        """q0, then the start of every further component."""
+        return (self.q0, *self.components)
 
 
 @dataclass(frozen=True)
@@ -538,19 +546,32 @@ def _posture(table: models.PostureTable, robot: Robot) -> Posture:
     from polyell.models.self_motion import self_motion
 
     model = robot.model
-    if len(table.q0) != model.n:
-        raise InputError("posture.q0", f"{model.n} joint angles", f"{len(table.q0)}")
+    starts = {"posture.q0": table.q0}
+    starts |= {f"posture.components[{i}]": q for i, q in enumerate(table.components or ())}
+    targets = []
+    for key, q in starts.items():
+        if len(q) != model.n:
+            raise InputError(key, f"{model.n} joint angles", f"{len(q)}")
+        try:
+            motion = self_motion(model, np.array(q, dtype=float), 2, seed=table.seed)
+        except InputError as exn:
+            where = {"q0": key, "robot": "robot" if not robot.name else "robots[0]"}
+            argument = where.get(exn.argument, f"posture.{exn.argument}")
+            raise InputError(argument, exn.expected, exn.got, exn.fix) from None
+        targets.append(motion.target)
+        if np.max(np.abs(motion.target - targets[0])) > 1e-9 * (1.0 + np.abs(targets[0]).max()):
+            raise InputError(
+                key,
+                "a posture with q0's task coordinates (another component of its self-motion)",
+                f"task coordinates {np.round(motion.target, 6).tolist()}, q0's "
+                f"{np.round(targets[0], 6).tolist()}",
+            )
     q0 = np.array(table.q0, dtype=float)
-    try:
-        self_motion(model, q0, 2, seed=table.seed)
-    except InputError as exn:
-        where = {"q0": "posture.q0", "robot": "robot" if not robot.name else "robots[0]"}
-        argument = where.get(exn.argument, f"posture.{exn.argument}")
-        raise InputError(argument, exn.expected, exn.got, exn.fix) from None
     with _within("posture.q0"):
         rows = tuple(model.dynamics(q0).task)
     direction, label = named_direction(table.direction, rows, argument="posture.direction")
-    return Posture(q0, direction, label, table.count, table.seed, table.targets)
+    components = tuple(np.array(q, dtype=float) for q in table.components or ())
+    return Posture(q0, direction, label, table.count, table.seed, table.targets, components)
 
 
 def _candidates(
