@@ -99,7 +99,7 @@ def format_posture_table(
         raise InputError("style", "'latex', 'markdown' or 'csv'", repr(style))
     printable = _print_table(table)
     if style == "markdown":
-        heading = f"**{escape_markdown(title, 'title')}**\n\n" if title else ""
+        heading = f"# {escape_markdown(title, 'title')}\n\n" if title else ""
         return heading + render_tables([printable], "markdown", DIGITS)
     return render_tables([printable], style, DIGITS, title or None, label)  # type: ignore[arg-type]
 
