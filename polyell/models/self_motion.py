@@ -203,6 +203,11 @@ def self_motion(
 ) -> SelfMotion:
     """Configurations with the same task coordinates as ``q0``, spread along its self-motion.
 
+    The samples are of the connected component through ``q0``.  A self-motion may have
+    several (the paper's arm at its redundant point has two closed loops, the elbow
+    branches, which share no posture): start another component from one of its own
+    postures and pool the samples (``components`` in a ``[posture]`` study).
+
     Parameters
     ----------
     robot : PlanarArm or UrdfRobot

@@ -802,6 +802,7 @@ class PostureTable(Table):
 library = "chiacchio2000"
 [posture]
 q0 = ["pi/2", "-pi/2", "-pi/2"]
+components = [["0.2213144423477912", "pi/2", "-pi - 0.2213144423477912"]]
 direction = "x"
 count = 40
 seed = 0

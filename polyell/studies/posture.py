@@ -152,7 +152,10 @@ def posture_choice(
     tau_max, tau_min : array-like, shape (n,), optional
         Torque limits [N m]; default the robot's own.
     direction : array-like, shape (m,)
-        The task direction d of the ``"limit"`` criterion (normalised here; not zero).
+        The task direction d of the ``"limit"`` criterion (normalised here; not zero): the
+        accelerations exactly along d, ``{t d}`` with no sideways part, that the set holds
+        (its interval [lo, hi] on that line, as ``Polytope.limits``), not how far the set
+        reaches along d.
     mvie, outer : bool, optional
         Whether to include the maximum-volume inscribed and the minimum-volume enclosing
         ellipsoids (a batched log-det program each).

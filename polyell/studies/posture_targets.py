@@ -92,6 +92,9 @@ def posture_choice_over_targets(
 ) -> PostureChoiceOverTargets:
     """The posture choice at many targets, aggregated: median and worst regret.
 
+    At each target the postures are those of the self-motion's component through its start
+    (:func:`polyell.self_motion`).
+
     Parameters
     ----------
     robot : PlanarArm or UrdfRobot
