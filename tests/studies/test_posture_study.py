@@ -291,6 +291,17 @@ def test_mutated_posture_keys_load_or_are_refused_by_path(tmp_path_factory, key,
         assert exn.argument.startswith("posture"), str(exn)
 
 
+def _polyell_study(path: Path, out: Path) -> subprocess.CompletedProcess[str]:
+    """``polyell study PATH --out OUT`` in a fresh process with this checkout first."""
+    return subprocess.run(
+        [sys.executable, "-m", "polyell", "study", str(path), "--out", str(out)],
+        capture_output=True,
+        text=True,
+        check=False,
+        env={"PYTHONPATH": str(REPO), "OPENBLAS_NUM_THREADS": "1", "PATH": "/usr/bin:/bin"},
+    )
+
+
 @pytest.mark.parametrize(
     ("key", "value"),
     [("count", 0), ("direction", [0, 0]), ("q0", [1, 2]), ("targets", -1), ("cout", 3)],
@@ -298,13 +309,7 @@ def test_mutated_posture_keys_load_or_are_refused_by_path(tmp_path_factory, key,
 def test_cli_refuses_a_bad_posture_key_in_one_line(tmp_path, key, value):
     path = tmp_path / "study.toml"
     path.write_text(_mutated(key, value))
-    run = subprocess.run(
-        [sys.executable, "-m", "polyell", "study", str(path), "--out", str(tmp_path / "out")],
-        capture_output=True,
-        text=True,
-        check=False,
-        env={"PYTHONPATH": str(REPO), "OPENBLAS_NUM_THREADS": "1", "PATH": "/usr/bin:/bin"},
-    )
+    run = _polyell_study(path, tmp_path / "out")
     assert run.returncode == 2, run.stderr
     assert len(run.stderr.strip().splitlines()) == 1 and "posture" in run.stderr
 
@@ -312,13 +317,7 @@ def test_cli_refuses_a_bad_posture_key_in_one_line(tmp_path, key, value):
 def test_cli_runs_a_posture_study(tmp_path):
     path = tmp_path / "study.toml"
     path.write_text(PAPER.replace('["png", "html"]', '["svg"]').replace("count = 12", "count = 4"))
-    run = subprocess.run(
-        [sys.executable, "-m", "polyell", "study", str(path), "--out", str(tmp_path / "out")],
-        capture_output=True,
-        text=True,
-        check=False,
-        env={"PYTHONPATH": str(REPO), "OPENBLAS_NUM_THREADS": "1", "PATH": "/usr/bin:/bin"},
-    )
+    run = _polyell_study(path, tmp_path / "out")
     assert run.returncode == 0, run.stderr
     assert (tmp_path / "out" / "posture_choice.tex").exists()
 
