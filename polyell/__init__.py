@@ -1,12 +1,13 @@
-"""polyell: exact acceleration polytopes and dynamic manipulability ellipsoids.
+"""polyell: exact capacity polytopes of robot arms and the manipulability ellipsoids.
 
 Implements P. Chiacchio, "A new dynamic manipulability ellipsoid for redundant
 manipulators", Robotica 18 (2000), and compares both ellipsoid definitions with the
-exact task-space acceleration polytope.
+exact task-space acceleration polytope; the velocity and static force capacities are
+compared the same way.
 """
 
 from polyell import robots
-from polyell.analysis import ELLIPSOID_KINDS, Analysis, InverseSolution, analyze
+from polyell.capacities import CAPACITIES, ELLIPSOID_KINDS, Analysis, InverseSolution, analyze
 from polyell.comparison import (
     COMPARED_KINDS,
     SCORE_NAMES,
@@ -36,6 +37,7 @@ from polyell.geometry import (
     Polytope,
 )
 from polyell.models import Dynamics, Payload, PlanarArm, UrdfRobot
+from polyell.models.kinematics import Kinematics
 from polyell.models.self_motion import SelfMotion, self_motion
 from polyell.studies import grid, limits_along, local_cluster, random_configurations, sweep
 from polyell.studies.posture import PostureChoice, posture_choice
@@ -46,6 +48,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "AFFINE_RTOL",
+    "CAPACITIES",
     "COMPARED_KINDS",
     "ELLIPSOID_KINDS",
     "RANK_RTOL",
@@ -59,6 +62,7 @@ __all__ = [
     "Ellipsoid",
     "InputError",
     "InverseSolution",
+    "Kinematics",
     "MissingDependencyError",
     "Payload",
     "PlanarArm",

@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polyell import __version__, robots
-from polyell.analysis import analyze
+from polyell.capacities import analyze
 from polyell.comparison import compare
 from polyell.errors import InputError, PolyellError, ProjectedInputWarning
 from polyell.expressions import evaluate_list

@@ -19,12 +19,12 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from numpy.typing import NDArray
 from scipy.spatial import ConvexHull
 
-from polyell.analysis import Analysis
+from polyell.capacities import Analysis
 from polyell.comparison.tables import ELLIPSOID_LABELS, score_display
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.directions import sphere_directions
 from polyell.geometry.ellipsoid import Ellipsoid
-from polyell.models.task import row_label, task_unit
+from polyell.models.task import row_label
 from polyell.storage import write_atomically
 
 __all__ = [
@@ -152,11 +152,11 @@ def _ellipsoids(
 
 def _label_axes(ax: Axes, analysis: Analysis, unit: str | None) -> None:
     """Label each axis with its task row (x, z, wx, ...) and the task's unit."""
-    unit = unit or task_unit(analysis.dynamics.task, tex=True)
+    unit = unit or analysis.unit(tex=True)
     setters = (ax.set_xlabel, ax.set_ylabel, getattr(ax, "set_zlabel", None))
     for setter, row in zip(setters, analysis.dynamics.task, strict=False):
         assert setter is not None
-        setter(f"{row_label(row)} [{unit}]")
+        setter(f"{row_label(row, analysis.capacity)} [{unit}]")
 
 
 def plot_sets(
@@ -448,7 +448,7 @@ def plot_directional_limits(
         hi = S.limits(T).hi[order]
         style = _style(name, list(sets))
         ax.plot(angles[order], np.where(hi > 0, hi, np.nan), **style)  # type: ignore[arg-type]
-    unit = unit or task_unit(analysis.dynamics.task, tex=True)
+    unit = unit or analysis.unit(tex=True)
     ax.set_title(title or f"upper limit along each direction [{unit}]", fontsize="medium")
     ax.legend(fontsize="small", loc="lower left", bbox_to_anchor=(-0.1, -0.12))
     return figure

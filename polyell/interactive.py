@@ -25,7 +25,6 @@ from polyell.comparison.summary import result_kinds, split_column
 from polyell.comparison.tables import ellipsoid_label, score_display
 from polyell.errors import InputError
 from polyell.export import mesh, polytope_edges
-from polyell.models.task import task_unit
 from polyell.storage import write_text_atomically
 
 if TYPE_CHECKING:  # plotly and pandas are imported where they are used (start-up time)
@@ -137,7 +136,7 @@ def interactive_sets(
     if m not in (2, 3):
         raise InputError("comparison", "a 2-D or 3-D task space", f"m = {m}")
     chosen = [k for k in (kinds or comparison.kinds) if comparison[k].defined]
-    unit = task_unit(analysis.dynamics.task)
+    unit = analysis.unit()
     labels = [_plain_label(row) for row in analysis.dynamics.task]
     P = analysis.polytope
     figure = go.Figure()

@@ -8,10 +8,9 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from polyell.analysis import ELLIPSOID_KINDS, Analysis, InverseSolution
+from polyell.capacities import ELLIPSOID_KINDS, Analysis, InverseSolution
 from polyell.comparison import Comparison
 from polyell.errors import UndefinedEllipsoidError
-from polyell.models.task import task_unit
 
 __all__ = ["analysis_to_json", "format_analysis"]
 
@@ -81,7 +80,7 @@ def format_analysis(
     str
     """
     P, svd = analysis.polytope, analysis.svd
-    unit = task_unit(analysis.dynamics.task)
+    unit = analysis.unit()
     lines = [
         f"task rows {', '.join(analysis.dynamics.task)} [{unit}]",
         f"rank M = {analysis.rank} of m = {analysis.dynamics.m}"
@@ -183,7 +182,7 @@ def analysis_to_json(
     lo, hi = P.limits(direction)
     result: dict[str, Any] = {
         "task": list(analysis.dynamics.task),
-        "unit": task_unit(analysis.dynamics.task),
+        "unit": analysis.unit(),
         "xg": analysis.xg,
         "M": analysis.M,
         "rank": analysis.rank,

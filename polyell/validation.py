@@ -197,7 +197,7 @@ def _check_torque_size(name: str, value: NDArray[np.float64]) -> None:
         i = int(np.argmax(np.abs(value)))
         raise InputError(
             name,
-            f"torque limits of size at most {MAX_TORQUE:g} N m",
+            f"limits of size at most {MAX_TORQUE:g} (N m, rad/s)",
             f"{name}[{i}] = {value[i]:.3g}",
             "give the real limits (with the gravity torques in the same units); polyell's "
             "sets are bounded.",
@@ -205,7 +205,10 @@ def _check_torque_size(name: str, value: NDArray[np.float64]) -> None:
 
 
 def check_torque_limits(
-    tau_max: ArrayLike, tau_min: ArrayLike | None, n: int
+    tau_max: ArrayLike,
+    tau_min: ArrayLike | None,
+    n: int,
+    names: tuple[str, str] = ("tau_max", "tau_min"),
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Check joint torque limits and return ``(tau_max, tau_min)`` as float64 arrays.
 
@@ -218,33 +221,36 @@ def check_torque_limits(
         positive).
     n : int
         Number of joints.
+    names : (str, str), optional
+        The arguments' names in messages (``("qd_max", "qd_min")`` for velocity limits).
 
     Raises
     ------
     InputError
         If a shape is wrong, a value is not finite, or ``tau_min >= tau_max`` anywhere.
     """
-    upper = check_array("tau_max", tau_max, (n,))
-    _check_torque_size("tau_max", upper)
+    hi, lo = names
+    upper = check_array(hi, tau_max, (n,))
+    _check_torque_size(hi, upper)
     if tau_min is None:
         if (upper <= 0).any():
             bad = np.flatnonzero(upper <= 0)
             raise InputError(
-                "tau_max",
-                "strictly positive symmetric bounds when tau_min is not given",
-                f"tau_max[{bad[0]}] = {upper[bad[0]]:g}",
-                "give positive bounds, or pass tau_min explicitly for asymmetric limits.",
+                hi,
+                f"strictly positive symmetric bounds when {lo} is not given",
+                f"{hi}[{bad[0]}] = {upper[bad[0]]:g}",
+                f"give positive bounds, or pass {lo} explicitly for asymmetric limits.",
             )
         return upper, -upper
-    lower = check_array("tau_min", tau_min, (n,))
-    _check_torque_size("tau_min", lower)
+    lower = check_array(lo, tau_min, (n,))
+    _check_torque_size(lo, lower)
     if (lower >= upper).any():
         i = np.flatnonzero(lower >= upper)[0]
         raise InputError(
-            "tau_min",
-            "tau_min < tau_max for every joint",
-            f"tau_min[{i}] = {lower[i]:g} >= tau_max[{i}] = {upper[i]:g}",
-            "each joint needs a torque range of positive width.",
+            lo,
+            f"{lo} < {hi} for every joint",
+            f"{lo}[{i}] = {lower[i]:g} >= {hi}[{i}] = {upper[i]:g}",
+            "each joint needs a range of positive width.",
         )
     return upper, lower
 

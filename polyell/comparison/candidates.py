@@ -27,7 +27,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polyell.analysis import ELLIPSOID_KINDS, Analysis
+from polyell.capacities import ELLIPSOID_KINDS, Analysis
+from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.validation import check_points, check_spd
@@ -161,7 +162,7 @@ class Candidate:
         UndefinedEllipsoidError
             If a core-defined ellipsoid misses the polytope's affine set.
         """
-        self.check_sizes(analysis.dynamics.m, analysis.dynamics.n)
+        self.check_sizes(analysis.m, analysis.n)
         try:
             return self._ellipsoid(analysis)
         except InputError as exn:  # its size, refused by Ellipsoid: name the candidate
@@ -173,14 +174,20 @@ class Candidate:
             ) from None
 
     def _ellipsoid(self, analysis: Analysis) -> Ellipsoid:
-        svd, r = analysis.svd, analysis.rank
+        P = analysis.polytope
+        r, xg, U1 = P.dim, P.center, P.affine_set.basis
         if self.weighting is not None:
+            if not isinstance(analysis, ZonotopeAnalysis):
+                raise UndefinedEllipsoidError(
+                    f"candidate {self.name!r}: a weighting of normalized joint quantities "
+                    f"defines an ellipsoid of a zonotope capacity, not of the "
+                    f"{analysis.capacity} capacity; give a core (and a centre) instead."
+                )
             U, s, _ = np.linalg.svd(analysis.M @ self.root_inverse, full_matrices=False)
-            return Ellipsoid(analysis.xg, U[:, :r], s[:r], kind=self.name)
+            return Ellipsoid(xg, U[:, :r], s[:r], kind=self.name)
         assert self.core is not None
         # The section with {xg + U1 y}: (y - y0)^T A (y - y0) <= rho^2.
-        center = analysis.xg if self.center is None else self.center
-        U1 = svd.U1
+        center = xg if self.center is None else self.center
         A = U1.T @ self.core @ U1
         eigenvalues, eigenvectors = np.linalg.eigh(A)
         if r and not eigenvalues[0] > np.finfo(float).eps * eigenvalues[-1]:
@@ -192,9 +199,9 @@ class Candidate:
                 "units so that its entries have similar sizes).",
             )
         with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below
-            b = U1.T @ self.core @ (analysis.xg - center)
+            b = U1.T @ self.core @ (xg - center)
             y0 = -np.linalg.solve(A, b) if r else np.zeros(0)
-            offset = analysis.xg - center
+            offset = xg - center
             rho2 = 1.0 - offset @ self.core @ offset - b @ y0
         if not rho2 > 0:
             raise UndefinedEllipsoidError(
@@ -202,7 +209,7 @@ class Candidate:
                 "at this (singular) configuration."
             )
         return Ellipsoid(
-            analysis.xg + U1 @ y0,
+            xg + U1 @ y0,
             U1 @ eigenvectors,
             np.sqrt(rho2 / eigenvalues),
             kind=self.name,

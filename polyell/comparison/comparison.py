@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from polyell.analysis import Analysis, EllipsoidKind
+from polyell.capacities import Analysis, capacity_class
 from polyell.comparison.candidates import BUILT_IN_KINDS, Candidate, check_candidates
 from polyell.comparison.directions import DirectionSpec
 from polyell.comparison.layout import TableLayout
@@ -39,7 +39,7 @@ from polyell.validation import check_directions, check_integer
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
 
-__all__ = ["COMPARED_KINDS", "SCORE_NAMES", "Comparison", "Scores", "compare"]
+__all__ = ["COMPARED_KINDS", "SCORE_NAMES", "Comparison", "Scores", "compare", "compared_kinds"]
 
 #: Quasi-Monte-Carlo points per replicate: at least 2 (a mean and a spread), at most 2^22
 #: (the replicate's points, (samples, r + 1) floats, then take at most 230 MB in 6-D).
@@ -48,9 +48,15 @@ MIN_SAMPLES, MAX_SAMPLES = 2, 2**22
 #: file format a study writes).
 MAX_SEED = 2**63 - 1
 
-#: The ellipsoids every comparison scores: both definitions, the maximum-volume inscribed
-#: one and the minimum-volume enclosing (outer) one; user-defined candidates follow them.
+#: The ellipsoids every comparison of accelerations scores: both definitions, the
+#: maximum-volume inscribed one and the minimum-volume enclosing (outer) one; user-defined
+#: candidates follow them.  Other capacities: :func:`compared_kinds`.
 COMPARED_KINDS = BUILT_IN_KINDS
+
+
+def compared_kinds(capacity: str = "acceleration") -> tuple[str, ...]:
+    """The ellipsoids a comparison of a capacity scores: its own kinds, the MVIE, the outer."""
+    return (*capacity_class(capacity).ellipsoid_kinds, "mvie", "outer")
 
 
 @dataclass(frozen=True)
@@ -164,7 +170,7 @@ class Comparison:
         self._seed = seed
         self._computed = {"mvie": mvie, "outer": outer}
         self._candidates = {c.name: c for c in candidates}
-        self.kinds: tuple[str, ...] = (*COMPARED_KINDS, *self._candidates)
+        self.kinds: tuple[str, ...] = (*compared_kinds(analysis.capacity), *self._candidates)
         self.records: dict[str, Scores] = {kind: self._score(kind) for kind in self.kinds}
 
     def __getitem__(self, kind: str) -> Scores:
@@ -198,7 +204,7 @@ class Comparison:
             return self.outer
         if kind in self._candidates:
             return self._candidates[kind].ellipsoid(self.analysis)
-        return self.analysis.ellipsoid(kind)  # type: ignore[arg-type]
+        return self.analysis.ellipsoid(kind)
 
     def _optimum_volume(self, kind: str) -> float:
         """Volume of the MVIE or of the outer ellipsoid, NaN where not computed or failed."""
@@ -222,7 +228,6 @@ class Comparison:
         check_same_affine_set(E, P)
         shares = overlap(E, P, samples=self._samples, seed=self._seed)
         errors = direction_errors(E.limits(self.directions), self.polytope_limits)
-        inverse: EllipsoidKind = "yoshikawa" if kind == "yoshikawa" else "chiacchio"
         return Scores(
             kind=kind,
             dimension=float(E.rank),
@@ -241,7 +246,7 @@ class Comparison:
             direction_bias=errors.bias,
             feasibility_mismatch=errors.mismatch,
             directions_used=errors.used,
-            witness_torque_max=witness_torque_max(E, self.analysis.torque_map(inverse)),
+            witness_torque_max=witness_torque_max(E, self.analysis.witness_map(kind)),
         )
 
     def to_row(self) -> dict[str, float]:
@@ -416,7 +421,7 @@ def compare(
         T = np.atleast_2d(check_directions("directions", directions, affine_set.ambient_dim))
     found = check_candidates(candidates)
     for candidate in found:
-        candidate.check_sizes(analysis.dynamics.m, analysis.dynamics.n)
+        candidate.check_sizes(analysis.m, analysis.n)
     samples = check_integer("samples", samples, MIN_SAMPLES, MAX_SAMPLES)
     seed = check_integer("seed", seed, 0, MAX_SEED)
     for name, flag in (("mvie", mvie), ("outer", outer)):

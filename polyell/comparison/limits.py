@@ -15,7 +15,6 @@ import numpy as np
 from polyell.comparison.directions import DirectionSpec, resolve_directions
 from polyell.comparison.metrics import relative_error
 from polyell.errors import InputError
-from polyell.models.task import task_unit
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
@@ -75,7 +74,7 @@ def limits_frame(
     T = np.array([vector for vector, _ in found])
     labels = [label for _, label in found]
     polytope = comparison.analysis.polytope.limits(T)
-    unit = task_unit(task)
+    unit = comparison.analysis.unit()
     columns = {}
     for kind in kinds:
         defined = kind == "polytope" or comparison[kind].defined

@@ -185,14 +185,13 @@ def format_comparison_table(
     """
     from polyell.comparison.limits import posture_comparisons
     from polyell.comparison.print_scores import scores_print_tables
-    from polyell.models.task import task_unit
 
     layout = _layout(layout)
     named = posture_comparisons(comparisons)
     tables = scores_print_tables(
         {name: c.to_frame() for name, c in named.items()},
         layout,
-        {name: task_unit(c.analysis.dynamics.task) for name, c in named.items()},
+        {name: c.analysis.unit() for name, c in named.items()},
         {name: c.analysis.polytope.dim for name, c in named.items()},
     )
     return render_tables(tables, style, layout.digits, caption, label)

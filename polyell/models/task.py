@@ -1,8 +1,9 @@
 """Names and units of the task-space rows: what axis labels, tables, text and JSON call them.
 
-A row is linear (``x``, ``y``, ``z``: accelerations in m/s^2) or angular (``wx``, ``wy``,
-``wz``: angular accelerations in rad/s^2).  A task mixing both needs weights (see
-:class:`~polyell.UrdfRobot`), and its sets are then in weighted units.
+A row is linear (``x``, ``y``, ``z``) or angular (``wx``, ``wy``, ``wz``); its unit depends
+on the capacity: accelerations in m/s^2 or rad/s^2, velocities in m/s or rad/s, forces in N
+or moments in N m.  A task mixing both needs weights (see :class:`~polyell.UrdfRobot`), and
+its sets are then in weighted units.
 """
 
 from __future__ import annotations
@@ -15,7 +16,17 @@ __all__ = ["ANGULAR_ROWS", "LINEAR_ROWS", "check_task", "default_task", "row_lab
 
 LINEAR_ROWS = ("x", "y", "z")
 ANGULAR_ROWS = ("wx", "wy", "wz")
-_UNITS = {"linear": ("m/s^2", r"m/s$^2$"), "angular": ("rad/s^2", r"rad/s$^2$")}
+_UNITS = {
+    "acceleration": {"linear": ("m/s^2", r"m/s$^2$"), "angular": ("rad/s^2", r"rad/s$^2$")},
+    "velocity": {"linear": ("m/s", "m/s"), "angular": ("rad/s", "rad/s")},
+    "force": {"linear": ("N", "N"), "angular": ("N m", "N m")},
+}
+#: TeX symbols of a row's quantity per capacity: linear row ``x``, angular row ``wx``.
+_SYMBOLS = {
+    "acceleration": (r"\ddot {}", r"\dot\omega"),
+    "velocity": (r"\dot {}", r"\omega"),
+    "force": ("f", r"\mu"),
+}
 
 
 def default_task(m: int) -> tuple[str, ...]:
@@ -52,16 +63,27 @@ def _kind(row: str) -> str:
     return "angular" if row in ANGULAR_ROWS else "linear"
 
 
-def task_unit(task: Sequence[str], tex: bool = False) -> str:
-    """The acceleration unit of a task: m/s^2, rad/s^2, or ``weighted units`` when mixed."""
+def task_unit(task: Sequence[str], tex: bool = False, capacity: str = "acceleration") -> str:
+    """The unit of a task's quantity, or ``weighted units`` when linear and angular rows mix.
+
+    ``m/s^2`` and ``rad/s^2`` (acceleration), ``m/s`` and ``rad/s`` (velocity), ``N`` and
+    ``N m`` (force).
+    """
     kinds = {_kind(row) for row in task}
     if len(kinds) != 1:
         return "weighted units"
-    return _UNITS[kinds.pop()][int(tex)]
+    return _UNITS[capacity][kinds.pop()][int(tex)]
 
 
-def row_label(row: str) -> str:
-    r"""A TeX axis label for a row: ``$\ddot x$`` for x, ``$\dot\omega_x$`` for wx."""
+def row_label(row: str, capacity: str = "acceleration") -> str:
+    r"""A TeX axis label for a row: ``$\ddot x$`` for x, ``$\dot\omega_x$`` for wx.
+
+    Velocities read ``$\dot x$`` and ``$\omega_x$``, forces ``$f_x$`` and ``$\mu_x$``.
+    """
+    linear, angular = _SYMBOLS[capacity]
     if row in ANGULAR_ROWS:
-        return rf"$\dot\omega_{row[1]}$"
-    return rf"$\ddot {row[0]}_{{{row[1:]}}}$" if len(row) > 1 else rf"$\ddot {row}$"
+        return rf"${angular}_{row[1]}$"
+    if linear == "f":
+        return rf"$f_{{{row}}}$"
+    symbol = linear.format(row[0])
+    return rf"${symbol}_{{{row[1:]}}}$" if len(row) > 1 else rf"${symbol}$"

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from polyell.analysis import ELLIPSOID_KINDS, analyze
+from polyell.capacities import ELLIPSOID_KINDS, analyze
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.limits import (
     DirectionalLimits,

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from polyell.analysis import analyze
+from polyell.capacities import analyze
 from polyell.comparison.comparison import SCORE_NAMES, Comparison, compare
 from polyell.comparison.limits import limits_table
 from polyell.comparison.point_tables import write_point_tables
@@ -47,7 +47,7 @@ from polyell.studies.trajectory import Trajectory, tangent_limits
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
 
-    from polyell.analysis import Analysis
+    from polyell.capacities import Analysis
     from polyell.studies.spec import GridAxis
 
 __all__ = ["STUDY_FILES", "run_study"]

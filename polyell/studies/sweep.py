@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from tqdm import tqdm
 
-from polyell.analysis import analyze
+from polyell.capacities import analyze
 from polyell.comparison.candidates import Candidate, check_candidates
 from polyell.comparison.comparison import (
     COMPARED_KINDS,

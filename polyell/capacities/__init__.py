@@ -1,0 +1,156 @@
+"""Capacities: what an arm can do at a configuration, as a set and as ellipsoids.
+
+One interface (:class:`~polyell.capacities.base.Analysis`) and a registry of three
+capacities -- accelerations (the paper), velocities and static forces -- built by
+:func:`analyze`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from numpy.typing import ArrayLike
+
+from polyell.capacities.acceleration import ELLIPSOID_KINDS, AccelerationAnalysis
+from polyell.capacities.base import Analysis, InverseSolution
+from polyell.capacities.force import ForceAnalysis
+from polyell.capacities.velocity import VelocityAnalysis
+from polyell.errors import InputError
+from polyell.geometry.subspace import AFFINE_RTOL, RANK_RTOL
+
+__all__ = [
+    "CAPACITIES",
+    "ELLIPSOID_KINDS",
+    "AccelerationAnalysis",
+    "Analysis",
+    "ForceAnalysis",
+    "InverseSolution",
+    "VelocityAnalysis",
+    "analyze",
+    "capacity_class",
+    "check_capacity",
+]
+
+_REGISTRY: dict[str, type[Analysis]] = {
+    cls.capacity: cls for cls in (AccelerationAnalysis, VelocityAnalysis, ForceAnalysis)
+}
+#: The capacities :func:`analyze` knows, in table order.
+CAPACITIES: tuple[str, ...] = tuple(_REGISTRY)
+
+
+def check_capacity(capacity: object, argument: str = "capacity") -> str:
+    """Return ``capacity`` if it is a registered name, else raise an InputError."""
+    if not isinstance(capacity, str) or capacity not in _REGISTRY:
+        from difflib import get_close_matches
+
+        close = get_close_matches(str(capacity), CAPACITIES, n=1)
+        raise InputError(
+            argument,
+            "one of " + ", ".join(repr(c) for c in CAPACITIES),
+            repr(capacity),
+            f"did you mean {close[0]!r}?" if close else "accelerations are the default.",
+        )
+    return capacity
+
+
+def capacity_class(capacity: str) -> type[Analysis]:
+    """The :class:`Analysis` subclass of a capacity name."""
+    return _REGISTRY[check_capacity(capacity)]
+
+
+def analyze(
+    dyn: Any,
+    tau_max: ArrayLike | None = None,
+    tau_min: ArrayLike | None = None,
+    *,
+    capacity: str = "acceleration",
+    qd_max: ArrayLike | None = None,
+    qd_min: ArrayLike | None = None,
+    rank_rtol: float = RANK_RTOL,
+    affine_rtol: float = AFFINE_RTOL,
+) -> Any:
+    """Analyze one capacity of a robot at one configuration.
+
+    Parameters
+    ----------
+    dyn : Dynamics or Kinematics
+        Jacobian, inertia and gravity torques at the configuration (the velocity capacity
+        needs only the Jacobian: a :class:`~polyell.Kinematics` will do).
+    tau_max : array-like, shape (n,)
+        Upper torque limits [N m] (acceleration and force capacities).
+    tau_min : array-like, shape (n,), optional
+        Lower torque limits [N m]; default ``-tau_max``.
+    capacity : {"acceleration", "velocity", "force"}
+        ``"acceleration"`` (the paper's: the zonotope of eq. 15 and both dynamic
+        manipulability ellipsoids), ``"velocity"`` (the zonotope ``{J qd}`` of the joint
+        velocity box and its manipulability ellipsoid) or ``"force"`` (the static force
+        polytope ``{h : tau_min <= J^T h + g <= tau_max}`` and three force ellipsoids).
+    qd_max, qd_min : array-like, shape (n,)
+        Joint velocity limits [rad/s] of the velocity capacity (``qd_min`` default
+        ``-qd_max``).
+    rank_rtol : float, optional
+        Relative tolerance of the rank decision (singular values at or below
+        ``rank_rtol * sigma_max`` are zero); default :data:`~polyell.RANK_RTOL`.
+    affine_rtol : float, optional
+        At a singular configuration, how far (relative) a direction or a point may be off
+        the affine set and still count as in it (rounded input, projected with a
+        :class:`~polyell.ProjectedInputWarning`); default :data:`~polyell.AFFINE_RTOL`.
+
+    Returns
+    -------
+    Analysis
+        :class:`~polyell.capacities.AccelerationAnalysis`, ``VelocityAnalysis`` or
+        ``ForceAnalysis``; ``analysis.capacity`` says which.
+
+    Raises
+    ------
+    InputError
+        For an unknown capacity, missing or misplaced limits (velocity limits for an
+        acceleration analysis, torque limits for a velocity one), or bad matrices.
+
+    Examples
+    --------
+    >>> import numpy as np, polyell as pe
+    >>> arm = pe.PlanarArm(lengths=[1.0, 0.8, 0.5], masses=[4.0, 2.0, 0.6])
+    >>> an = pe.analyze(arm.dynamics([np.pi / 2, -np.pi / 2, -np.pi / 2]), tau_max=[100, 30, 4])
+    >>> np.round(an.xg, 3) + 0.0  # + 0.0 shows a rounded -0.0 as 0.0
+    array([  0.   , -12.392])
+    >>> force = pe.analyze(arm.dynamics([0.3, 0.6, 0.9]), [100, 30, 4], capacity="force")
+    >>> force.capacity, force.ellipsoid_kinds
+    ('force', ('chiacchio', 'yoshikawa', 'static'))
+    """
+    capacity = check_capacity(capacity)
+    options = {"rank_rtol": rank_rtol, "affine_rtol": affine_rtol}
+    if capacity == "velocity":
+        if tau_max is not None or tau_min is not None:
+            raise InputError(
+                "tau_max",
+                "no torque limits for the velocity capacity",
+                "torque limits",
+                "pass the joint velocity limits as qd_max= (and qd_min=).",
+            )
+        if qd_max is None:
+            raise InputError(
+                "qd_max",
+                "joint velocity limits [rad/s] for the velocity capacity",
+                "none",
+                "pass qd_max=[...] (e.g. robot.qd_max, the URDF's velocity limits).",
+            )
+        return VelocityAnalysis(dyn, qd_max, qd_min, **options)
+    if qd_max is not None or qd_min is not None:
+        raise InputError(
+            "qd_max",
+            f"no joint velocity limits for the {capacity} capacity",
+            "qd_max/qd_min",
+            "pass capacity='velocity' to analyze velocities.",
+        )
+    if tau_max is None:
+        raise InputError(
+            "tau_max",
+            f"torque limits [N m] for the {capacity} capacity",
+            "none",
+            "pass tau_max=[...] (and tau_min=), e.g. robot.tau_max.",
+        )
+    if capacity == "force":
+        return ForceAnalysis(dyn, tau_max, tau_min, **options)
+    return AccelerationAnalysis(dyn, tau_max, tau_min, **options)

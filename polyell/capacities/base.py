@@ -1,0 +1,187 @@
+r"""The capacity interface: an exact set of task quantities, its ellipsoids, their witness.
+
+A *capacity* (DESIGN.md section 7) answers "what can the arm do at this configuration" for
+one task quantity -- accelerations, velocities or static forces -- with three things:
+
+* the exact convex set of achievable task quantities (:attr:`Analysis.polytope`),
+* its named ellipsoids (:attr:`Analysis.ellipsoid_kinds`, :meth:`Analysis.ellipsoid`),
+* the witness map from a task point back to the normalized joint quantity that realizes it
+  (:meth:`Analysis.witness_map`; more than 1 in the infinity norm means the point needs
+  more than the joints can give).
+
+The comparator, the tables, the figures, the studies and the command line speak to this
+interface only; :mod:`polyell.capacities.acceleration`, :mod:`~polyell.capacities.velocity`
+and :mod:`~polyell.capacities.force` implement it.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from functools import cached_property
+from typing import ClassVar, NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from polyell.errors import InputError
+from polyell.geometry.convex_set import ConvexSet
+from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.subspace import AFFINE_RTOL
+from polyell.inverse import AffineMap
+from polyell.models.task import task_unit
+
+__all__ = ["Analysis", "InverseSolution"]
+
+
+class InverseSolution(NamedTuple):
+    """Joint quantities and their normalized values that realize task points.
+
+    Unpacks as ``joint, normalized = solution``; for accelerations also read as
+    ``qdd, tau_n`` (:attr:`qdd`, :attr:`tau_n`).
+
+    Attributes
+    ----------
+    joint : ndarray, shape (..., n)
+        The joint quantity: joint accelerations [rad/s^2] (acceleration capacity), joint
+        velocities [rad/s] (velocity) or joint torques [N m] (force).
+    normalized : ndarray, shape (..., n)
+        Its normalized value (torques for accelerations and forces, joint velocities for
+        velocities): the limits hold iff ``|normalized|_inf <= 1``.
+    """
+
+    joint: NDArray[np.float64]
+    normalized: NDArray[np.float64]
+
+    @property
+    def qdd(self) -> NDArray[np.float64]:
+        """The joint accelerations of an acceleration analysis (:attr:`joint`)."""
+        return self.joint
+
+    @property
+    def tau_n(self) -> NDArray[np.float64]:
+        """The normalized torques of an acceleration analysis (:attr:`normalized`)."""
+        return self.normalized
+
+    @property
+    def torque_norm(self) -> NDArray[np.float64]:
+        """Euclidean norm of :attr:`normalized`; at most 1 on the ellipsoid of the same kind."""
+        return np.linalg.norm(self.normalized, axis=-1)
+
+    @property
+    def within_limits(self) -> NDArray[np.bool_]:
+        """Whether every joint respects its limits (``|normalized|_inf <= 1``, to 1e-9)."""
+        return np.max(np.abs(self.normalized), axis=-1) <= 1.0 + 1e-9
+
+
+class Analysis(ABC):
+    """One capacity of one robot at one configuration.
+
+    Build it with :func:`polyell.analyze`; ``analysis.capacity`` says which.
+
+    Attributes
+    ----------
+    capacity : str
+        ``"acceleration"``, ``"velocity"`` or ``"force"``.
+    ellipsoid_kinds : tuple of str
+        The ellipsoid definitions of this capacity (:meth:`ellipsoid`).
+    dynamics : Dynamics or Kinematics
+        The robot's matrices at the configuration (a velocity analysis needs only J).
+    affine_rtol : float
+        The tolerance of "on the affine set" shared by the set, the ellipsoids and
+        :meth:`inverse`.
+    """
+
+    capacity: ClassVar[str]
+    ellipsoid_kinds: ClassVar[tuple[str, ...]]
+    #: What the definitions are, for error messages: ``{kind: one-line description}``.
+    kind_notes: ClassVar[dict[str, str]]
+    #: The joint quantity the witness normalizes ("torques", "joint velocities").
+    witness_quantity: ClassVar[str]
+
+    dynamics: object
+    affine_rtol: float = AFFINE_RTOL
+
+    @property
+    def m(self) -> int:
+        """Task-space dimension."""
+        return int(self.dynamics.J.shape[0])  # type: ignore[attr-defined]
+
+    @property
+    def n(self) -> int:
+        """Number of joints."""
+        return int(self.dynamics.J.shape[1])  # type: ignore[attr-defined]
+
+    @property
+    def task(self) -> tuple[str, ...]:
+        """Names of the task rows (``x``, ``y``, ``z``, ``wx``, ...)."""
+        return tuple(self.dynamics.task)  # type: ignore[attr-defined]
+
+    def unit(self, tex: bool = False) -> str:
+        """The unit of the task quantity: ``m/s^2``, ``m/s``, ``N``, ``N m``, ..."""
+        return task_unit(self.task, tex, capacity=self.capacity)
+
+    @property
+    @abstractmethod
+    def polytope(self) -> ConvexSet:
+        """The exact set of achievable task quantities."""
+
+    @property
+    @abstractmethod
+    def rank(self) -> int:
+        """Numerical rank of the task map (that of J)."""
+
+    @property
+    def is_singular(self) -> bool:
+        """True at a singular configuration (``rank J < m``)."""
+        return self.rank < self.m
+
+    def check_kind(self, kind: object) -> str:
+        """Return ``kind`` if it names an ellipsoid of this capacity, else raise InputError."""
+        if not isinstance(kind, str) or kind not in self.ellipsoid_kinds:
+            notes = "; ".join(f"{k!r}: {note}" for k, note in self.kind_notes.items())
+            raise InputError(
+                "kind",
+                f"an ellipsoid of the {self.capacity} capacity: one of "
+                + ", ".join(repr(k) for k in self.ellipsoid_kinds),
+                repr(kind),
+                notes + ".",
+            )
+        return kind
+
+    def ellipsoid(self, kind: str | None = None) -> Ellipsoid:
+        """An ellipsoid of this capacity (built once; default the first of its kinds).
+
+        Raises
+        ------
+        InputError
+            For a kind this capacity does not define.
+        UndefinedEllipsoidError
+            Where the definition does not exist at this configuration (the message says
+            why).
+        """
+        kind = self.check_kind(self.ellipsoid_kinds[0] if kind is None else kind)
+        if kind not in self._ellipsoids:
+            ellipsoid = self._build_ellipsoid(kind)
+            ellipsoid.affine_rtol = self.affine_rtol
+            self._ellipsoids[kind] = ellipsoid
+        return self._ellipsoids[kind]
+
+    @cached_property
+    def _ellipsoids(self) -> dict[str, Ellipsoid]:
+        return {}
+
+    @abstractmethod
+    def _build_ellipsoid(self, kind: str) -> Ellipsoid:
+        """The ellipsoid of a checked kind."""
+
+    @abstractmethod
+    def witness_map(self, kind: str) -> AffineMap:
+        """The affine map from task points to normalized joint quantities of a kind's inverse.
+
+        ``kind`` is one of :attr:`ellipsoid_kinds`, or any other scored set (the MVIE, the
+        outer ellipsoid, a candidate), which takes the capacity's own minimum-norm inverse.
+        """
+
+    @abstractmethod
+    def inverse(self, x: ArrayLike, kind: str | None = None) -> InverseSolution:
+        """The joint quantities (and their normalized values) that realize task points."""

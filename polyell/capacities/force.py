@@ -1,0 +1,202 @@
+r"""The static force capacity: end-effector forces within the torque limits, with gravity.
+
+At rest, an end-effector force (or moment) :math:`h` needs the joint torques
+:math:`\tau = J^T h + g`.  With :math:`\tau = \tau_c + L \tilde\tau`,
+:math:`\|\tilde\tau\|_\infty \le 1`, write :math:`A = L^{-1} J^T` (n, m) and
+:math:`c = L^{-1} (g - \tau_c)`; the forces the arm can exert form the H-polytope
+
+.. math::
+
+    P_f = \{ h : \|A h + c\|_\infty \le 1 \}
+        = \{ h : A h \le 1 - c,\ -A h \le 1 + c \}
+
+(2n half-spaces in :math:`R^m`).  At a singular posture it is unbounded along
+:math:`\operatorname{Ker} J^T`; it is empty when gravity alone needs more torque than the
+joints have along a direction no end-effector force can help.
+
+Its ellipsoids, from the SVD :math:`J L^{-1} = U_1 S V_1^T` (so :math:`A = V_1 S U_1^T`):
+
+* ``"chiacchio"``, the static-consistent one with gravity, :math:`\{h : \|A h + c\| \le
+  1\}`.  With :math:`h_0 = -A^+ c` and :math:`c_\perp = (I - A A^+) c` (the part of the
+  gravity load no end-effector force can balance),
+  :math:`\|A h + c\|^2 = \|A (h - h_0)\|^2 + \|c_\perp\|^2`, so it is the ellipsoid of
+  centre :math:`h_0`, axes :math:`U_1` and semi-axes :math:`\rho / S` with
+  :math:`\rho = \sqrt{1 - \|c_\perp\|^2}`.  It lies inside :math:`P_f` because
+  :math:`\|\cdot\|_\infty \le \|\cdot\|_2`.
+* ``"yoshikawa"``, the classic one: the unit ball of normalized torques through the
+  unweighted pseudo-inverse, :math:`\{(J^T)^+ (\tau_c + L u - g) : \|u\| \le 1\}`, centred
+  at :math:`-(J^T)^+ (g - \tau_c)`.
+* ``"static"``, what capacity libraries compute today: :math:`\{h : \|L^{-1} J^T h\| \le
+  1\}`, centred at 0, gravity ignored (axes :math:`U_1`, semi-axes :math:`1 / S`).
+
+The torque a force needs is unique, so every ellipsoid has the same witness,
+:math:`\tilde\tau = A h + c`: more than 1 in the infinity norm means the ellipsoid promises
+a force the arm cannot exert.
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+from typing import TYPE_CHECKING, ClassVar
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from polyell.capacities.acceleration import check_dynamics
+from polyell.capacities.base import Analysis, InverseSolution
+from polyell.errors import InputError, UndefinedEllipsoidError
+from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.subspace import AFFINE_RTOL, RANK_RTOL, rank_revealing_svd
+from polyell.inverse import AffineMap
+from polyell.models.kinematics import Kinematics
+from polyell.validation import check_fraction, check_magnitudes, check_torque_limits
+
+if TYPE_CHECKING:
+    from polyell.geometry.hpolytope import HPolytope
+
+__all__ = ["ForceAnalysis"]
+
+
+class ForceAnalysis(Analysis):
+    """The end-effector forces a robot at rest can exert at one configuration.
+
+    Build it with ``pe.analyze(dyn, tau_max, tau_min, capacity="force")``.
+
+    Attributes
+    ----------
+    dynamics : Dynamics
+        ``J`` (m, n) and the gravity torques ``g`` (n,) (``B`` is not used).
+    tau_max, tau_min, tau_center, half_range : ndarray, shape (n,)
+        Torque limits, their midpoint and ``diag(L)`` [N m].
+    A : ndarray, shape (n, m)
+        ``L^-1 J^T`` [per N]: normalized torque per unit force.
+    c : ndarray, shape (n,)
+        ``L^-1 (g - tau_c)``: the normalized torques gravity needs.
+    center : ndarray, shape (m,)
+        ``h0 = -A^+ c`` [N]: the force of least normalized torque residual, the centre of
+        the ``"chiacchio"`` ellipsoid.
+    """
+
+    capacity = "force"
+    ellipsoid_kinds = ("chiacchio", "yoshikawa", "static")
+    kind_notes: ClassVar[dict[str, str]] = {
+        "chiacchio": "the static-consistent one with gravity, |L^-1 (J^T h + g - tau_c)| <= 1",
+        "yoshikawa": "the unit torque ball through the unweighted pseudo-inverse of J^T",
+        "static": "|L^-1 J^T h| <= 1, centred at 0, gravity ignored",
+    }
+    witness_quantity = "torques"
+
+    def __init__(
+        self,
+        dynamics: object,
+        tau_max: ArrayLike,
+        tau_min: ArrayLike | None = None,
+        *,
+        rank_rtol: float = RANK_RTOL,
+        affine_rtol: float = AFFINE_RTOL,
+    ) -> None:
+        if isinstance(dynamics, Kinematics):
+            raise InputError(
+                "dyn",
+                "dynamics with gravity torques g for the force capacity",
+                "a Kinematics (a Jacobian alone)",
+                "pass pe.Dynamics(J, B, g) or arm.dynamics(q); use g = 0 to ignore gravity.",
+            )
+        dynamics = check_dynamics(dynamics, "force")
+        self.dynamics = dynamics
+        self.tau_max, self.tau_min = check_torque_limits(tau_max, tau_min, dynamics.n)
+        self.tau_center = 0.5 * (self.tau_max + self.tau_min)
+        self.half_range = 0.5 * (self.tau_max - self.tau_min)
+        with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+            M = dynamics.J / self.half_range  # J L^-1 = A^T
+            self.c: NDArray[np.float64] = (dynamics.g - self.tau_center) / self.half_range
+        check_magnitudes(M, self.c)
+        self.A: NDArray[np.float64] = M.T
+        self.svd = rank_revealing_svd(M, rank_rtol)
+        self.affine_rtol = check_fraction("affine_rtol", affine_rtol)
+        svd = self.svd
+        along = svd.V1.T @ self.c  # the part of c that forces can balance, in V_1
+        self.center: NDArray[np.float64] = -svd.U1 @ (along / svd.sigma)
+        self.c_perp: NDArray[np.float64] = self.c - svd.V1 @ along
+
+    def __repr__(self) -> str:
+        return (
+            f"ForceAnalysis(m={self.m}, n={self.n}, rank={self.rank}, "
+            f"center={np.round(self.center, 6).tolist()})"
+        )
+
+    @property
+    def rank(self) -> int:
+        """Numerical rank of ``J`` (of ``J L^-1``)."""
+        return self.svd.rank
+
+    @cached_property
+    def polytope(self) -> HPolytope:
+        """The exact force polytope ``{h : |A h + c|_inf <= 1}`` (unbounded or empty, said)."""
+        from polyell.geometry.hpolytope import HPolytope
+
+        A = np.vstack([self.A, -self.A])
+        b = np.concatenate([1.0 - self.c, 1.0 + self.c])
+        polytope = HPolytope(A, b, center=self.center)
+        polytope.affine_rtol = self.affine_rtol
+        return polytope
+
+    def _require_bounded(self, kind: str) -> None:
+        if self.is_singular:
+            raise UndefinedEllipsoidError(
+                f"The force ellipsoid {kind!r} is unbounded at this singular posture: rank J "
+                f"= {self.rank} < m = {self.m}, so forces along Ker(J^T) need no torque (the "
+                "force polytope is unbounded along them too, see polytope.rays)."
+            )
+
+    def _build_ellipsoid(self, kind: str) -> Ellipsoid:
+        self._require_bounded(kind)
+        svd = self.svd
+        if kind == "static":
+            return Ellipsoid(np.zeros(self.m), svd.U1, 1.0 / svd.sigma, kind=kind)
+        if kind == "chiacchio":
+            margin = 1.0 - float(self.c_perp @ self.c_perp)
+            if not margin > 0.0:
+                raise UndefinedEllipsoidError(
+                    "The force ellipsoid 'chiacchio' is empty at this posture: the part of "
+                    "the gravity torques that no end-effector force can balance has "
+                    f"normalized norm |c_perp| = {np.sqrt(1.0 - margin):.4g} >= 1, so no "
+                    "ball of normalized torques about it fits the limits."
+                )
+            return Ellipsoid(self.center, svd.U1, np.sqrt(margin) / svd.sigma, kind=kind)
+        # yoshikawa: h = (J^T)^+ (tau_c + L u - g), |u| <= 1.
+        pseudo_inverse = np.linalg.pinv(self.dynamics.J.T)  # type: ignore[attr-defined]
+        center = -pseudo_inverse @ (self.dynamics.g - self.tau_center)  # type: ignore[attr-defined]
+        U, s, _ = np.linalg.svd(pseudo_inverse * self.half_range, full_matrices=False)
+        return Ellipsoid(center, U, s, kind=kind)
+
+    def witness_map(self, kind: str) -> AffineMap:
+        """``h -> tau_n = A h + c`` (the torque a force needs is unique), about ``h0``."""
+        return AffineMap(self.A, self.center, self.c_perp)
+
+    def inverse(self, x: ArrayLike, kind: str | None = None) -> InverseSolution:
+        """The joint torques that exert end-effector forces at rest.
+
+        Parameters
+        ----------
+        x : array-like, shape (m,) or (k, m)
+            End-effector forces [N] (moments [N m] for an angular task).
+        kind : str, optional
+            Any of :attr:`ellipsoid_kinds`: the torque ``J^T h + g`` is unique, so every
+            definition has the same inverse.
+
+        Returns
+        -------
+        InverseSolution
+            ``(tau, tau_n)``: ``tau = J^T h + g`` [N m] and ``tau_n = L^-1 (tau - tau_c)``.
+        """
+        if kind is not None:
+            self.check_kind(kind)
+        h = self._points(x)
+        tau_n = self.witness_map("chiacchio")(h)
+        return InverseSolution(self.tau_center + tau_n * self.half_range, tau_n)
+
+    def _points(self, x: ArrayLike) -> NDArray[np.float64]:
+        from polyell.validation import check_points
+
+        return check_points("h", x, self.m)

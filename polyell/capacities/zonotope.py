@@ -1,0 +1,102 @@
+r"""What the acceleration and velocity capacities share: a zonotope and its image ellipsoid.
+
+Both sets are images of the unit cube of normalized joint quantities under an affine map
+:math:`x = M u + x_c`, :math:`\|u\|_\infty \le 1`: the zonotope with generators M and
+centre :math:`x_c`.  The image of the unit ball, :math:`\{x_c + M u : \|u\| \le 1\}`,
+is an ellipsoid inside it (the ball lies in the cube) with the axes and semi-axes of the
+SVD of M (eq. 35); at a singular configuration both lie in :math:`x_c + \operatorname{Im}
+M` (eq. 38).  Its inverse is the minimum-norm one, :math:`u = M^+ (x - x_c)`.
+"""
+
+from __future__ import annotations
+
+import warnings
+from functools import cached_property
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from polyell.capacities.base import Analysis
+from polyell.errors import ProjectedInputWarning, UnreachableAccelerationError
+from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.polytope import Polytope
+from polyell.geometry.subspace import RankRevealingSVD, rank_revealing_svd
+from polyell.inverse import AffineMap
+from polyell.validation import check_magnitudes
+
+__all__ = ["ZonotopeAnalysis"]
+
+
+class ZonotopeAnalysis(Analysis):
+    """A capacity whose exact set is the zonotope ``{M u + xg : |u|_inf <= 1}``.
+
+    Attributes
+    ----------
+    M : ndarray, shape (m, n)
+        The generators [task unit per unit normalized joint quantity].
+    xg : ndarray, shape (m,)
+        The common centre of the zonotope and the ellipsoids [task unit].
+    svd : RankRevealingSVD
+        Eq. (35) for M; its rank decision is shared by the polytope, the ellipsoids and
+        the inverse maps.
+    """
+
+    M: NDArray[np.float64]
+    xg: NDArray[np.float64]
+    svd: RankRevealingSVD
+
+    def _set_generators(self, M: NDArray[np.float64], xg: NDArray[np.float64], rtol: float) -> None:
+        check_magnitudes(M, xg)
+        self.M, self.xg = M, xg
+        self.svd = rank_revealing_svd(M, rtol)
+
+    @property
+    def rank(self) -> int:
+        """Numerical rank of ``M`` (equal to that of J)."""
+        return self.svd.rank
+
+    @cached_property
+    def polytope(self) -> Polytope:
+        """The exact set: the zonotope with generators ``M`` about ``xg``."""
+        polytope = Polytope(self.M, self.xg, svd=self.svd)
+        polytope.affine_rtol = self.affine_rtol
+        return polytope
+
+    def _image_ellipsoid(self, kind: str) -> Ellipsoid:
+        """``{xg + M u : |u| <= 1}``: axes ``U_1``, semi-axes the singular values of M."""
+        return Ellipsoid(self.xg, self.svd.U1, self.svd.sigma, kind=kind)
+
+    def _minimum_norm_map(self) -> AffineMap:
+        """``x -> M^+ (x - xg)``: the smallest normalized joint quantity reaching x."""
+        return AffineMap(self.svd.pinv(), self.xg, np.zeros(self.n))
+
+    def _on_affine_set(self, x: NDArray[np.float64], name: str) -> NDArray[np.float64]:
+        """Points of a singular configuration projected onto ``xg + Im(M)``, or refused."""
+        if not self.is_singular:
+            return x
+        affine_set = self.polytope.affine_set
+        if not np.all(affine_set.near(x, self.affine_rtol)):
+            distance = np.max(affine_set.distance(x))
+            raise UnreachableAccelerationError(
+                f"{name}: expected points in the affine set xg + Im(M) of dimension "
+                f"{self.rank}, got one at distance {distance:.3g} from it (more than "
+                f"affine_rtol = {self.affine_rtol:g} relative); no joint quantity "
+                "produces it at this singular configuration. Fix: project it with "
+                "analysis.polytope.affine_set.project(...)."
+            )
+        moved = np.max(affine_set.distance(x))
+        if moved > self.polytope.atol:
+            warnings.warn(
+                f"{name}: taken as rounded and projected onto the affine set of this "
+                f"singular configuration (distance {moved:.3g}); the inverse maps the "
+                "projection.",
+                ProjectedInputWarning,
+                stacklevel=3,
+            )
+        projected: NDArray[np.float64] = affine_set.project(x)
+        return projected
+
+    def _points(self, x: ArrayLike, name: str) -> NDArray[np.float64]:
+        from polyell.validation import check_points
+
+        return check_points(name, x, self.m)
