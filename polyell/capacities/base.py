@@ -141,8 +141,9 @@ class Analysis(ABC):
             notes = "; ".join(f"{k!r}: {note}" for k, note in self.kind_notes.items())
             raise InputError(
                 "kind",
-                f"an ellipsoid of the {self.capacity} capacity: one of "
-                + ", ".join(repr(k) for k in self.ellipsoid_kinds),
+                "one of "
+                + ", ".join(repr(k) for k in self.ellipsoid_kinds)
+                + f" (the {self.capacity} capacity's ellipsoids)",
                 repr(kind),
                 notes + ".",
             )
