@@ -56,11 +56,13 @@ def random_problem(
     rank: int | None = None,
     asymmetric: bool = False,
     gravity: float = 1.0,
+    capacity: str = "acceleration",
 ) -> pe.Analysis:
     """A random analysis: Jacobian of the given rank, SPD inertia, gravity, limits.
 
     ``gravity`` scales the gravity torques relative to the torque limits; above about 1
-    the origin tends to leave the polytope, so that some lines miss it.
+    the origin tends to leave the polytope, so that some lines miss it.  The velocity
+    capacity takes the same numbers as joint velocity limits [rad/s].
     """
     rng = np.random.default_rng(seed)
     rank = min(m, n) if rank is None else rank
@@ -73,7 +75,9 @@ def random_problem(
     tau_max = rng.uniform(1.0, 10.0, n)
     tau_min = tau_max - rng.uniform(0.5, 2.0, n) * tau_max if asymmetric else None
     g = gravity * rng.normal(size=n) * tau_max
-    return pe.analyze(pe.Dynamics(J, B, g), tau_max=tau_max, tau_min=tau_min)
+    if capacity == "velocity":
+        return pe.analyze(pe.Kinematics(J), capacity=capacity, qd_max=tau_max, qd_min=tau_min)
+    return pe.analyze(pe.Dynamics(J, B, g), tau_max, tau_min, capacity=capacity)
 
 
 def random_arm(seed: int, n: int) -> tuple[pe.PlanarArm, np.ndarray, np.random.Generator]:
