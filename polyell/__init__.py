@@ -35,7 +35,7 @@ from polyell.geometry import (
     Ellipsoid,
     Polytope,
 )
-from polyell.models import Dynamics, Payload, PlanarArm, UrdfRobot
+from polyell.models import Dynamics, Payload, PlanarArm, TorqueSpeed, UrdfRobot
 from polyell.models.self_motion import SelfMotion, self_motion
 from polyell.studies import grid, limits_along, local_cluster, random_configurations, sweep
 from polyell.studies.posture import PostureChoice, posture_choice
@@ -72,6 +72,7 @@ __all__ = [
     "SolverError",
     "StorageError",
     "TableLayout",
+    "TorqueSpeed",
     "UndefinedEllipsoidError",
     "UnreachableAccelerationError",
     "UrdfRobot",
