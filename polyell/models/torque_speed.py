@@ -97,8 +97,8 @@ class TorqueSpeed:
     falls, while the lower (braking) bound :math:`-\tau_s (1 + \dot q / \dot q_0)` grows
     beyond the stall torque, where the current limit of the drive -- the rated torque,
     at most :math:`\tau_s` -- is what bounds it: hence the rated value on the braking
-    side.  (The issue's wording "on the side that opposes motion" names the back-EMF,
-    which opposes the motion; the torque bound it derates is the one along the motion.)
+    side.  (It is the back-EMF that opposes the motion; the torque bound it derates is
+    the one along the motion.)
 
     Past the no-load speed (:math:`s \ge \dot q_0`) the derated bound is 0, not
     negative: the drive is taken to coast there, an optimistic simplification (a
