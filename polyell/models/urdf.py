@@ -253,7 +253,9 @@ class UrdfRobot(JointLimits):
         self.joint_names: list[str] = list(model.names)[1:]
         if tau_max is None:
             effort = np.array(model.effortLimit, dtype=float)
-            missing = [n for n, e in zip(self.joint_names, effort, strict=True) if e <= 0]
+            missing = [
+                n for n, e in zip(self.joint_names, effort, strict=True) if not 0 < e < np.inf
+            ]
             if missing:
                 raise InputError(
                     "tau_max",

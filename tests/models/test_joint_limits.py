@@ -227,6 +227,19 @@ def test_urdf_without_velocity_limits_says_which_joints(tmp_path, edit, lacking)
         urdf_robot(text, tmp_path, tau_max=[50.0, 50.0, 50.0], qd_min=[-1.0, -2.0, -3.0])
 
 
+def test_a_urdf_joint_without_a_limit_element_has_no_effort_limit_either(tmp_path):
+    text = three_speeds_urdf().replace(
+        '<limit effort="50" velocity="1.5" lower="-10" upper="10"/>', "", 1
+    )
+    text = text.replace('type="revolute"', 'type="continuous"', 1)
+    with pytest.raises(pe.InputError) as info:  # Pinocchio reads an infinite effort
+        urdf_robot(text, tmp_path)
+    assert str(info.value) == (
+        "tau_max: expected effort limits in the URDF for every joint, got none for "
+        "['joint0']. Fix: pass tau_max=[...] explicitly."
+    )
+
+
 def test_urdf_torque_speed_against_its_effort_limits(tmp_path):
     text = three_speeds_urdf()  # effort="50" on every joint
     weak = pe.TorqueSpeed.linear([60.0, 40.0, 60.0], [2.0, 2.0, 2.0])
