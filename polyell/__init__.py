@@ -36,7 +36,7 @@ from polyell.geometry import (
     Ellipsoid,
     Polytope,
 )
-from polyell.models import Dynamics, Payload, PlanarArm, UrdfRobot
+from polyell.models import Dynamics, Payload, PlanarArm, TorqueSpeed, UrdfRobot
 from polyell.models.kinematics import Kinematics
 from polyell.models.self_motion import SelfMotion, self_motion
 from polyell.studies import grid, limits_along, local_cluster, random_configurations, sweep
@@ -76,6 +76,7 @@ __all__ = [
     "SolverError",
     "StorageError",
     "TableLayout",
+    "TorqueSpeed",
     "UndefinedEllipsoidError",
     "UnreachableAccelerationError",
     "UrdfRobot",

@@ -19,7 +19,7 @@ from polyell.errors import InputError, MissingDependencyError, install_hint
 from polyell.models.planar_arm import PlanarArm
 from polyell.models.urdf import UrdfRobot
 
-__all__ = ["URDF_ARMS", "URDF_OPTIONS", "load", "names", "urdf_path"]
+__all__ = ["PLANAR_OPTIONS", "URDF_ARMS", "URDF_OPTIONS", "load", "names", "urdf_path"]
 
 
 class _Arm(NamedTuple):
@@ -54,7 +54,13 @@ URDF_OPTIONS = (
     "tau_min",
     "weights",
     "payload",
+    "qd_max",
+    "qd_min",
+    "torque_speed",
 )
+#: The keyword arguments of :class:`~polyell.PlanarArm` that :func:`load` passes on for
+#: the planar arm (its links are the paper's).
+PLANAR_OPTIONS = ("tau_max", "tau_min", "qd_max", "qd_min", "torque_speed")
 
 
 def names() -> list[str]:
@@ -103,7 +109,10 @@ def load(name: str, **options: Any) -> PlanarArm | UrdfRobot:
     **options
         For the URDF arms, keyword arguments of :class:`~polyell.UrdfRobot` that
         replace the library's defaults (``task``, ``tip``, ``locked_joints``,
-        ``gravity``, ``tau_max``, ``tau_min``, ``weights``, ``payload``).
+        ``gravity``, ``tau_max``, ``tau_min``, ``weights``, ``payload``, ``qd_max``,
+        ``qd_min``, ``torque_speed``); for the planar arm, those of
+        :class:`~polyell.PlanarArm` among ``tau_max``, ``tau_min``, ``qd_max``, ``qd_min``
+        and ``torque_speed``.
 
     Examples
     --------
@@ -114,13 +123,17 @@ def load(name: str, **options: Any) -> PlanarArm | UrdfRobot:
     if not isinstance(name, str):
         raise InputError("name", f"one of {names()}", f"{type(name).__name__} {name!r}"[:120])
     if name == "chiacchio2000":
-        if options:
-            raise InputError("options", "none for the planar arm", f"{sorted(options)}")
+        unknown = sorted(set(options) - set(PLANAR_OPTIONS))
+        if unknown:
+            raise InputError(
+                "options",
+                f"keyword arguments among {list(PLANAR_OPTIONS)} for the planar arm",
+                f"{unknown}",
+                "its links are the paper's; build other arms with pe.PlanarArm.",
+            )
+        planar: dict[str, Any] = {"tau_max": [100.0, 30.0, 4.0]} | options
         return PlanarArm(
-            lengths=[1.0, 0.8, 0.5],
-            masses=[4.0, 2.0, 0.6],
-            com=[0.5, 0.4, 0.25],
-            tau_max=[100.0, 30.0, 4.0],
+            lengths=[1.0, 0.8, 0.5], masses=[4.0, 2.0, 0.6], com=[0.5, 0.4, 0.25], **planar
         )
     if name not in URDF_ARMS:
         raise InputError("name", f"one of {names()}", repr(name), _suggest(name, names()))

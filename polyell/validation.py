@@ -15,6 +15,7 @@ from polyell.errors import InputError
 
 __all__ = [
     "DIRECTION_NORM_RTOL",
+    "MAX_SPEED",
     "MAX_TORQUE",
     "MIN_RELATIVE_EXTENT",
     "ROUNDED_INPUT_RTOL",
@@ -27,6 +28,7 @@ __all__ = [
     "check_points",
     "check_spd",
     "check_torque_limits",
+    "check_velocity_limits",
     "source_torque_limits",
 ]
 
@@ -253,6 +255,68 @@ def check_torque_limits(
             "each joint needs a range of positive width.",
         )
     return upper, lower
+
+
+#: Largest joint speed accepted [rad/s or m/s]: a velocity limit beyond it is no limit.
+MAX_SPEED = 1e150
+
+
+def check_velocity_limits(
+    qd_max: ArrayLike, qd_min: ArrayLike | None, n: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Check joint velocity limits and return ``(qd_max, qd_min)`` as float64 arrays.
+
+    The limits bracket rest, ``qd_min <= 0 < qd_max``: a joint can stand still and move
+    forward (``qd_min = 0``: a joint that only turns one way).
+
+    Parameters
+    ----------
+    qd_max : array-like, shape (n,)
+        Upper joint velocities [rad/s or m/s], strictly positive.
+    qd_min : array-like, shape (n,), optional
+        Lower joint velocities [rad/s or m/s], at most 0; default ``-qd_max``.
+    n : int
+        Number of joints.
+
+    Raises
+    ------
+    InputError
+        If a shape is wrong, a value is not finite or beyond :data:`MAX_SPEED`, a
+        ``qd_max`` is not positive or a ``qd_min`` is positive.
+    """
+    upper = check_array("qd_max", qd_max, (n,), what="joint velocities [rad/s or m/s]")
+    lower = (
+        -upper
+        if qd_min is None
+        else check_array("qd_min", qd_min, (n,), what="joint velocities [rad/s or m/s]")
+    )
+    for name, values in (("qd_max", upper), ("qd_min", lower)):
+        if values.size and np.max(np.abs(values)) > MAX_SPEED:
+            i = int(np.argmax(np.abs(values)))
+            raise InputError(
+                name,
+                f"joint velocity limits of size at most {MAX_SPEED:g} rad/s (or m/s)",
+                f"{name}[{i}] = {values[i]:.3g}",
+                "give the joints' real velocity limits; a limit beyond it is no limit.",
+            )
+    bad = np.flatnonzero(~(upper > 0))
+    if bad.size:
+        raise InputError(
+            "qd_max",
+            "strictly positive upper joint velocities [rad/s or m/s]",
+            f"qd_max[{bad[0]}] = {upper[bad[0]]:g}",
+            "a joint's velocity limits bracket rest: qd_min <= 0 < qd_max.",
+        )
+    bad = np.flatnonzero(~(lower <= 0))
+    if bad.size:
+        raise InputError(
+            "qd_min",
+            "lower joint velocities of at most 0 [rad/s or m/s] (default -qd_max)",
+            f"qd_min[{bad[0]}] = {lower[bad[0]]:g}",
+            "a joint's velocity limits bracket rest: qd_min <= 0 < qd_max; a negative "
+            "qd_min is a speed backwards.",
+        )
+    return upper, lower + 0.0  # + 0.0: no negative zero from -qd_max
 
 
 def array_ndim(value: ArrayLike) -> int:

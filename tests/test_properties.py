@@ -424,6 +424,45 @@ def test_planar_arm_with_any_parameter_broken(data, seed):
         check_analysis(an)
 
 
+@given(data=st.data(), seed=st.integers(0, 2**16), magnitude=st.sampled_from(MAGNITUDES))
+def test_torque_speed_with_any_argument_broken(data, seed, magnitude):
+    """Torque-speed curves and their limits at a velocity: a refusal, or bounds in order."""
+    rng = np.random.default_rng(seed)
+    n = data.draw(st.integers(1, 4))
+    stall = rng.uniform(0.5, 2.0, n) * magnitude
+    rated = stall * rng.uniform(0.3, 1.0, n)
+    arguments: dict[str, Any] = {
+        "tau_stall": stall,
+        "qd_no_load": rng.uniform(0.5, 5.0, n),
+        "speeds": np.concatenate([[0.0], np.cumsum(rng.uniform(0.1, 2.0, 3))]),
+        "torques": stall[:, None] * [1.0, 0.8, 0.3, data.draw(st.sampled_from([0.0, 0.1]))],
+        "qd": rng.uniform(-3.0, 3.0, (data.draw(st.integers(1, 3)), n)),
+        "tau_max": data.draw(st.sampled_from([None, rated])),
+        "tau_min": data.draw(st.sampled_from([None, -rated])),
+    }
+    name = data.draw(st.sampled_from([*arguments, "none"]))
+    if name != "none":
+        arguments[name] = data.draw(broken(arguments[name]))
+    if data.draw(st.booleans()):
+        drives = calm(
+            lambda: pe.TorqueSpeed.linear(arguments["tau_stall"], arguments["qd_no_load"])
+        )
+    else:
+        drives = calm(lambda: pe.TorqueSpeed.table(arguments["speeds"], arguments["torques"]))
+    if drives is None:
+        return
+    assert np.all(drives.tau_stall > 0) and np.all(np.isfinite(drives.tau_stall))
+    qd, tau_max, tau_min = arguments["qd"], arguments["tau_max"], arguments["tau_min"]
+    limits = calm(lambda: drives.limits(qd, tau_max, tau_min))
+    event("limits computed" if limits is not None else "limits refused")
+    if limits is None:
+        return
+    upper, lower = limits
+    assert upper.shape == lower.shape == np.shape(qd)
+    assert np.all(np.isfinite(upper)) and np.all(np.isfinite(lower)) and np.all(lower < upper)
+    assert np.all(upper <= drives.tau_stall) and np.all(lower >= -drives.tau_stall)
+
+
 @given(data=st.data(), m=st.integers(0, 4))
 def test_direction_helpers(data, m):
     k = data.draw(st.sampled_from([1, 2, 7, 0, -1, 2.5, None, 10**9]))
@@ -438,7 +477,7 @@ def test_the_suite_covers_the_public_api():
     """Every callable of pe.__all__ is exercised above or is an exception/constant/module."""
     covered = {
         "analyze", "compare", "sweep", "limits_along", "Candidate", "PlanarArm", "Dynamics",
-        "Ellipsoid", "Polytope", "Analysis", "Comparison", "Scores",
+        "Ellipsoid", "Polytope", "Analysis", "Comparison", "Scores", "TorqueSpeed",
     }  # fmt: skip
     elsewhere = {  # exercised in their own test files (studies, robots, subspace)
         "AffineSubspace", "DirectionalLimits", "InverseSolution", "UrdfRobot", "Payload",

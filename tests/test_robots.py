@@ -12,7 +12,12 @@ import polyell as pe
     [
         (5, {}, "name: expected one of ['chiacchio2000'"),
         (None, {}, "name: expected one of"),
-        ("chiacchio2000", {"tip": "x"}, "options: expected none for the planar arm"),
+        (
+            "chiacchio2000",
+            {"tip": "x"},
+            "options: expected keyword arguments among ['tau_max', 'tau_min', 'qd_max', "
+            "'qd_min', 'torque_speed'] for the planar arm",
+        ),
         ("panda", {"payload": {"mass": 1.0}}, "payload: expected a pe.Payload(mass, com, inertia)"),
         ("panda", {"payload": 5}, "payload: expected a pe.Payload"),
         ("panda", {"payload": (1.0, [0, 0, 0])}, "payload: expected a pe.Payload"),

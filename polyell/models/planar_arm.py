@@ -9,7 +9,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from polyell.errors import InputError
 from polyell.models.dynamics import Dynamics
-from polyell.validation import array_ndim, check_array, check_torque_limits
+from polyell.models.joint_limits import JointLimits, check_torque_speed
+from polyell.models.torque_speed import TorqueSpeed
+from polyell.validation import (
+    array_ndim,
+    check_array,
+    check_torque_limits,
+    check_velocity_limits,
+)
 
 __all__ = ["PlanarArm"]
 
@@ -52,7 +59,7 @@ def _positive(name: str, value: ArrayLike, n: int | None = None) -> NDArray[np.f
     return array
 
 
-class PlanarArm:
+class PlanarArm(JointLimits):
     r"""An n-link planar arm with revolute joints moving in a vertical plane.
 
     Gravity acts along :math:`-y`; joint angles are relative (joint i turns link i
@@ -86,6 +93,12 @@ class PlanarArm:
     tau_max, tau_min : array-like, shape (n,), optional
         The joint torque limits [N m] the robot carries with it (used by studies and
         the command line when no limits are given); ``tau_min`` defaults to ``-tau_max``.
+    qd_max, qd_min : array-like, shape (n,), optional
+        Joint velocity limits [rad/s], ``qd_min <= 0 < qd_max``; ``qd_min`` defaults to
+        ``-qd_max`` (:meth:`velocity_limits`).
+    torque_speed : TorqueSpeed, optional
+        The joints' torque-speed curves: :meth:`torque_limits` gives the torque limits
+        at a joint velocity.  Its stall torques must hold ``tau_max`` and ``tau_min``.
 
     Examples
     --------
@@ -107,6 +120,9 @@ class PlanarArm:
         gravity: float = 9.81,
         tau_max: ArrayLike | None = None,
         tau_min: ArrayLike | None = None,
+        qd_max: ArrayLike | None = None,
+        qd_min: ArrayLike | None = None,
+        torque_speed: TorqueSpeed | None = None,
     ) -> None:
         self.lengths = _positive("lengths", lengths)
         n = self.lengths.size
@@ -128,6 +144,20 @@ class PlanarArm:
         self.tau_min: NDArray[np.float64] | None = None
         if tau_max is not None:
             self.tau_max, self.tau_min = check_torque_limits(tau_max, tau_min, n)
+        elif tau_min is not None:
+            raise InputError(
+                "tau_min", "tau_min only together with tau_max", "tau_min alone", "give both."
+            )
+        self.qd_max: NDArray[np.float64] | None = None
+        self.qd_min: NDArray[np.float64] | None = None
+        if qd_max is not None:
+            self.qd_max, self.qd_min = check_velocity_limits(qd_max, qd_min, n)
+            self.qd_max.flags.writeable = self.qd_min.flags.writeable = False
+        elif qd_min is not None:
+            raise InputError(
+                "qd_min", "qd_min only together with qd_max", "qd_min alone", "give both."
+            )
+        self.torque_speed = check_torque_speed(torque_speed, n, self.tau_max, self.tau_min)
         for array in (self.lengths, self.masses, self.com, self.inertia):
             array.flags.writeable = False
 
@@ -141,7 +171,10 @@ class PlanarArm:
         return (
             f"PlanarArm(lengths={self.lengths.tolist()}, masses={self.masses.tolist()}, "
             f"com={self.com.tolist()}, inertia={self.inertia.tolist()}, "
-            f"gravity={self.gravity}, tau_max={limits})"
+            f"gravity={self.gravity}, tau_max={limits}"
+            + ("" if self.qd_max is None else f", qd_max={self.qd_max.tolist()}")
+            + ("" if self.torque_speed is None else f", torque_speed={self.torque_speed!r}")
+            + ")"
         )
 
     def _check_q(self, q: ArrayLike, batch: bool = False) -> NDArray[np.float64]:

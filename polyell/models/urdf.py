@@ -27,7 +27,15 @@ from numpy.typing import ArrayLike, NDArray
 
 from polyell.errors import InputError, MissingDependencyError, install_hint
 from polyell.models.dynamics import Dynamics
-from polyell.validation import array_ndim, check_array, check_spd, check_torque_limits
+from polyell.models.joint_limits import JointLimits, check_torque_speed
+from polyell.models.torque_speed import TorqueSpeed
+from polyell.validation import (
+    array_ndim,
+    check_array,
+    check_spd,
+    check_torque_limits,
+    check_velocity_limits,
+)
 
 __all__ = ["TASKS", "TASK_ROWS", "Payload", "UrdfRobot", "import_pinocchio"]
 
@@ -99,7 +107,7 @@ def _task_rows(task: str | Sequence[str | int]) -> list[int]:
     return rows
 
 
-class UrdfRobot:
+class UrdfRobot(JointLimits):
     """A fixed-base arm described by URDF, with dynamics from Pinocchio.
 
     Parameters
@@ -124,6 +132,14 @@ class UrdfRobot:
         to mix linear and angular rows.
     payload : Payload, optional
         Mass carried at the tip frame.
+    qd_max, qd_min : array-like, shape (n,), optional
+        Joint velocity limits [rad/s or m/s], ``qd_min <= 0 < qd_max``; default the
+        URDF's ``velocity`` limits (Pinocchio's ``velocityLimit``; ``qd_min = -qd_max``).
+        Where the URDF gives none for a joint (no ``<limit>``, or ``velocity="0"``),
+        :attr:`qd_max` is None and :meth:`velocity_limits` says which joints lack one.
+    torque_speed : TorqueSpeed, optional
+        The joints' torque-speed curves: :meth:`torque_limits` gives the torque limits
+        at a joint velocity.  Its stall torques must hold ``tau_max`` and ``tau_min``.
 
     Examples
     --------
@@ -145,6 +161,9 @@ class UrdfRobot:
         tau_min: ArrayLike | None = None,
         weights: ArrayLike | None = None,
         payload: Payload | None = None,
+        qd_max: ArrayLike | None = None,
+        qd_min: ArrayLike | None = None,
+        torque_speed: TorqueSpeed | None = None,
     ) -> None:
         pin = import_pinocchio()
         if not isinstance(locked_joints, list | tuple) or not all(
@@ -164,6 +183,9 @@ class UrdfRobot:
             "tau_min": tau_min,
             "weights": weights,
             "payload": payload,
+            "qd_max": qd_max,
+            "qd_min": qd_min,
+            "torque_speed": torque_speed,
         }
         full = self._build(pin, urdf)
         text = str(urdf) if str(urdf).lstrip().startswith("<") else Path(urdf).read_bytes()
@@ -231,7 +253,9 @@ class UrdfRobot:
         self.joint_names: list[str] = list(model.names)[1:]
         if tau_max is None:
             effort = np.array(model.effortLimit, dtype=float)
-            missing = [n for n, e in zip(self.joint_names, effort, strict=True) if e <= 0]
+            missing = [
+                n for n, e in zip(self.joint_names, effort, strict=True) if not 0 < e < np.inf
+            ]
             if missing:
                 raise InputError(
                     "tau_max",
@@ -241,6 +265,29 @@ class UrdfRobot:
                 )
             tau_max = effort
         self.tau_max, self.tau_min = check_torque_limits(tau_max, tau_min, self.nq)
+        self.qd_max: NDArray[np.float64] | None = None
+        self.qd_min: NDArray[np.float64] | None = None
+        if qd_max is None:
+            if qd_min is not None:
+                raise InputError(
+                    "qd_min", "qd_min only together with qd_max", "qd_min alone", "give both."
+                )
+            velocity = np.array(model.velocityLimit, dtype=float)
+            lacking = [
+                name
+                for name, v in zip(self.joint_names, velocity, strict=True)
+                if not 0 < v < np.inf
+            ]
+            if lacking:
+                self._no_velocity_limits = (
+                    f"none in the URDF for {lacking} (no <limit velocity=...>, or 0)"
+                )
+            else:
+                qd_max = velocity
+        if qd_max is not None:
+            self.qd_max, self.qd_min = check_velocity_limits(qd_max, qd_min, self.nq)
+            self.qd_max.flags.writeable = self.qd_min.flags.writeable = False
+        self.torque_speed = check_torque_speed(torque_speed, self.nq, self.tau_max, self.tau_min)
 
     def __reduce__(self) -> tuple[Any, ...]:
         """Pickle by the constructor's arguments (Pinocchio's objects are rebuilt)."""

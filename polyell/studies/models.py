@@ -34,6 +34,7 @@ from polyell.comparison.layout import LAYOUT_SETS, LIMIT_QUANTITIES, MAX_DIGITS
 from polyell.errors import InputError
 from polyell.expressions import evaluate, evaluate_list
 from polyell.models.self_motion import MAX_COUNT
+from polyell.models.torque_speed import TorqueSpeed
 from polyell.studies.posture_targets import MAX_TARGETS
 from polyell.validation import MAX_DIRECTIONS, ROUNDED_INPUT_RTOL, _describe, check_integer
 
@@ -58,6 +59,7 @@ __all__ = [
     "RangeTable",
     "RobotTable",
     "StudyFile",
+    "TorqueSpeedTable",
     "TrajectoryTable",
     "did_you_mean",
     "json_schema",
@@ -233,6 +235,20 @@ def _matrix(value: object) -> tuple[tuple[float, ...], ...]:
     )
 
 
+def _rows(value: object) -> tuple[tuple[float, ...], ...]:
+    """A list of rows of numbers (one per joint), of any lengths (checked where used)."""
+    if not isinstance(value, list) or not value or not all(isinstance(r, list) for r in value):
+        raise InputError("", "a list of rows, one list of numbers per joint", _describe(value))
+    return tuple(tuple(evaluate_list(f"[{i}]", row)) for i, row in enumerate(value))
+
+
+def _numbers_or_rows(value: object) -> tuple[float, ...] | tuple[tuple[float, ...], ...]:
+    """A list of numbers, or a list of rows of numbers (one per joint)."""
+    if isinstance(value, list) and value and all(isinstance(r, list) for r in value):
+        return _rows(value)
+    return _numbers(value)
+
+
 def _direction(value: object) -> str | tuple[float, ...]:
     """A named direction (checked against the robot's task rows later) or a unit vector."""
     if isinstance(value, str):
@@ -364,6 +380,18 @@ Matrix = Annotated[
             "items": {"oneOf": [_NUMBER_SCHEMA, {"type": "array", "items": _NUMBER_SCHEMA}]},
         },
         "matrix: list of rows, or the diagonal",
+    ),
+]
+_ROWS_SCHEMA: dict[str, Any] = {"type": "array", "items": _NUMBERS_SCHEMA, "minItems": 1}
+Rows = Annotated[
+    tuple[tuple[float, ...], ...], Check(_rows, _ROWS_SCHEMA, "list of rows (one per joint)")
+]
+NumbersOrRows = Annotated[
+    tuple[float, ...] | tuple[tuple[float, ...], ...],
+    Check(
+        _numbers_or_rows,
+        {"anyOf": [_NUMBERS_SCHEMA, _ROWS_SCHEMA]},
+        f"{_NUMBERS}, or one per joint",
     ),
 ]
 _DIRECTION_SCHEMA = {"oneOf": [{"type": "string"}, {"type": "array", "items": _NUMBER_SCHEMA}]}
@@ -565,6 +593,78 @@ q = [0, -0.5, 0, -2, 0, 1.6, 0.8]"""
     )
 
 
+class TorqueSpeedTable(Table):
+    """The torque-speed curves of a robot's joints, for its torque limits in motion.
+
+    Either the linear derating of DC drives (`tau_stall` and `qd_no_load`: the torque a
+    joint gives in the direction of motion falls from its stall torque at rest to 0 at
+    its no-load speed; the braking torque keeps the rated limit), or tabulated curves
+    (`speeds` and `torques`, interpolated linearly; past the last speed the torque is 0
+    if the curve ends at 0, else the speed is refused). The rated limits `tau_max`,
+    `tau_min` may not exceed the stall torques. See `pe.TorqueSpeed`.
+    """
+
+    heading: ClassVar[str] = "[robot.torque_speed]"
+    example: ClassVar[str] = """[robot]
+library = "chiacchio2000"
+qd_max = [3, 3, 5]
+qd_min = [-3, -2, -5]
+torque_speed = { tau_stall = [150, 40, 6], qd_no_load = [4, 5, 8] }
+[[points]]
+name = "p"
+q = [0.1, 0.2, 0.3]"""
+
+    tau_stall: Numbers | None = key(
+        None,
+        what="Linear derating: the stall torque of each joint [N m].",
+        example="[150, 40, 6]",
+        default_text="—",
+    )
+    qd_no_load: Numbers | None = key(
+        None,
+        what="Linear derating: the no-load speed of each joint [rad/s].",
+        example="[4, 5, 8]",
+        default_text="—",
+    )
+    speeds: NumbersOrRows | None = key(
+        None,
+        what="Tabulated curves: speeds from 0, increasing [rad/s]; one list for all "
+        "joints, or one per joint.",
+        example="[0, 2, 4]",
+        default_text="—",
+    )
+    torques: Rows | None = key(
+        None,
+        what="Tabulated curves: one row per joint, the torque in the direction of motion "
+        "at each speed [N m], not increasing.",
+        example="[[150, 120, 0], [40, 30, 0], [6, 5, 0]]",
+        default_text="—",
+    )
+
+    @model_validator(mode="after")
+    def _one_form(self) -> TorqueSpeedTable:
+        linear = [k for k in ("tau_stall", "qd_no_load") if getattr(self, k) is not None]
+        table = [k for k in ("speeds", "torques") if getattr(self, k) is not None]
+        if not (sorted(linear) == ["qd_no_load", "tau_stall"] and not table) and not (
+            sorted(table) == ["speeds", "torques"] and not linear
+        ):
+            raise InputError(
+                "",
+                "either tau_stall and qd_no_load (linear derating), or speeds and torques "
+                "(a table)",
+                f"keys {sorted(self.model_fields_set)}",
+                "e.g. torque_speed = { tau_stall = [150, 40, 6], qd_no_load = [4, 5, 8] }.",
+            )
+        self.build()  # the curves' own checks (shapes, signs, order), naming the key
+        return self
+
+    def build(self) -> TorqueSpeed:
+        """The :class:`~polyell.TorqueSpeed` the table describes."""
+        if self.tau_stall is not None:
+            return TorqueSpeed.linear(self.tau_stall, self.qd_no_load)  # type: ignore[arg-type]
+        return TorqueSpeed.table(self.speeds, self.torques)  # type: ignore[arg-type]
+
+
 class RobotTable(Table):
     """A robot: exactly one of `library`, `planar` and `urdf`.
 
@@ -638,6 +738,24 @@ q = [0, -0.5, 0, -2, 0, 1.6, 0.8]"""
     )
     tau_min: Numbers | None = key(
         None, what="Lower torque limits [N m].", example="[-90, -30, -4]", default_text="-tau_max"
+    )
+    qd_max: Numbers | None = key(
+        None,
+        what="Upper joint velocity limits [rad/s], positive.",
+        example="[2, 2, 2.5]",
+        default_text="the URDF's velocity limits; none for planar arms",
+    )
+    qd_min: Numbers | None = key(
+        None,
+        what="Lower joint velocity limits [rad/s], at most 0.",
+        example="[-2, -2, -2.5]",
+        default_text="-qd_max",
+    )
+    torque_speed: TorqueSpeedTable | None = key(
+        None,
+        what="Torque-speed curves of the joints: see `[robot.torque_speed]`.",
+        example="{ tau_stall = [150, 40, 6], qd_no_load = [4, 5, 8] }",
+        default_text="—",
     )
 
     @model_validator(mode="after")
@@ -1186,6 +1304,7 @@ TABLES: dict[str, type[Table]] = {
     "robot": RobotTable,
     "planar": PlanarTable,
     "payload": PayloadTable,
+    "torque_speed": TorqueSpeedTable,
     "points": PointTable,
     "random": RandomTable,
     "trajectory": TrajectoryTable,

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -18,7 +19,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from polyell import robots
 from polyell.comparison.candidates import Candidate, check_candidates
@@ -30,7 +31,7 @@ from polyell.models.task import task_unit
 from polyell.models.urdf import Payload, UrdfRobot
 from polyell.studies.configurations import uniform_rows
 from polyell.studies.trajectory import Trajectory, load_trajectory
-from polyell.validation import check_torque_limits
+from polyell.validation import array_ndim, check_array
 
 if TYPE_CHECKING:  # pydantic is imported where study files are read (start-up time)
     from polyell.studies import models
@@ -58,13 +59,23 @@ MAX_STUDY_CONFIGURATIONS = 10_000_000
 
 
 @contextmanager
-def _within(where: str) -> Iterator[None]:
-    """Name the key ``where`` in an InputError raised inside (``tau_max``: ``robot.tau_max``)."""
+def _within(where: str, outer: tuple[str, ...] = ()) -> Iterator[None]:
+    """Name the key ``where`` in an InputError raised inside (``tau_max``: ``robot.tau_max``).
+
+    Errors about the keys ``outer`` (keys of the enclosing table that the constructor
+    called inside also takes) pass unchanged, for the enclosing ``_within`` to name.
+    """
     try:
         yield
     except InputError as exn:
+        if re.match(r"[A-Za-z_]*", exn.argument)[0] in outer:  # type: ignore[index]
+            raise
         argument = exn.argument if exn.argument.startswith(where) else f"{where}.{exn.argument}"
         raise InputError(argument, exn.expected, exn.got, exn.fix) from None
+
+
+#: The keys of a robot table on its joint limits, which every robot model takes.
+LIMIT_KEYS = ("tau_max", "tau_min", "qd_max", "qd_min", "torque_speed")
 
 
 @dataclass(frozen=True)
@@ -72,12 +83,40 @@ class Robot:
     """A robot model with its torque limits, as described in a file.
 
     ``name`` labels its outputs in a study of several robots (``""``: the study's only one).
+    The model carries the file's velocity limits and torque-speed curves
+    (``model.qd_max``, ``model.qd_min``, ``model.torque_speed``).
     """
 
     model: PlanarArm | UrdfRobot
     tau_max: NDArray[np.float64]
     tau_min: NDArray[np.float64]
     name: str = ""
+
+    def torque_limits(
+        self, qd: ArrayLike | None = None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The robot's torque limits ``(tau_max, tau_min)`` [N m], at rest or at ``qd``.
+
+        ``tau_max`` and ``tau_min`` derated at the joint velocity ``qd`` (shape (n,) or
+        (K, n)) by the model's torque-speed curves (:meth:`pe.TorqueSpeed.limits`);
+        without ``qd`` or curves, the rated limits (repeated along a batch of ``qd``).
+        """
+        curves = self.model.torque_speed
+        if curves is not None and qd is not None:
+            return curves.limits(qd, self.tau_max, self.tau_min)
+        if qd is None:
+            return self.tau_max.copy(), self.tau_min.copy()
+        n = self.model.n
+        shape = ("K", n) if array_ndim(qd) == 2 else (n,)
+        velocity = check_array("qd", qd, shape, what="joint velocities [rad/s or m/s]")
+        return (
+            np.broadcast_to(self.tau_max, velocity.shape).copy(),
+            np.broadcast_to(self.tau_min, velocity.shape).copy(),
+        )
+
+    def velocity_limits(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The model's joint velocity limits ``(qd_max, qd_min)``; see its method."""
+        return self.model.velocity_limits()
 
 
 def _build_robot(table: models.RobotTable, where: str, folder: Path | None) -> Robot:
@@ -91,41 +130,47 @@ def _build_robot(table: models.RobotTable, where: str, folder: Path | None) -> R
         payload = table.payload
         with _within(f"{where}.payload"):
             options["payload"] = Payload(payload.mass, payload.com, payload.inertia)
+    # The joint limits go to the model, which checks them together (the torque-speed
+    # curves against the rated limits); errors name the robot table's keys.
+    limits: dict[str, Any] = {
+        name: getattr(table, name)
+        for name in ("tau_max", "tau_min", "qd_max", "qd_min")
+        if getattr(table, name) is not None
+    }
+    if table.torque_speed is not None:
+        limits["torque_speed"] = table.torque_speed.build()
     model: PlanarArm | UrdfRobot
     with _within(where):
+        if table.tau_min is not None and table.tau_max is None:
+            raise InputError("tau_min", "tau_min only with tau_max", "tau_min alone", "give both.")
         if table.planar is not None:
             planar = table.planar
-            with _within(f"{where}.planar"):
+            with _within(f"{where}.planar", outer=LIMIT_KEYS):
                 model = PlanarArm(
                     planar.lengths,
                     planar.masses,
                     com=planar.com,
                     inertia=planar.inertia,
                     gravity=planar.gravity,
+                    **limits,
                 )
         elif table.library is not None:
-            model = robots.load(table.library, **options)
+            model = robots.load(table.library, **options, **limits)
         else:
             assert table.urdf is not None
             path = Path(table.urdf)
             if folder is not None and not path.is_absolute():
                 path = folder / path
-            model = UrdfRobot(path, **options)
-        if table.tau_max is not None:
-            tau_max, tau_min = check_torque_limits(table.tau_max, table.tau_min, model.n)
-        elif model.tau_max is not None and model.tau_min is not None:
-            if table.tau_min is not None:
-                raise InputError(
-                    "tau_min", "tau_min only with tau_max", "tau_min alone", "give both."
-                )
-            tau_max, tau_min = model.tau_max, model.tau_min
-        else:
+            model = UrdfRobot(path, **options, **limits)
+        if model.tau_max is None and model.torque_speed is None:
             raise InputError(
                 "tau_max",
                 "torque limits for a robot without its own",
                 "no tau_max key",
-                "add tau_max = [...] (N m, one per joint).",
+                "add tau_max = [...] (N m, one per joint), or torque_speed = { ... }.",
             )
+        # Without rated limits, the stall torques of the curves are the limits at rest.
+        tau_max, tau_min = model.torque_limits()
     return Robot(model, tau_max, tau_min, table.name or "")
 
 

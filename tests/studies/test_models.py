@@ -402,3 +402,180 @@ def test_a_score_of_an_optimum_not_computed_is_refused_at_load(tmp_path, output,
     with pytest.raises(pe.InputError) as info:
         pe.studies.load_study(spec)
     assert str(info.value).startswith(fragment), str(info.value)
+
+
+# --- joint velocity limits and torque-speed curves (issue 21, items 1 and 5) -----------------
+
+POINT = '[[points]]\nname = "p"\nq = [0.1, 0.2, 0.3]\n'
+LINEAR = "torque_speed = { tau_stall = [150, 40, 6], qd_no_load = [4, 5, 8] }\n"
+PLANAR = "[robot]\nplanar = { lengths = [1, 0.8, 0.5], masses = [4, 2, 0.6] }\n"
+
+
+def test_velocity_limits_and_linear_curves_reach_the_robot(tmp_path):
+    spec = load(tmp_path, PAPER + "qd_max = [3, 3, 5]\nqd_min = [-3, -2, 0]\n" + LINEAR + POINT)
+    robot = spec.robot
+    assert robot.model.torque_speed == pe.TorqueSpeed.linear([150, 40, 6], [4, 5, 8])
+    np.testing.assert_array_equal(robot.model.qd_max, [3, 3, 5])
+    np.testing.assert_array_equal(robot.velocity_limits()[1], [-3, -2, 0])
+    np.testing.assert_array_equal(robot.tau_max, [100, 30, 4])  # the library's, kept
+    qd = np.array([[2.0, -1.0, 0.0], [-3.0, 6.0, 1.0]])
+    expected = robot.model.torque_speed.limits(qd, [100, 30, 4])
+    for got, want in zip(robot.torque_limits(qd), expected, strict=True):
+        np.testing.assert_array_equal(got, want)
+    # joint 0 forward at 2 rad/s: 150 (1 - 2/4) = 75 < 100; joint 1 backward at 1: 32 > 30
+    np.testing.assert_allclose(robot.torque_limits(qd[0])[0], [75.0, 30.0, 4.0], rtol=1e-15)
+
+
+def test_tabulated_curves_shared_or_per_joint_speeds(tmp_path):
+    torques = "[[150, 120, 0], [40, 30, 0], [6, 5, 0]]"
+    shared = load(
+        tmp_path, PAPER + f"torque_speed = {{ speeds = [0, 2, 4], torques = {torques} }}\n" + POINT
+    )
+    assert shared.robot.model.torque_speed == pe.TorqueSpeed.table(
+        [0, 2, 4], [[150, 120, 0], [40, 30, 0], [6, 5, 0]]
+    )
+    per_joint = load(
+        tmp_path,
+        PAPER
+        + 'torque_speed = { speeds = [[0, 2, 4], [0, 1, 3], [0, "pi", 8]], torques = '
+        + torques
+        + " }\n"
+        + POINT,
+    )
+    np.testing.assert_array_equal(per_joint.robot.model.torque_speed.speeds[2], [0, np.pi, 8])
+
+
+def test_curves_without_rated_limits_give_the_stall_torques(tmp_path):
+    robot = load(tmp_path, PLANAR + LINEAR + POINT).robot
+    np.testing.assert_array_equal(robot.tau_max, [150, 40, 6])
+    np.testing.assert_array_equal(robot.tau_min, [-150, -40, -6])
+    assert robot.model.qd_max is None
+
+
+def test_a_urdf_robot_file_with_velocity_limits_and_curves(tmp_path):
+    from polyell.studies import load_robot_file
+    from reference import PAPER_ARM, planar_urdf
+
+    (tmp_path / "arm.urdf").write_text(planar_urdf(PAPER_ARM))  # velocity="1", effort="50"
+    curves = "torque_speed = { tau_stall = [150, 60, 60], qd_no_load = [4, 5, 8] }\n"
+    head = 'urdf = "arm.urdf"\ntip = "tip"\ntask = "planar"\n'
+    path = tmp_path / "arm.toml"
+    path.write_text(head + curves)
+    robot = load_robot_file(path)
+    np.testing.assert_array_equal(robot.model.velocity_limits()[0], [1.0, 1.0, 1.0])
+    np.testing.assert_array_equal(robot.tau_max, [50.0, 50.0, 50.0])
+    path.write_text(head + "tau_max = [100, 30, 5]\nqd_max = [2, 2, 2]\n" + LINEAR)
+    robot = load_robot_file(path)  # the file's tau_max, within the stall torques, replaces 50
+    np.testing.assert_array_equal(robot.model.tau_max, [100, 30, 5])
+    np.testing.assert_array_equal(robot.velocity_limits()[0], [2.0, 2.0, 2.0])
+    path.write_text(head + LINEAR)  # effort 50 > stall 40
+    with pytest.raises(pe.InputError) as info:
+        load_robot_file(path)
+    assert str(info.value).startswith(
+        "arm.toml.tau_max: expected rated torque limits within the stall torques"
+    )
+    assert "got tau_max[1] = 50 N m against a stall torque of 40 N m" in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("text", "start"),
+    [
+        (
+            PAPER + "torque_speed = { tau_stall = [1, 2, 3] }\n",
+            "robot.torque_speed: expected either tau_stall and qd_no_load (linear derating), "
+            "or speeds and torques (a table), got keys ['tau_stall']",
+        ),
+        (
+            PAPER + "torque_speed = { tau_stall = [1], qd_no_load = [1], speeds = [0, 1] }\n",
+            "robot.torque_speed: expected either tau_stall and qd_no_load",
+        ),
+        (PAPER + "torque_speed = {}\n", "robot.torque_speed: expected either"),
+        (PAPER + "torque_speed = 5\n", "robot.torque_speed: expected a table"),
+        (
+            PAPER + "torque_speed = { stall = [1], no_load = [1] }\n",
+            "robot.torque_speed: expected keys among ['tau_stall', 'qd_no_load', 'speeds', "
+            "'torques'], got unknown key(s) ['no_load', 'stall']. Fix: did you mean",
+        ),
+        (
+            PAPER + LINEAR.replace("40", "-40"),
+            "robot.torque_speed.tau_stall: expected strictly positive values [N m], got "
+            "tau_stall[1] = -40",
+        ),
+        (
+            PAPER + LINEAR.replace("[4, 5, 8]", "[4, 5]"),
+            "robot.torque_speed.qd_no_load: expected an array of no-load speeds [rad/s] with "
+            "shape (3,)",
+        ),
+        (
+            PAPER + 'torque_speed = { tau_stall = [1, "x", 3], qd_no_load = [1, 1, 1] }\n',
+            "robot.torque_speed.tau_stall[1]: expected a number",
+        ),
+        (
+            PAPER + "torque_speed = { speeds = [0, 1], torques = [1, 0] }\n",
+            "robot.torque_speed.torques: expected a list of rows, one list of numbers per joint",
+        ),
+        (
+            PAPER + "torque_speed = { speeds = [0, 1, 1], torques = [[3, 2, 0]] }\n",
+            "robot.torque_speed.speeds: expected strictly increasing speeds",
+        ),
+        (
+            PAPER + "torque_speed = { speeds = [0, 1], torques = [[3, 0], [2]] }\n",
+            "robot.torque_speed.torques: expected an array of torques",
+        ),
+        (
+            PAPER + "torque_speed = { tau_stall = [150, 40], qd_no_load = [4, 5] }\n",
+            "robot.torque_speed: expected a torque-speed model of 3 joints",
+        ),
+        (
+            PAPER + LINEAR.replace("40", "20"),
+            "robot.tau_max: expected rated torque limits within the stall torques (-tau_stall "
+            "<= tau_min, tau_max <= tau_stall): a drive gives at most its stall torque at rest, "
+            "got tau_max[1] = 30 N m against a stall torque of 20 N m",
+        ),
+        (
+            PLANAR + "tau_max = [100, 30, 4]\n" + LINEAR.replace("6]", "3]"),
+            "robot.tau_max: expected rated torque limits within the stall torques",
+        ),
+        (
+            PLANAR + "tau_max = [100, 30, 4]\nqd_max = [1, 0, 1]\n",
+            "robot.qd_max: expected strictly positive upper joint velocities",
+        ),
+        (
+            PAPER + "qd_max = [1, 1]\n",
+            "robot.qd_max: expected an array of joint velocities [rad/s or m/s] with shape (3,)",
+        ),
+        (PAPER + 'qd_max = ["fast", 1, 1]\n', "robot.qd_max[0]: expected a number"),
+        (
+            PAPER + "qd_max = [1, 1, 1]\nqd_min = [-1, 1, -1]\n",
+            "robot.qd_min: expected lower joint velocities of at most 0",
+        ),
+        (PAPER + "qd_min = [-1, -1, -1]\n", "robot.qd_min: expected qd_min only together"),
+        (PLANAR + "tau_min = [-1, -1, -1]\n", "robot.tau_min: expected tau_min only with tau_max"),
+        (
+            TWO.replace('library = "ur5"', 'library = "ur5"\n' + LINEAR) + "[random]\ncount = 1\n",
+            "robots[1].torque_speed: expected a torque-speed model of 6 joints",
+        ),
+    ],
+)
+def test_bad_velocity_limits_and_curves_are_refused_naming_the_key(tmp_path, text, start):
+    message = refused(tmp_path, text + POINT if "[random]" not in text else text)
+    assert message.startswith(start), message
+
+
+def test_the_schema_knows_the_torque_speed_keys():
+    import jsonschema
+    import tomllib
+
+    from polyell.studies.models import json_schema
+
+    schema = json_schema("robot")
+    for text in (
+        'library = "chiacchio2000"\nqd_max = [1, 2, 3]\n' + LINEAR,
+        'library = "chiacchio2000"\ntorque_speed = { speeds = [0, 1], torques = [[1, 0]] }\n',
+        'library = "chiacchio2000"\ntorque_speed = { speeds = [[0, 1]], torques = [[1, 0]] }\n',
+    ):
+        jsonschema.validate(tomllib.loads(text), schema)
+    with pytest.raises(jsonschema.ValidationError, match="stall"):
+        jsonschema.validate(
+            tomllib.loads('library = "chiacchio2000"\ntorque_speed = { stall = [1] }\n'), schema
+        )
