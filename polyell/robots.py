@@ -1,7 +1,8 @@
 """A library of robots by name.
 
 * ``"chiacchio2000"``: the 3-link planar arm of Chiacchio (2000), section 6, with its torque
-  limits (100, 30, 4) N m.  No extra needed.
+  limits (100, 30, 4) N m and joint velocity limits (2, 3, 4) rad/s -- polyell's choice for
+  the velocity capacity: the paper gives none.  No extra needed.
 * Arms shipped by ``example-robot-data``, with Pinocchio (extra ``polyell[robots]``):
   ``"panda"`` (fingers locked), ``"ur3"``, ``"ur5"``, ``"ur10"``, ``"kinova"`` (Jaco 2,
   6 joints), ``"xarm7"``, ``"z1"`` (gripper locked).  Their torque limits are the URDFs'
@@ -60,6 +61,9 @@ URDF_OPTIONS = (
 )
 #: The keyword arguments of :class:`~polyell.PlanarArm` that :func:`load` passes on for
 #: the planar arm (its links are the paper's).
+#: Joint velocity limits [rad/s] of the paper's arm: a choice (the paper gives none), lower
+#: towards the base as on real arms.
+PAPER_VELOCITY_LIMITS = (2.0, 3.0, 4.0)
 PLANAR_OPTIONS = ("tau_max", "tau_min", "qd_max", "qd_min", "torque_speed")
 
 
@@ -132,6 +136,8 @@ def load(name: str, **options: Any) -> PlanarArm | UrdfRobot:
                 "its links are the paper's; build other arms with pe.PlanarArm.",
             )
         planar: dict[str, Any] = {"tau_max": [100.0, 30.0, 4.0]} | options
+        if "qd_max" not in options and "qd_min" not in options:
+            planar["qd_max"] = PAPER_VELOCITY_LIMITS
         return PlanarArm(
             lengths=[1.0, 0.8, 0.5], masses=[4.0, 2.0, 0.6], com=[0.5, 0.4, 0.25], **planar
         )
