@@ -74,6 +74,9 @@ def random_problem(
     B = random_spd(rng, n)
     tau_max = rng.uniform(1.0, 10.0, n)
     tau_min = tau_max - rng.uniform(0.5, 2.0, n) * tau_max if asymmetric else None
+    if asymmetric and capacity == "force":  # mild asymmetry about 0, as real drives have
+        spread = (tau_max - tau_min) / tau_max  # the same draw, in [0.5, 2]
+        tau_min = -tau_max * (0.6 + 0.4 * (spread - 0.5) / 1.5)
     g = gravity * rng.normal(size=n) * tau_max
     if capacity == "velocity":
         return pe.analyze(pe.Kinematics(J), capacity=capacity, qd_max=tau_max, qd_min=tau_min)

@@ -37,7 +37,7 @@ a force the arm cannot exert.
 from __future__ import annotations
 
 from functools import cached_property
-from typing import TYPE_CHECKING, ClassVar
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -46,13 +46,11 @@ from polyell.capacities.acceleration import check_dynamics
 from polyell.capacities.base import Analysis, InverseSolution
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.subspace import AFFINE_RTOL, RANK_RTOL, rank_revealing_svd
 from polyell.inverse import AffineMap
 from polyell.models.kinematics import Kinematics
 from polyell.validation import check_fraction, check_magnitudes, check_torque_limits
-
-if TYPE_CHECKING:
-    from polyell.geometry.hpolytope import HPolytope
 
 __all__ = ["ForceAnalysis"]
 
@@ -133,8 +131,6 @@ class ForceAnalysis(Analysis):
     @cached_property
     def polytope(self) -> HPolytope:
         """The exact force polytope ``{h : |A h + c|_inf <= 1}`` (unbounded or empty, said)."""
-        from polyell.geometry.hpolytope import HPolytope
-
         A = np.vstack([self.A, -self.A])
         b = np.concatenate([1.0 - self.c, 1.0 + self.c])
         polytope = HPolytope(A, b, center=self.center)
@@ -144,9 +140,11 @@ class ForceAnalysis(Analysis):
     def _require_bounded(self, kind: str) -> None:
         if self.is_singular:
             raise UndefinedEllipsoidError(
-                f"The force ellipsoid {kind!r} is unbounded at this singular posture: rank J "
-                f"= {self.rank} < m = {self.m}, so forces along Ker(J^T) need no torque (the "
-                "force polytope is unbounded along them too, see polytope.rays)."
+                f"The force ellipsoid {kind!r} is undefined at this singular posture: rank J "
+                f"= {self.rank} < m = {self.m}, so forces along Ker(J^T) need no torque and "
+                "the force polytope is unbounded along them (see polytope.rays); there the "
+                "gravity-consistent and static ellipsoids would be infinite cylinders and "
+                "the classic one flat."
             )
 
     def _build_ellipsoid(self, kind: str) -> Ellipsoid:

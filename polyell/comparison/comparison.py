@@ -218,6 +218,13 @@ class Comparison:
     def _score(self, kind: str) -> Scores:
         if not self._computed.get(kind, True):
             return Scores(kind=kind, defined=False, reason=f"not computed ({kind}=False)")
+        if getattr(self.analysis.polytope, "is_empty", False):
+            return Scores(
+                kind=kind,
+                defined=False,
+                reason=f"the exact {self.analysis.capacity} set is empty: the arm cannot hold "
+                "itself against gravity within its limits here.",
+            )
         try:
             E = self.ellipsoid(kind)
         except (UndefinedEllipsoidError, SolverError) as exn:

@@ -13,6 +13,7 @@ from numpy.typing import NDArray
 
 from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.limits import DirectionalLimits, line_interval_in_halfspaces
 from polyell.geometry.polytope import Polytope
 from polyell.inverse import AffineMap
@@ -73,7 +74,7 @@ def scale_rtol(
     return ROUNDING_FACTOR * (m + n) * eps * np.asarray(extent) / np.asarray(smallest_axis)
 
 
-def inside_rtol(E: Ellipsoid, P: Polytope) -> float:
+def inside_rtol(E: Ellipsoid, P: Polytope | HPolytope) -> float:
     """Tolerance of "E inside P" and "E around P": ``max(INSIDE_RTOL, scale_rtol(...))``.
 
     An ellipsoid with ``inscribed_scale >= 1 - inside_rtol`` is inside P, one with
@@ -83,16 +84,15 @@ def inside_rtol(E: Ellipsoid, P: Polytope) -> float:
     """
     if E.rank == 0:
         return INSIDE_RTOL
-    m, n = P.generators.shape
-    extent = max(
-        float(np.linalg.norm(P.center)),
-        float(np.linalg.norm(E.center)),
-        float(np.linalg.norm(P.generators, axis=0).sum()),
-    )
+    if isinstance(P, HPolytope):  # facets are its data: (m + 2) terms, its vertices' reach
+        m, n, size = P.ambient_dim, 2, P.extent
+    else:
+        (m, n), size = P.generators.shape, float(np.linalg.norm(P.generators, axis=0).sum())
+    extent = max(float(np.linalg.norm(P.center)), float(np.linalg.norm(E.center)), size)
     return max(INSIDE_RTOL, float(scale_rtol(extent, E.semi_axes[-1], m, n)))
 
 
-def check_same_affine_set(E: Ellipsoid, P: Polytope) -> None:
+def check_same_affine_set(E: Ellipsoid, P: Polytope | HPolytope) -> None:
     """Raise unless ``E`` spans exactly the affine set of ``P``."""
     off = P.affine_set.distance(E.center + (E.axes * E.semi_axes).T)
     if E.rank != P.dim or P.affine_set.distance(E.center) > P.atol or np.any(off > P.atol):
@@ -104,22 +104,25 @@ def check_same_affine_set(E: Ellipsoid, P: Polytope) -> None:
         )
 
 
-def _half_widths(P: Polytope) -> NDArray[np.float64]:
-    """Offsets of P's facets about its centre, ``h_i = sum_j |a_i . M_j|`` (F,).
+def _half_widths(P: Polytope | HPolytope) -> NDArray[np.float64]:
+    """Offsets of P's facets about its centre (F,).
 
-    The zonotope's support function, computed from the generators: ``b - A xg`` would lose
-    the digits of h when P is small against its distance from the origin.
+    For a zonotope its support function ``h_i = sum_j |a_i . M_j|``, computed from the
+    generators: ``b - A xg`` would lose the digits of h when P is small against its
+    distance from the origin.  For an H-polytope ``b - A c`` (its facets are its data).
     """
+    if isinstance(P, HPolytope):
+        return P.half_widths
     half: NDArray[np.float64] = np.abs(P.A @ P.generators).sum(axis=1)
     return half
 
 
-def _slacks(E: Ellipsoid, P: Polytope) -> NDArray[np.float64]:
+def _slacks(E: Ellipsoid, P: Polytope | HPolytope) -> NDArray[np.float64]:
     """``b_i - a_i . c`` for E's centre c, about P's centre (no cancellation at c = xg)."""
     return _half_widths(P) - P.A @ (E.center - P.center)
 
 
-def inscribed_scale(E: Ellipsoid, P: Polytope) -> float:
+def inscribed_scale(E: Ellipsoid, P: Polytope | HPolytope) -> float:
     """Largest ``k`` with ``c + k (E - c)`` inside ``P``.
 
     ``min_i (b_i - a_i . c) / |diag(s) U^T a_i|`` over the facets; at least 1 iff ``E`` is
@@ -134,14 +137,18 @@ def inscribed_scale(E: Ellipsoid, P: Polytope) -> float:
     return float(np.min(slack / reach))
 
 
-def enclosing_scale(E: Ellipsoid, P: Polytope) -> float:
+def enclosing_scale(E: Ellipsoid, P: Polytope | HPolytope) -> float:
     """Smallest ``k`` with ``P`` inside ``c + k (E - c)``.
 
     The largest ``|diag(s)^-1 U^T (v - c)|`` over the vertices v of ``P``: at most 1 iff
     ``E`` contains ``P`` (the outer ellipsoid touches: exactly 1), the counterpart of
     :func:`inscribed_scale`.  A point ellipsoid gives 0 (if P is that point) or ``inf``.
     """
+    if isinstance(P, HPolytope) and not P.is_bounded:
+        return float("inf")
     offsets = (P.vertices - P.center) + (P.center - E.center)
+    if not len(offsets):  # an empty set is inside every ellipsoid
+        return 0.0
     if E.rank == 0:
         return 0.0 if np.all(np.linalg.norm(offsets, axis=1) <= P.atol) else float("inf")
     return float(np.max(np.linalg.norm((offsets @ E.axes) / E.semi_axes, axis=1)))
@@ -177,7 +184,12 @@ def _uniform_in_ball(points: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def overlap(
-    E: Ellipsoid, P: Polytope, *, samples: int = 2**13, replicates: int = 8, seed: int = 0
+    E: Ellipsoid,
+    P: Polytope | HPolytope,
+    *,
+    samples: int = 2**13,
+    replicates: int = 8,
+    seed: int = 0,
 ) -> Overlap:
     """Coverage and overreach of ``E`` with respect to ``P``.
 

@@ -85,6 +85,7 @@ def line_interval_in_halfspaces(
     directions: NDArray[np.float64],
     slack: NDArray[np.float64] | float,
     floor: NDArray[np.float64] | float = 0.0,
+    slope_floor: float = 0.0,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The interval ``{a : A (a t) <= b}`` for each direction ``t``.
 
@@ -108,6 +109,10 @@ def line_interval_in_halfspaces(
     floor : float or ndarray, shape (F,)
         :func:`rounding_floor`: offsets ``b_i`` within it of 0 are taken as 0 (the origin on
         that facet), so that a line leaving P across it ends at exactly 0.
+    slope_floor : float, optional
+        Slopes ``|A_i . t|`` at or below it are taken as 0 (a line parallel to the facet
+        to rounding): an unbounded set then has infinite limits along its rays, not
+        ``b_i / 1e-17``.  0 (the default) for a bounded set, where another facet cuts first.
 
     Returns
     -------
@@ -115,6 +120,8 @@ def line_interval_in_halfspaces(
         Interval ends, NaN where the line misses the set.
     """
     slopes = directions @ A.T  # (k, F)
+    if slope_floor:
+        slopes = np.where(np.abs(slopes) <= slope_floor, 0.0, slopes)
     loose = b + slack
     b = snap_to_zero(b, floor)
     lower, upper = _cut(b, slopes)
@@ -123,7 +130,8 @@ def line_interval_in_halfspaces(
     if grazing.any():  # does the line meet the set grown by the slack?
         lower_loose, upper_loose = _cut(np.broadcast_to(loose, b.shape), slopes[grazing])
         grazing[grazing] = lower_loose <= upper_loose
-    middle = 0.5 * (lower + upper)
+    with np.errstate(invalid="ignore"):  # -inf + inf on unbounded lines, never grazing
+        middle = 0.5 * (lower + upper)
     lower = np.where(grazing, middle, lower)
     upper = np.where(grazing, middle, upper)
     empty = blocked | (lower > upper)

@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 
 from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.logdet import centred_mvee, centred_mvee_by_cvxpy
 from polyell.geometry.polytope import Polytope
 from polyell.geometry.zonotope import zonotope_facets
@@ -48,7 +49,7 @@ MVIE_METHODS = ("logdet", "cvxpy")
 
 
 def max_volume_inscribed_ellipsoid(
-    P: Polytope, method: Literal["logdet", "cvxpy"] = "logdet"
+    P: Polytope | HPolytope, method: Literal["logdet", "cvxpy"] = "logdet"
 ) -> Ellipsoid:
     """The maximum-volume ellipsoid inscribed in ``P``, in ``P``'s affine set.
 
@@ -73,6 +74,12 @@ def max_volume_inscribed_ellipsoid(
     """
     if method not in MVIE_METHODS:
         raise InputError("method", f"one of {MVIE_METHODS}", repr(method))
+    if isinstance(P, HPolytope):  # no centre of symmetry: the free-centre programs
+        from polyell.geometry.free_center import free_center_mvie
+
+        E = free_center_mvie(P)
+        E.affine_rtol = P.affine_rtol
+        return E
     E = _mvie(P, method)
     E.affine_rtol = P.affine_rtol
     return E

