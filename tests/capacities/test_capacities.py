@@ -10,11 +10,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from reference import RTOL_EXACT, RTOL_LP, random_directions, random_problem
 from scipy.optimize import linprog
 
 import polyell as pe
 from polyell.capacities import capacity_class
+from reference import RTOL_EXACT, RTOL_LP, random_directions, random_problem
 
 SHAPES = [(2, 3), (3, 7), (6, 7)]
 #: Definitions that lie inside the exact set by construction (their witness is at most 1).
@@ -27,83 +27,40 @@ INSIDE = {
 WITNESS_BALL = {"acceleration": ("chiacchio",), "velocity": ("yoshikawa",), "force": ("chiacchio",)}
 
 
-def joint_program(an: pe.Analysis, direction: np.ndarray) -> tuple[float, float]:
-    """``[lo, hi]`` of ``{a : a t achievable}`` by HiGHS over the joint quantities.
+def line_program(an: pe.Analysis, start: np.ndarray, offset: np.ndarray) -> tuple[float, float]:
+    """``[lo, hi]`` of ``{s : start + s offset achievable}`` by HiGHS over joint quantities.
 
-    Variables ``(a, z)`` with z the joint accelerations, velocities, or nothing (forces).
+    Variables ``(s, z)`` with z the joint accelerations or velocities, or ``s`` alone for
+    forces (whose torque is fixed by the force).  NaN where the line misses the set, an
+    infinite end where the set is unbounded along it.
     """
     J = an.dynamics.J
-    m, n = J.shape
-    t = direction
-    if an.capacity == "force":
-        g = an.dynamics.g
-        A_ub = np.vstack([J.T @ t[:, None], -(J.T @ t[:, None])])
-        b_ub = np.concatenate([an.tau_max - g, g - an.tau_min])
-        A_eq = b_eq = None
-        bounds = [(None, None)]
-    elif an.capacity == "velocity":
-        A_ub = b_ub = None
-        A_eq = np.hstack([-t[:, None], J])
-        b_eq = np.zeros(m)
-        bounds = [(None, None)] + list(zip(an.qd_min, an.qd_max, strict=True))
-    else:  # tau = B qdd + g within the limits, xdd = J qdd + bias = a t
-        B, g = an.dynamics.B, an.dynamics.g
-        A_ub = np.vstack([np.hstack([np.zeros((n, 1)), B]), np.hstack([np.zeros((n, 1)), -B])])
-        b_ub = np.concatenate([an.tau_max - g, g - an.tau_min])
-        A_eq = np.hstack([-t[:, None], J])
-        b_eq = -an.dynamics.xdd_bias
-        bounds = [(None, None)] * (n + 1)
-    ends = []
-    for sign in (1.0, -1.0):
-        cost = np.zeros(1 if an.capacity == "force" else n + 1)
-        cost[0] = sign
-        result = linprog(cost, A_ub, b_ub, A_eq, b_eq, bounds=bounds, method="highs")
-        if result.status == 3:
-            ends.append(-sign * np.inf)
-        elif result.status == 2:
-            return np.nan, np.nan
-        else:
-            assert result.status == 0, result.message
-            ends.append(result.x[0])
-    return ends[0], ends[1]
-
-
-def scale_reach(an: pe.Analysis, center: np.ndarray, point: np.ndarray) -> float:
-    """Largest s with ``center + s (point - center)`` achievable (by the joint program)."""
-    offset = point - center
-    lo, hi = joint_program_along(an, center, offset)
-    return hi
-
-
-def joint_program_along(an: pe.Analysis, start: np.ndarray, offset: np.ndarray):
-    """``[lo, hi]`` of ``{s : start + s offset achievable}`` (as ``joint_program``)."""
-    J = an.dynamics.J
-    m, n = J.shape
-    if an.capacity == "force":
-        g = an.dynamics.g
-        base = J.T @ start + g
-        step = J.T @ offset
+    n = J.shape[1]
+    A_eq = b_eq = A_ub = b_ub = None
+    if an.capacity == "force":  # tau_min <= J^T (start + s offset) + g <= tau_max
+        base, step = J.T @ start + an.dynamics.g, J.T @ offset
         A_ub = np.concatenate([step, -step])[:, None]
         b_ub = np.concatenate([an.tau_max - base, base - an.tau_min])
-        A_eq = b_eq = None
         bounds = [(None, None)]
-    elif an.capacity == "velocity":
-        A_ub = b_ub = None
-        A_eq = np.hstack([-offset[:, None], J])
-        b_eq = start
-        bounds = [(None, None)] + list(zip(an.qd_min, an.qd_max, strict=True))
-    else:
+    elif an.capacity == "velocity":  # J qd = start + s offset, qd in its box
+        A_eq, b_eq = np.hstack([-offset[:, None], J]), start
+        bounds = [(None, None), *zip(an.qd_min, an.qd_max, strict=True)]
+    else:  # J qdd + bias = start + s offset, tau = B qdd + g within the limits
         B, g = an.dynamics.B, an.dynamics.g
         A_ub = np.vstack([np.hstack([np.zeros((n, 1)), B]), np.hstack([np.zeros((n, 1)), -B])])
         b_ub = np.concatenate([an.tau_max - g, g - an.tau_min])
-        A_eq = np.hstack([-offset[:, None], J])
-        b_eq = start - an.dynamics.xdd_bias
+        A_eq, b_eq = np.hstack([-offset[:, None], J]), start - an.dynamics.xdd_bias
         bounds = [(None, None)] * (n + 1)
     ends = []
     for sign in (1.0, -1.0):
-        cost = np.zeros(A_eq.shape[1] if A_eq is not None else 1)
+        cost = np.zeros(len(bounds))
         cost[0] = sign
         result = linprog(cost, A_ub, b_ub, A_eq, b_eq, bounds=bounds, method="highs")
+        if result.status == 2:  # infeasible: the line misses the set
+            return np.nan, np.nan
+        if result.status == 3:  # unbounded along the line
+            ends.append(-sign * np.inf)
+            continue
         assert result.status == 0, result.message
         ends.append(result.x[0])
     return ends[0], ends[1]
@@ -138,7 +95,7 @@ def test_limits_equal_the_joint_program(capacity, m, n):
     limits = an.polytope.limits(T)
     assert np.isfinite(limits.hi).sum() >= 3  # not a vacuous comparison of NaN with NaN
     for t, lo, hi in zip(T, limits.lo, limits.hi, strict=True):
-        ref_lo, ref_hi = joint_program(an, t)
+        ref_lo, ref_hi = line_program(an, np.zeros(m), t)
         scale = max(1.0, abs(ref_lo), abs(ref_hi))
         assert lo == pytest.approx(ref_lo, abs=RTOL_LP * scale, nan_ok=True)
         assert hi == pytest.approx(ref_hi, abs=RTOL_LP * scale, nan_ok=True)
@@ -153,7 +110,7 @@ def test_inside_definitions_are_inside_and_their_witness_is_at_most_one(capacity
         E = an.ellipsoid(kind)
         points = boundary_points(E, 8, seed=m + n)
         for point in points:
-            assert scale_reach(an, E.center, point) >= 1.0 - RTOL_LP
+            assert line_program(an, E.center, point - E.center)[1] >= 1.0 - RTOL_LP
         if kind in WITNESS_BALL[capacity]:
             witness = an.witness_map(kind)(points)
             np.testing.assert_allclose(np.linalg.norm(witness, axis=1), 1.0, rtol=RTOL_EXACT)
@@ -331,7 +288,7 @@ def test_force_polytope_of_an_arm_that_cannot_hold_itself_is_empty():
 
 def test_unknown_capacity_is_refused_with_a_suggestion():
     dyn = pe.Dynamics(np.eye(2), np.eye(2), np.zeros(2))
-    with pytest.raises(pe.InputError, match="capacity: expected one of .*did you mean 'force'"):
+    with pytest.raises(pe.InputError, match=r"capacity: expected one of .*did you mean 'force'"):
         pe.analyze(dyn, [1.0, 1.0], capacity="forces")
     with pytest.raises(pe.InputError, match="capacity"):
         pe.analyze(dyn, [1.0, 1.0], capacity=3)
