@@ -20,6 +20,7 @@ from polyell.comparison.comparison import Comparison
 from polyell.comparison.tables import check_text
 from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.polytope import Polytope
 from polyell.models.task import task_unit
 from polyell.storage import write_text_atomically
@@ -117,12 +118,23 @@ def _ellipsoid_surface(E: Ellipsoid, k: int) -> tuple[NDArray[np.float64], NDArr
     return vertices, np.array(faces)
 
 
-def mesh(S: Polytope | Ellipsoid, resolution: int = RESOLUTION) -> Mesh:
+def _check_drawable(S: object, argument: str) -> None:
+    """Refuse an H-polytope that is unbounded or empty: it has no finite mesh."""
+    if isinstance(S, HPolytope) and (S.is_empty or not S.is_bounded):
+        raise InputError(
+            argument,
+            "a bounded, non-empty set",
+            "an empty set" if S.is_empty else f"a set unbounded along {len(S.rays)} ray(s)",
+            "a force polytope is unbounded at a singular posture: draw a nonsingular one.",
+        )
+
+
+def mesh(S: Polytope | HPolytope | Ellipsoid, resolution: int = RESOLUTION) -> Mesh:
     """The mesh of a polytope or an ellipsoid of a 2-D or 3-D task space.
 
     Parameters
     ----------
-    S : Polytope or Ellipsoid
+    S : Polytope, HPolytope or Ellipsoid
     resolution : int, optional
         Rings of latitude of an ellipsoid (its boundary curve has ``8 * resolution``
         points when it is flat); a polytope is exact.
@@ -133,15 +145,16 @@ def mesh(S: Polytope | Ellipsoid, resolution: int = RESOLUTION) -> Mesh:
         For a set that is neither, a task space of another dimension, or a resolution
         outside ``[2, MAX_RESOLUTION]``.
     """
-    if not isinstance(S, Polytope | Ellipsoid):
+    if not isinstance(S, Polytope | HPolytope | Ellipsoid):
         raise InputError("set", "a pe.Polytope or a pe.Ellipsoid", type(S).__name__)
+    _check_drawable(S, "set")
     resolution = check_resolution(resolution)
     m = S.ambient_dim
     if m not in (2, 3):
         raise InputError("set", "a set of a 2-D or 3-D task space", f"m = {m}")
     none = np.zeros((0, 3), dtype=int)
-    rank = S.dim if isinstance(S, Polytope) else S.rank
-    if isinstance(S, Polytope):
+    rank = S.rank if isinstance(S, Ellipsoid) else S.dim
+    if not isinstance(S, Ellipsoid):
         vertices = S.vertices
         if rank == 3:
             from scipy.spatial import ConvexHull
@@ -150,7 +163,7 @@ def mesh(S: Polytope | Ellipsoid, resolution: int = RESOLUTION) -> Mesh:
             return Mesh(vertices, faces, np.zeros((0, 2), dtype=int))
         if rank == 2:  # a polygon: its vertices in order around it
             basis = S.affine_set.basis if m == 3 else np.eye(2)
-            local = (vertices - S.center) @ basis
+            local = (vertices - vertices.mean(axis=0)) @ basis
             vertices = vertices[np.argsort(np.arctan2(local[:, 1], local[:, 0]))]
             return Mesh(_lift(vertices), _fan(len(vertices)), np.zeros((0, 2), dtype=int))
     else:
@@ -168,7 +181,7 @@ def mesh(S: Polytope | Ellipsoid, resolution: int = RESOLUTION) -> Mesh:
     return Mesh(_lift(np.asarray(vertices)), none, lines)
 
 
-def polytope_edges(P: Polytope) -> NDArray[np.int_]:
+def polytope_edges(P: Polytope | HPolytope) -> NDArray[np.int_]:
     """The edges of a polytope of a 2-D or 3-D task space, as pairs of vertex indices.
 
     The triangles of a mesh cut each face of a 3-D polytope into pieces; an edge here is
@@ -177,7 +190,7 @@ def polytope_edges(P: Polytope) -> NDArray[np.int_]:
 
     Parameters
     ----------
-    P : Polytope
+    P : Polytope or HPolytope (bounded)
 
     Returns
     -------
@@ -185,8 +198,9 @@ def polytope_edges(P: Polytope) -> NDArray[np.int_]:
         Indices into ``P.vertices``, each edge once (``i < j``): the hull's edges (3-D),
         the polygon's sides (a flat polytope), one segment, or none (a point).
     """
-    if not isinstance(P, Polytope):
+    if not isinstance(P, Polytope | HPolytope):
         raise InputError("P", "a pe.Polytope", type(P).__name__)
+    _check_drawable(P, "P")
     if P.ambient_dim not in (2, 3):
         raise InputError("P", "a polytope of a 2-D or 3-D task space", f"m = {P.ambient_dim}")
     count = len(P.vertices)
@@ -205,7 +219,7 @@ def polytope_edges(P: Polytope) -> NDArray[np.int_]:
         return np.array(sorted(pairs), dtype=int).reshape(-1, 2)
     if P.dim == 2:
         basis = P.affine_set.basis if P.ambient_dim == 3 else np.eye(2)
-        local = (P.vertices - P.center) @ basis
+        local = (P.vertices - P.vertices.mean(axis=0)) @ basis
         order = np.argsort(np.arctan2(local[:, 1], local[:, 0]))
         sides = np.column_stack([order, np.roll(order, -1)])
         return np.sort(sides, axis=1)
@@ -271,7 +285,7 @@ def write_obj(
     meshes : mapping of str to Mesh
         E.g. :func:`comparison_meshes`.
     unit : str, optional
-        The task's unit (``task_unit(analysis.dynamics.task)``), written in the header.
+        The task's unit (``task_unit(analysis.task)``), written in the header.
     task : tuple of str, optional
         The task rows (the frame's axes), written in the header.
 
@@ -330,7 +344,7 @@ def export_comparison(
         raise InputError("path", "a file name ending in .obj or .ply", repr(path))
     target = Path(path)
     meshes = comparison_meshes(comparison, resolution)
-    task = comparison.analysis.dynamics.task
+    task = comparison.analysis.task
     unit = task_unit(task)
     if target.suffix == ".obj":
         return [write_obj(target, meshes, unit=unit, task=task)]

@@ -144,7 +144,7 @@ def _ellipsoids(
             found[kind] = mvie
             continue
         try:
-            found[kind] = analysis.ellipsoid(kind)  # type: ignore[arg-type]
+            found[kind] = analysis.ellipsoid(kind)
         except UndefinedEllipsoidError:
             continue  # undefined here (singular configuration): nothing to draw
     return found | dict(extra or {})
@@ -154,7 +154,7 @@ def _label_axes(ax: Axes, analysis: Analysis, unit: str | None) -> None:
     """Label each axis with its task row (x, z, wx, ...) and the task's unit."""
     unit = unit or analysis.unit(tex=True)
     setters = (ax.set_xlabel, ax.set_ylabel, getattr(ax, "set_zlabel", None))
-    for setter, row in zip(setters, analysis.dynamics.task, strict=False):
+    for setter, row in zip(setters, analysis.task, strict=False):
         assert setter is not None
         setter(f"{row_label(row, analysis.capacity)} [{unit}]")
 
@@ -195,10 +195,8 @@ def plot_sets(
     -------
     Figure
     """
-    if analysis.dynamics.m != 2:
-        raise InputError(
-            "analysis", "a 2-D task space", f"m = {analysis.dynamics.m}", "use plot_sets_3d."
-        )
+    if analysis.m != 2:
+        raise InputError("analysis", "a 2-D task space", f"m = {analysis.m}", "use plot_sets_3d.")
     _check_texts(unit=unit, title=title)
     if ax is None:
         ax = Figure(figsize=(4.8, 5.2), layout="constrained").add_subplot()
@@ -223,7 +221,7 @@ def plot_sets(
             ends |= {"linewidth": widths.get(kind, 1.3), "solid_capstyle": "butt"}
         ax.plot(*E.boundary_curve(720, closed=True).T, **(_style(kind, list(drawn)) | ends))  # type: ignore[arg-type]
     ax.plot(
-        *analysis.xg,
+        *analysis.center,
         marker="+",
         color="black",
         markersize=9,
@@ -329,10 +327,8 @@ def plot_sets_3d(
 
     from polyell.export import polytope_edges
 
-    if analysis.dynamics.m != 3:
-        raise InputError(
-            "analysis", "a 3-D task space", f"m = {analysis.dynamics.m}", "use plot_sets."
-        )
+    if analysis.m != 3:
+        raise InputError("analysis", "a 3-D task space", f"m = {analysis.m}", "use plot_sets.")
     _check_texts(unit=unit, title=title)
     if (
         not isinstance(view, tuple | list)
@@ -379,7 +375,7 @@ def plot_sets_3d(
             ax.plot(*section.T, linewidth=0.6, alpha=0.55, **line_style)
         handles.append(line)
     (centre,) = ax.plot(
-        *analysis.xg,
+        *analysis.center,
         "+",
         color="black",
         markersize=9,
@@ -394,7 +390,7 @@ def plot_sets_3d(
     boxes = [
         np.vstack([E.center - r, E.center + r]) for E, r in zip(drawn.values(), reach, strict=True)
     ]
-    bounds = np.vstack([P.vertices, np.zeros((1, 3)), analysis.xg[None], *boxes])
+    bounds = np.vstack([P.vertices, np.zeros((1, 3)), analysis.center[None], *boxes])
     low, high = bounds.min(axis=0), bounds.max(axis=0)
     span = high - low
     floor = 1e-3 * max(float(span.max()), 1e-300)  # a flat set keeps a visible thickness
@@ -435,8 +431,8 @@ def plot_directional_limits(
     Only directions with a positive upper limit are drawn (the radius of a polar plot
     cannot be negative); the others are gaps.
     """
-    if analysis.dynamics.m != 2:
-        raise InputError("analysis", "a 2-D task space", f"m = {analysis.dynamics.m}")
+    if analysis.m != 2:
+        raise InputError("analysis", "a 2-D task space", f"m = {analysis.m}")
     _check_texts(unit=unit, title=title)
     T = sphere_directions(directions, 2)
     angles = np.arctan2(T[:, 1], T[:, 0])

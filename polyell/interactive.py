@@ -132,12 +132,12 @@ def interactive_sets(
     """
     go = _plotly()
     analysis = comparison.analysis
-    m = analysis.dynamics.m
+    m = analysis.m
     if m not in (2, 3):
         raise InputError("comparison", "a 2-D or 3-D task space", f"m = {m}")
     chosen = [k for k in (kinds or comparison.kinds) if comparison[k].defined]
     unit = analysis.unit()
-    labels = [_plain_label(row) for row in analysis.dynamics.task]
+    labels = [_plain_label(row) for row in analysis.task]
     P = analysis.polytope
     figure = go.Figure()
     vertex_text = [
@@ -241,7 +241,7 @@ def interactive_sets(
                 hoverinfo="text",
             )
         )
-    centre = analysis.xg
+    centre = analysis.center
     marker = {"symbol": "cross", "color": "black", "size": 6}
     if m == 2:
         figure.add_trace(

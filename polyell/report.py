@@ -8,9 +8,10 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from polyell.capacities import ELLIPSOID_KINDS, Analysis, InverseSolution
+from polyell.capacities import Analysis, InverseSolution
 from polyell.comparison import Comparison
 from polyell.errors import UndefinedEllipsoidError
+from polyell.geometry.hpolytope import HPolytope
 
 __all__ = ["analysis_to_json", "format_analysis"]
 
@@ -35,17 +36,22 @@ def inverse_at_end(
 ) -> tuple[NDArray[np.float64] | None, dict[str, InverseSolution]]:
     """Both inverse maps at one end of the new ellipsoid's interval along ``direction``.
 
-    Returns the acceleration (None where the interval is empty) and the solutions of the
-    definitions defined here.  The direction is the one the limits used: projected onto
-    the affine set when it was typed rounded (a singular configuration).
+    Returns the point (None where the interval is empty) and the solutions of the
+    definitions defined here (the capacity's first kind is its "new" one).  The direction
+    is the one the limits used: projected onto the affine set when it was typed rounded (a
+    singular configuration).
     """
     P = analysis.polytope
-    end = float(getattr(analysis.ellipsoid("chiacchio").limits(direction), inverse_at))
+    try:
+        first = analysis.ellipsoid(analysis.ellipsoid_kinds[0])
+    except UndefinedEllipsoidError:
+        return None, {}
+    end = float(getattr(first.limits(direction), inverse_at))
     if math.isnan(end):
         return None, {}
     xdd = end * P.affine_set.meet_lines(direction[None], P.affine_rtol).projected[0]
     solutions: dict[str, InverseSolution] = {}
-    for kind in ELLIPSOID_KINDS:
+    for kind in analysis.ellipsoid_kinds:
         try:
             solutions[kind] = analysis.inverse(xdd, kind=kind)
         except UndefinedEllipsoidError:
@@ -79,31 +85,46 @@ def format_analysis(
     -------
     str
     """
-    P, svd = analysis.polytope, analysis.svd
+    P, svd = analysis.polytope, analysis.svd  # type: ignore[attr-defined]
     unit = analysis.unit()
+    acceleration = analysis.capacity == "acceleration"
     lines = [
-        f"task rows {', '.join(analysis.dynamics.task)} [{unit}]",
-        f"rank M = {analysis.rank} of m = {analysis.dynamics.m}"
+        f"{analysis.capacity} capacity: task rows {', '.join(analysis.task)} [{unit}]"
+        if not acceleration
+        else f"task rows {', '.join(analysis.task)} [{unit}]",
+        f"rank {'J' if analysis.capacity == 'force' else 'M'} = {analysis.rank} of m = {analysis.m}"
         + (" (singular configuration)" if analysis.is_singular else ""),
-        f"xdd_g (eq. 8) [{unit}]:",
-        _matrix(analysis.xg),
-        "M (eq. 14):",
-        _matrix(analysis.M),
-        "SVD of M (eq. 35): singular values " + ", ".join(f"{s:.5g}" for s in svd.singular_values),
+    ]
+    if acceleration:  # the paper's names and equation numbers
+        matrices = analysis.matrices()
+        lines += [f"xdd_g (eq. 8) [{unit}]:", _matrix(matrices["xg"]), "M (eq. 14):"]
+        lines += [_matrix(matrices["M"]), "SVD of M (eq. 35): singular values "]
+    else:
+        for name, value in analysis.matrices().items():
+            lines += [f"{name}:", _matrix(value)]
+        for name, value in analysis.joint_limits().items():
+            lines.append(f"{name}: " + ", ".join(f"{v:.5g}" for v in value))
+        lines.append("SVD: singular values ")
+    lines[-1] += ", ".join(f"{s:.5g}" for s in svd.singular_values)
+    lines += [
         "  U = [U1 U2]:",
         _matrix(np.hstack([svd.U1, svd.U2])),
         "  V1^T:",
         _matrix(svd.V1.T),
         "",
-        f"Polytope (eq. 15): dimension {P.dim}, {len(P.vertices)} vertices, "
-        f"{len(P.A)} facets, volume {P.volume:.6g}",
+        f"{'Polytope (eq. 15)' if acceleration else 'Exact set'}: dimension {P.dim}, "
+        f"{len(P.vertices)} vertices, {len(P.A)} facets, volume {P.volume:.6g}",
         f"  vertices [{unit}]:",
         _matrix(P.vertices),
     ]
+    if isinstance(P, HPolytope) and P.is_empty:
+        lines.append("  empty: the arm cannot hold itself against gravity within its limits")
+    if isinstance(P, HPolytope) and not P.is_bounded:
+        lines += ["  unbounded along the rays:", _matrix(P.rays)]
     if P.A_eq.size:
         lines += ["  equalities A_eq x = b_eq:", _matrix(np.hstack([P.A_eq, P.b_eq[:, None]]))]
     limits = {"polytope": P.limits(direction)}
-    for kind in ELLIPSOID_KINDS:
+    for kind in analysis.ellipsoid_kinds:
         lines.append("")
         try:
             E = analysis.ellipsoid(kind)
@@ -119,21 +140,34 @@ def format_analysis(
             "  axes (columns):",
             _matrix(E.axes),
         ]
-    lines += ["", f"Achievable accelerations along {label} = {np.round(direction, 6).tolist()}:"]
+    lines += [
+        "",
+        f"Achievable {analysis.quantity} along {label} = {np.round(direction, 6).tolist()}:",
+    ]
     lines += [
         f"  {name:<10} {_interval(float(lo), float(hi))}" for name, (lo, hi) in limits.items()
     ]
     xdd, solutions = inverse_at_end(analysis, direction, inverse_at)
     if xdd is None:
         return "\n".join(lines)
-    lines += ["", f"Inverse maps at xdd = {np.round(xdd, 5).tolist()} ({inverse_at} end, new):"]
-    equations = {"chiacchio": "33/40", "yoshikawa": "26"}
+    point = "xdd" if acceleration else "x"
+    lines += [
+        "",
+        f"Inverse maps at {point} = {np.round(xdd, 5).tolist()} ({inverse_at} end, "
+        f"{analysis.ellipsoid_kinds[0]}):"
+        if not acceleration
+        else f"Inverse maps at xdd = {np.round(xdd, 5).tolist()} ({inverse_at} end, new):",
+    ]
+    equations = {"chiacchio": " (eq. 33/40)", "yoshikawa": " (eq. 26)"} if acceleration else {}
+    joint, normalized = analysis.inverse_names
+    if analysis.capacity == "force":  # a force needs one torque, whatever the definition
+        solutions = dict(list(solutions.items())[:1])
     for name, solution in solutions.items():
         lines += [
-            f"  {name} (eq. {equations[name]}): qdd = {np.round(solution.qdd, 5).tolist()}",
-            f"    tau_n = {np.round(solution.tau_n, 5).tolist()}, "
-            f"|tau_n| = {float(solution.torque_norm):.5g}, "
-            f"max |tau_n_i| = {float(np.max(np.abs(solution.tau_n))):.5g}",
+            f"  {name}{equations.get(name, '')}: {joint} = {np.round(solution.joint, 5).tolist()}",
+            f"    {normalized} = {np.round(solution.normalized, 5).tolist()}, "
+            f"|{normalized}| = {float(solution.torque_norm):.5g}, "
+            f"max |{normalized}_i| = {float(np.max(np.abs(solution.normalized))):.5g}",
         ]
     return "\n".join(lines)
 
@@ -162,7 +196,7 @@ def analysis_to_json(
     """Everything :func:`format_analysis` shows (and the scores, if given), JSON-ready."""
     P = analysis.polytope
     ellipsoids: dict[str, Any] = {}
-    for kind in ELLIPSOID_KINDS:
+    for kind in analysis.ellipsoid_kinds:
         try:
             E = analysis.ellipsoid(kind)
         except UndefinedEllipsoidError as exn:
@@ -181,15 +215,14 @@ def analysis_to_json(
         }
     lo, hi = P.limits(direction)
     result: dict[str, Any] = {
-        "task": list(analysis.dynamics.task),
+        "capacity": analysis.capacity,
+        "task": list(analysis.task),
         "unit": analysis.unit(),
-        "xg": analysis.xg,
-        "M": analysis.M,
+        **analysis.matrices(),
         "rank": analysis.rank,
-        "singular_values": analysis.svd.singular_values,
+        "singular_values": analysis.svd.singular_values,  # type: ignore[attr-defined]
         "direction": direction,
-        "tau_max": analysis.tau_max,
-        "tau_min": analysis.tau_min,
+        **analysis.joint_limits(),
         "polytope": {
             "dim": P.dim,
             "volume": P.volume,
@@ -198,13 +231,18 @@ def analysis_to_json(
             "b": P.b,
             "A_eq": P.A_eq,
             "b_eq": P.b_eq,
+            "rays": getattr(P, "rays", np.zeros((0, analysis.m))),
+            "empty": bool(getattr(P, "is_empty", False)),
             "limits": [lo, hi],
         },
         "ellipsoids": ellipsoids,
     }
     xdd, solutions = inverse_at_end(analysis, direction, inverse_at)
-    result["inverse"] = {"at": inverse_at, "xdd": xdd} | {
-        kind: {"qdd": solution.qdd, "tau_n": solution.tau_n} for kind, solution in solutions.items()
+    joint, normalized = analysis.inverse_names
+    point = "xdd" if analysis.capacity == "acceleration" else "x"
+    result["inverse"] = {"at": inverse_at, point: xdd} | {
+        kind: {joint: solution.joint, normalized: solution.normalized}
+        for kind, solution in solutions.items()
     }
     if comparison is not None:
         result["scores"] = {kind: r.as_dict() for kind, r in comparison.records.items()}

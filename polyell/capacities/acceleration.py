@@ -91,6 +91,9 @@ class AccelerationAnalysis(ZonotopeAnalysis):
         "yoshikawa": "the classic one (eq. 27)",
     }
     witness_quantity = "torques"
+    quantity = "accelerations"
+    inverse_names = ("qdd", "tau_n")
+    dynamics: Dynamics
 
     def __init__(
         self,
@@ -126,6 +129,14 @@ class AccelerationAnalysis(ZonotopeAnalysis):
         self._set_generators(M, xg, rank_rtol)
         self.affine_rtol = check_fraction("affine_rtol", affine_rtol)
         self._inverse_maps: dict[str, InverseMaps] = {}
+
+    def matrices(self) -> dict[str, NDArray[np.float64]]:
+        """``xg`` (eq. 8) and ``M`` (eq. 14)."""
+        return {"xg": self.xg, "M": self.M}
+
+    def joint_limits(self) -> dict[str, NDArray[np.float64]]:
+        """``tau_max`` and ``tau_min`` [N m]."""
+        return {"tau_max": self.tau_max, "tau_min": self.tau_min}
 
     def __repr__(self) -> str:
         return (

@@ -24,10 +24,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from polyell.errors import InputError
-from polyell.geometry.convex_set import ConvexSet
 from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.hpolytope import HPolytope
+from polyell.geometry.polytope import Polytope
 from polyell.geometry.subspace import AFFINE_RTOL
 from polyell.inverse import AffineMap
+from polyell.models.dynamics import Dynamics
+from polyell.models.kinematics import Kinematics
 from polyell.models.task import task_unit
 
 __all__ = ["Analysis", "InverseSolution"]
@@ -97,24 +100,41 @@ class Analysis(ABC):
     kind_notes: ClassVar[dict[str, str]]
     #: The joint quantity the witness normalizes ("torques", "joint velocities").
     witness_quantity: ClassVar[str]
+    #: The task quantity in words ("accelerations", "velocities", "forces").
+    quantity: ClassVar[str]
+    #: Names of :class:`InverseSolution`'s two fields in reports: ``("qdd", "tau_n")``, ...
+    inverse_names: ClassVar[tuple[str, str]]
 
-    dynamics: object
+    @abstractmethod
+    def matrices(self) -> dict[str, NDArray[np.float64]]:
+        """The matrices that define the set, by name and in report order (``xg``, ``M``)."""
+
+    @abstractmethod
+    def joint_limits(self) -> dict[str, NDArray[np.float64]]:
+        """The joint limits of the analysis by name (``tau_max``, ``tau_min`` or ``qd_...``)."""
+
+    dynamics: Dynamics | Kinematics
     affine_rtol: float = AFFINE_RTOL
 
     @property
     def m(self) -> int:
         """Task-space dimension."""
-        return int(self.dynamics.J.shape[0])  # type: ignore[attr-defined]
+        return int(self.dynamics.J.shape[0])
 
     @property
     def n(self) -> int:
         """Number of joints."""
-        return int(self.dynamics.J.shape[1])  # type: ignore[attr-defined]
+        return int(self.dynamics.J.shape[1])
 
     @property
     def task(self) -> tuple[str, ...]:
         """Names of the task rows (``x``, ``y``, ``z``, ``wx``, ...)."""
-        return tuple(self.dynamics.task)  # type: ignore[attr-defined]
+        return tuple(self.dynamics.task)
+
+    @property
+    @abstractmethod
+    def center(self) -> NDArray[np.float64]:
+        """The reference point of the set and its ellipsoids, shape (m,) [task unit]."""
 
     def unit(self, tex: bool = False) -> str:
         """The unit of the task quantity: ``m/s^2``, ``m/s``, ``N``, ``N m``, ..."""
@@ -122,7 +142,7 @@ class Analysis(ABC):
 
     @property
     @abstractmethod
-    def polytope(self) -> ConvexSet:
+    def polytope(self) -> Polytope | HPolytope:
         """The exact set of achievable task quantities."""
 
     @property

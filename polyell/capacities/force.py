@@ -49,6 +49,7 @@ from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.subspace import AFFINE_RTOL, RANK_RTOL, rank_revealing_svd
 from polyell.inverse import AffineMap
+from polyell.models.dynamics import Dynamics
 from polyell.models.kinematics import Kinematics
 from polyell.validation import check_fraction, check_magnitudes, check_torque_limits
 
@@ -83,6 +84,9 @@ class ForceAnalysis(Analysis):
         "static": "|L^-1 J^T h| <= 1, centred at 0, gravity ignored",
     }
     witness_quantity = "torques"
+    quantity = "forces"
+    inverse_names = ("tau", "tau_n")
+    dynamics: Dynamics
 
     def __init__(
         self,
@@ -114,7 +118,7 @@ class ForceAnalysis(Analysis):
         self.affine_rtol = check_fraction("affine_rtol", affine_rtol)
         svd = self.svd
         along = svd.V1.T @ self.c  # the part of c that forces can balance, in V_1
-        self.center: NDArray[np.float64] = -svd.U1 @ (along / svd.sigma)
+        self._center: NDArray[np.float64] = -svd.U1 @ (along / svd.sigma)
         self.c_perp: NDArray[np.float64] = self.c - svd.V1 @ along
 
     def __repr__(self) -> str:
@@ -122,6 +126,11 @@ class ForceAnalysis(Analysis):
             f"ForceAnalysis(m={self.m}, n={self.n}, rank={self.rank}, "
             f"center={np.round(self.center, 6).tolist()})"
         )
+
+    @property
+    def center(self) -> NDArray[np.float64]:
+        """``h0 = -A^+ c`` [N]: the force of least normalized torque residual."""
+        return self._center
 
     @property
     def rank(self) -> int:
@@ -136,6 +145,14 @@ class ForceAnalysis(Analysis):
         polytope = HPolytope(A, b, center=self.center)
         polytope.affine_rtol = self.affine_rtol
         return polytope
+
+    def matrices(self) -> dict[str, NDArray[np.float64]]:
+        """``A = L^-1 J^T``, ``c = L^-1 (g - tau_c)``, the centre ``h0`` and ``c_perp``."""
+        return {"A": self.A, "c": self.c, "center": self.center, "c_perp": self.c_perp}
+
+    def joint_limits(self) -> dict[str, NDArray[np.float64]]:
+        """``tau_max`` and ``tau_min`` [N m]."""
+        return {"tau_max": self.tau_max, "tau_min": self.tau_min}
 
     def _require_bounded(self, kind: str) -> None:
         if self.is_singular:
@@ -163,8 +180,8 @@ class ForceAnalysis(Analysis):
                 )
             return Ellipsoid(self.center, svd.U1, np.sqrt(margin) / svd.sigma, kind=kind)
         # yoshikawa: h = (J^T)^+ (tau_c + L u - g), |u| <= 1.
-        pseudo_inverse = np.linalg.pinv(self.dynamics.J.T)  # type: ignore[attr-defined]
-        center = -pseudo_inverse @ (self.dynamics.g - self.tau_center)  # type: ignore[attr-defined]
+        pseudo_inverse = np.linalg.pinv(self.dynamics.J.T)
+        center = -pseudo_inverse @ (self.dynamics.g - self.tau_center)
         U, s, _ = np.linalg.svd(pseudo_inverse * self.half_range, full_matrices=False)
         return Ellipsoid(center, U, s, kind=kind)
 

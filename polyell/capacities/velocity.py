@@ -21,7 +21,7 @@ from __future__ import annotations
 from typing import ClassVar
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from polyell.capacities.base import InverseSolution
 from polyell.capacities.zonotope import ZonotopeAnalysis
@@ -61,6 +61,8 @@ class VelocityAnalysis(ZonotopeAnalysis):
         "yoshikawa": "the image of the unit ball of normalized joint velocities"
     }
     witness_quantity = "joint velocities"
+    quantity = "velocities"
+    inverse_names = ("qd", "u")
 
     def __init__(
         self,
@@ -100,6 +102,14 @@ class VelocityAnalysis(ZonotopeAnalysis):
             f"VelocityAnalysis(m={self.m}, n={self.n}, rank={self.rank}, "
             f"center={np.round(self.xg, 6).tolist()})"
         )
+
+    def matrices(self) -> dict[str, NDArray[np.float64]]:
+        """``center = J qd_c`` and ``M = J L_v``."""
+        return {"center": self.xg, "M": self.M}
+
+    def joint_limits(self) -> dict[str, NDArray[np.float64]]:
+        """``qd_max`` and ``qd_min`` [rad/s]."""
+        return {"qd_max": self.qd_max, "qd_min": self.qd_min}
 
     def _build_ellipsoid(self, kind: str) -> Ellipsoid:
         return self._image_ellipsoid(kind)

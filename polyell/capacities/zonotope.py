@@ -51,6 +51,11 @@ class ZonotopeAnalysis(Analysis):
         self.svd = rank_revealing_svd(M, rtol)
 
     @property
+    def center(self) -> NDArray[np.float64]:
+        """``xg``: the centre of the zonotope and of the image ellipsoid."""
+        return self.xg
+
+    @property
     def rank(self) -> int:
         """Numerical rank of ``M`` (equal to that of J)."""
         return self.svd.rank

@@ -68,7 +68,7 @@ def limits_frame(
     """:meth:`Comparison.limits_table <polyell.Comparison.limits_table>` (see there)."""
     import pandas as pd
 
-    task = comparison.analysis.dynamics.task
+    task = comparison.analysis.task
     found = resolve_directions(directions, task, argument)
     kinds = table_sets(comparison, sets, "sets")
     T = np.array([vector for vector, _ in found])
