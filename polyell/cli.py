@@ -22,10 +22,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polyell import __version__, robots
-from polyell.capacities import analyze
+from polyell.capacities import Analysis, analyze, check_capacity
 from polyell.comparison import compare
 from polyell.errors import InputError, PolyellError, ProjectedInputWarning
 from polyell.expressions import evaluate_list
+from polyell.models import UrdfRobot
 from polyell.report import analysis_to_json, format_analysis
 from polyell.studies import load_robot_file, load_study, run_study
 from polyell.studies.spec import Robot
@@ -120,6 +121,22 @@ def _parser() -> argparse.ArgumentParser:
         "required for every other robot",
     )
     run.add_argument("--deg", action="store_true", help="--q is in degrees")
+    run.add_argument(
+        "--capacity",
+        default="acceleration",
+        help="acceleration (default, the paper's), velocity or force",
+    )
+    run.add_argument(
+        "--qd-max", type=_floats, help="velocity capacity: [rad/s], default the robot's own"
+    )
+    run.add_argument("--qd-min", type=_floats, help="velocity capacity: [rad/s], default -qd-max")
+    run.add_argument(
+        "--qd",
+        type=_floats,
+        default=None,
+        help="URDF robots in motion: joint velocities [rad/s, or deg/s with --deg]; the "
+        "torque limits are taken at them (the robot's torque-speed curves)",
+    )
     run.add_argument("--tau-max", type=_floats, help="[N m], default: the robot's own")
     run.add_argument("--tau-min", type=_floats, help="[N m], default -tau-max (or the robot's own)")
     aim = run.add_mutually_exclusive_group()
@@ -229,6 +246,52 @@ def _direction(args: argparse.Namespace, m: int) -> tuple[NDArray[np.float64], s
     return unit, "t", [f"--direction normalised to {_rounded(unit, 6)}"]
 
 
+def _velocities(
+    args: argparse.Namespace, robot: Robot, capacity: str
+) -> tuple[NDArray[np.float64], bool]:
+    """``--qd`` in rad/s (zeros without it) and whether the robot moves."""
+    if args.qd is None:
+        return np.zeros(robot.model.n), False
+    if capacity == "velocity":
+        raise InputError(
+            "--qd",
+            "no joint velocities for the velocity capacity (its set is every velocity)",
+            "--qd",
+            "drop --qd, or analyze accelerations or forces of the moving robot.",
+        )
+    if not isinstance(robot.model, UrdfRobot):
+        raise InputError(
+            "--qd",
+            "a URDF robot (its Coriolis and centrifugal torques come from Pinocchio)",
+            f"--qd for the planar arm {args.robot}",
+            "the planar arm is modelled at rest: drop --qd, or load a URDF robot.",
+        )
+    qd = check_points("--qd", args.qd, robot.model.n)
+    return (np.deg2rad(qd) if args.deg else qd), True
+
+
+def _velocity_limits(
+    args: argparse.Namespace, robot: Robot
+) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
+    """``--qd-max``/``--qd-min``, else the robot's own (its upper ones if only --qd-min)."""
+    if args.qd_max is None and args.qd_min is None:
+        return robot.velocity_limits()
+    upper = robot.velocity_limits()[0] if args.qd_max is None else args.qd_max
+    return np.asarray(upper, dtype=float), args.qd_min
+
+
+def _limits_lines(analysis: Analysis, moving: bool) -> list[str]:
+    """The joint limits the analysis used, stated when they are not the defaults."""
+    if not moving:
+        return []
+    return [
+        "torque limits at these joint velocities [N m]: "
+        + "; ".join(
+            f"{name} {_rounded(value, 6)}" for name, value in analysis.joint_limits().items()
+        )
+    ]
+
+
 def _rounded(values: NDArray[np.float64], digits: int) -> list[float]:
     """Values rounded to ``digits`` decimals for display, without numpy's overflow.
 
@@ -246,8 +309,24 @@ def _analyze(args: argparse.Namespace) -> list[str]:
     """
     robot = _robot(args.robot, args.tau_max, args.tau_min)
     q = _configuration(args, robot)
-    analysis = analyze(robot.model.dynamics(q), robot.tau_max, robot.tau_min)
-    direction, label, notes = _direction(args, analysis.dynamics.m)
+    capacity = check_capacity(args.capacity, "--capacity")
+    qd, moving = _velocities(args, robot, capacity)
+    if capacity == "velocity":
+        qd_max, qd_min = _velocity_limits(args, robot)
+        analysis = analyze(robot.model.dynamics(q), capacity=capacity, qd_max=qd_max, qd_min=qd_min)
+    else:
+        if args.qd_max is not None or args.qd_min is not None:
+            raise InputError(
+                "--qd-max",
+                f"no joint velocity limits for the {capacity} capacity",
+                "--qd-max/--qd-min",
+                "add --capacity velocity to analyze velocities.",
+            )
+        tau_max, tau_min = robot.torque_limits(qd)
+        model = robot.model
+        dynamics = model.dynamics(q, qd) if isinstance(model, UrdfRobot) else model.dynamics(q)
+        analysis = analyze(dynamics, tau_max, tau_min, capacity=capacity)
+    direction, label, notes = _direction(args, analysis.m)
     comparison = compare(analysis, mvie=not args.no_mvie, outer=not args.no_outer)
     if args.mesh is not None:
         from polyell.export import export_comparison
@@ -255,12 +334,16 @@ def _analyze(args: argparse.Namespace) -> list[str]:
         notes = [*notes, *(f"wrote {path}" for path in export_comparison(comparison, args.mesh))]
     if args.json:
         result = {"robot": args.robot, "q": q.tolist()}
+        if moving:
+            result["qd"] = qd.tolist()
         result |= analysis_to_json(analysis, direction, comparison, args.inverse_at)
         text = json.dumps(result, indent=2)
     else:
         text = "\n".join(
             [
-                f"{args.robot} at q = {_rounded(q, 6)} rad",
+                f"{args.robot} at q = {_rounded(q, 6)} rad"
+                + (f", qd = {_rounded(qd, 6)} rad/s" if moving else ""),
+                *_limits_lines(analysis, moving),
                 format_analysis(analysis, direction, label, args.inverse_at),
                 "\nScores against the polytope (pe.compare):\n",
                 comparison.to_markdown(),
