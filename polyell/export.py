@@ -20,7 +20,7 @@ from polyell.comparison.comparison import Comparison
 from polyell.comparison.tables import check_text
 from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid
-from polyell.geometry.hpolytope import HPolytope
+from polyell.geometry.hpolytope import HPolytope, require_drawable
 from polyell.geometry.polytope import Polytope
 from polyell.models.task import task_unit
 from polyell.storage import write_text_atomically
@@ -118,17 +118,6 @@ def _ellipsoid_surface(E: Ellipsoid, k: int) -> tuple[NDArray[np.float64], NDArr
     return vertices, np.array(faces)
 
 
-def _check_drawable(S: object, argument: str) -> None:
-    """Refuse an H-polytope that is unbounded or empty: it has no finite mesh."""
-    if isinstance(S, HPolytope) and (S.is_empty or not S.is_bounded):
-        raise InputError(
-            argument,
-            "a bounded, non-empty set",
-            "an empty set" if S.is_empty else f"a set unbounded along {len(S.rays)} ray(s)",
-            "a force polytope is unbounded at a singular posture: draw a nonsingular one.",
-        )
-
-
 def mesh(S: Polytope | HPolytope | Ellipsoid, resolution: int = RESOLUTION) -> Mesh:
     """The mesh of a polytope or an ellipsoid of a 2-D or 3-D task space.
 
@@ -147,7 +136,7 @@ def mesh(S: Polytope | HPolytope | Ellipsoid, resolution: int = RESOLUTION) -> M
     """
     if not isinstance(S, Polytope | HPolytope | Ellipsoid):
         raise InputError("set", "a pe.Polytope or a pe.Ellipsoid", type(S).__name__)
-    _check_drawable(S, "set")
+    require_drawable(S, "set")
     resolution = check_resolution(resolution)
     m = S.ambient_dim
     if m not in (2, 3):
@@ -200,7 +189,7 @@ def polytope_edges(P: Polytope | HPolytope) -> NDArray[np.int_]:
     """
     if not isinstance(P, Polytope | HPolytope):
         raise InputError("P", "a pe.Polytope", type(P).__name__)
-    _check_drawable(P, "P")
+    require_drawable(P, "P")
     if P.ambient_dim not in (2, 3):
         raise InputError("P", "a polytope of a 2-D or 3-D task space", f"m = {P.ambient_dim}")
     count = len(P.vertices)

@@ -20,10 +20,12 @@ from numpy.typing import NDArray
 from scipy.spatial import ConvexHull
 
 from polyell.capacities import Analysis
-from polyell.comparison.tables import ELLIPSOID_LABELS, score_display
+from polyell.comparison.labels import ellipsoid_label
+from polyell.comparison.tables import score_display
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.directions import sphere_directions
 from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.hpolytope import require_drawable
 from polyell.models.task import row_label
 from polyell.storage import write_atomically
 
@@ -115,7 +117,9 @@ def _check_texts(**texts: object) -> None:
             check_title(text, argument)
 
 
-def _style(kind: str, kinds: Sequence[str] = ()) -> dict[str, object]:
+def _style(
+    kind: str, kinds: Sequence[str] = (), capacity: str = "acceleration"
+) -> dict[str, object]:
     """The line style of a set; a candidate's by its place among the others in ``kinds``."""
     if kind in STYLES:
         style = dict(STYLES[kind])
@@ -123,17 +127,27 @@ def _style(kind: str, kinds: Sequence[str] = ()) -> dict[str, object]:
         others = [k for k in kinds if k not in STYLES]
         index = others.index(kind) if kind in others else 0
         style = dict(CANDIDATE_STYLES[index % len(CANDIDATE_STYLES)])
-    style.setdefault("label", ELLIPSOID_LABELS.get(kind, kind))
+    style.setdefault("label", ellipsoid_label(kind, capacity))
+    if kind == "polytope" and capacity != "acceleration":
+        style["label"] = "polytope"  # eq. 15 is the acceleration polytope
     return style
+
+
+def _centre_label(analysis: Analysis) -> str:
+    """The legend of the centre marker: the paper's symbol for accelerations."""
+    return r"centre $\ddot x_g$" if analysis.capacity == "acceleration" else "centre"
 
 
 def _ellipsoids(
     analysis: Analysis,
-    kinds: Sequence[str],
+    kinds: Sequence[str] | None,
     mvie: Ellipsoid | None,
     extra: Mapping[str, Ellipsoid] | None,
 ) -> dict[str, Ellipsoid]:
-    """The ellipsoids to draw: ``kinds`` of the analysis (and the MVIE), then ``extra``."""
+    """The ellipsoids to draw: ``kinds`` (default the capacity's own), then ``extra``."""
+    require_drawable(analysis.polytope, "analysis")
+    if kinds is None:
+        kinds = analysis.ellipsoid_kinds
     found: dict[str, Ellipsoid] = {}
     for name in extra or {}:
         check_title(name, "extra")  # drawn as a legend entry
@@ -163,7 +177,7 @@ def plot_sets(
     analysis: Analysis,
     ax: Axes | None = None,
     *,
-    kinds: Sequence[str] = ("chiacchio", "yoshikawa"),
+    kinds: Sequence[str] | None = None,
     mvie: Ellipsoid | None = None,
     extra: Mapping[str, Ellipsoid] | None = None,
     unit: str | None = None,
@@ -179,9 +193,9 @@ def plot_sets(
         With a 2-D task space.
     ax : Axes, optional
         Where to draw; a new figure otherwise.
-    kinds : sequence of str
-        Ellipsoids to draw, among ``"chiacchio"``, ``"yoshikawa"``, ``"mvie"``; an
-        undefined one is skipped.
+    kinds : sequence of str, optional
+        Ellipsoids to draw, among the capacity's kinds (``analysis.ellipsoid_kinds``, the
+        default) and ``"mvie"``; an undefined one is skipped.
     mvie : Ellipsoid, optional
         The maximum-volume inscribed ellipsoid, when ``"mvie"`` is in ``kinds``.
     extra : mapping of str to Ellipsoid, optional
@@ -211,7 +225,7 @@ def plot_sets(
     if P.dim < 2:
         segment = {"color": "0.8", "linewidth": 9.0, "linestyle": "-"}
         segment |= {"solid_capstyle": "butt", "marker": "s", "markersize": 9}
-    ax.plot(*vertices.T, **(_style("polytope") | segment))  # type: ignore[arg-type]
+    ax.plot(*vertices.T, **(_style("polytope", (), analysis.capacity) | segment))  # type: ignore[arg-type]
     widths = {"chiacchio": 3.2, "yoshikawa": 2.0, "mvie": 1.3}
     drawn = _ellipsoids(analysis, kinds, mvie, extra)
     for kind, E in drawn.items():
@@ -219,14 +233,15 @@ def plot_sets(
         if E.rank < 2:
             ends = {"marker": "|", "markersize": 16, "markeredgewidth": 1.6}
             ends |= {"linewidth": widths.get(kind, 1.3), "solid_capstyle": "butt"}
-        ax.plot(*E.boundary_curve(720, closed=True).T, **(_style(kind, list(drawn)) | ends))  # type: ignore[arg-type]
+        style = _style(kind, list(drawn), analysis.capacity)
+        ax.plot(*E.boundary_curve(720, closed=True).T, **(style | ends))  # type: ignore[arg-type]
     ax.plot(
         *analysis.center,
         marker="+",
         color="black",
         markersize=9,
         linestyle="none",
-        label=r"centre $\ddot x_g$",
+        label=_centre_label(analysis),
     )
     ax.plot(
         0.0,
@@ -305,7 +320,7 @@ def ellipsoid_outline(
 def plot_sets_3d(
     analysis: Analysis,
     *,
-    kinds: Sequence[str] = ("chiacchio", "yoshikawa"),
+    kinds: Sequence[str] | None = None,
     mvie: Ellipsoid | None = None,
     extra: Mapping[str, Ellipsoid] | None = None,
     unit: str | None = None,
@@ -365,7 +380,7 @@ def plot_sets_3d(
     )
     drawn = _ellipsoids(analysis, kinds, mvie, extra)
     for kind, E in drawn.items():
-        style = _style(kind, list(drawn))
+        style = _style(kind, list(drawn), analysis.capacity)
         outline, sections = ellipsoid_outline(E, view)
         line_style = {"color": style["color"], "linestyle": style["linestyle"]}
         (line,) = ax.plot(*outline.T, linewidth=1.5, label=str(style["label"]), **line_style)
@@ -380,7 +395,7 @@ def plot_sets_3d(
         color="black",
         markersize=9,
         linestyle="none",
-        label=r"centre $\ddot x_g$",
+        label=_centre_label(analysis),
     )
     (origin,) = ax.plot(
         0.0, 0.0, 0.0, "o", color="black", markerfacecolor="white", linestyle="none", label="origin"
@@ -419,7 +434,7 @@ def plot_sets_3d(
 def plot_directional_limits(
     analysis: Analysis,
     *,
-    kinds: Sequence[str] = ("chiacchio", "yoshikawa"),
+    kinds: Sequence[str] | None = None,
     mvie: Ellipsoid | None = None,
     extra: Mapping[str, Ellipsoid] | None = None,
     directions: int = 720,

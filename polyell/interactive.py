@@ -96,7 +96,7 @@ def _color(kind: str, kinds: Sequence[str]) -> str:
 
 def _hover_text(kind: str, comparison: Comparison, unit: str) -> str:
     record = comparison[kind]
-    lines = [f"<b>{html.escape(ellipsoid_label(kind))}</b>"]
+    lines = [f"<b>{html.escape(ellipsoid_label(kind, comparison.analysis.capacity))}</b>"]
     lines.append(f"volume {record.volume:.4g} ({unit})^{int(record.dimension)}")
     for score in _HOVER_SCORES:
         value = getattr(record, score)
@@ -144,7 +144,8 @@ def interactive_sets(
         "<br>".join(f"{label} {value:.4g} {unit}" for label, value in zip(labels, v, strict=True))
         for v in P.vertices
     ]
-    polytope_name = f"polytope (15), volume {P.volume:.4g} ({unit})^{P.dim}"
+    equation = " (15)" if analysis.capacity == "acceleration" else ""
+    polytope_name = f"polytope{equation}, volume {P.volume:.4g} ({unit})^{P.dim}"
     if m == 2:
         outline = P.vertices if P.dim < 2 else np.vstack([P.vertices, P.vertices[:1]])
         figure.add_trace(
@@ -213,7 +214,7 @@ def interactive_sets(
     for kind in chosen:
         E = comparison.ellipsoid(kind)
         color, text = _color(kind, chosen), _hover_text(kind, comparison, unit)
-        name = ellipsoid_label(kind)
+        name = ellipsoid_label(kind, comparison.analysis.capacity)
         if m == 2 or E.rank < 3:
             curve = E.boundary_curve(240, closed=True)
             if m == 2:
@@ -242,11 +243,16 @@ def interactive_sets(
             )
         )
     centre = analysis.center
+    centre_name = "centre xg" if analysis.capacity == "acceleration" else "centre"
     marker = {"symbol": "cross", "color": "black", "size": 6}
     if m == 2:
         figure.add_trace(
             go.Scatter(
-                x=[centre[0]], y=[centre[1]], mode="markers", marker=marker, name="centre xg"
+                x=[centre[0]],
+                y=[centre[1]],
+                mode="markers",
+                marker=marker,
+                name=centre_name,
             )
         )
         figure.update_yaxes(scaleanchor="x", scaleratio=1)
@@ -261,7 +267,7 @@ def interactive_sets(
                 z=[centre[2]],
                 mode="markers",
                 marker=marker,
-                name="centre xg",
+                name=centre_name,
             )
         )
         figure.update_layout(

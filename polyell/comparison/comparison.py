@@ -277,7 +277,9 @@ class Comparison:
         """One row per ellipsoid, one column per score (full precision)."""
         import pandas as pd
 
-        return pd.DataFrame([r.as_dict() for r in self.records.values()]).set_index("kind")
+        frame = pd.DataFrame([r.as_dict() for r in self.records.values()]).set_index("kind")
+        frame.attrs["capacity"] = self.analysis.capacity  # for the labels of its tables
+        return frame
 
     def to_markdown(self, layout: TableLayout | None = None) -> str:
         """The comparison table in Markdown (rounded, units in the headers).

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 __all__ = [
+    "CAPACITY_SET_LABELS",
     "ELLIPSOID_LABELS",
     "QUANTITIES",
     "SET_LABELS",
@@ -29,16 +30,26 @@ SET_LABELS = {
 }
 #: The ellipsoids' labels (every set but the polytope).
 ELLIPSOID_LABELS = {kind: label for kind, label in SET_LABELS.items() if kind != "polytope"}
+#: Where another capacity gives a kind another meaning: ``{capacity: {kind: label}}``
+#: (accelerations use :data:`SET_LABELS` alone).
+CAPACITY_SET_LABELS = {
+    "velocity": {"yoshikawa": "manipulability (unit ball)"},
+    "force": {
+        "chiacchio": "gravity-consistent",
+        "yoshikawa": "classic (pinv of J^T)",
+        "static": "static (no gravity)",
+    },
+}
 
 
-def set_label(kind: str) -> str:
-    """The label of a set (plain text); a candidate's is its name."""
-    return SET_LABELS.get(kind, kind)
+def set_label(kind: str, capacity: str = "acceleration") -> str:
+    """The label of a set of a capacity (plain text); a candidate's is its name."""
+    return CAPACITY_SET_LABELS.get(capacity, {}).get(kind) or SET_LABELS.get(kind, kind)
 
 
-def ellipsoid_label(kind: str) -> str:
-    """The label of an ellipsoid (plain text); a candidate's is its name."""
-    return ELLIPSOID_LABELS.get(kind, kind)
+def ellipsoid_label(kind: str, capacity: str = "acceleration") -> str:
+    """The label of an ellipsoid of a capacity (plain text); a candidate's is its name."""
+    return set_label(kind, capacity) if kind != "polytope" else kind
 
 
 #: How a quantity's numbers are shown: whole numbers, numbers (unit-free), shares and

@@ -92,7 +92,9 @@ def limits_frame(
         for kind, (defined, lo, hi, lo_error, hi_error) in columns.items()
     ]
     frame = pd.DataFrame(rows, columns=list(LIMIT_COLUMNS))
-    return frame.astype({quantity: float for quantity in LIMIT_QUANTITIES})
+    frame = frame.astype({quantity: float for quantity in LIMIT_QUANTITIES})
+    frame.attrs["capacity"] = comparison.analysis.capacity  # for the labels of its tables
+    return frame
 
 
 def posture_comparisons(
@@ -196,4 +198,8 @@ def limits_table(
         if not single:
             frame.insert(0, "posture", name)
         frames.append(frame)
-    return pd.concat(frames, ignore_index=True)
+    table = pd.concat(frames, ignore_index=True)
+    capacities = {frame.attrs.get("capacity") for frame in frames}
+    if len(capacities) == 1:
+        table.attrs["capacity"] = capacities.pop()
+    return table

@@ -93,7 +93,8 @@ def limits_print_tables(frame: pd.DataFrame, layout: TableLayout) -> list[PrintT
     unit = single_unit(units, layout)
     split = layout.split == "posture"
     named = has_posture and not split
-    set_labels = {kind: text_label(set_label(kind), "sets") for kind in kinds}
+    capacity = frame.attrs.get("capacity", "acceleration")
+    set_labels = {kind: text_label(set_label(kind, capacity), "sets") for kind in kinds}
     columns = tuple(quantity_label(q, layout.percent, unit) for q in quantities)
     stub = (
         *((Label("posture", "posture"),) if named else ()),

@@ -136,7 +136,8 @@ def scores_print_tables(
     unit = single_unit(units, layout)
     split = layout.split == "posture"
     named = not split and any(frames)
-    sets = tuple(text_label(set_label(kind), "sets") for kind in kinds)
+    capacity = next(iter(frames.values())).attrs.get("capacity", "acceleration") if frames else ""
+    sets = tuple(text_label(set_label(kind, capacity or "acceleration"), "sets") for kind in kinds)
     posture_stub = (Label("posture", "posture"),) if named else ()
     tables = []
     groups = [{name: frame} for name, frame in frames.items()] if split else [dict(frames)]

@@ -20,9 +20,10 @@ from polyell.errors import InputError
 from polyell.geometry.convex_set import ConvexSet
 from polyell.geometry.limits import facet_slack, line_interval_in_halfspaces, rounding_floor
 from polyell.geometry.subspace import AffineSubspace, rank_revealing_svd
+from polyell.geometry.zonotope import order_polygon
 from polyell.validation import check_array, check_magnitudes
 
-__all__ = ["HPolytope"]
+__all__ = ["HPolytope", "require_drawable"]
 
 
 class HPolytope(ConvexSet):
@@ -127,6 +128,8 @@ class HPolytope(ConvexSet):
         is_vertex = points[:, 0] != 0
         lines = sorted(generators.lin_set)
         self._vertices = self.center + points[is_vertex, 1:] / points[is_vertex, :1]
+        if m == 2 and len(self._vertices) > 2:  # counter-clockwise, as a zonotope's
+            self._vertices = order_polygon(self._vertices)
         directions = points[~is_vertex, 1:]
         norms = np.linalg.norm(directions, axis=1)
         directions = directions / np.where(norms > 0, norms, 1.0)[:, None]
@@ -311,3 +314,15 @@ class HPolytope(ConvexSet):
         # Unbounded: a line along a ray to rounding (unit normals and directions) is parallel.
         slope_floor = 0.0 if self.is_bounded else self._terms * float(np.finfo(float).eps)
         return line_interval_in_halfspaces(self.A, self.b, lines, slack, floor, slope_floor)
+
+
+def require_drawable(S: object, argument: str) -> None:
+    """Refuse an H-polytope that is unbounded or empty (it has no finite drawing or mesh)."""
+    if isinstance(S, HPolytope) and (S.is_empty or not S.is_bounded):
+        raise InputError(
+            argument,
+            "a bounded, non-empty set",
+            "an empty set" if S.is_empty else f"a set unbounded along {len(S.rays)} ray(s)",
+            "a force polytope is unbounded at a singular posture and empty where the arm "
+            "cannot hold itself: draw another posture.",
+        )
