@@ -31,6 +31,7 @@ def write_point_tables(
     title: str = "",
     formats: Sequence[str] = ("tex", "md", "csv"),
     description: str = "",
+    suffix: str = "",
 ) -> list[Path]:
     """Write ``limits.<format>`` and ``comparison.<format>`` for comparisons at named postures.
 
@@ -51,6 +52,9 @@ def write_point_tables(
         The files written, each atomically.
     description : str, optional
         Free text under the Markdown files' heading.
+    suffix : str, optional
+        Appended to the file names and LaTeX labels (``"_force"``: ``limits_force.tex``,
+        ``tab:limits_force``): the tables of another capacity beside the acceleration ones.
 
     Returns
     -------
@@ -77,19 +81,25 @@ def write_point_tables(
     named = posture_comparisons(comparisons)
     limits = limits_table(named, directions_per_point)
     prefix = f"{title}: " if title else ""
+    capacities = {c.analysis.capacity for c in named.values()}
+    what = "" if capacities == {"acceleration"} else f"{' and '.join(sorted(capacities))} "
     limits_caption = (  # (the units are in the headers, typeset)
-        f"{prefix}directional limits of the exact polytope and of each ellipsoid, "
+        f"{prefix}directional {what}limits of the exact polytope and of each ellipsoid, "
         "and each limit's error relative to the polytope's, (e - p)/|p|."
     )
-    comparison_caption = f"{prefix}scores of each ellipsoid against the exact polytope."
+    comparison_caption = f"{prefix}scores of each {what}ellipsoid against the exact polytope."
     texts: dict[str, str] = {}
     for extension in wanted:
         style = TABLE_FORMATS[extension]
         limits_text = format_limits_table(
-            limits, style, layout=layout, caption=limits_caption, label="tab:limits"
+            limits, style, layout=layout, caption=limits_caption, label=f"tab:limits{suffix}"
         )
         comparison_text = format_comparison_table(
-            named, style, layout=layout, caption=comparison_caption, label="tab:comparison"
+            named,
+            style,
+            layout=layout,
+            caption=comparison_caption,
+            label=f"tab:comparison{suffix}",
         )
         if extension == "md":
             limits_text = (
@@ -98,7 +108,7 @@ def write_point_tables(
             comparison_text = (
                 f"# {prefix}comparison\n\n{about}{comparison_caption}\n\n{comparison_text}"
             )
-        texts[f"limits.{extension}"] = limits_text
-        texts[f"comparison.{extension}"] = comparison_text
+        texts[f"limits{suffix}.{extension}"] = limits_text
+        texts[f"comparison{suffix}.{extension}"] = comparison_text
     order = sorted(texts, key=lambda name: (not name.startswith("limits"), name))
     return [write_text_atomically(Path(folder) / name, texts[name]) for name in order]

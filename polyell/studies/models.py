@@ -28,6 +28,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 from pydantic_core import PydanticUndefined, core_schema
 
 from polyell import robots
+from polyell.capacities import CAPACITIES
 from polyell.comparison.candidates import BUILT_IN_KINDS
 from polyell.comparison.comparison import MAX_SAMPLES, MAX_SEED, MIN_SAMPLES, SCORE_NAMES
 from polyell.comparison.layout import LAYOUT_SETS, LIMIT_QUANTITIES, MAX_DIGITS
@@ -999,6 +1000,14 @@ chunk = 5000"""
     chunk: Annotated[int, Integer(1, 10_000_000)] = key(
         20_000, what="Configurations per chunk of a sweep.", example="5000"
     )
+    capacities: Annotated[tuple[str, ...], Choices(CAPACITIES)] = key(
+        ("acceleration",),
+        what="The capacities compared, each with its own tables and figures: "
+        '"acceleration" (the paper\'s), "velocity" (needs the robot\'s qd_max), '
+        '"force". Studies of points only, for velocity and force.',
+        example='["acceleration", "force", "velocity"]',
+        default_text='["acceleration"]',
+    )
 
 
 class CandidateTable(Table):
@@ -1233,8 +1242,25 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
             names = [point.name for point in self.points]
             if len(set(names)) != len(names):
                 raise InputError("points", "distinct point names (they name files)", f"{names}")
+        self._check_capacities()
         self._check_output()
         return self
+
+    def _check_capacities(self) -> None:
+        capacities = self.compare.capacities
+        if len(set(capacities)) != len(capacities) or not capacities:
+            raise InputError(
+                "compare.capacities", "distinct capacity names, at least one", f"{list(capacities)}"
+            )
+        if capacities != ("acceleration",) and self.points is None:
+            raise InputError(
+                "compare.capacities",
+                "velocity or force capacities in a study of [[points]]",
+                f"{list(capacities)} in a "
+                + ("posture study" if self.posture is not None else "grid, random or path study"),
+                "compare other capacities at named postures ([[points]]), or sweep them from "
+                "Python with pe.sweep(..., capacity=...).",
+            )
 
     def _check_output(self) -> None:
         output = self.output

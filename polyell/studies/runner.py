@@ -83,17 +83,49 @@ def _prepare(out: str | os.PathLike[str]) -> Path:
 
 
 def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
+    """Every capacity of the study at every point: tables, figures, numbers, report."""
+    written: list[Path] = []
+    numbers = [_heading(spec, f"{spec.title}: the numbers").rstrip("\n"), ""]
+    report: list[tuple[str, Any]] = _about(spec)
+    for capacity in spec.capacities:
+        # The acceleration outputs keep their names; another capacity's carry its name.
+        suffix = "" if capacity == "acceleration" else f"_{capacity}"
+        if len(spec.capacities) > 1:
+            numbers += [f"# {capacity.capitalize()} capacity", ""]
+        written += _run_points_capacity(spec, folder, capacity, suffix, numbers, report)
+    written.append(write_text_atomically(folder / "numbers.md", "\n".join(numbers)))
+    if "html" in spec.formats:
+        from polyell.interactive import write_report
+
+        written.append(write_report(folder / "report.html", spec.title, report))
+    return written
+
+
+def _analyze_point(spec: StudySpec, point: Point, capacity: str) -> Analysis:
+    robot = _robot_of(spec, point.robot)
+    dynamics = robot.model.dynamics(point.q)
+    if capacity == "velocity":
+        qd_max, qd_min = robot.velocity_limits()
+        return analyze(dynamics, capacity=capacity, qd_max=qd_max, qd_min=qd_min)
+    return analyze(dynamics, robot.tau_max, robot.tau_min, capacity=capacity)
+
+
+def _run_points_capacity(
+    spec: StudySpec,
+    folder: Path,
+    capacity: str,
+    suffix: str,
+    numbers: list[str],
+    report: list[tuple[str, Any]],
+) -> list[Path]:
     from polyell.figures import plot_directional_limits, plot_sets, plot_sets_3d, save_figure
 
     written: list[Path] = []
-    numbers = [_heading(spec, f"{spec.title}: the numbers").rstrip("\n"), ""]
     frames = []
     comparisons: dict[str, Comparison] = {}
     directions: dict[str, list[Any]] = {}
-    report: list[tuple[str, Any]] = _about(spec)
     for point in spec.points:
-        robot = _robot_of(spec, point.robot)
-        analysis = analyze(robot.model.dynamics(point.q), robot.tau_max, robot.tau_min)
+        analysis = _analyze_point(spec, point, capacity)
         cmp = compare(
             analysis,
             spec.directions,
@@ -118,58 +150,64 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
             cmp.to_markdown(),
         ]
         frame = cmp.to_frame()
-        frame.index = [f"{point.label}: {ellipsoid_label(k)}" for k in frame.index]
+        frame.index = [f"{point.label}: {ellipsoid_label(k, capacity)}" for k in frame.index]
         frames.append(frame)
         comparisons[point.label] = cmp
         directions[point.label] = _named_or_vectors(point)
+        heading = f"{point.label}{': ' + point.title if point.title else ''}"
+        if suffix:
+            heading = f"{heading} ({capacity})"
         if "html" in spec.formats:
             from polyell.interactive import HtmlTable, interactive_sets
 
-            heading = f"{point.label}{': ' + point.title if point.title else ''}"
-            if analysis.dynamics.m in (2, 3):
+            drawable = analysis.m in (2, 3) and getattr(analysis.polytope, "is_bounded", True)
+            if drawable and not getattr(analysis.polytope, "is_empty", False):
                 report.append((heading, interactive_sets(cmp)))
             limits = limits_table(cmp, directions[point.label])
             for name, text in (
                 ("scores", format_comparison_table(cmp, "html", layout=spec.layout)),
                 ("directional limits", format_limits_table(limits, "html", layout=spec.layout)),
             ):
-                report.append((f"{point.label}: {name}", HtmlTable(text)))
-        stem = folder / f"sets_{point.stem}"
+                report.append((f"{heading}: {name}", HtmlTable(text)))
+        P = analysis.polytope
+        if not getattr(P, "is_bounded", True) or getattr(P, "is_empty", False):
+            continue  # an unbounded or empty force polytope has no figure (said in numbers.md)
+        stem = folder / f"sets_{point.stem}{suffix}"
         title = point.title or point.label
         mvie = cmp.mvie if spec.mvie and cmp["mvie"].defined else None
-        kinds = (
-            ("chiacchio", "yoshikawa", "mvie") if mvie is not None else ("chiacchio", "yoshikawa")
-        )
+        kinds = (*analysis.ellipsoid_kinds, *(("mvie",) if mvie is not None else ()))
+        first_extra = len(analysis.ellipsoid_kinds) + 1  # after the kinds and the MVIE
         extra = {
             kind: cmp.ellipsoid(kind)
-            for kind in cmp.kinds[3:]  # the outer ellipsoid (if computed) and candidates
+            for kind in cmp.kinds[first_extra:]  # the outer ellipsoid (if computed), candidates
             if cmp[kind].defined
         }
-        if analysis.dynamics.m == 2:
+        if analysis.m == 2:
             figure = plot_sets(analysis, kinds=kinds, mvie=mvie, extra=extra, title=title)
             written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
-            if analysis.polytope.dim == 2:
+            if P.dim == 2:
                 figure = plot_directional_limits(analysis, kinds=kinds, mvie=mvie, extra=extra)
                 written += save_figure(
-                    figure, folder / f"limits_{point.stem}", spec.figure_formats, spec.dpi
+                    figure, folder / f"limits_{point.stem}{suffix}", spec.figure_formats, spec.dpi
                 )
-        elif analysis.dynamics.m == 3:
+        elif analysis.m == 3:
             figure = plot_sets_3d(analysis, kinds=kinds, mvie=mvie, extra=extra, title=title)
             written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
-    written.append(write_text_atomically(folder / "numbers.md", "\n".join(numbers)))
-    if "html" in spec.formats:
-        from polyell.interactive import write_report
-
-        written.append(write_report(folder / "report.html", spec.title, report))
     import pandas as pd
 
     # The printed tables (LaTeX, Markdown, CSV: the same labels, units and percentages) and
     # the exact scores for scripts (scores.csv: fractions, every digit).
     written += write_point_tables(
-        comparisons, directions, folder, spec.layout, spec.title, description=spec.description
+        comparisons,
+        directions,
+        folder,
+        spec.layout,
+        spec.title,
+        description=spec.description,
+        suffix=suffix,
     )
     scores = pd.concat(frames).to_csv(index_label="ellipsoid")
-    written.append(write_text_atomically(folder / "scores.csv", scores))
+    written.append(write_text_atomically(folder / f"scores{suffix}.csv", scores))
     return written
 
 
@@ -606,7 +644,7 @@ def _along_directions(analysis: Analysis, point: Point) -> str:
         )
         for direction, label in zip(point.directions, point.labels, strict=True)
     ]
-    marker = "\nAchievable accelerations along "
+    marker = f"\nAchievable {analysis.quantity} along "
     return "\n".join([texts[0], *(text[text.index(marker) :] for text in texts[1:])])
 
 

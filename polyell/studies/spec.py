@@ -367,6 +367,7 @@ class StudySpec:
     series: tuple[str, ...] = field(default_factory=tuple)
     layout: TableLayout = field(default_factory=TableLayout)
     by_robot: bool = False
+    capacities: tuple[str, ...] = ("acceleration",)
 
     @property
     def robot(self) -> Robot:
@@ -711,6 +712,17 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
             percent=output.percent,
         )
     compare = study.compare
+    if "velocity" in compare.capacities:  # every robot needs its joint velocity limits
+        for number, robot in enumerate(robots_):
+            if robot.model.qd_max is None:
+                where = "robot" if len(robots_) == 1 else f"robots[{number}]"
+                raise InputError(
+                    f"{where}.qd_max",
+                    "joint velocity limits [rad/s] for compare.capacities = [..., 'velocity']",
+                    "none",
+                    "add qd_max = [...] to the robot table (a URDF's velocity limits are read "
+                    "when every joint has one).",
+                )
     return StudySpec(
         path=Path(path),
         title=study.title if study.title is not None else Path(path).stem,
@@ -735,4 +747,5 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
         series=series,
         layout=layout,
         by_robot=several,
+        capacities=compare.capacities,
     )
