@@ -42,7 +42,7 @@ BUILT_IN_KINDS = (*ELLIPSOID_KINDS, "mvie", "outer")
 #: A candidate's name: a lower-case identifier, the prefix of its result columns.
 CANDIDATE_NAME = re.compile(r"[a-z][a-z0-9_]{0,31}")
 
-_RESERVED = (*BUILT_IN_KINDS, "polytope", "configuration")
+_RESERVED = (*BUILT_IN_KINDS, "static", "polytope", "configuration")  # static: a force kind
 
 
 @dataclass(frozen=True, eq=False)

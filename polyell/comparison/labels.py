@@ -33,12 +33,8 @@ ELLIPSOID_LABELS = {kind: label for kind, label in SET_LABELS.items() if kind !=
 #: Where another capacity gives a kind another meaning: ``{capacity: {kind: label}}``
 #: (accelerations use :data:`SET_LABELS` alone).
 CAPACITY_SET_LABELS = {
-    "velocity": {"yoshikawa": "manipulability (unit ball)"},
-    "force": {
-        "chiacchio": "gravity-consistent",
-        "yoshikawa": "classic (pinv of J^T)",
-        "static": "static (no gravity)",
-    },
+    "velocity": {"yoshikawa": "unit ball"},
+    "force": {"chiacchio": "with gravity", "yoshikawa": "classic", "static": "no gravity"},
 }
 
 

@@ -18,7 +18,7 @@ __all__ = ["LAYOUT_SETS", "LIMIT_QUANTITIES", "SPLITS", "TableLayout"]
 
 #: The sets a table can show besides user-defined candidates: the exact polytope, both
 #: ellipsoid definitions, the maximum-volume inscribed and the minimum-volume enclosing one.
-LAYOUT_SETS = ("polytope", *BUILT_IN_KINDS)
+LAYOUT_SETS = ("polytope", *BUILT_IN_KINDS, "static")  # "static": a force ellipsoid
 #: The quantities of the directional-limits table (its columns), beside the score names of
 #: the comparison table.
 LIMIT_QUANTITIES = ("lower", "upper", "lower_error", "upper_error")
