@@ -5,6 +5,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import numpy as np
+
 README = Path(__file__).resolve().parents[1] / "README.md"
 
 
@@ -27,6 +29,14 @@ def test_readme_python_examples_run_and_match_their_comments(tmp_path, monkeypat
     assert round(cmp["chiacchio"].coverage, 4) == 0.5967
     assert round(cmp["yoshikawa"].witness_torque_max, 2) == 1.04
     assert isinstance(cmp, pe.Comparison)
+    force, forces = namespace["force"], namespace["forces"]
+    lo, hi = force.polytope.limits([0.0, -1.0])
+    assert (round(float(lo), 3), round(float(hi), 3)) == (-21.804, 53.196)
+    assert round(forces["chiacchio"].inscribed_scale, 4) == 1.0029
+    assert round(forces["static"].witness_torque_max, 2) == 1.38
+    velocity = namespace["velocity"]
+    assert np.allclose(velocity.polytope.limits([1.0, 0.0]), (-4.0, 4.0), rtol=1e-12)
+    assert round(pe.compare(velocity)["yoshikawa"].coverage, 4) == 0.4605
     assert namespace["an"].dynamics.n == 7 and namespace["moving"].xdd_bias.any()
     assert (tmp_path / "sets.html").stat().st_size > 0
 
