@@ -29,6 +29,10 @@ __all__ = ["HPolytope", "require_drawable"]
 class HPolytope(ConvexSet):
     r"""The polyhedron :math:`\{x \in R^m : A x \le b\}`, possibly unbounded or empty.
 
+    The irredundant facets are :attr:`A`, :attr:`b` (unit normals); :attr:`vertices` and
+    :attr:`rays` generate the set (``conv(vertices) + cone(rays)``; a line of the set as a
+    pair of rays ``+-d``): the extreme points and the recession cone when it holds no line.
+
     Parameters
     ----------
     A : array-like, shape (k, m)
@@ -40,16 +44,6 @@ class HPolytope(ConvexSet):
         A reference point of the set (the force capacity passes the force of least
         torque residual); default its Chebyshev centre (the centre of the largest ball
         inside, by a linear program).
-
-    Attributes
-    ----------
-    A, b : ndarray, shapes (F, m) and (F,)
-        The irredundant facets, with unit normals.
-    vertices : ndarray, shape (V, m)
-        Extreme points (none for an empty set).
-    rays : ndarray, shape (R, m)
-        Unit directions generating the recession cone (a line of the set, if any, as a
-        pair ``+-d``); none for a bounded set.
 
     Examples
     --------
@@ -197,7 +191,10 @@ class HPolytope(ConvexSet):
 
     @property
     def vertices(self) -> NDArray[np.float64]:
-        """Extreme points, shape (V, m)."""
+        """Extreme points, shape (V, m); none for an empty set.
+
+        When the set holds a line: points of the set that generate it with :attr:`rays`.
+        """
         return self._vertices
 
     @property
