@@ -34,6 +34,7 @@ from polyell.geometry import (
     AffineSubspace,
     DirectionalLimits,
     Ellipsoid,
+    HPolytope,
     Polytope,
 )
 from polyell.models import Dynamics, Payload, PlanarArm, TorqueSpeed, UrdfRobot
@@ -60,6 +61,7 @@ __all__ = [
     "DirectionalLimits",
     "Dynamics",
     "Ellipsoid",
+    "HPolytope",
     "InputError",
     "InverseSolution",
     "Kinematics",

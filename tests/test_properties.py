@@ -485,7 +485,7 @@ def test_the_suite_covers_the_public_api():
         "TableLayout", "limits_table",  # tests/comparison/test_print_*.py, test_limits_table.py
         "self_motion", "SelfMotion", "posture_choice", "PostureChoice",  # tests/models, studies
         "posture_choice_over_targets", "PostureChoiceOverTargets", "write_posture_tables",
-        "Kinematics",  # tests/capacities/test_capacity_properties.py (every capacity)
+        "Kinematics", "HPolytope",  # tests/capacities/test_capacity_properties.py
     }  # fmt: skip
     for name in pe.__all__:
         item = getattr(pe, name)

@@ -1,6 +1,7 @@
-"""Geometry: the exact polytope, ellipsoids, affine sets and directional limits."""
+"""Geometry: the exact polytopes, ellipsoids, affine sets and directional limits."""
 
 from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.limits import DirectionalLimits
 from polyell.geometry.polytope import Polytope
 from polyell.geometry.subspace import AFFINE_RTOL, RANK_RTOL, AffineSubspace, rank_revealing_svd
@@ -11,6 +12,7 @@ __all__ = [
     "AffineSubspace",
     "DirectionalLimits",
     "Ellipsoid",
+    "HPolytope",
     "Polytope",
     "rank_revealing_svd",
 ]

@@ -21,7 +21,7 @@ from polyell.geometry.convex_set import ConvexSet
 from polyell.geometry.limits import facet_slack, line_interval_in_halfspaces, rounding_floor
 from polyell.geometry.subspace import AffineSubspace, rank_revealing_svd
 from polyell.geometry.zonotope import order_polygon
-from polyell.validation import check_array, check_magnitudes
+from polyell.validation import check_array, magnitude_limit
 
 __all__ = ["HPolytope", "require_drawable"]
 
@@ -48,8 +48,7 @@ class HPolytope(ConvexSet):
     Examples
     --------
     >>> import polyell as pe
-    >>> from polyell.geometry.hpolytope import HPolytope
-    >>> box = HPolytope([[1, 0], [-1, 0], [0, 1], [0, -1]], [1, 1, 2, 0])
+    >>> box = pe.HPolytope([[1, 0], [-1, 0], [0, 1], [0, -1]], [1, 1, 2, 0])
     >>> box.volume, box.limits([0.0, 1.0])
     (2.0, DirectionalLimits(lo=array(0.), hi=array(2.)))
     """
@@ -59,8 +58,19 @@ class HPolytope(ConvexSet):
         if A.shape[1] == 0:
             raise InputError("A", "at least one column (the task dimension m)", "shape (k, 0)")
         b = check_array("b", b, (A.shape[0],))
-        check_magnitudes(A, b, argument="A")
         norms = np.linalg.norm(A, axis=1)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            offsets = np.abs(b[norms > 0] / norms[norms > 0])
+        limit = 10.0 ** magnitude_limit(A.shape[1])
+        size = float(offsets.max(initial=0.0))
+        if not np.all(np.isfinite(offsets)) or size > limit or 0 < size < 1 / limit:
+            raise InputError(
+                "b",
+                f"offsets b_i / |a_i| of size between 1e-{magnitude_limit(A.shape[1])} and "
+                f"1e{magnitude_limit(A.shape[1])} (the set's volume and limits representable)",
+                f"offsets up to {size:.3g}",
+                "express the half-spaces in units where the set is of moderate size.",
+            )
         self._infeasible_row = bool(np.any((norms == 0) & (b < 0)))
         keep = norms > 0
         self._A_in, self._b_in = A[keep] / norms[keep, None], b[keep] / norms[keep]

@@ -93,3 +93,41 @@ def test_kinematics_with_any_jacobian(J):
     kin = calm(lambda: pe.Kinematics(J))
     if kin is not None:
         assert kin.J.shape == (kin.m, kin.n) and len(kin.task) == kin.m
+
+
+@st.composite
+def halfspaces(draw: st.DrawFn) -> tuple[np.ndarray, np.ndarray]:
+    """Random half-spaces of R^m at a random magnitude: a box, a simplex-like set, a slab."""
+    m = draw(st.integers(1, 3))
+    k = draw(st.integers(0, 8))
+    rng = np.random.default_rng(draw(st.integers(0, 2**16)))
+    scale = draw(st.sampled_from([1e-150, 1e-3, 1.0, 1e3, 1e150]))
+    A = rng.normal(size=(k, m))
+    b = rng.uniform(-0.2, 1.0, k) * scale
+    return A, b
+
+
+@given(sets=halfspaces(), data=st.data())
+def test_hpolytope_with_any_halfspaces(sets, data):
+    A, b = sets
+    name = data.draw(st.sampled_from(["A", "b", "none"]))
+    arguments = {"A": A, "b": b}
+    if name != "none":
+        arguments[name] = data.draw(broken(arguments[name]))
+    P = calm(lambda: pe.HPolytope(**arguments))
+    if P is None:
+        return
+    event("empty" if P.is_empty else "bounded" if P.is_bounded else "unbounded")
+    assert P.volume >= 0
+    assert (P.volume == np.inf) == (not P.is_bounded and not P.is_empty)
+    T = sphere_directions(6, A.shape[1])
+    limits = calm(lambda: P.limits(T))
+    lo, hi = np.asarray(limits.lo), np.asarray(limits.hi)
+    if P.is_empty:
+        assert np.all(np.isnan(lo))
+        return
+    ok = ~np.isnan(lo)
+    assert np.all(lo[ok] <= hi[ok] + 1e-9 * np.abs(hi[ok]))
+    if len(P.vertices) and P.is_bounded:  # every vertex satisfies every facet
+        slack = P.facet_slacks(P.vertices)
+        assert np.all(slack >= -1e-7 * max(1.0, float(np.abs(P.b).max(initial=1.0))))
