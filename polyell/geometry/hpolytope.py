@@ -48,9 +48,9 @@ class HPolytope(ConvexSet):
     Examples
     --------
     >>> import polyell as pe
-    >>> box = pe.HPolytope([[1, 0], [-1, 0], [0, 1], [0, -1]], [1, 1, 2, 0])
+    >>> box = pe.HPolytope([[1, 0], [-1, 0], [0, 1], [0, -1]], [1, 1, 2, 1])
     >>> box.volume, box.limits([0.0, 1.0])
-    (2.0, DirectionalLimits(lo=array(0.), hi=array(2.)))
+    (6.0, DirectionalLimits(lo=array(-1.), hi=array(2.)))
     """
 
     def __init__(self, A: ArrayLike, b: ArrayLike, *, center: ArrayLike | None = None) -> None:
@@ -84,22 +84,37 @@ class HPolytope(ConvexSet):
     # --- the double description ------------------------------------------------------
 
     def _chebyshev_center(self) -> NDArray[np.float64]:
-        """The centre of the largest ball inside (radius capped: unbounded sets have one)."""
+        """The centre of the largest ball inside (radius capped: unbounded sets have one).
+
+        Solved in units of the largest offset, so that HiGHS's absolute tolerances are
+        relative to the set; the origin for an empty set (never used).
+        """
         from scipy.optimize import linprog
 
         m = self._A_in.shape[1]
         if self._infeasible_row or not len(self._A_in):
             return np.zeros(m)
-        scale = max(1.0, float(np.abs(self._b_in).max()))
+        scale = float(np.abs(self._b_in).max()) or 1.0
         cost = np.zeros(m + 1)
         cost[-1] = -1.0
         A_ub = np.hstack([self._A_in, np.ones((len(self._A_in), 1))])
-        bounds = [(None, None)] * m + [(0.0, scale)]
-        result = linprog(cost, A_ub, self._b_in, bounds=bounds, method="highs")
-        if result.status != 0:  # infeasible: an empty set (its centre is never used)
+        bounds = [(None, None)] * m + [(0.0, 1.0)]
+        result = linprog(cost, A_ub, self._b_in / scale, bounds=bounds, method="highs")
+        if result.status != 0:  # infeasible: an empty set
             return np.zeros(m)
-        center: NDArray[np.float64] = result.x[:m]
+        center: NDArray[np.float64] = scale * result.x[:m]
         return center
+
+    def _interior_point(self) -> NDArray[np.float64]:
+        """:attr:`center` if it is well inside every half-space, else the Chebyshev centre.
+
+        cddlib works about this point, in units of its largest offset: exact arithmetic is
+        not used, so the numbers it sees must be of the set's own size.
+        """
+        offsets = self._b_in - self._A_in @ self.center
+        if len(offsets) and offsets.min() > 1e-6 * offsets.max():
+            return self.center
+        return self._chebyshev_center()
 
     def _generators(self) -> None:
         m = self.ambient_dim
@@ -115,10 +130,14 @@ class HPolytope(ConvexSet):
             self._vertices = self.center[None, :].copy()
             self._rays = np.vstack([np.eye(m), -np.eye(m)])
             return
-        # About the reference point: cdd then works on offsets of the set's own size.
-        shifted = self._b_in - self._A_in @ self.center
+        # About an interior point and in units of the largest offset from it: cdd then
+        # works on numbers of order 1 whatever the set's size and distance from 0.
+        origin = self._interior_point()
+        shifted = self._b_in - self._A_in @ origin
+        unit = float(np.abs(shifted).max()) or 1.0
         matrix = cdd.matrix_from_array(
-            np.hstack([shifted[:, None], -self._A_in]).tolist(), rep_type=cdd.RepType.INEQUALITY
+            np.hstack([shifted[:, None] / unit, -self._A_in]).tolist(),
+            rep_type=cdd.RepType.INEQUALITY,
         )
         equalities, _, _ = cdd.matrix_canonicalize(matrix)
         rows = np.array(matrix.array, dtype=float).reshape(-1, m + 1)
@@ -131,7 +150,7 @@ class HPolytope(ConvexSet):
             return
         is_vertex = points[:, 0] != 0
         lines = sorted(generators.lin_set)
-        self._vertices = self.center + points[is_vertex, 1:] / points[is_vertex, :1]
+        self._vertices = origin + unit * points[is_vertex, 1:] / points[is_vertex, :1]
         if m == 2 and len(self._vertices) > 2:  # counter-clockwise, as a zonotope's
             self._vertices = order_polygon(self._vertices)
         directions = points[~is_vertex, 1:]
@@ -147,11 +166,11 @@ class HPolytope(ConvexSet):
         A_rows, b_rows = -rows[inequality, 1:], rows[inequality, 0]
         scale = np.linalg.norm(A_rows, axis=1)
         self._facet_A = A_rows / scale[:, None]
-        self._facet_b = b_rows / scale + self._facet_A @ self.center
+        self._facet_b = unit * b_rows / scale + self._facet_A @ origin
         if linear:
             normals = rank_revealing_svd(-rows[linear, 1:].T).U1  # (m, e)
             complement = rank_revealing_svd(np.eye(m) - normals @ normals.T).U1
-            self.affine_set = AffineSubspace(self.center, complement, normals)
+            self.affine_set = AffineSubspace(origin, complement, normals)
         del equalities
 
     # --- what the set is ---------------------------------------------------------------
