@@ -135,43 +135,46 @@ class HPolytope(ConvexSet):
         origin = self._interior_point()
         shifted = self._b_in - self._A_in @ origin
         unit = float(np.abs(shifted).max()) or 1.0
+        # The lines of the set (normals spanning less than R^m: a force polytope at a singular
+        # posture) by the rank decision of RANK_RTOL, not by cddlib's epsilon; cdd sees the
+        # pointed section in the normals' span N.
+        svd = rank_revealing_svd(self._A_in.T)
+        N, lines = svd.U1, svd.U2  # (m, r), (m, m - r)
         matrix = cdd.matrix_from_array(
-            np.hstack([shifted[:, None] / unit, -self._A_in]).tolist(),
+            np.hstack([shifted[:, None] / unit, -(self._A_in @ N)]).tolist(),
             rep_type=cdd.RepType.INEQUALITY,
         )
-        equalities, _, _ = cdd.matrix_canonicalize(matrix)
-        rows = np.array(matrix.array, dtype=float).reshape(-1, m + 1)
+        cdd.matrix_canonicalize(matrix)
+        r = N.shape[1]
+        rows = np.array(matrix.array, dtype=float).reshape(-1, r + 1)
         linear = sorted(matrix.lin_set)
-        polyhedron = cdd.polyhedron_from_matrix(matrix)
-        generators = cdd.copy_generators(polyhedron)
-        points = np.array(generators.array, dtype=float).reshape(-1, m + 1)
+        generators = cdd.copy_generators(cdd.polyhedron_from_matrix(matrix))
+        points = np.array(generators.array, dtype=float).reshape(-1, r + 1)
         if not len(points):
             self._empty = True
             return
         is_vertex = points[:, 0] != 0
-        lines = sorted(generators.lin_set)
-        self._vertices = origin + unit * points[is_vertex, 1:] / points[is_vertex, :1]
+        self._vertices = origin + unit * (points[is_vertex, 1:] / points[is_vertex, :1]) @ N.T
         if m == 2 and len(self._vertices) > 2:  # counter-clockwise, as a zonotope's
             self._vertices = order_polygon(self._vertices)
-        directions = points[~is_vertex, 1:]
+        directions = points[~is_vertex, 1:] @ N.T
         norms = np.linalg.norm(directions, axis=1)
         directions = directions / np.where(norms > 0, norms, 1.0)[:, None]
-        line_mask = np.zeros(len(points), dtype=bool)
-        line_mask[lines] = True
-        pairs = directions[line_mask[~is_vertex]]
-        self._rays = np.vstack([directions, -pairs]) if len(pairs) else directions
+        paired = np.zeros(len(points), dtype=bool)
+        paired[sorted(generators.lin_set)] = True
+        pairs = np.vstack([directions[paired[~is_vertex]], lines.T])
+        self._rays = np.vstack([directions, pairs, -pairs])
         # Facets: the inequality rows of the canonical form; equalities: its linearity.
         inequality = np.ones(len(rows), dtype=bool)
         inequality[linear] = False
-        A_rows, b_rows = -rows[inequality, 1:], rows[inequality, 0]
+        A_rows, b_rows = -rows[inequality, 1:] @ N.T, rows[inequality, 0]
         scale = np.linalg.norm(A_rows, axis=1)
         self._facet_A = A_rows / scale[:, None]
         self._facet_b = unit * b_rows / scale + self._facet_A @ origin
         if linear:
-            normals = rank_revealing_svd(-rows[linear, 1:].T).U1  # (m, e)
+            normals = rank_revealing_svd(N @ -rows[linear, 1:].T).U1  # (m, e)
             complement = rank_revealing_svd(np.eye(m) - normals @ normals.T).U1
             self.affine_set = AffineSubspace(origin, complement, normals)
-        del equalities
 
     # --- what the set is ---------------------------------------------------------------
 

@@ -20,7 +20,7 @@ def test_fields_and_defaults():
         "digits": 3,
         "percent": True,
     }
-    assert LAYOUT_SETS == ("polytope", "chiacchio", "yoshikawa", "mvie", "outer")
+    assert LAYOUT_SETS == ("polytope", "chiacchio", "yoshikawa", "mvie", "outer", "static")
     with pytest.raises(dataclasses.FrozenInstanceError):
         TableLayout().digits = 4  # type: ignore[misc]
 
