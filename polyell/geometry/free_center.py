@@ -19,6 +19,8 @@ vertex, so ``inscribed_scale >= 1`` and ``enclosing_scale <= 1`` hold to roundin
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -30,8 +32,13 @@ from polyell.geometry.logdet import centred_mvee
 __all__ = ["free_center_mvee", "free_center_mvie"]
 
 
-def _frame(P: HPolytope, what: str) -> tuple[NDArray[np.float64], NDArray[np.float64], float]:
-    """Refuse empty or unbounded sets; the hull's basis (m, r), a centre and a scale."""
+def _frame(P: HPolytope, what: str) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Refuse empty or unbounded sets; a centre and a whitening frame of the hull.
+
+    Returns the vertices' mean c and a matrix F (m, r) with ``x = c + F y``: y spans the
+    hull, and the vertices have unit covariance in y (the programs below then see a round
+    set of size 1, however thin or large P is).
+    """
     if P.is_empty:
         raise UndefinedEllipsoidError(f"The {what} of an empty set does not exist.")
     if not P.is_bounded:
@@ -40,8 +47,11 @@ def _frame(P: HPolytope, what: str) -> tuple[NDArray[np.float64], NDArray[np.flo
             f"{len(P.rays)} ray(s) (see polytope.rays)."
         )
     center = P.vertices.mean(axis=0)
-    scale = max(float(np.abs(P.vertices - center).max()), np.finfo(float).tiny)
-    return P.affine_set.basis, center, scale
+    offsets = (P.vertices - center) @ P.affine_set.basis  # (V, r)
+    _, s, Vt = np.linalg.svd(offsets, full_matrices=False)
+    r = P.dim
+    s = s[:r] / np.sqrt(len(offsets))
+    return center, P.affine_set.basis @ (Vt[:r].T * s)
 
 
 def _point(P: HPolytope, kind: str) -> Ellipsoid:
@@ -60,23 +70,27 @@ def free_center_mvie(P: HPolytope) -> Ellipsoid:
     """
     import cvxpy as cp
 
-    basis, center, scale = _frame(P, "maximum-volume inscribed ellipsoid")
     r = P.dim
     if r == 0:
         return _point(P, "mvie")
-    # y = basis^T (x - center) / scale: facets a_y = basis^T a, b_y = (b - a . center) / scale
-    A = P.A @ basis
+    center, F = _frame(P, "maximum-volume inscribed ellipsoid")
+    # x = c + F y: facets a_y = F^T a, b_y = b - a . c, normalised
+    A = P.A @ F
     norms = np.linalg.norm(A, axis=1)
-    keep = norms > 1e-12  # a normal orthogonal to the hull is an equality, not a facet
-    A, b = A[keep] / norms[keep, None], (P.b[keep] - P.A[keep] @ center) / scale / norms[keep]
+    keep = norms > 1e-12 * norms.max()  # a normal orthogonal to the hull is no facet
+    A, b = A[keep] / norms[keep, None], (P.b[keep] - P.A[keep] @ center) / norms[keep]
     C = cp.Variable((r, r), PSD=True)
     d = cp.Variable(r)
     constraints = [cp.norm(C @ A[i]) + A[i] @ d <= b[i] for i in range(len(b))]
     problem = cp.Problem(cp.Maximize(cp.log_det(C)), constraints)
-    try:
-        problem.solve(solver=cp.CLARABEL)
-    except cp.SolverError as exn:  # pragma: no cover - Clarabel failing on a polytope
-        raise SolverError(f"maximum-volume inscribed ellipsoid: Clarabel failed ({exn}).") from exn
+    with warnings.catch_warnings():  # an inaccurate solution is refused below, with a reason
+        warnings.simplefilter("ignore")
+        try:
+            problem.solve(solver=cp.CLARABEL)
+        except cp.SolverError as exn:  # pragma: no cover - Clarabel failing on a polytope
+            raise SolverError(
+                f"maximum-volume inscribed ellipsoid: Clarabel failed ({exn})."
+            ) from exn
     if problem.status != cp.OPTIMAL or C.value is None:
         raise SolverError(f"maximum-volume inscribed ellipsoid: Clarabel status {problem.status}.")
     eigenvalues, eigenvectors = np.linalg.eigh(0.5 * (C.value + C.value.T))
@@ -87,10 +101,10 @@ def free_center_mvie(P: HPolytope) -> Ellipsoid:
     slack = b - A @ y0
     reach = np.linalg.norm(A @ shape, axis=1)
     shrink = min(1.0, float(np.min(slack / reach)))
-    W, s, _ = np.linalg.svd(shape)
+    W, s, _ = np.linalg.svd(F @ shape, full_matrices=False)
     if not np.all(s * shrink > 0):
         raise SolverError("maximum-volume inscribed ellipsoid: a degenerate solution.")
-    return Ellipsoid(center + scale * basis @ y0, basis @ W, scale * shrink * s, kind="mvie")
+    return Ellipsoid(center + F @ y0, W, shrink * s, kind="mvie")
 
 
 def free_center_mvee(P: HPolytope) -> Ellipsoid:
@@ -103,11 +117,11 @@ def free_center_mvee(P: HPolytope) -> Ellipsoid:
     SolverError
         If the interior-point method does not certify an optimum.
     """
-    basis, center, scale = _frame(P, "minimum-volume enclosing ellipsoid")
     r = P.dim
     if r == 0:
         return _point(P, "outer")
-    y = (P.vertices - center) @ basis / scale  # (V, r), of size 1
+    center, F = _frame(P, "minimum-volume enclosing ellipsoid")
+    y = np.linalg.lstsq(F, (P.vertices - center).T, rcond=None)[0].T  # (V, r), round
     lifted = np.hstack([y, np.ones((len(y), 1))])
     H = centred_mvee(lifted).shape  # {z : z^T H z <= 1} around +-(y_i, 1)
     H11, h12, h22 = H[:r, :r], H[:r, r], H[r, r]
@@ -118,7 +132,5 @@ def free_center_mvee(P: HPolytope) -> Ellipsoid:
     eigenvalues, eigenvectors = np.linalg.eigh(H11 / level)
     offsets = (y - y0) @ eigenvectors
     grow = max(1.0, float(np.sqrt(np.max((offsets**2) @ eigenvalues))))  # through a vertex
-    semi_axes = grow / np.sqrt(eigenvalues)
-    return Ellipsoid(
-        center + scale * basis @ y0, basis @ eigenvectors, scale * semi_axes, kind="outer"
-    )
+    W, s, _ = np.linalg.svd(F @ (eigenvectors * (grow / np.sqrt(eigenvalues))), full_matrices=False)
+    return Ellipsoid(center + F @ y0, W, s, kind="outer")
