@@ -16,7 +16,7 @@ import cdd
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from polyell.errors import InputError
+from polyell.errors import InputError, SolverError
 from polyell.geometry.convex_set import ConvexSet
 from polyell.geometry.limits import facet_slack, line_interval_in_halfspaces, rounding_floor
 from polyell.geometry.subspace import AffineSubspace, rank_revealing_svd
@@ -49,7 +49,7 @@ class HPolytope(ConvexSet):
     --------
     >>> import polyell as pe
     >>> box = pe.HPolytope([[1, 0], [-1, 0], [0, 1], [0, -1]], [1, 1, 2, 1])
-    >>> box.volume, box.limits([0.0, 1.0])
+    >>> round(box.volume, 12), box.limits([0.0, 1.0])
     (6.0, DirectionalLimits(lo=array(-1.), hi=array(2.)))
     """
 
@@ -122,6 +122,7 @@ class HPolytope(ConvexSet):
         self._rays, self._lines = empty, empty
         self._vertices = empty
         self._facet_A, self._facet_b = empty, np.zeros(0)
+        self._whitened = (empty, np.ones(m))
         self.affine_set = AffineSubspace(self.center, np.eye(m), np.zeros((m, 0)))
         self._empty = self._infeasible_row
         if self._empty:
@@ -135,44 +136,40 @@ class HPolytope(ConvexSet):
         origin = self._interior_point()
         shifted = self._b_in - self._A_in @ origin
         unit = float(np.abs(shifted).max()) or 1.0
-        # The lines of the set (normals spanning less than R^m: a force polytope at a singular
-        # posture) by the rank decision of RANK_RTOL, not by cddlib's epsilon; cdd sees the
-        # pointed section in the normals' span N.
+        # Whitened coordinates (DESIGN.md section 7, "Thin zonotopes", for half-spaces): with
+        # A = V1 S U1^T (rank by RANK_RTOL), y = S U1^T (x - origin) / unit turns the rows into
+        # the well-scaled V1: cdd meets no nearly parallel facets however thin the set is.
+        # The lines of the set (normals spanning less than R^m, a force polytope at a singular
+        # posture) are U2, by the rank decision and not by cddlib's epsilon.
         svd = rank_revealing_svd(self._A_in.T)
-        N, lines = svd.U1, svd.U2  # (m, r), (m, m - r)
-        matrix = cdd.matrix_from_array(
-            np.hstack([shifted[:, None] / unit, -(self._A_in @ N)]).tolist(),
-            rep_type=cdd.RepType.INEQUALITY,
-        )
-        cdd.matrix_canonicalize(matrix)
-        r = N.shape[1]
-        rows = np.array(matrix.array, dtype=float).reshape(-1, r + 1)
-        linear = sorted(matrix.lin_set)
-        generators = cdd.copy_generators(cdd.polyhedron_from_matrix(matrix))
-        points = np.array(generators.array, dtype=float).reshape(-1, r + 1)
-        if not len(points):
+        U1, S, lines = svd.U1, svd.sigma, svd.U2
+        description = _double_description(shifted / unit, svd.V1)
+        if description is None:
             self._empty = True
             return
+        rows, linear, points, paired_rows = description
         is_vertex = points[:, 0] != 0
-        self._vertices = origin + unit * (points[is_vertex, 1:] / points[is_vertex, :1]) @ N.T
+        self._whitened = (points[is_vertex, 1:] / points[is_vertex, :1], unit / S)
+        self._vertices = origin + unit * (self._whitened[0] / S) @ U1.T
         if m == 2 and len(self._vertices) > 2:  # counter-clockwise, as a zonotope's
             self._vertices = order_polygon(self._vertices)
-        directions = points[~is_vertex, 1:] @ N.T
+        directions = (points[~is_vertex, 1:] / S) @ U1.T
         norms = np.linalg.norm(directions, axis=1)
         directions = directions / np.where(norms > 0, norms, 1.0)[:, None]
         paired = np.zeros(len(points), dtype=bool)
-        paired[sorted(generators.lin_set)] = True
+        paired[paired_rows] = True
         pairs = np.vstack([directions[paired[~is_vertex]], lines.T])
         self._rays = np.vstack([directions, pairs, -pairs])
-        # Facets: the inequality rows of the canonical form; equalities: its linearity.
+        # Facets: the inequality rows of the canonical form, a_y . y <= b_y, that is
+        # (U1 S a_y) . (x - origin) <= unit b_y; equalities: its linearity.
         inequality = np.ones(len(rows), dtype=bool)
         inequality[linear] = False
-        A_rows, b_rows = -rows[inequality, 1:] @ N.T, rows[inequality, 0]
+        A_rows, b_rows = (-rows[inequality, 1:] * S) @ U1.T, unit * rows[inequality, 0]
         scale = np.linalg.norm(A_rows, axis=1)
         self._facet_A = A_rows / scale[:, None]
-        self._facet_b = unit * b_rows / scale + self._facet_A @ origin
+        self._facet_b = b_rows / scale + self._facet_A @ origin
         if linear:
-            normals = rank_revealing_svd(N @ -rows[linear, 1:].T).U1  # (m, e)
+            normals = rank_revealing_svd(U1 @ (-rows[linear, 1:] * S).T).U1  # (m, e)
             complement = rank_revealing_svd(np.eye(m) - normals @ normals.T).U1
             self.affine_set = AffineSubspace(origin, complement, normals)
 
@@ -249,12 +246,16 @@ class HPolytope(ConvexSet):
         r = self.dim
         if r == 0:
             return 1.0
-        y = self.affine_set.coordinates(self.vertices)
+        # In the whitened coordinates (well scaled however thin the set), times the Jacobian
+        # of x = origin + U1 diag(unit / S) y; a lower-dimensional set in its hull's basis.
+        y, stretch = self._whitened
+        if r < len(stretch):
+            y, stretch = self.affine_set.coordinates(self.vertices), np.ones(r)
         if r == 1:
-            return float(y.max() - y.min())
+            return float((y.max() - y.min()) * stretch[0])
         from scipy.spatial import ConvexHull
 
-        return float(ConvexHull(y).volume)
+        return float(ConvexHull(y).volume * np.prod(stretch))
 
     @cached_property
     def ball_radius(self) -> float:
@@ -355,3 +356,69 @@ def require_drawable(S: object, argument: str) -> None:
             "a force polytope is unbounded at a singular posture and empty where the arm "
             "cannot hold itself: draw another posture.",
         )
+
+
+Description = tuple[NDArray[np.float64], list[int], NDArray[np.float64], list[int]]
+
+
+def _double_description(
+    offsets: NDArray[np.float64], normals: NDArray[np.float64]
+) -> Description | None:
+    """The double description of ``{y : normals y <= offsets}``; None if it is empty.
+
+    Irredundant rows ``[b | -a]``, the indices of its equalities, generators ``[1 | v]``
+    (points) and ``[0 | d]`` (rays), and the indices of the rays that are lines.
+    cddlib in floating point; where it reports a numerical inconsistency (a thin set in
+    6-D), Qhull's half-space intersection about the interior point y = 0 (offsets > 0).
+    """
+    matrix = cdd.matrix_from_array(
+        np.hstack([offsets[:, None], -normals]).tolist(), rep_type=cdd.RepType.INEQUALITY
+    )
+    r = normals.shape[1]
+    try:
+        cdd.matrix_canonicalize(matrix)
+        generators = cdd.copy_generators(cdd.polyhedron_from_matrix(matrix))
+    except RuntimeError as exn:
+        return _by_qhull(offsets, normals, exn)
+    rows = np.array(matrix.array, dtype=float).reshape(-1, r + 1)
+    points = np.array(generators.array, dtype=float).reshape(-1, r + 1)
+    if not len(points):
+        return None
+    return rows, sorted(matrix.lin_set), points, sorted(generators.lin_set)
+
+
+def _by_qhull(
+    offsets: NDArray[np.float64], normals: NDArray[np.float64], cause: Exception
+) -> Description:
+    """The double description of a bounded set with the interior point 0, by Qhull."""
+    from scipy.optimize import linprog
+    from scipy.spatial import HalfspaceIntersection
+
+    r = normals.shape[1]
+    for sign in (1.0, -1.0):  # bounded? (each coordinate bounded both ways)
+        for i in range(r):
+            cost = np.zeros(r)
+            cost[i] = sign
+            if linprog(cost, normals, offsets, bounds=[(None, None)] * r).status == 3:
+                raise SolverError(
+                    f"half-spaces to vertices: cddlib failed ({cause}) on an unbounded set, "
+                    "where Qhull cannot stand in."
+                ) from cause
+    if not offsets.min() > 0:
+        raise SolverError(f"half-spaces to vertices: cddlib failed ({cause}).") from cause
+    try:
+        hull = HalfspaceIntersection(np.hstack([normals, -offsets[:, None]]), np.zeros(r))
+    except Exception as exn:  # scipy's QhullError
+        raise SolverError(f"half-spaces to vertices: cddlib ({cause}) and Qhull failed.") from exn
+    vertices = np.unique(np.round(hull.intersections, 12), axis=0)
+    # A row is a facet when it holds at least r affinely independent vertices.
+    tight = np.abs(vertices @ normals.T - offsets) <= 1e-9 * max(1.0, float(offsets.max()))
+    facets = [
+        i
+        for i in range(len(offsets))
+        if np.linalg.matrix_rank(vertices[tight[:, i]] - vertices[tight[:, i]].mean(0)) >= r - 1
+        and tight[:, i].sum() >= r
+    ]
+    rows = np.hstack([offsets[facets, None], -normals[facets]])
+    points = np.hstack([np.ones((len(vertices), 1)), vertices])
+    return rows, [], points, []
