@@ -1,5 +1,6 @@
 """Geometry: the exact polytopes, ellipsoids, affine sets and directional limits."""
 
+from polyell.geometry.combine import intersection, minkowski_sum
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.limits import DirectionalLimits
@@ -14,5 +15,7 @@ __all__ = [
     "Ellipsoid",
     "HPolytope",
     "Polytope",
+    "intersection",
+    "minkowski_sum",
     "rank_revealing_svd",
 ]
