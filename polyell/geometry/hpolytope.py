@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from polyell.errors import InputError, SolverError
 from polyell.geometry.convex_set import ConvexSet
 from polyell.geometry.limits import facet_slack, line_interval_in_halfspaces, rounding_floor
-from polyell.geometry.subspace import AffineSubspace, rank_revealing_svd
+from polyell.geometry.subspace import RANK_RTOL, AffineSubspace, rank_revealing_svd
 from polyell.geometry.zonotope import order_polygon
 from polyell.validation import check_array, magnitude_limit
 
@@ -60,7 +60,8 @@ class HPolytope(ConvexSet):
         b = check_array("b", b, (A.shape[0],))
         norms = np.linalg.norm(A, axis=1)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            offsets = np.abs(b[norms > 0] / norms[norms > 0])
+            kept = norms > RANK_RTOL * norms.max(initial=0.0)
+            offsets = np.abs(b[kept] / norms[kept])
         limit = 10.0 ** magnitude_limit(A.shape[1])
         size = float(offsets.max(initial=0.0))
         if not np.all(np.isfinite(offsets)) or size > limit or 0 < size < 1 / limit:
@@ -71,8 +72,11 @@ class HPolytope(ConvexSet):
                 f"offsets up to {size:.3g}",
                 "express the half-spaces in units where the set is of moderate size.",
             )
-        self._infeasible_row = bool(np.any((norms == 0) & (b < 0)))
-        keep = norms > 0
+        # A normal negligible against the others (rank decision, RANK_RTOL) is a zero row: it
+        # keeps every point (b >= 0) or none, as a joint that no task force loads.
+        zero = norms <= RANK_RTOL * norms.max(initial=0.0)
+        self._infeasible_row = bool(np.any(zero & (b < 0)))
+        keep = ~zero
         self._A_in, self._b_in = A[keep] / norms[keep, None], b[keep] / norms[keep]
         m = A.shape[1]
         if center is None:
@@ -94,7 +98,7 @@ class HPolytope(ConvexSet):
         m = self._A_in.shape[1]
         if self._infeasible_row or not len(self._A_in):
             return np.zeros(m)
-        scale = float(np.abs(self._b_in).max()) or 1.0
+        scale = float(np.median(np.abs(self._b_in))) or 1.0
         cost = np.zeros(m + 1)
         cost[-1] = -1.0
         A_ub = np.hstack([self._A_in, np.ones((len(self._A_in), 1))])
@@ -112,7 +116,7 @@ class HPolytope(ConvexSet):
         not used, so the numbers it sees must be of the set's own size.
         """
         offsets = self._b_in - self._A_in @ self.center
-        if len(offsets) and offsets.min() > 1e-6 * offsets.max():
+        if len(offsets) and offsets.min() > 1e-6 * np.median(offsets):
             return self.center
         return self._chebyshev_center()
 
