@@ -71,6 +71,10 @@ class BatchOptions:
         User-defined ellipsoids.
     rank_rtol : float
         Rank tolerance, as in :func:`polyell.analyze`.
+    capacity : str
+        The capacity of :func:`polyell.analyze` (``"acceleration"``, ``"velocity"``,
+        ``"force"``); the batch path computes accelerations, velocities as accelerations of
+        an arm with ``B = I`` and no gravity (the same zonotope), forces on the scalar path.
     samples, seed : int
         Quasi-Monte-Carlo points per replicate and their seed, as in
         :func:`polyell.compare`: used by the rows that take the scalar path (an ellipsoid
@@ -84,6 +88,7 @@ class BatchOptions:
     rank_rtol: float = RANK_RTOL
     samples: int = 2**13
     seed: int = 0
+    capacity: str = "acceleration"
 
 
 def _zonotope_volume(s: Array, V1t: Array) -> Array:

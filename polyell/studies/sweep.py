@@ -24,15 +24,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from tqdm import tqdm
 
-from polyell.capacities import analyze
+from polyell.capacities import analyze, check_capacity
 from polyell.comparison.candidates import Candidate, check_candidates
 from polyell.comparison.comparison import (
-    COMPARED_KINDS,
     MAX_SAMPLES,
     MAX_SEED,
     MIN_SAMPLES,
     SCORE_NAMES,
     compare,
+    compared_kinds,
 )
 from polyell.errors import InputError, MissingDependencyError, StorageError, install_hint
 from polyell.geometry.directions import default_direction_count, sphere_directions
@@ -56,6 +56,7 @@ from polyell.validation import (
     check_directions,
     check_fraction,
     check_integer,
+    check_torque_limits,
     source_torque_limits,
 )
 
@@ -107,16 +108,11 @@ class _Job:
                 else self.configurations[start:stop]
             )
             dyn = self.source.dynamics(q)
-        if dyn.m > dyn.n:  # more task rows than joints: singular everywhere, the scalar path
+        capacity = self.options.capacity
+        if dyn.m > dyn.n or capacity == "force":  # singular everywhere; forces: the scalar path
             values = _scalar_rows(dyn, np.ones(len(dyn), dtype=bool), self)
         else:
-            values, scalar = batch_rows(
-                dyn,
-                self.tau_max,
-                self.tau_min,
-                self.directions,
-                self.options,
-            )
+            values, scalar = _batch(dyn, self)
             if scalar.any():
                 for name, column in _scalar_rows(dyn, scalar, self).items():
                     values[name][scalar] = column[scalar]
@@ -133,14 +129,51 @@ class _Job:
         return frame.join(pd.DataFrame({name: values[name] for name in self.columns}))
 
 
+def _batch(dyn: Dynamics, job: _Job) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_]]:
+    """The batch path's columns and the rows it leaves to the scalar path.
+
+    Velocities are the accelerations of the same arm with ``B = I``, no gravity and the
+    velocity limits as torque limits: the zonotope ``{J qd_c + J L_v u}``, whose image of the
+    unit ball (the velocity kind ``"yoshikawa"``) is the acceleration kind ``"chiacchio"``
+    with the same minimum-norm witness.
+    """
+    if job.options.capacity != "velocity":
+        return batch_rows(dyn, job.tau_max, job.tau_min, job.directions, job.options)
+    K, n = len(dyn), dyn.n
+    still = Dynamics(dyn.J, np.broadcast_to(np.eye(n), (K, n, n)), np.zeros((K, n)), task=dyn.task)
+    values, scalar = batch_rows(still, job.tau_max, job.tau_min, job.directions, job.options)
+    renamed = {}
+    for name, column in values.items():
+        if name.startswith("yoshikawa_"):
+            continue  # the classic dynamic ellipsoid: no velocity counterpart
+        renamed[name.replace("chiacchio_", "yoshikawa_", 1)] = column
+    return renamed, scalar
+
+
 def _scalar_rows(
     dyn: Dynamics, rows: NDArray[np.bool_], job: _Job
 ) -> dict[str, NDArray[np.float64]]:
     """``compare(analyze(...)).to_row()`` for the flagged rows (NaN elsewhere)."""
     values = {name: np.full(len(dyn), np.nan) for name in job.columns}
+    options = job.options
     for k in np.flatnonzero(rows):
-        options = job.options
-        analysis = analyze(dyn[int(k)], job.tau_max, job.tau_min, rank_rtol=options.rank_rtol)
+        one = dyn[int(k)]
+        if options.capacity == "velocity":
+            analysis = analyze(
+                one,
+                capacity="velocity",
+                qd_max=job.tau_max,
+                qd_min=job.tau_min,
+                rank_rtol=options.rank_rtol,
+            )
+        else:
+            analysis = analyze(
+                one,
+                job.tau_max,
+                job.tau_min,
+                capacity=options.capacity,
+                rank_rtol=options.rank_rtol,
+            )
         row = compare(
             analysis,
             job.scalar_directions,
@@ -249,7 +282,10 @@ def _job(
             if isinstance(configurations, ConfigurationSet)
             else configurations[0]
         ).m
-    upper, lower = source_torque_limits(source, tau_max, tau_min, n)
+    if options.capacity == "velocity":  # the joint velocity limits, in the same slots
+        upper, lower = _velocity_limits(source, tau_max, tau_min, n)
+    else:
+        upper, lower = source_torque_limits(source, tau_max, tau_min, n)
     unknown = sorted(set(scores) - set(SCORE_NAMES))
     if unknown:
         raise InputError("scores", f"names among {list(SCORE_NAMES)}", f"unknown {unknown}")
@@ -281,12 +317,29 @@ def _job(
         T = np.atleast_2d(check_directions("directions", cast(ArrayLike, directions), m))
         scalar_directions = T
     computed = {"mvie": options.mvie, "outer": options.outer}
-    kinds = [kind for kind in COMPARED_KINDS if computed.get(kind, True)]
+    kinds = [kind for kind in compared_kinds(options.capacity) if computed.get(kind, True)]
     kinds += [candidate.name for candidate in options.candidates]
     polytope = ("polytope_dim", "polytope_volume", "polytope_ball_radius", "polytope_origin_radius")
     columns = (*polytope, *(f"{k}_{s}" for k in kinds for s in scores))
     options = replace(options, vertices=options.outer or "enclosing_scale" in scores)
     return _Job(source, configurations, upper, lower, T, scalar_directions, columns, options, n)
+
+
+def _velocity_limits(
+    source: object, qd_max: ArrayLike | None, qd_min: ArrayLike | None, n: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Velocity limits given, or else the robot's own (``robot.velocity_limits()``)."""
+    if qd_max is None:
+        if not hasattr(source, "velocity_limits"):
+            raise InputError(
+                "qd_max",
+                "joint velocity limits [rad/s] for the velocity capacity",
+                "none (a batched Dynamics has no limits of its own)",
+                "pass qd_max=[...] (and qd_min=).",
+            )
+        qd_max, default_min = source.velocity_limits()
+        qd_min = default_min if qd_min is None else qd_min
+    return check_torque_limits(qd_max, qd_min, n, names=("qd_max", "qd_min"))
 
 
 def sweep(
@@ -307,8 +360,11 @@ def sweep(
     seed: int = 0,
     rank_rtol: float = RANK_RTOL,
     progress: bool = False,
+    capacity: str = "acceleration",
+    qd_max: ArrayLike | None = None,
+    qd_min: ArrayLike | None = None,
 ) -> pd.DataFrame | Path:
-    """Score both ellipsoids, and optionally the MVIE, the outer ellipsoid and candidates.
+    """Score the ellipsoids of a capacity, optionally the MVIE, the outer one, candidates.
 
     Parameters
     ----------
@@ -366,6 +422,13 @@ def sweep(
         Rank tolerance, as in :func:`polyell.analyze`.
     progress : bool
         A progress bar over the chunks on standard error.
+    capacity : {"acceleration", "velocity", "force"}
+        As in :func:`polyell.analyze`: the columns are ``<kind>_<score>`` over the
+        capacity's own kinds (``static_*`` for forces).  Velocities take ``qd_max`` and
+        ``qd_min`` (default the robot's own, ``robot.velocity_limits()``) instead of torque
+        limits; forces are computed configuration by configuration (the scalar path).
+    qd_max, qd_min : array-like, shape (n,), optional
+        Joint velocity limits [rad/s] of the velocity capacity.
 
     Returns
     -------
@@ -390,7 +453,26 @@ def sweep(
         raise InputError(
             "scheduler", "None, 'processes' or a Dask scheduler address", repr(scheduler)
         )
-    options = BatchOptions(mvie=bool(mvie), outer=bool(outer), rank_rtol=rank_rtol)
+    capacity = check_capacity(capacity)
+    if capacity == "velocity":
+        if tau_max is not None or tau_min is not None:
+            raise InputError(
+                "tau_max",
+                "no torque limits for the velocity capacity",
+                "torque limits",
+                "pass the joint velocity limits as qd_max= (and qd_min=).",
+            )
+        tau_max, tau_min = qd_max, qd_min  # the same slots of the batch
+    elif qd_max is not None or qd_min is not None:
+        raise InputError(
+            "qd_max",
+            f"no joint velocity limits for the {capacity} capacity",
+            "qd_max/qd_min",
+            "pass capacity='velocity' to sweep velocities.",
+        )
+    options = BatchOptions(
+        mvie=bool(mvie), outer=bool(outer), rank_rtol=rank_rtol, capacity=capacity
+    )
     options = replace(options, candidates=check_candidates(candidates))
     options = replace(
         options,
