@@ -62,8 +62,19 @@ class ZonotopeAnalysis(Analysis):
 
     @cached_property
     def polytope(self) -> Polytope:
-        """The exact set: the zonotope with generators ``M`` about ``xg``."""
-        polytope = Polytope(self.M, self.xg, svd=self.svd)
+        """The exact set: the zonotope with generators ``M`` about ``xg``.
+
+        Generators negligible against the largest (``RANK_RTOL``: a joint that does not move
+        the task point, as the Panda's last joint for its position) add nothing to the set
+        and are left out of it (its vertex enumeration would take them as degenerate).
+        """
+        norms = np.linalg.norm(self.M, axis=0)
+        keep = norms > self.svd.rtol * norms.max(initial=0.0)
+        if keep.all() or not keep.any():
+            polytope = Polytope(self.M, self.xg, svd=self.svd)
+        else:
+            svd = self.svd._replace(V1=self.svd.V1[keep])
+            polytope = Polytope(self.M[:, keep], self.xg, svd=svd)
         polytope.affine_rtol = self.affine_rtol
         return polytope
 

@@ -978,7 +978,8 @@ mvie = true
 outer = false
 samples = 4096
 seed = 3
-chunk = 5000"""
+chunk = 5000
+capacities = ["acceleration", "force"]"""
 
     directions: Annotated[int, Integer(1, MAX_DIRECTIONS)] | None = key(
         None,
