@@ -418,10 +418,13 @@ def _signs_by_active_facets(
     signs = np.concatenate(candidates)
     points = signs @ gens.T
     active = np.abs(points @ normals.T - offsets) <= atol  # (P, F)
-    extreme = np.array(
-        [np.linalg.matrix_rank(normals[row]) == r if row.sum() >= r else False for row in active],
-        dtype=bool,
-    )
+    # The active unit normals span R^r iff their Gram matrix sum_f a_f a_f^T is regular:
+    # one batched symmetric eigensolve instead of a rank per point.  The whitened normals
+    # are well scaled, so a relative 1e-10 on its smallest eigenvalue (1e-5 on the normals'
+    # smallest singular value) separates regular from rank-deficient sets.
+    gram = np.einsum("pf,fi,fj->pij", active.astype(float), normals, normals)
+    eigenvalues = np.linalg.eigvalsh(gram)
+    extreme = (active.sum(axis=1) >= r) & (eigenvalues[:, 0] > 1e-10 * eigenvalues[:, -1])
     return signs[extreme][_unique_points(points[extreme], atol)]
 
 
