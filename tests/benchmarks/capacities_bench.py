@@ -56,10 +56,30 @@ def _line_lp(A: np.ndarray, b: np.ndarray, t: np.ndarray, M=None, c=None) -> tup
     return ends[0], ends[1]
 
 
-def compare_sets(ours, theirs_vertices: np.ndarray, lp_limits) -> tuple[float, float, float]:
+def brute_force_vertices(A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Vertices of {A x <= b} by solving every m-subset of rows and keeping the feasible."""
+    from itertools import combinations
+
+    m = A.shape[1]
+    found = []
+    for rows in combinations(range(len(A)), m):
+        block = A[list(rows)]
+        if abs(np.linalg.det(block)) < 1e-12:
+            continue
+        x = np.linalg.solve(block, b[list(rows)])
+        if np.all(A @ x <= b + 1e-9 * np.abs(b).max()):
+            found.append(x)
+    return np.array(found)
+
+
+def nearest(points: np.ndarray, others: np.ndarray, size: float) -> float:
+    """Largest distance of a point to the nearest of ``others``, relative to ``size``."""
+    return float(np.linalg.norm(points[:, None] - others[None], axis=2).min(axis=1).max() / size)
+
+
+def compare_sets(ours, theirs_vertices: np.ndarray, lp_limits, reference) -> tuple[float, ...]:
     V = np.asarray(theirs_vertices).T
     size = float(np.ptp(V, axis=0).max())
-    nearest = np.linalg.norm(V[:, None] - ours.vertices[None], axis=2).min(axis=1)
     volume = abs(ours.volume - ConvexHull(V).volume) / ConvexHull(V).volume
     T = sphere_directions(50, V.shape[1])
     lo, hi = ours.limits(T)
@@ -67,7 +87,14 @@ def compare_sets(ours, theirs_vertices: np.ndarray, lp_limits) -> tuple[float, f
     for t, a, b in zip(T, lo, hi, strict=True):
         ref = lp_limits(t)
         worst = max(worst, abs(a - ref[0]) / size, abs(b - ref[1]) / size)
-    return float(nearest.max() / size), volume, worst
+    exact = reference()  # brute force: are the differences polyell's or pycapacity's?
+    return (
+        nearest(V, ours.vertices, size),
+        volume,
+        worst,
+        max(nearest(exact, ours.vertices, size), nearest(ours.vertices, exact, size)),
+        nearest(V, exact, size),
+    )
 
 
 def bench_capacities(repeats: int) -> list[str]:
@@ -115,7 +142,7 @@ def bench_capacities(repeats: int) -> list[str]:
                 f"| {label} | {name} | {summary(ours, per)} | {summary(theirs, per)} | "
                 f"{speedup:.1f}× |"
             )
-        worst = np.zeros((2, 3))
+        worst = np.zeros((2, 5))
         for (J, g), kin, dyn in list(zip(arms, kinematics, dynamics, strict=True))[:5]:
             velocity = pe.analyze(kin, capacity="velocity", qd_max=v_max, qd_min=v_min)
             force = pe.analyze(dyn, t_max, t_min, capacity="force")
@@ -124,19 +151,28 @@ def bench_capacities(repeats: int) -> list[str]:
             A = np.vstack([J.T, -J.T])
             b = np.concatenate([t_max - g, g - t_min])
             M, c = J * (v_max - v_min) / 2, J @ (v_max + v_min) / 2
+            corners = np.array(np.meshgrid(*[[-1.0, 1.0]] * n)).reshape(n, -1).T @ M.T + c
             worst[0] = np.maximum(
                 worst[0],
                 compare_sets(
-                    velocity.polytope, theirs_v, lambda t, M=M, c=c: _line_lp(None, None, t, M, c)
+                    velocity.polytope,
+                    theirs_v,
+                    lambda t, M=M, c=c: _line_lp(None, None, t, M, c),
+                    lambda corners=corners: corners[ConvexHull(corners).vertices],
                 ),
             )
             worst[1] = np.maximum(
                 worst[1],
-                compare_sets(force.polytope, theirs_f, lambda t, A=A, b=b: _line_lp(A, b, t)),
+                compare_sets(
+                    force.polytope,
+                    theirs_f,
+                    lambda t, A=A, b=b: _line_lp(A, b, t),
+                    lambda A=A, b=b: brute_force_vertices(A, b),
+                ),
             )
         for name, values in (("velocity", worst[0]), ("force", worst[1])):
             checks.append(
-                f"| {label} | {name} | {values[0]:.1e} | {values[1]:.1e} | {values[2]:.1e} |"
+                f"| {label} | {name} | " + " | ".join(f"{value:.1e}" for value in values) + " |"
             )
     return [
         "## (n) Velocity and force polytopes against pycapacity",
@@ -154,13 +190,17 @@ def bench_capacities(repeats: int) -> list[str]:
         *rows,
         "",
         "Target: 20× on 3x7 arms. The same sets, first 5 configurations of each row "
-        "(largest over them; target 1e-9): pycapacity's vertices against polyell's nearest, "
-        "relative to the set's size; volume against Qhull of pycapacity's vertices (relative);"
-        " polyell's limits along 50 directions against one scipy LP per direction over the raw"
-        " joint limits (relative to the set's size).",
+        "(largest over them; target 1e-9; distances relative to the set's size): "
+        "pycapacity's vertices against polyell's nearest; polyell's volume against Qhull of "
+        "pycapacity's vertices (relative); polyell's limits along 50 directions against one "
+        "scipy LP per direction over the raw joint limits; then both against an independent "
+        "brute force (velocities: the hull of the 2^n images of the box's corners; forces: "
+        "every m-subset of the 2n half-spaces solved, the feasible points kept) to say whose "
+        "vertices a difference comes from.",
         "",
-        "| arms | polytope | vertices | volume | limits vs LP |",
-        "|---|---|---|---|---|",
+        "| arms | polytope | vertices vs pycapacity | volume | limits vs LP | polyell vs brute "
+        "force | pycapacity vs brute force |",
+        "|---|---|---|---|---|---|---|",
         *checks,
         "",
     ]
