@@ -29,6 +29,7 @@ __all__ = [
     "analyze",
     "capacity_class",
     "check_capacity",
+    "joint_limits_of",
 ]
 
 _REGISTRY: dict[str, type[Analysis]] = {
@@ -121,6 +122,37 @@ def analyze(
     """
     capacity = check_capacity(capacity)
     options = {"rank_rtol": rank_rtol, "affine_rtol": affine_rtol}
+    upper, lower = joint_limits_of(capacity, tau_max, tau_min, qd_max, qd_min)
+    if upper is None:
+        raise InputError(
+            "qd_max" if capacity == "velocity" else "tau_max",
+            "joint velocity limits [rad/s] for the velocity capacity"
+            if capacity == "velocity"
+            else f"torque limits [N m] for the {capacity} capacity",
+            "none",
+            "pass qd_max=[...] (e.g. robot.qd_max, the URDF's velocity limits)."
+            if capacity == "velocity"
+            else "pass tau_max=[...] (and tau_min=), e.g. robot.tau_max.",
+        )
+    if capacity == "velocity":
+        return VelocityAnalysis(dyn, upper, lower, **options)
+    if capacity == "force":
+        return ForceAnalysis(dyn, upper, lower, **options)
+    return AccelerationAnalysis(dyn, upper, lower, **options)
+
+
+def joint_limits_of(
+    capacity: str,
+    tau_max: ArrayLike | None,
+    tau_min: ArrayLike | None,
+    qd_max: ArrayLike | None,
+    qd_min: ArrayLike | None,
+) -> tuple[ArrayLike | None, ArrayLike | None]:
+    """The limits a capacity takes, ``(upper, lower)``; the other kind refused if given.
+
+    Velocities take ``qd_max``, ``qd_min``; accelerations and forces ``tau_max``,
+    ``tau_min`` (the arguments of :func:`analyze` and :func:`polyell.sweep`).
+    """
     if capacity == "velocity":
         if tau_max is not None or tau_min is not None:
             raise InputError(
@@ -129,28 +161,12 @@ def analyze(
                 "torque limits",
                 "pass the joint velocity limits as qd_max= (and qd_min=).",
             )
-        if qd_max is None:
-            raise InputError(
-                "qd_max",
-                "joint velocity limits [rad/s] for the velocity capacity",
-                "none",
-                "pass qd_max=[...] (e.g. robot.qd_max, the URDF's velocity limits).",
-            )
-        return VelocityAnalysis(dyn, qd_max, qd_min, **options)
+        return qd_max, qd_min
     if qd_max is not None or qd_min is not None:
         raise InputError(
             "qd_max",
             f"no joint velocity limits for the {capacity} capacity",
             "qd_max/qd_min",
-            "pass capacity='velocity' to analyze velocities.",
+            "pass capacity='velocity' for velocities.",
         )
-    if tau_max is None:
-        raise InputError(
-            "tau_max",
-            f"torque limits [N m] for the {capacity} capacity",
-            "none",
-            "pass tau_max=[...] (and tau_min=), e.g. robot.tau_max.",
-        )
-    if capacity == "force":
-        return ForceAnalysis(dyn, tau_max, tau_min, **options)
-    return AccelerationAnalysis(dyn, tau_max, tau_min, **options)
+    return tau_max, tau_min

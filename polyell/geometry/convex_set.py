@@ -60,6 +60,16 @@ class ConvexSet(ABC):
         """Dimension r of the set (of its affine hull)."""
         return self.affine_set.dim
 
+    @property
+    def A_eq(self) -> NDArray[np.float64]:
+        """Equality normals of the affine hull, shape (m - r, m); empty when full-dimensional."""
+        return self.affine_set.equalities[0]
+
+    @property
+    def b_eq(self) -> NDArray[np.float64]:
+        """Equality right-hand sides, shape (m - r,): the hull is ``A_eq x = b_eq``."""
+        return self.affine_set.equalities[1]
+
     def contains(self, points: ArrayLike) -> NDArray[np.bool_]:
         """Whether points belong to the set.
 

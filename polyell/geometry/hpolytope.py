@@ -213,16 +213,6 @@ class HPolytope(ConvexSet):
         return self._facet_b
 
     @property
-    def A_eq(self) -> NDArray[np.float64]:
-        """Implicit equalities (normals of the affine hull), shape (m - r, m)."""
-        return self.affine_set.equalities[0]
-
-    @property
-    def b_eq(self) -> NDArray[np.float64]:
-        """Right-hand sides of the implicit equalities, shape (m - r,)."""
-        return self.affine_set.equalities[1]
-
-    @property
     def vertices(self) -> NDArray[np.float64]:
         """Extreme points, shape (V, m); none for an empty set.
 

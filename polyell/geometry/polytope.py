@@ -147,16 +147,6 @@ class Polytope(ConvexSet):
     def _offsets(self) -> NDArray[np.float64]:
         return self._facets[2] + self.A @ self.center
 
-    @property
-    def A_eq(self) -> NDArray[np.float64]:
-        """Equality normals, shape (m - r, m); empty when P is full-dimensional."""
-        return self.affine_set.equalities[0]
-
-    @property
-    def b_eq(self) -> NDArray[np.float64]:
-        """Equality right-hand sides, shape (m - r,)."""
-        return self.affine_set.equalities[1]
-
     @cached_property
     def vertices(self) -> NDArray[np.float64]:
         """Extreme points, shape (V, m); counter-clockwise when ``dim == 2``."""

@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from tqdm import tqdm
 
-from polyell.capacities import analyze, check_capacity
+from polyell.capacities import analyze, check_capacity, joint_limits_of
 from polyell.comparison.candidates import Candidate, check_candidates
 from polyell.comparison.comparison import (
     MAX_SAMPLES,
@@ -454,22 +454,8 @@ def sweep(
             "scheduler", "None, 'processes' or a Dask scheduler address", repr(scheduler)
         )
     capacity = check_capacity(capacity)
-    if capacity == "velocity":
-        if tau_max is not None or tau_min is not None:
-            raise InputError(
-                "tau_max",
-                "no torque limits for the velocity capacity",
-                "torque limits",
-                "pass the joint velocity limits as qd_max= (and qd_min=).",
-            )
-        tau_max, tau_min = qd_max, qd_min  # the same slots of the batch
-    elif qd_max is not None or qd_min is not None:
-        raise InputError(
-            "qd_max",
-            f"no joint velocity limits for the {capacity} capacity",
-            "qd_max/qd_min",
-            "pass capacity='velocity' to sweep velocities.",
-        )
+    # velocities: the velocity limits in the torque limits' slots of the batch
+    tau_max, tau_min = joint_limits_of(capacity, tau_max, tau_min, qd_max, qd_min)
     options = BatchOptions(
         mvie=bool(mvie), outer=bool(outer), rank_rtol=rank_rtol, capacity=capacity
     )
