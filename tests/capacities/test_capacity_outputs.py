@@ -147,3 +147,22 @@ def test_force_figures_refuse_an_unbounded_set():
     vertices = bounded.polytope.vertices  # counter-clockwise, as drawn
     a, b = np.roll(vertices, -1, axis=0) - vertices, np.roll(vertices, -2, axis=0) - vertices
     assert np.all(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0] > 0)
+
+
+@pytest.mark.parametrize("capacity", ["force", "velocity"])
+def test_interactive_view_and_meshes_of_other_capacities(tmp_path, capacity):
+    from polyell.export import export_comparison, mesh
+    from polyell.interactive import interactive_sets
+
+    limits = {"qd_max": PAPER_ARM.qd_max} if capacity == "velocity" else {}
+    torques = [] if capacity == "velocity" else [PAPER_ARM.tau_max]
+    an = pe.analyze(PAPER_ARM.dynamics(Q), *torques, capacity=capacity, **limits)
+    cmp = pe.compare(an, 16, samples=256)
+    names = [trace.name for trace in interactive_sets(cmp).data]
+    assert names[0].startswith("polytope, volume") and f"({an.unit()})^2" in names[0]
+    assert set_label(an.ellipsoid_kinds[0], capacity) in names
+    P = an.polytope
+    surface = mesh(P)
+    assert len(surface.vertices) == len(P.vertices) and len(surface.faces) == len(P.vertices) - 2
+    written = export_comparison(cmp, tmp_path / "sets.obj")
+    assert written and all(path.stat().st_size > 0 for path in written)
