@@ -6,6 +6,7 @@ both ellipsoid definitions and the MVIE do) and returns plain numbers.
 
 from __future__ import annotations
 
+from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -183,6 +184,30 @@ def _uniform_in_ball(points: NDArray[np.float64]) -> NDArray[np.float64]:
     return directions * points[:, r:] ** (1.0 / r)
 
 
+@lru_cache(maxsize=8)
+def _ball_points(
+    r: int, samples: int, replicates: int, seed: int
+) -> tuple[NDArray[np.float64], ...]:
+    """The quasi-Monte-Carlo points of :func:`overlap`: uniform in the unit r-ball.
+
+    ``replicates`` independently scrambled Sobol' sets of ``samples`` points, the first
+    ``samples`` of a power-of-two draw (the size at which scipy's generator keeps its
+    balance and issues no warning), from ``seed``.  They depend on nothing else, so a sweep
+    of many configurations draws them once (read-only arrays).
+    """
+    from scipy.stats import qmc
+
+    rng = np.random.default_rng(seed)
+    exponent = max(0, int(samples - 1).bit_length())
+    sets = []
+    for _ in range(replicates):
+        sobol = qmc.Sobol(d=r + 1, scramble=True, seed=rng)
+        ball = _uniform_in_ball(sobol.random_base2(exponent)[:samples])
+        ball.flags.writeable = False
+        sets.append(ball)
+    return tuple(sets)
+
+
 def overlap(
     E: Ellipsoid,
     P: Polytope | HPolytope,
@@ -228,17 +253,10 @@ def overlap(
         s = E.semi_axes[0]
         length = 0.0 if np.isnan(lo[0]) else max(0.0, min(hi[0], s) - max(lo[0], -s))
         return Overlap(length / P.volume, 1.0 - length / (2.0 * s), 0.0, 0.0)
-    from scipy.stats import qmc
-
-    rng = np.random.default_rng(seed)
+    balls = _ball_points(E.rank, samples, replicates, seed)
     shares = np.empty(replicates)
-    for k in range(replicates):
-        # The first ``samples`` points of a power-of-two draw (the size at which scipy's
-        # Sobol' generator keeps its balance and issues no warning).
-        exponent = max(0, int(samples - 1).bit_length())
-        sobol = qmc.Sobol(d=E.rank + 1, scramble=True, seed=rng)
-        unit = sobol.random_base2(exponent)[:samples]
-        offsets = (_uniform_in_ball(unit) * E.semi_axes) @ E.axes.T  # about E's centre
+    for k, ball in enumerate(balls):
+        offsets = (ball * E.semi_axes) @ E.axes.T  # about E's centre
         shares[k] = np.mean(np.all(offsets @ P.A.T <= slack, axis=1))
     share = float(shares.mean())
     stderr = float(shares.std(ddof=1) / np.sqrt(replicates))
