@@ -203,7 +203,40 @@ def bench_capacities(repeats: int) -> list[str]:
         "|---|---|---|---|---|---|---|",
         *checks,
         "",
+        *sweep_rates(repeats),
     ]
+
+
+def sweep_rates(repeats: int) -> list[str]:
+    """pe.sweep at its defaults for each capacity on random 3x7 arms (B = I)."""
+    rng = np.random.default_rng(3)
+    K = 2000
+    J = rng.normal(size=(K, 3, 7))
+    dyn = pe.Dynamics(
+        J, np.broadcast_to(np.eye(7), (K, 7, 7)).copy(), 0.05 * rng.normal(size=(K, 7))
+    )
+    high = rng.uniform(1.0, 3.0, 7)
+    counts = {"acceleration": K, "velocity": K, "force": 200}
+    calls = {
+        "acceleration": lambda: pe.sweep(dyn, tau_max=high),
+        "velocity": lambda: pe.sweep(dyn, capacity="velocity", qd_max=high),
+        "force": lambda: pe.sweep(dyn[: counts["force"]], tau_max=high, capacity="force"),
+    }
+    times = timed_alternately(list(calls.values()), repeats)
+    lines = [
+        "Sweeps at their defaults (`pe.sweep(dyn, ..., capacity=...)`, random 3x7 arms with "
+        f"B = I, in this process; 2,000 configurations, forces 200), {repeats} repeats "
+        "alternately, configurations/s median (min – max). Target for forces: 10,000/s.",
+        "",
+        "| capacity | configurations/s |",
+        "|---|---|",
+    ]
+    for (name, count), seconds in zip(counts.items(), times, strict=True):
+        rates = count / np.asarray(seconds)
+        lines.append(
+            f"| {name} | {np.median(rates):,.0f} ({rates.min():,.0f} – {rates.max():,.0f}) |"
+        )
+    return [*lines, ""]
 
 
 SECTIONS = {"capacities": bench_capacities}
