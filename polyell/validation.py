@@ -364,7 +364,10 @@ MIN_RELATIVE_EXTENT = float(np.sqrt(np.finfo(float).eps))
 
 
 def check_magnitudes(
-    M: NDArray[np.float64], xg: NDArray[np.float64], argument: str | None = None
+    M: NDArray[np.float64],
+    xg: NDArray[np.float64],
+    argument: str | None = None,
+    quantity: tuple[str, str, str] = ("accelerations", "the generators M (eq. 14)", "xg (eq. 8)"),
 ) -> None:
     """Refuse accelerations too large or too small for floating point (issue 15).
 
@@ -378,6 +381,9 @@ def check_magnitudes(
         The argument the errors name when ``M`` and ``xg`` were given directly (a
         :class:`~polyell.Polytope`'s ``"generators"``); by default they come from a robot's
         dynamics and torque limits.
+    quantity : (str, str, str)
+        What the sets hold and what ``M`` and ``xg`` are, for the messages (the velocity
+        and force capacities name theirs).
 
     Raises
     ------
@@ -393,9 +399,10 @@ def check_magnitudes(
     high = 10.0**limit
     size_m = np.max(np.abs(M), axis=(-2, -1)) if M.size else np.zeros(M.shape[:-2])
     size_x = np.max(np.abs(xg), axis=-1) if xg.size else np.zeros(xg.shape[:-1])
+    what_sets, what_m, what_x = quantity
     sizes = {  # largest entries: no squares, which would overflow first
-        "the generators M (eq. 14)": size_m,
-        "the centre xg (eq. 8)": size_x,
+        what_m: size_m,
+        f"the centre {what_x}": size_x,
     }
     for what, size in sizes.items():
         # not (size <= high): an overflow to inf or NaN is too large as well
@@ -405,7 +412,7 @@ def check_magnitudes(
             where = f" (configuration {k} of the batch)" if np.ndim(size) else ""
             raise InputError(
                 argument or "dyn",
-                f"accelerations of size within 1e-{limit}..1e{limit} in a "
+                f"{what_sets} of size within 1e-{limit}..1e{limit} in a "
                 f"{m}-dimensional task, so that volumes in (unit)^{m} stay representable",
                 f"{what} of size {float(np.atleast_1d(size)[k]):.3g}{where}"
                 + ("" if np.isfinite(np.atleast_1d(size)[k]) else " (an overflow)"),
@@ -436,8 +443,8 @@ def check_magnitudes(
             f"torque limits that move the arm by more than {MIN_RELATIVE_EXTENT:.1e} of its "
             "free-fall acceleration, so that the polytope's points are resolved in floating "
             "point",
-            f"generators M of size {float(np.atleast_1d(size_m)[k]):.3g} against a centre "
-            f"xg of size {float(np.atleast_1d(size_x)[k]):.3g}{where}",
+            f"{what_m} of size {float(np.atleast_1d(size_m)[k]):.3g} against the centre "
+            f"{what_x} of size {float(np.atleast_1d(size_x)[k]):.3g}{where}",
             "give the torque limits and the gravity torques in the same units (N m).",
         )
 

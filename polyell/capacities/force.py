@@ -51,7 +51,12 @@ from polyell.geometry.subspace import AFFINE_RTOL, RANK_RTOL, rank_revealing_svd
 from polyell.inverse import AffineMap
 from polyell.models.dynamics import Dynamics
 from polyell.models.kinematics import Kinematics
-from polyell.validation import check_fraction, check_magnitudes, check_torque_limits
+from polyell.validation import (
+    check_fraction,
+    check_magnitudes,
+    check_torque_limits,
+    magnitude_limit,
+)
 
 __all__ = ["ForceAnalysis"]
 
@@ -112,7 +117,15 @@ class ForceAnalysis(Analysis):
         with np.errstate(over="ignore", invalid="ignore", under="ignore"):
             M = dynamics.J / self.half_range  # J L^-1 = A^T
             self.c: NDArray[np.float64] = (dynamics.g - self.tau_center) / self.half_range
-        check_magnitudes(M, self.c)
+        # forces are about 1 / |J L^-1| and gravity's share c is a number: no relative test
+        check_magnitudes(M, np.zeros(self.m), quantity=("forces", "J L^-1", "(none)"))
+        if not np.all(np.isfinite(self.c)) or np.abs(self.c).max() > 10.0 ** magnitude_limit(1):
+            raise InputError(
+                "dyn.g",
+                "gravity torques of the size of the torque limits (within 1e140 of them)",
+                f"L^-1 (g - tau_c) up to {np.abs(self.c).max():.3g}",
+                "give g and the torque limits in the same units (N m).",
+            )
         self.A: NDArray[np.float64] = M.T
         self.svd = rank_revealing_svd(M, rank_rtol)
         self.affine_rtol = check_fraction("affine_rtol", affine_rtol)

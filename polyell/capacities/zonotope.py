@@ -46,7 +46,10 @@ class ZonotopeAnalysis(Analysis):
     svd: RankRevealingSVD
 
     def _set_generators(self, M: NDArray[np.float64], xg: NDArray[np.float64], rtol: float) -> None:
-        check_magnitudes(M, xg)
+        if self.capacity == "velocity":
+            check_magnitudes(M, xg, quantity=("velocities", "J L_v", "J qd_c"))
+        else:
+            check_magnitudes(M, xg)
         self.M, self.xg = M, xg
         self.svd = rank_revealing_svd(M, rtol)
 
