@@ -90,7 +90,6 @@ class AccelerationAnalysis(ZonotopeAnalysis):
         "chiacchio": "the new definition (eq. 32/38)",
         "yoshikawa": "the classic one (eq. 27)",
     }
-    witness_quantity = "torques"
     quantity = "accelerations"
     inverse_names = ("qdd", "tau_n")
     dynamics: Dynamics

@@ -32,6 +32,7 @@ from polyell.inverse import AffineMap
 from polyell.models.dynamics import Dynamics
 from polyell.models.kinematics import Kinematics
 from polyell.models.task import task_unit
+from polyell.validation import check_points
 
 __all__ = ["Analysis", "InverseSolution"]
 
@@ -98,8 +99,6 @@ class Analysis(ABC):
     ellipsoid_kinds: ClassVar[tuple[str, ...]]
     #: What the definitions are, for error messages: ``{kind: one-line description}``.
     kind_notes: ClassVar[dict[str, str]]
-    #: The joint quantity the witness normalizes ("torques", "joint velocities").
-    witness_quantity: ClassVar[str]
     #: The task quantity in words ("accelerations", "velocities", "forces").
     quantity: ClassVar[str]
     #: Names of :class:`InverseSolution`'s two fields in reports: ``("qdd", "tau_n")``, ...
@@ -154,6 +153,10 @@ class Analysis(ABC):
     def is_singular(self) -> bool:
         """True at a singular configuration (``rank J < m``)."""
         return self.rank < self.m
+
+    def _points(self, x: ArrayLike, name: str) -> NDArray[np.float64]:
+        """Task points ``x`` (m,) or (k, m), checked (finite, representable)."""
+        return check_points(name, x, self.m)
 
     def check_kind(self, kind: object) -> str:
         """Return ``kind`` if it names an ellipsoid of this capacity, else raise InputError."""

@@ -88,7 +88,6 @@ class ForceAnalysis(Analysis):
         "yoshikawa": "the unit torque ball through the unweighted pseudo-inverse of J^T",
         "static": "|L^-1 J^T h| <= 1, centred at 0, gravity ignored",
     }
-    witness_quantity = "torques"
     quantity = "forces"
     inverse_names = ("tau", "tau_n")
     dynamics: Dynamics
@@ -220,11 +219,6 @@ class ForceAnalysis(Analysis):
         """
         if kind is not None:
             self.check_kind(kind)
-        h = self._points(x)
+        h = self._points(x, "h")
         tau_n = self.witness_map("chiacchio")(h)
         return InverseSolution(self.tau_center + tau_n * self.half_range, tau_n)
-
-    def _points(self, x: ArrayLike) -> NDArray[np.float64]:
-        from polyell.validation import check_points
-
-        return check_points("h", x, self.m)

@@ -60,7 +60,6 @@ class VelocityAnalysis(ZonotopeAnalysis):
     kind_notes: ClassVar[dict[str, str]] = {
         "yoshikawa": "the image of the unit ball of normalized joint velocities"
     }
-    witness_quantity = "joint velocities"
     quantity = "velocities"
     inverse_names = ("qd", "u")
 

@@ -14,7 +14,7 @@ import warnings
 from functools import cached_property
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 from polyell.capacities.base import Analysis
 from polyell.errors import ProjectedInputWarning, UnreachableAccelerationError
@@ -114,8 +114,3 @@ class ZonotopeAnalysis(Analysis):
             )
         projected: NDArray[np.float64] = affine_set.project(x)
         return projected
-
-    def _points(self, x: ArrayLike, name: str) -> NDArray[np.float64]:
-        from polyell.validation import check_points
-
-        return check_points(name, x, self.m)
