@@ -122,6 +122,12 @@ def analyze_argv(rng: np.random.Generator, tmp_path: Path) -> list[str]:
         "--direction": lambda: number_list(rng, list(direction / np.linalg.norm(direction))),
         "--angle": lambda: number_list(rng, [float(rng.uniform(-360, 360))]),
         "--inverse-at": lambda: str(rng.choice(["lo", "hi", "hi", "mid", ""])),
+        "--capacity": lambda: str(
+            rng.choice(["acceleration", "velocity", "velocity", "force", "force", "forces"])
+        ),
+        "--qd-max": lambda: number_list(rng, list(rng.uniform(0.5, 3.0, n))),
+        "--qd-min": lambda: number_list(rng, list(-rng.uniform(0.5, 3.0, n))),
+        "--qd": lambda: number_list(rng, list(rng.uniform(-2.0, 2.0, n))),
         "--mesh": lambda: str(
             rng.choice(
                 [
@@ -135,6 +141,7 @@ def analyze_argv(rng: np.random.Generator, tmp_path: Path) -> list[str]:
         ),
     }
     chance = {"--q": 0.9 if robot != "chiacchio2000" else 0.5, "--mesh": 0.15}
+    chance |= {"--capacity": 0.3, "--qd-max": 0.06, "--qd-min": 0.04, "--qd": 0.05}
     aim = rng.choice(["--direction", "--angle", "both"], p=[0.6, 0.3, 0.1])  # exclusive
     if aim != "both":
         chance[str({"--direction": "--angle", "--angle": "--direction"}[aim])] = 0.0
