@@ -184,7 +184,6 @@ def _uniform_in_ball(points: NDArray[np.float64]) -> NDArray[np.float64]:
     return directions * points[:, r:] ** (1.0 / r)
 
 
-@lru_cache(maxsize=8)
 def _ball_points(
     r: int, samples: int, replicates: int, seed: int
 ) -> tuple[NDArray[np.float64], ...]:
@@ -192,8 +191,8 @@ def _ball_points(
 
     ``replicates`` independently scrambled Sobol' sets of ``samples`` points, the first
     ``samples`` of a power-of-two draw (the size at which scipy's generator keeps its
-    balance and issues no warning), from ``seed``.  They depend on nothing else, so a sweep
-    of many configurations draws them once (read-only arrays).
+    balance and issues no warning), from ``seed``.  They depend on nothing else: a sweep
+    of many configurations draws them once (:func:`_sorted_ball_points` keeps them).
     """
     from scipy.stats import qmc
 
@@ -211,21 +210,33 @@ def _ball_points(
 @lru_cache(maxsize=8)
 def _sorted_ball_points(
     r: int, samples: int, replicates: int, seed: int
-) -> tuple[tuple[NDArray[np.float64], NDArray[np.float64]], ...]:
-    """:func:`_ball_points` per replicate sorted by radius, with the radii (ascending).
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]:
+    """Every replicate's points of :func:`_ball_points` together, sorted by radius.
 
-    Only how many points of a replicate fall inside P enters an estimate, not their order:
-    sorted, the points of the ball of radius t (all inside P when ``t E`` is) are a prefix.
+    Only how many points of each replicate fall inside P enters an estimate, not their
+    order: sorted, the points of the ball of radius t (all inside P when ``t E`` is) are a
+    prefix, and one product tests the rest of every replicate at once.
+
+    Returns
+    -------
+    points : ndarray, shape (replicates * samples, r)
+    radii : ndarray, shape (replicates * samples,)
+        Their norms, ascending.
+    replicate : ndarray of int, shape (replicates * samples,)
+        The replicate each point belongs to.
     """
-    sets = []
-    for ball in _ball_points(r, samples, replicates, seed):
-        radii = np.linalg.norm(ball, axis=1)
-        order = np.argsort(radii, kind="stable")
-        points, radii = ball[order], radii[order]
-        points.flags.writeable = False
-        radii.flags.writeable = False
-        sets.append((points, radii))
-    return tuple(sets)
+    sets = _ball_points(r, samples, replicates, seed)
+    points = np.concatenate(sets)
+    radii = np.linalg.norm(points, axis=1)
+    order = np.argsort(radii, kind="stable")
+    replicate = np.repeat(np.arange(replicates), samples)[order]
+    points, radii = points[order], radii[order]
+    for array in (points, radii, replicate):
+        array.flags.writeable = False
+    return points, radii, replicate
+
+
+_sorted_ball_points = lru_cache(maxsize=8)(_sorted_ball_points)
 
 
 def _count_inside(
@@ -241,10 +252,10 @@ def _count_inside(
     The same counts as testing every point against every facet (``x = U diag(s) u``,
     ``all(x @ A.T <= slack)``), with the work only where the answer can be no: a facet
     whose reach over E (``|diag(s) U^T a_i|``) stays below its slack by more than the
-    rounding of ``a_i . x`` (``ROUNDING_FACTOR (m + r + 2) eps s_max`` for unit normals) holds
-    for every point of E, and a point of radius at most ``t`` with ``t reach_i <= slack_i``
-    minus that rounding for every facet (the scaled copy ``t E`` inside P) holds for all.
-    The rest are tested as before.
+    rounding of ``a_i . x`` (``ROUNDING_FACTOR (m + r + 2) eps s_max`` for unit normals)
+    holds for every point of E, and a point of radius at most ``t`` with ``t reach_i <=
+    slack_i`` minus that rounding for every facet (the scaled copy ``t E`` inside P) holds
+    for all.  The rest are tested as before.
     """
     reach = np.linalg.norm((A @ E.axes) * E.semi_axes, axis=1)
     terms = A.shape[1] + E.rank + 2
@@ -255,14 +266,12 @@ def _count_inside(
     with np.errstate(divide="ignore", invalid="ignore"):
         scales = np.where(reach > 0, margin / reach, np.where(margin >= 0, np.inf, -np.inf))
     radius = float(np.min(scales, initial=np.inf)) * (1.0 - 1e-12)
-    counts = np.empty(replicates, dtype=np.int64)
-    for k, (ball, radii) in enumerate(_sorted_ball_points(E.rank, samples, replicates, seed)):
-        start = int(np.searchsorted(radii, radius, side="right")) if radius > 0 else 0
-        rest = ball[start:]
-        offsets = (rest * E.semi_axes) @ E.axes.T  # about E's centre
-        inside = np.all(offsets @ A[crossing].T <= slack[crossing], axis=1)
-        counts[k] = start + int(np.count_nonzero(inside))
-    return counts
+    points, radii, replicate = _sorted_ball_points(E.rank, samples, replicates, seed)
+    start = int(np.searchsorted(radii, radius, side="right")) if radius > 0 else 0
+    offsets = (points[start:] * E.semi_axes) @ E.axes.T  # about E's centre
+    outside = ~np.all(offsets @ A[crossing].T <= slack[crossing], axis=1)
+    missed = np.bincount(replicate[start:][outside], minlength=replicates)
+    return samples - missed
 
 
 def overlap(
