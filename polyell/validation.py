@@ -534,8 +534,8 @@ def check_directions(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]
         norm = float(np.atleast_1d(norms)[i])
         raise InputError(
             name,
-            f"unit direction vectors, to {DIRECTION_NORM_RTOL:g} (the limits are accelerations "
-            "a along a * t)",
+            f"unit direction vectors, to {DIRECTION_NORM_RTOL:g} (the limits are the values a "
+            "with a * t in the set, in the task's unit)",
             f"a direction of norm {norm!r} (1 {'+' if norm >= 1 else '-'} "
             f"{abs(norm - 1.0):.3g}) at row {i}",
             "normalise with T / np.linalg.norm(T, axis=-1, keepdims=True).",

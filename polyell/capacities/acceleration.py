@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import lapack
 
-from polyell.capacities.base import InverseSolution
+from polyell.capacities.base import InverseSolution, centre_and_half_range
 from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.ellipsoid import Ellipsoid
@@ -106,11 +106,7 @@ class AccelerationAnalysis(ZonotopeAnalysis):
         dynamics = check_dynamics(dynamics, "acceleration")
         self.dynamics = dynamics
         self.tau_max, self.tau_min = check_torque_limits(tau_max, tau_min, dynamics.n)
-        if tau_min is None:  # symmetric limits: exactly what the general formulas give
-            self.tau_center, self.half_range = np.zeros(dynamics.n), self.tau_max.copy()
-        else:
-            self.tau_center = 0.5 * (self.tau_max + self.tau_min)
-            self.half_range = 0.5 * (self.tau_max - self.tau_min)
+        self.tau_center, self.half_range = centre_and_half_range(self.tau_max, self.tau_min)
         J, B = dynamics.J, dynamics.B
         self._gravity_bias = dynamics.g - self.tau_center
         # One Cholesky solve (B is positive definite, checked by Dynamics) gives

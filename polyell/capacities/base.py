@@ -34,7 +34,18 @@ from polyell.models.kinematics import Kinematics
 from polyell.models.task import task_unit
 from polyell.validation import check_points
 
-__all__ = ["Analysis", "InverseSolution"]
+__all__ = ["Analysis", "InverseSolution", "centre_and_half_range"]
+
+
+def centre_and_half_range(
+    upper: NDArray[np.float64], lower: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``((upper + lower) / 2, (upper - lower) / 2)``: a joint box as ``c + L u``, ``|u| <= 1``.
+
+    The paper's "suitable transformation" after eq. 9; symmetric limits give exactly
+    ``(0, upper)`` (limits are at most 1e150: no overflow).
+    """
+    return 0.5 * (upper + lower), 0.5 * (upper - lower)
 
 
 class InverseSolution(NamedTuple):

@@ -43,7 +43,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from polyell.capacities.acceleration import check_dynamics
-from polyell.capacities.base import Analysis, InverseSolution
+from polyell.capacities.base import Analysis, InverseSolution, centre_and_half_range
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope
@@ -111,8 +111,7 @@ class ForceAnalysis(Analysis):
         dynamics = check_dynamics(dynamics, "force")
         self.dynamics = dynamics
         self.tau_max, self.tau_min = check_torque_limits(tau_max, tau_min, dynamics.n)
-        self.tau_center = 0.5 * (self.tau_max + self.tau_min)
-        self.half_range = 0.5 * (self.tau_max - self.tau_min)
+        self.tau_center, self.half_range = centre_and_half_range(self.tau_max, self.tau_min)
         with np.errstate(over="ignore", invalid="ignore", under="ignore"):
             M = dynamics.J / self.half_range  # J L^-1 = A^T
             self.c: NDArray[np.float64] = (dynamics.g - self.tau_center) / self.half_range

@@ -23,7 +23,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from polyell.capacities.base import InverseSolution
+from polyell.capacities.base import InverseSolution, centre_and_half_range
 from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid
@@ -85,11 +85,7 @@ class VelocityAnalysis(ZonotopeAnalysis):
         self.qd_max, self.qd_min = check_torque_limits(
             qd_max, qd_min, kinematics.n, names=("qd_max", "qd_min")
         )
-        if qd_min is None:
-            self.qd_center, self.half_range = np.zeros(kinematics.n), self.qd_max.copy()
-        else:
-            self.qd_center = 0.5 * (self.qd_max + self.qd_min)
-            self.half_range = 0.5 * (self.qd_max - self.qd_min)
+        self.qd_center, self.half_range = centre_and_half_range(self.qd_max, self.qd_min)
         J = kinematics.J
         with np.errstate(over="ignore", invalid="ignore", under="ignore"):
             M, xg = J * self.half_range, J @ self.qd_center

@@ -386,7 +386,7 @@ def _by_qhull(
 ) -> Description:
     """The double description of a bounded set with the interior point 0, by Qhull."""
     from scipy.optimize import linprog
-    from scipy.spatial import HalfspaceIntersection
+    from scipy.spatial import HalfspaceIntersection, QhullError
 
     r = normals.shape[1]
     for sign in (1.0, -1.0):  # bounded? (each coordinate bounded both ways)
@@ -402,7 +402,7 @@ def _by_qhull(
         raise SolverError(f"half-spaces to vertices: cddlib failed ({cause}).") from cause
     try:
         hull = HalfspaceIntersection(np.hstack([normals, -offsets[:, None]]), np.zeros(r))
-    except Exception as exn:  # scipy's QhullError
+    except (QhullError, ValueError) as exn:
         raise SolverError(f"half-spaces to vertices: cddlib ({cause}) and Qhull failed.") from exn
     vertices = np.unique(np.round(hull.intersections, 12), axis=0)
     # A row is a facet when it holds at least r affinely independent vertices.
