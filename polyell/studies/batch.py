@@ -24,8 +24,9 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from polyell.capacities import check_capacity
 from polyell.comparison.candidates import Candidate
-from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES
+from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES, compared_kinds
 from polyell.comparison.metrics import INSIDE_RTOL, scale_rtol
 from polyell.geometry.ellipsoid import unit_ball_volume
 from polyell.geometry.limits import facet_slack, rounding_floor
@@ -48,10 +49,17 @@ __all__ = ["BatchOptions", "BlockSets", "batch_rows", "block_sets", "score_colum
 Array = NDArray[np.float64]
 
 
-def score_columns(candidates: Sequence[Candidate] = ()) -> list[str]:
-    """The score columns of a results row, in order (``Comparison.to_row``)."""
+def score_columns(
+    candidates: Sequence[Candidate] = (), capacity: str = "acceleration"
+) -> list[str]:
+    """The score columns of a results row, in order (``Comparison.to_row``).
+
+    ``<kind>_<score>`` over :func:`~polyell.comparison.comparison.compared_kinds` of the
+    capacity (``static_*`` for forces, no ``chiacchio_*`` for velocities), then the
+    candidates'.
+    """
     columns = ["polytope_dim", "polytope_volume", "polytope_ball_radius", "polytope_origin_radius"]
-    kinds = (*COMPARED_KINDS, *(c.name for c in candidates))
+    kinds = (*compared_kinds(check_capacity(capacity)), *(c.name for c in candidates))
     return columns + [f"{kind}_{name}" for kind in kinds for name in SCORE_NAMES]
 
 

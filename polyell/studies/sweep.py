@@ -658,15 +658,26 @@ def _done(folder: Path, job: _Job, chunk: int, index: int) -> bool:
 def _resume(folder: Path, job: _Job, chunk: int, count: int) -> list[int]:
     """Check the dataset's metadata (or write it) and list the chunks still to compute.
 
-    Parts are trusted only under a ``_sweep.json`` of the same fingerprint, within its
-    chunk count, and with a readable footer of the expected row count; a torn or
-    truncated part is computed again.
+    Parts are trusted only under a ``_sweep.json`` of the same capacity and fingerprint
+    (the capacity is recorded and checked first, to say so), within its chunk count, and
+    with a readable footer of the expected row count; a torn or truncated part is computed
+    again.
     """
     meta = folder / "_sweep.json"  # "_" and "." files are not part of the dataset
     fingerprint = _fingerprint(job, chunk)
     parts = existing_parts(folder)
+    capacity = job.options.capacity
     if meta.exists():
-        if read_metadata(meta)["fingerprint"] != fingerprint:
+        record = read_metadata(meta)
+        held = record.get("capacity", "acceleration")  # datasets before capacities: accelerations
+        if held != capacity:
+            raise InputError(
+                "out",
+                f"an empty folder, or one holding a {capacity} sweep with the same arguments",
+                f"{folder} holds a {held} sweep (its columns are {held}'s kinds)",
+                "choose another folder for each capacity, or delete it to start over.",
+            )
+        if record["fingerprint"] != fingerprint:
             raise InputError(
                 "out",
                 "an empty folder, or one holding a sweep with the same arguments",
@@ -681,7 +692,12 @@ def _resume(folder: Path, job: _Job, chunk: int, count: int) -> list[int]:
             "delete the part files (their origin is unknown), or use another folder.",
         )
     else:
-        record = {"fingerprint": fingerprint, "chunks": count, "configurations": job.size()}
+        record = {
+            "fingerprint": fingerprint,
+            "chunks": count,
+            "configurations": job.size(),
+            "capacity": capacity,
+        }
         write_text_atomically(meta, json.dumps(record, indent=2) + "\n")
     beyond = sorted(i for i in parts if i >= count)
     if beyond:

@@ -203,12 +203,25 @@ def bench_capacities(repeats: int) -> list[str]:
         "|---|---|---|---|---|---|---|",
         *checks,
         "",
-        *sweep_rates(repeats),
     ]
 
 
 def sweep_rates(repeats: int) -> list[str]:
-    """pe.sweep at its defaults for each capacity on random 3x7 arms (B = I)."""
+    """Section (o): pe.sweep at its defaults per capacity on random 3x7 arms, and the force cost.
+
+    The three capacities are timed alternately in one run; then the force rows' time is
+    split: the polytope (cddlib, the volume by Qhull), the quasi-Monte-Carlo coverage of
+    the ellipsoids that leave it (``overlap``'s counts alone, on the same ellipsoids), and
+    the remainder of ``compare``.
+    """
+    from polyell.comparison.metrics import (
+        _count_inside,
+        _slacks,
+        enclosing_scale,
+        inscribed_scale,
+        inside_rtol,
+    )
+
     rng = np.random.default_rng(3)
     K = 2000
     J = rng.normal(size=(K, 3, 7))
@@ -216,7 +229,7 @@ def sweep_rates(repeats: int) -> list[str]:
         J, np.broadcast_to(np.eye(7), (K, 7, 7)).copy(), 0.05 * rng.normal(size=(K, 7))
     )
     high = rng.uniform(1.0, 3.0, 7)
-    counts = {"acceleration": K, "velocity": K, "force": 200}
+    counts = {"acceleration": K, "velocity": K, "force": 400}
     calls = {
         "acceleration": lambda: pe.sweep(dyn, tau_max=high),
         "velocity": lambda: pe.sweep(dyn, capacity="velocity", qd_max=high),
@@ -224,9 +237,14 @@ def sweep_rates(repeats: int) -> list[str]:
     }
     times = timed_alternately(list(calls.values()), repeats)
     lines = [
-        "Sweeps at their defaults (`pe.sweep(dyn, ..., capacity=...)`, random 3x7 arms with "
-        f"B = I, in this process; 2,000 configurations, forces 200), {repeats} repeats "
-        "alternately, configurations/s median (min – max). Target for forces: 10,000/s.",
+        "## (o) Sweeps per capacity",
+        "",
+        "Sweeps at their defaults (`pe.sweep(dyn, ..., capacity=...)`: 256 directions, "
+        "2^13 x 8 quasi-Monte-Carlo points where an ellipsoid leaves the set, no MVIE or "
+        "outer ellipsoid), random 3x7 arms with B = I, g = 0.05 N(0, 1), symmetric limits; "
+        f"2,000 configurations, forces {counts['force']}; {repeats} repeats alternately, "
+        "one core, configurations/s median (min – max). Target for forces (issue 21): "
+        "10,000/s.",
         "",
         "| capacity | configurations/s |",
         "|---|---|",
@@ -236,7 +254,48 @@ def sweep_rates(repeats: int) -> list[str]:
         lines.append(
             f"| {name} | {np.median(rates):,.0f} ({rates.min():,.0f} – {rates.max():,.0f}) |"
         )
-    return [*lines, ""]
+    force = dyn[: counts["force"]]
+    analyses = [pe.analyze(force[k], high, capacity="force") for k in range(len(force))]
+    polytopes = [an.polytope for an in analyses]
+    work = []
+    for an, P in zip(analyses, polytopes, strict=True):
+        for kind in an.ellipsoid_kinds:
+            E = an.ellipsoid(kind)
+            tolerance = inside_rtol(E, P)
+            if inscribed_scale(E, P) < 1 - tolerance and enclosing_scale(E, P) > 1 + tolerance:
+                work.append((E, P.A, _slacks(E, P)))
+
+    def build_polytopes() -> None:
+        for k in range(len(force)):
+            P = pe.analyze(force[k], high, capacity="force").polytope
+            _ = P.volume
+
+    def count_points() -> None:
+        for E, A, slack in work:
+            _count_inside(E, A, slack, 2**13, 8, 0)
+
+    split = timed_alternately([build_polytopes, count_points], repeats)
+    total = np.median(times[2]) / counts["force"] * 1e3
+    polytope, points = (np.median(t) / counts["force"] * 1e3 for t in split)
+    rest = total - polytope - points
+    lines += [
+        "",
+        f"Where a force row's {total:.2f} ms go (medians, ms per configuration): the "
+        f"polytope (cddlib about the centre h0, its volume by Qhull) {polytope:.2f}; the "
+        "quasi-Monte-Carlo coverage of the ellipsoids that leave it "
+        f"({len(work) / counts['force']:.2f} per configuration: the classic ellipsoid "
+        "nearly always, the static one sometimes; the gravity-consistent one is inside by "
+        f"construction) {points:.2f}; the rest of `compare` (the ellipsoids, directional "
+        f"limits of 256 directions, scales, witnesses, Python per row) {rest:.2f}. "
+        "10,000/s is 0.1 ms per configuration: the quasi-Monte-Carlo counts alone, on the "
+        "points they must test (outside the largest scaled copy of the ellipsoid inside "
+        "the set, against the facets it crosses), allow "
+        f"{1.0 / points * 1e3:,.0f}/s, so a batch force path (vertices, volume, limits and "
+        "ellipsoids vectorised over configurations) would be bounded by them at the "
+        "default 2^13 x 8 points.",
+        "",
+    ]
+    return lines
 
 
-SECTIONS = {"capacities": bench_capacities}
+SECTIONS = {"capacities": bench_capacities, "capacity_sweeps": sweep_rates}
