@@ -312,6 +312,13 @@ def _analyze(args: argparse.Namespace) -> list[str]:
     capacity = check_capacity(args.capacity, "--capacity")
     qd, moving = _velocities(args, robot, capacity)
     if capacity == "velocity":
+        if args.tau_max is not None or args.tau_min is not None:
+            raise InputError(
+                "--tau-max",
+                "no torque limits for the velocity capacity",
+                "--tau-max/--tau-min",
+                "give joint velocity limits with --qd-max (and --qd-min).",
+            )
         qd_max, qd_min = _velocity_limits(args, robot)
         analysis = analyze(robot.model.dynamics(q), capacity=capacity, qd_max=qd_max, qd_min=qd_min)
     else:

@@ -247,9 +247,13 @@ class HPolytope(ConvexSet):
             y, stretch = self.affine_set.coordinates(self.vertices), np.ones(r)
         if r == 1:
             return float((y.max() - y.min()) * stretch[0])
-        from scipy.spatial import ConvexHull
+        from scipy.spatial import ConvexHull, QhullError
 
-        return float(ConvexHull(y).volume * np.prod(stretch))
+        try:
+            return float(ConvexHull(y).volume * np.prod(stretch))
+        except QhullError:  # a dupridge in 6-D: sum cones over the faces instead
+            tight = self.facet_slacks(self.vertices) <= 1e-9 * max(1.0, self.extent)
+            return _face_volume(self.affine_set.coordinates(self.vertices), tight, r)
 
     @cached_property
     def ball_radius(self) -> float:
@@ -416,3 +420,39 @@ def _by_qhull(
     rows = np.hstack([offsets[facets, None], -normals[facets]])
     points = np.hstack([np.ones((len(vertices), 1)), vertices])
     return rows, [], points, []
+
+
+def _face_volume(points: NDArray[np.float64], tight: NDArray[np.bool_], k: int) -> float:
+    """k-volume of the convex hull of ``points`` (V, k) from its facet incidence ``tight``.
+
+    The sum over the facets of cones from the centroid, ``h vol_(k-1)(facet) / k``, each
+    facet's volume by the same sum one dimension down (its own facets are its intersections
+    with the other facets, of dimension k - 2).  Exact to rounding where Qhull's merging
+    fails (a "dupridge" among many nearly coplanar facets in 6-D).
+    """
+    return _cone_sum(points, tight, tuple(range(len(points))), k)
+
+
+def _cone_sum(
+    points: NDArray[np.float64], tight: NDArray[np.bool_], rows: tuple[int, ...], k: int
+) -> float:
+    face = points[list(rows)]
+    centre = face.mean(axis=0)
+    if k == 1:
+        return float(np.linalg.norm(face - face[0], axis=1).max())
+    basis = np.linalg.svd(face - centre, full_matrices=False)[2][:k]  # the face's span
+    scale = max(1.0, float(np.abs(face - centre).max()))
+    total, seen = 0.0, set()
+    for column in tight.T:
+        sub = tuple(row for row in rows if column[row])
+        if len(sub) < k or sub in seen:
+            continue
+        local = (points[list(sub)] - centre) @ basis.T  # (S, k)
+        middle = local.mean(axis=0)
+        _, sigma, span = np.linalg.svd(local - middle, full_matrices=True)
+        if len(sigma) < k - 1 or sigma[k - 2] <= 1e-9 * scale:
+            continue  # not a facet of this face (fewer dimensions)
+        seen.add(sub)
+        height = abs(float(middle @ span[k - 1]))  # the centre's distance to its hull
+        total += height * _cone_sum(points, tight, sub, k - 1) / k
+    return total

@@ -578,13 +578,15 @@ def _sweep_robots(
     run: Callable[[_Job, Path | None], pd.DataFrame | Path],
 ) -> pd.DataFrame | Path:
     """:func:`sweep` of several robots: one job each, side by side under a ``robot`` key."""
-    for name, value in (("tau_max", tau_max), ("tau_min", tau_min)):
+    velocity = options.capacity == "velocity"  # its limits came in the torque slots
+    names = ("qd_max", "qd_min") if velocity else ("tau_max", "tau_min")
+    for name, value in zip(names, (tau_max, tau_min), strict=True):
         if value is not None:
             raise InputError(
                 name,
                 "None with several robots (each sweeps within its own limits)",
                 "limits",
-                "give each robot its limits: pe.robots.load(name, tau_max=...).",
+                f"give each robot its limits: pe.robots.load(name, {name[:-4]}_max=...).",
             )
     for name, robot in robots.items():
         if isinstance(robot, Dynamics) or not hasattr(robot, "dynamics"):
@@ -673,8 +675,9 @@ def _resume(folder: Path, job: _Job, chunk: int, count: int) -> list[int]:
         if held != capacity:
             raise InputError(
                 "out",
-                f"an empty folder, or one holding a {capacity} sweep with the same arguments",
-                f"{folder} holds a {held} sweep (its columns are {held}'s kinds)",
+                f"an empty folder, or one holding the {capacity} capacity's sweep with the same "
+                "arguments",
+                f"{folder} holds the {held} capacity's sweep (its columns are {held}'s kinds)",
                 "choose another folder for each capacity, or delete it to start over.",
             )
         if record["fingerprint"] != fingerprint:

@@ -166,3 +166,10 @@ def test_interactive_view_and_meshes_of_other_capacities(tmp_path, capacity):
     assert len(surface.vertices) == len(P.vertices) and len(surface.faces) == len(P.vertices) - 2
     written = export_comparison(cmp, tmp_path / "sets.obj")
     assert written and all(path.stat().st_size > 0 for path in written)
+
+
+def test_cli_refuses_torque_limits_for_velocities(capsys):
+    """Found by the independent check: --tau-max was ignored by --capacity velocity."""
+    assert main(["analyze", "--capacity", "velocity", "--tau-max", "1,1,1"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--tau-max: expected no torque limits" in err[0]

@@ -76,3 +76,32 @@ def test_force_ellipsoid_and_limits_against_fifty_digits(m, n, kappa):
     lo, hi = an.polytope.limits(np.eye(m)[0])
     scale = max(abs(lower), abs(upper))
     assert abs(lo - lower) <= bound * scale and abs(hi - upper) <= bound * scale
+
+
+def test_force_volume_where_qhull_finds_a_dupridge():
+    """A regular 6x7 arm (cond J = 33) whose 91 whitened vertices make Qhull fail
+    (QH6271 dupridge; found by the independent check): the volume by cones over the faces,
+    checked against Qhull in task coordinates, where it succeeds, and on regular cases."""
+    from scipy.spatial import ConvexHull
+
+    from polyell.geometry.hpolytope import _face_volume
+
+    r = np.random.default_rng(173)
+    n, m = 7, 6
+    J = r.normal(size=(m, n))
+    X = r.normal(size=(n, n))
+    B, g = X @ X.T + n * np.eye(n), 0.1 * r.normal(size=n)
+    tmax, tmin = r.uniform(1, 5, n), -r.uniform(0.5, 3, n)
+    an = pe.analyze(pe.Dynamics(J, B, g), tmax, tmin, capacity="force")
+    P = an.polytope
+    assert P.volume == pytest.approx(ConvexHull(P.vertices).volume, rel=1e-12)
+    assert 0 <= pe.compare(an, 64, samples=256, mvie=False, outer=False)["chiacchio"].coverage <= 1
+    for seed in range(2):
+        other = pe.analyze(
+            pe.Dynamics(np.random.default_rng(seed).normal(size=(m, n)), B, g),
+            tmax,
+            tmin,
+            capacity="force",
+        ).polytope
+        tight = other.facet_slacks(other.vertices) <= 1e-9 * other.extent
+        assert _face_volume(other.vertices, tight, m) == pytest.approx(other.volume, rel=1e-12)

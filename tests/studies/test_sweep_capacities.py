@@ -140,7 +140,7 @@ def test_dataset_round_trips_with_its_capacity(tmp_path, capacity):
     # resumed with the same capacity and arguments: accepted
     assert pe.sweep(ARM, Q, capacity=capacity, directions=16, samples=64, out=out, chunk=3)
     other = "acceleration" if capacity == "force" else "force"
-    with pytest.raises(pe.InputError, match=f"holds a {capacity} sweep"):
+    with pytest.raises(pe.InputError, match=f"holds the {capacity} capacity.s sweep"):
         pe.sweep(ARM, Q, capacity=other, directions=16, samples=64, out=out, chunk=3)
 
 
