@@ -53,6 +53,8 @@ MAIN_OUTPUTS = {
     "report.html": "the interactive report (open it in a browser; works offline)",
     "manifest.json": "every file written",
 }
+#: The outputs a study writes once, whatever its capacities.
+_SHARED_OUTPUTS = ("numbers.md", "report.html", "manifest.json")
 #: Options whose value is a list of numbers, which may start with '-' (--q -pi/2,0,0).
 _LIST_OPTIONS = ("--q", "--tau-max", "--tau-min", "--direction")
 
@@ -364,9 +366,19 @@ def _study(args: argparse.Namespace) -> None:
     spec = load_study(args.spec)
     written = run_study(spec, args.out, progress=not args.quiet, scheduler=args.scheduler)
     names = {path.name for path in written}
-    main_files = [name for name in MAIN_OUTPUTS if name in names]
     lines = [f"{spec.title}: wrote {len(written)} files to {args.out}"]
-    lines += [f"  {Path(args.out) / name}: {MAIN_OUTPUTS[name]}" for name in main_files]
+    for name, what in MAIN_OUTPUTS.items():
+        if name in _SHARED_OUTPUTS:  # one of each, whatever the capacities
+            shown = {name: what}
+        else:  # each capacity's; another capacity's carry its name (comparison_force.md)
+            stem, extension = name.rsplit(".", 1)
+            shown = {
+                f"{stem}_{capacity}.{extension}" if capacity != "acceleration" else name: (
+                    f"{capacity}: {what}" if capacity != "acceleration" else what
+                )
+                for capacity in spec.capacities
+            }
+        lines += [f"  {Path(args.out) / n}: {said}" for n, said in shown.items() if n in names]
     _emit("\n".join(lines))
 
 

@@ -1,10 +1,11 @@
 """Meshes of the polytope and the ellipsoids (OBJ, PLY) for Blender, RViz or meshcat.
 
-Coordinates are in the task frame and the task's units (m/s^2, rad/s^2 or weighted units,
-written in each file's header).  A 3-D set of full rank is a closed triangle mesh with
-outward normals (counter-clockwise faces); a flat one (a polygon or an ellipse in a plane,
-or any set of a 2-D task, drawn in the plane z = 0) is a fan of triangles; a segment (a
-singular configuration) is a line element; a point, a single vertex.
+Coordinates are in the task frame and the capacity's units (m/s^2, m/s, N, N m, rad/s^2
+... or weighted units; the capacity and its unit are written in each file's header).  A 3-D
+set of full rank is a closed triangle mesh with outward normals (counter-clockwise faces); a
+flat one (a polygon or an ellipse in a plane, or any set of a 2-D task, drawn in the plane
+z = 0) is a fan of triangles; a segment (a singular configuration) is a line element; a
+point, a single vertex.
 """
 
 from __future__ import annotations
@@ -16,13 +17,13 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from polyell.capacities import check_capacity
 from polyell.comparison.comparison import Comparison
 from polyell.comparison.tables import check_text
 from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope, require_drawable
 from polyell.geometry.polytope import Polytope
-from polyell.models.task import task_unit
 from polyell.storage import write_text_atomically
 from polyell.validation import check_integer
 
@@ -231,16 +232,17 @@ def comparison_meshes(comparison: Comparison, resolution: int = RESOLUTION) -> d
     return meshes
 
 
-def _header(unit: str, task: tuple[str, ...] | None) -> list[str]:
+def _header(unit: str, task: tuple[str, ...] | None, capacity: str) -> list[str]:
     """Header lines (comments) of a mesh file; each text is checked to stay on its line."""
     from polyell import __version__
 
+    capacity = check_capacity(capacity)
     unit = check_text("unit", unit)
     if task is not None and (isinstance(task, str) or not isinstance(task, tuple | list)):
         raise InputError("task", "a tuple of task rows such as ('x', 'y')", repr(task))
     frame = ", ".join(check_text("task", row) for row in task) if task else "x, y, z"
     return [
-        f"polyell {__version__}: acceleration sets in the task frame ({frame})",
+        f"polyell {__version__}: {capacity} sets in the task frame ({frame})",
         f"units: {unit} on every axis",
     ]
 
@@ -265,6 +267,7 @@ def write_obj(
     *,
     unit: str = "m/s^2",
     task: tuple[str, ...] | None = None,
+    capacity: str = "acceleration",
 ) -> Path:
     """Write meshes as one Wavefront OBJ file, one object (``o name``) per set.
 
@@ -274,16 +277,18 @@ def write_obj(
     meshes : mapping of str to Mesh
         E.g. :func:`comparison_meshes`.
     unit : str, optional
-        The task's unit (``task_unit(analysis.task)``), written in the header.
+        The unit of the sets (``analysis.unit()``), written in the header.
     task : tuple of str, optional
         The task rows (the frame's axes), written in the header.
+    capacity : {"acceleration", "velocity", "force"}, optional
+        Whose sets they are, written in the header ("force sets in the task frame").
 
     Returns
     -------
     Path
         The file, written atomically.
     """
-    lines = [f"# {text}" for text in _header(unit, task)]
+    lines = [f"# {text}" for text in _header(unit, task, capacity)]
     offset = 1  # OBJ indices start at 1 and run over the whole file
     for name, item in _check_meshes(meshes).items():
         lines.append(f"o {name}")
@@ -303,11 +308,16 @@ def write_ply(
     name: str = "set",
     unit: str = "m/s^2",
     task: tuple[str, ...] | None = None,
+    capacity: str = "acceleration",
 ) -> Path:
-    """Write one mesh as an ASCII PLY file (vertices, faces and edges)."""
+    """Write one mesh as an ASCII PLY file (vertices, faces and edges).
+
+    ``name``, ``unit``, ``task`` and ``capacity`` are written in its header, as in
+    :func:`write_obj`.
+    """
     (item,) = _check_meshes({name: item}).values()
     header = ["ply", "format ascii 1.0"]
-    header += [f"comment {text}" for text in [f"set: {name}", *_header(unit, task)]]
+    header += [f"comment {text}" for text in [f"set: {name}", *_header(unit, task, capacity)]]
     header += [f"element vertex {len(item.vertices)}", *(f"property double {a}" for a in "xyz")]
     header += [f"element face {len(item.faces)}", "property list uchar int vertex_indices"]
     if len(item.lines):
@@ -327,20 +337,27 @@ def export_comparison(
 ) -> list[Path]:
     """Every set of a comparison: one OBJ file (``.obj``) or one PLY file per set (``.ply``).
 
-    A PLY path ``sets.ply`` gives ``sets_polytope.ply``, ``sets_chiacchio.ply``, ...
+    A PLY path ``sets.ply`` gives ``sets_polytope.ply``, ``sets_chiacchio.ply``, ...  The
+    header states the comparison's capacity and its unit (``analysis.unit()``: m/s^2, m/s,
+    N, N m, ...).
     """
     if not isinstance(path, str | Path) or Path(path).suffix not in (".obj", ".ply"):
         raise InputError("path", "a file name ending in .obj or .ply", repr(path))
     target = Path(path)
     meshes = comparison_meshes(comparison, resolution)
-    task = comparison.analysis.task
-    unit = task_unit(task)
+    analysis = comparison.analysis
+    task, unit, capacity = analysis.task, analysis.unit(), analysis.capacity
     if target.suffix == ".obj":
-        return [write_obj(target, meshes, unit=unit, task=task)]
+        return [write_obj(target, meshes, unit=unit, task=task, capacity=capacity)]
     if target.suffix == ".ply":
         return [
             write_ply(
-                target.with_name(f"{target.stem}_{name}.ply"), item, name=name, unit=unit, task=task
+                target.with_name(f"{target.stem}_{name}.ply"),
+                item,
+                name=name,
+                unit=unit,
+                task=task,
+                capacity=capacity,
             )
             for name, item in meshes.items()
         ]

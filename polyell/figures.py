@@ -19,7 +19,7 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from numpy.typing import NDArray
 from scipy.spatial import ConvexHull
 
-from polyell.capacities import Analysis
+from polyell.capacities import Analysis, check_capacity
 from polyell.comparison.labels import ellipsoid_label
 from polyell.comparison.tables import score_display
 from polyell.errors import InputError, UndefinedEllipsoidError
@@ -529,6 +529,7 @@ def plot_score_histogram(
     kinds: Sequence[str] = ("chiacchio", "yoshikawa"),
     bins: int = 30,
     title: str | None = None,
+    capacity: str = "acceleration",
 ) -> Figure:
     """Histograms of one score over the configurations of a study, one per ellipsoid.
 
@@ -541,7 +542,11 @@ def plot_score_histogram(
     kinds : sequence of str
         Ellipsoids to overlay (step outlines in the line styles of :data:`STYLES`);
         configurations where one is undefined are left out of its histogram.
+    capacity : {"acceleration", "velocity", "force"}, optional
+        Whose ellipsoids they are: their names in the legend (a force ``"chiacchio"`` is
+        "with gravity").
     """
+    capacity = check_capacity(capacity)
     _check_texts(title=title)
     present = [kind for kind in kinds if f"{kind}_{score}" in results]
     if not present:
@@ -555,7 +560,7 @@ def plot_score_histogram(
     figure = Figure(figsize=(5.0, 3.6), layout="constrained")
     ax = figure.add_subplot()
     for kind, data in zip(present, finite, strict=True):
-        style = _style(kind, present)
+        style = _style(kind, present, capacity)
         ax.hist(
             data,
             bins=edges,
@@ -579,6 +584,7 @@ def plot_score_series(
     *,
     kinds: Sequence[str] = ("chiacchio", "yoshikawa", "mvie"),
     title: str | None = None,
+    capacity: str = "acceleration",
 ) -> Figure:
     """One score of each candidate along a trajectory (against ``t``, or the sample index).
 
@@ -591,7 +597,10 @@ def plot_score_series(
         A score name, e.g. ``"coverage"``.
     kinds : sequence of str
         Candidates to draw, those with columns in ``results``.
+    capacity : {"acceleration", "velocity", "force"}, optional
+        Whose ellipsoids they are: their names in the legend.
     """
+    capacity = check_capacity(capacity)
     _check_texts(title=title)
     present = [kind for kind in kinds if f"{kind}_{score}" in results]
     if not present:
@@ -603,7 +612,7 @@ def plot_score_series(
     figure = Figure(figsize=(6.0, 3.2), layout="constrained")
     ax = figure.add_subplot()
     for kind in present:
-        style = _style(kind, present)
+        style = _style(kind, present, capacity)
         ax.plot(
             x,
             factor * results[f"{kind}_{score}"],

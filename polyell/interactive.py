@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from polyell.capacities import check_capacity
 from polyell.comparison.comparison import SCORE_NAMES, Comparison
 from polyell.comparison.summary import result_kinds, split_column
 from polyell.comparison.tables import ellipsoid_label, score_display
@@ -295,6 +296,7 @@ def interactive_map(
     y: str,
     *,
     title: str | None = None,
+    capacity: str = "acceleration",
 ) -> go.Figure:
     """Heat maps of scores over a grid of two joints, the configuration and scores on hover.
 
@@ -307,6 +309,9 @@ def interactive_map(
         switches between them (one colour scale per score, shared by the ellipsoids).
     x, y : str
         The joint columns along the horizontal and vertical axes (e.g. ``"q3"``, ``"q2"``).
+    capacity : {"acceleration", "velocity", "force"}, optional
+        Whose ellipsoids the scores are: their names (a force ``"chiacchio"`` is "with
+        gravity").
 
     Returns
     -------
@@ -314,6 +319,7 @@ def interactive_map(
         Hovering over a cell shows its configuration, the polytope's numbers and every
         score of the mapped ellipsoid.
     """
+    capacity = check_capacity(capacity)
     go = _plotly()
     mapped = [columns] if isinstance(columns, str) else list(columns)
     for name in (*mapped, x, y):
@@ -350,7 +356,9 @@ def interactive_map(
         finite = values[np.isfinite(values)]
         low, high = (finite.min(), finite.max()) if finite.size else (0.0, 1.0)
         z = factor * table[column].to_numpy(dtype=float).reshape(len(ys), len(xs))
-        views.append((f"{ellipsoid_label(kind)}: {label}", z, low, high, label, hover(column)))
+        views.append(
+            (f"{ellipsoid_label(kind, capacity)}: {label}", z, low, high, label, hover(column))
+        )
     name, z, low, high, label, template = views[0]
     figure = go.Figure(
         go.Heatmap(
@@ -416,13 +424,16 @@ def interactive_histogram(
     kinds: Sequence[str] | None = None,
     *,
     title: str | None = None,
+    capacity: str = "acceleration",
 ) -> go.Figure:
     """Overlaid histograms of one score over a study, one per ellipsoid (toggle in the legend).
 
     The counts are binned here, on bins shared by every ellipsoid (numpy's ``"auto"`` rule,
     at most :data:`HISTOGRAM_BINS`), so that the figure's size does not grow with the
-    number of configurations.
+    number of configurations.  ``capacity`` names the ellipsoids, as in
+    :func:`interactive_map`.
     """
+    capacity = check_capacity(capacity)
     go = _plotly()
     chosen = _kinds_with(results, score, kinds)
     label, factor = score_display(score)
@@ -443,7 +454,7 @@ def interactive_histogram(
                     x=0.5 * (edges[:-1] + edges[1:]),
                     y=counts,
                     width=np.diff(edges),
-                    name=ellipsoid_label(kind),
+                    name=ellipsoid_label(kind, capacity),
                     opacity=0.6,
                     marker_color=_color(kind, chosen),
                 )
@@ -561,6 +572,7 @@ def interactive_series(
     kinds: Sequence[str] | None = None,
     *,
     title: str | None = None,
+    capacity: str = "acceleration",
     total: int | None = None,
 ) -> go.Figure:
     """One score of each ellipsoid along a trajectory (against ``t``, or the sample index).
@@ -574,6 +586,9 @@ def interactive_series(
     kinds : sequence of str, optional
         The ellipsoids drawn; default every one with a ``<kind>_<score>`` column.
     title : str, optional
+    capacity : {"acceleration", "velocity", "force"}, optional
+        Whose ellipsoids the scores are: their names (a force ``"chiacchio"`` is "with
+        gravity").
     total : int, optional
         The number of samples ``results`` was decimated from.
 
@@ -584,6 +599,7 @@ def interactive_series(
         (:class:`SeriesDecimator`: every bucket's extremes kept), and the figure says so
         under its title: "N samples, shown decimated to K".
     """
+    capacity = check_capacity(capacity)
     go = _plotly()
     chosen = _kinds_with(results, score, kinds)
     label, factor = score_display(score)
@@ -597,7 +613,7 @@ def interactive_series(
                 x=x,
                 y=factor * results[f"{kind}_{score}"],
                 mode="lines",
-                name=ellipsoid_label(kind),
+                name=ellipsoid_label(kind, capacity),
                 line={"color": _color(kind, chosen)},
             )
         )

@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
+from polyell.capacities import check_capacity
 from polyell.comparison.comparison import SCORE_NAMES
 from polyell.comparison.labels import QUANTITIES, set_label
 from polyell.comparison.layout import TableLayout
@@ -108,6 +109,7 @@ def format_summary_table(
     caption: str | None = None,
     label: str | None = None,
     layout: TableLayout | None = None,
+    capacity: str = "acceleration",
 ) -> str:
     """Render :func:`summarize` output for print, as every table of polyell is written.
 
@@ -125,7 +127,11 @@ def format_summary_table(
     layout : TableLayout, optional
         Its ``sets`` and ``scores`` (which rows, in that order; the others, e.g. a limit
         quantity, do not apply), ``digits`` and ``percent``; default ``TableLayout()``.
+    capacity : {"acceleration", "velocity", "force"}, optional
+        Whose ellipsoids they are: the sets' labels (a force ``"chiacchio"`` is "with
+        gravity", ``"static"`` "no gravity").
     """
+    capacity = check_capacity(capacity)
     layout = TableLayout() if layout is None else layout
     kinds = list(dict.fromkeys(kind for kind, _ in summary.index))
     scores = list(dict.fromkeys(score for _, score in summary.index))
@@ -149,7 +155,7 @@ def format_summary_table(
             else Cell(float(record[column]), shift)
             for column in _STATISTICS
         )
-        rows.append(((text_label(set_label(str(kind)), "sets"), name), cells))
+        rows.append(((text_label(set_label(str(kind), capacity), "sets"), name), cells))
     table = PrintTable(
         (Label("set", "set"), Label("score", "score")),
         tuple(Label(column, column) for column in _STATISTICS),

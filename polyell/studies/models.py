@@ -29,8 +29,13 @@ from pydantic_core import PydanticUndefined, core_schema
 
 from polyell import robots
 from polyell.capacities import CAPACITIES
-from polyell.comparison.candidates import BUILT_IN_KINDS
-from polyell.comparison.comparison import MAX_SAMPLES, MAX_SEED, MIN_SAMPLES, SCORE_NAMES
+from polyell.comparison.comparison import (
+    MAX_SAMPLES,
+    MAX_SEED,
+    MIN_SAMPLES,
+    SCORE_NAMES,
+    compared_kinds,
+)
 from polyell.comparison.layout import LAYOUT_SETS, LIMIT_QUANTITIES, MAX_DIGITS
 from polyell.errors import InputError
 from polyell.expressions import evaluate, evaluate_list
@@ -1005,7 +1010,10 @@ capacities = ["acceleration", "force"]"""
         ("acceleration",),
         what="The capacities compared, each with its own tables and figures: "
         '"acceleration" (the paper\'s), "velocity" (needs the robot\'s qd_max), '
-        '"force". Studies of points only, for velocity and force.',
+        '"force". Every study but a posture study (it compares accelerations). The limits '
+        "along a trajectory (tangent_limits) are accelerations'. The acceleration outputs "
+        "keep their names; another capacity's carry it (comparison_force.tex, "
+        "summary_velocity.tex, results_force/).",
         example='["acceleration", "force", "velocity"]',
         default_text='["acceleration"]',
     )
@@ -1088,7 +1096,9 @@ percent = false"""
     )
     maps: Strings = key(
         (),
-        what="Grid studies with two varying joints: `<ellipsoid>_<score>` heat maps.",
+        what="Grid studies with two varying joints: `<ellipsoid>_<score>` heat maps, of any "
+        "compared capacity's ellipsoids (`static_coverage` for forces); each capacity draws "
+        "those it has (`map_<name>_force.png`).",
         example='["chiacchio_coverage"]',
     )
     histograms: Annotated[tuple[str, ...], Choices(SCORE_NAMES)] = key(
@@ -1253,20 +1263,20 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
             raise InputError(
                 "compare.capacities", "distinct capacity names, at least one", f"{list(capacities)}"
             )
-        if capacities != ("acceleration",) and self.points is None:
+        if capacities != ("acceleration",) and self.posture is not None:
             raise InputError(
                 "compare.capacities",
-                "velocity or force capacities in a study of [[points]]",
-                f"{list(capacities)} in a "
-                + ("posture study" if self.posture is not None else "grid, random or path study"),
-                "compare other capacities at named postures ([[points]]), or sweep them from "
-                "Python with pe.sweep(..., capacity=...).",
+                "only accelerations in a posture study (it chooses postures by their "
+                "acceleration scores)",
+                f"{list(capacities)} in a posture study",
+                "compare other capacities at the chosen postures in a study of [[points]].",
             )
 
     def _check_output(self) -> None:
         output = self.output
         candidates = [candidate.name for candidate in self.candidates]
-        kinds = (*BUILT_IN_KINDS, *candidates)
+        compared = {kind: None for c in self.compare.capacities for kind in compared_kinds(c)}
+        kinds = (*compared, *candidates)  # every compared capacity's kinds (force: static)
         valid_maps = [f"{kind}_{score}" for kind in kinds for score in SCORE_NAMES]
         for name in output.maps:
             if name not in valid_maps:

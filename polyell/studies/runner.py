@@ -56,7 +56,7 @@ __all__ = ["STUDY_FILES", "run_study"]
 #: own folder, ``results/``); a study run removes what a killed run left of them.
 STUDY_FILES = re.compile(
     r"numbers\.md|report\.html|manifest\.json|results\.csv"
-    r"|(?:comparison|limits|summary)\.(?:csv|md|tex)|scores\.csv"
+    r"|(?:comparison|limits|summary|scores|results)(?:_velocity|_force)?\.(?:csv|md|tex)"
     r"|(?:sets|limits|map|series|histogram)_[A-Za-z0-9_.-]+\.(?:pdf|png|svg)"
     r"|tangent_limits\.(?:pdf|png|svg)"
     r"|posture_(?:choice|targets)\.(?:csv|md|tex)|posture_values\.csv"
@@ -311,13 +311,44 @@ def _run_many(
     """
     if spec.trajectory is not None:
         return _run_trajectory(spec, folder, progress, scheduler, seconds)
+    written: list[Path] = []
+    sections = _about(spec)
+    for capacity in spec.capacities:
+        files, capacity_sections = _run_many_capacity(
+            spec, folder, capacity, progress, scheduler, seconds
+        )
+        written += files
+        sections += capacity_sections
+    if "html" in spec.formats:
+        from polyell.interactive import write_report
+
+        written.append(write_report(folder / "report.html", spec.title, sections))
+    return written
+
+
+def _run_many_capacity(
+    spec: StudySpec,
+    folder: Path,
+    capacity: str,
+    progress: bool,
+    scheduler: str | None,
+    seconds: dict[str, float],
+) -> tuple[list[Path], list[tuple[str, Any]]]:
+    """One capacity of a grid or random study: its sweep, tables, figures, report sections.
+
+    The acceleration outputs keep their names (``results/``, ``summary.tex``,
+    ``map_<name>.png``); another capacity's carry its name (``results_force/``,
+    ``summary_force.tex``, ``map_<name>_force.png``).
+    """
     import pandas as pd
 
+    suffix = "" if capacity == "acceleration" else f"_{capacity}"
     runs: dict[str, pd.DataFrame] = {}
     for index, robot in enumerate(spec.robots):
         configurations = spec.configurations(index)
-        out = folder / "results" / f"robot={robot.name}" if spec.by_robot else folder / "results"
-        dataset = _sweep(spec, robot, configurations, out, progress, scheduler, seconds)
+        results_folder = folder / f"results{suffix}"
+        out = results_folder / f"robot={robot.name}" if spec.by_robot else results_folder
+        dataset = _sweep(spec, robot, configurations, out, progress, scheduler, seconds, capacity)
         results = pd.read_parquet(dataset).sort_values("configuration").reset_index(drop=True)
         runs[robot.name if spec.by_robot else ""] = results
     if spec.by_robot:
@@ -325,29 +356,29 @@ def _run_many(
         table = table[["robot", *[c for c in table.columns if c != "robot"]]]
     else:
         table = runs[""]
-    written = [write_atomically(folder / "results.csv", lambda name: _csv(name, table))]
+    results_csv = folder / f"results{suffix}.csv"
+    written = [write_atomically(results_csv, lambda name: _csv(name, table))]
     summaries = {name: summarize(results) for name, results in runs.items()}
-    written += _write_summary(spec, folder, summaries, len(table))
+    written += _write_summary(spec, folder, summaries, len(table), capacity)
     # Maps of one score share one colour scale, so that colours compare across candidates
-    # (and robots).
+    # (and robots).  A map of a kind this capacity does not have is not drawn for it.
+    maps = [name for name in spec.maps if name in table.columns]
     scales: dict[str, tuple[float, float]] = {}
-    for name in spec.maps:
+    for name in maps:
         _, score = _split(name)
         finite = table[name].to_numpy(dtype=float)
         finite = finite[np.isfinite(finite)] * score_display(score)[1]
         if finite.size:
             low, high = scales.get(score, (np.inf, -np.inf))
             scales[score] = (min(low, finite.min()), max(high, finite.max()))
-    sections = _about(spec)
+    sections: list[tuple[str, Any]] = []
     for name, results in runs.items():
-        files, robot_sections = _many_outputs(spec, folder, name, results, summaries[name], scales)
+        files, robot_sections = _many_outputs(
+            spec, folder, name, results, summaries[name], scales, capacity, maps
+        )
         written += files
         sections += robot_sections
-    if "html" in spec.formats:
-        from polyell.interactive import write_report
-
-        written.append(write_report(folder / "report.html", spec.title, sections))
-    return written
+    return written, sections
 
 
 def _many_outputs(
@@ -357,12 +388,16 @@ def _many_outputs(
     results: pd.DataFrame,
     summary: pd.DataFrame,
     scales: dict[str, tuple[float, float]],
+    capacity: str,
+    maps: list[str],
 ) -> tuple[list[Path], list[tuple[str, Any]]]:
-    """The figures of one robot's sweep, and its sections of the report.
+    """The figures of one robot's sweep of a capacity, and its sections of the report.
 
-    ``robot`` is its name in a study of several robots, else ``""``.
+    ``robot`` is its name in a study of several robots, else ``""``; ``maps`` the study's
+    maps this capacity has columns for.
     """
-    if spec.maps or spec.series or spec.histograms:  # matplotlib: a second of start-up
+    suffix = "" if capacity == "acceleration" else f"_{capacity}"
+    if maps or spec.series or spec.histograms:  # matplotlib: a second of start-up
         from polyell.figures import (
             plot_score_histogram,
             plot_score_map,
@@ -371,10 +406,12 @@ def _many_outputs(
         )
 
     prefix, by = (f"{robot}.", f"{robot}: ") if robot else ("", "")
+    if suffix:
+        by = f"{by}{capacity}: "
     written: list[Path] = []
     kinds = result_kinds(results.columns)
     varying = [axis for axis in spec.grid if axis.values.size > 1]
-    for name in spec.maps:
+    for name in maps:
         if len(varying) != 2:
             break
         x_axis, y_axis = varying[1], varying[0]  # the last joint varies fastest: columns
@@ -388,24 +425,26 @@ def _many_outputs(
             xlabel=f"${x_axis.name[0]}_{x_axis.name[1:]}$ [rad]",
             ylabel=f"${y_axis.name[0]}_{y_axis.name[1:]}$ [rad]",
             label=label,
-            title=f"{by}{ellipsoid_label(kind)}: {label}",
+            title=f"{by}{ellipsoid_label(kind, capacity)}: {label}",
             limits=scales.get(score),
         )
-        stem = folder / f"map_{prefix}{name}"
+        stem = folder / f"map_{prefix}{name}{suffix}"
         written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
     title = f"{by}{spec.title}"
     for score in spec.series:
-        figure = plot_score_series(results, score, kinds=kinds, title=title)
-        stem = folder / f"series_{prefix}{score}"
+        figure = plot_score_series(results, score, kinds=kinds, title=title, capacity=capacity)
+        stem = folder / f"series_{prefix}{score}{suffix}"
         written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
     measured = [kind for kind in kinds if kind not in ("mvie", "outer")]  # not the optima
     for score in spec.histograms:
-        figure = plot_score_histogram(results, score, kinds=measured, title=title)
-        stem = folder / f"histogram_{prefix}{score}"
+        figure = plot_score_histogram(
+            results, score, kinds=measured, title=title, capacity=capacity
+        )
+        stem = folder / f"histogram_{prefix}{score}{suffix}"
         written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
     sections: list[tuple[str, Any]] = []
     if "html" in spec.formats:
-        sections = _many_report(spec, robot, results, summary, varying, measured)
+        sections = _many_report(spec, by, results, summary, varying, measured, capacity, maps)
     return written, sections
 
 
@@ -417,17 +456,24 @@ def _sweep(
     progress: bool,
     scheduler: str | None,
     seconds: dict[str, float],
+    capacity: str = "acceleration",
 ) -> Path:
-    """A robot's sweep: a Parquet dataset in ``out``, so that a killed study resumes.
+    """A robot's sweep of a capacity: a Parquet dataset in ``out``, so that a killed study resumes.
 
-    Its duration is added to ``seconds["sweep"]`` (the manifest's timings).
+    Its duration is added to ``seconds["sweep"]`` (the manifest's timings).  Velocities
+    are bounded by the robot's joint velocity limits, the other capacities by its torques.
     """
     started = time.perf_counter()
+    if capacity == "velocity":
+        qd_max, qd_min = robot.velocity_limits()
+        limits: dict[str, Any] = {"qd_max": qd_max, "qd_min": qd_min}
+    else:
+        limits = {"tau_max": robot.tau_max, "tau_min": robot.tau_min}
     dataset = sweep(
         robot.model,
         configurations,
-        robot.tau_max,
-        robot.tau_min,
+        **limits,
+        capacity=capacity,
         scores=_scores(spec),
         directions=spec.directions,  # None: compare's default, by each configuration's rank
         mvie=spec.mvie,
@@ -445,46 +491,54 @@ def _sweep(
 
 
 def _write_summary(
-    spec: StudySpec, folder: Path, summaries: dict[str, pd.DataFrame], count: int
+    spec: StudySpec,
+    folder: Path,
+    summaries: dict[str, pd.DataFrame],
+    count: int,
+    capacity: str = "acceleration",
 ) -> list[Path]:
     """``summary.csv``, ``.md`` and ``.tex`` of a study over ``count`` configurations.
+
+    Of the acceleration capacity; another's files carry its name (``summary_force.tex``),
+    and its captions and headings say which capacity.
 
     ``summaries`` holds one summary per robot (the key ``""`` for a study of one): several
     give a ``robot`` column in the CSV and one table per robot in Markdown and LaTeX.
     """
     import pandas as pd
 
-    markdown = _heading(spec, f"{spec.title}: summary over {count} configurations")
+    suffix = "" if capacity == "acceleration" else f"_{capacity}"
+    scores = "scores" if not suffix else f"{capacity} scores"
+    tag = suffix.replace("_", "-")  # LaTeX labels: tab:summary-force
+    options: dict[str, Any] = {"layout": spec.layout, "capacity": capacity}
+    what = "summary" if not suffix else f"{capacity} summary"
+    markdown = _heading(spec, f"{spec.title}: {what} over {count} configurations")
     if list(summaries) == [""]:
         summary = summaries[""]
-        caption = f"{spec.title}: scores over {count} configurations."
+        caption = f"{spec.title}: {scores} over {count} configurations."
         latex = format_summary_table(
-            summary, "latex", caption=caption, label="tab:summary", layout=spec.layout
+            summary, "latex", caption=caption, label=f"tab:summary{tag}", **options
         )
-        markdown += format_summary_table(summary, "markdown", layout=spec.layout)
+        markdown += format_summary_table(summary, "markdown", **options)
         csv = summary.to_csv()
     else:
         latex_tables, markdown_tables = [], []
         for robot, summary in summaries.items():
-            caption = f"{spec.title}: scores of {robot} over its configurations."
+            caption = f"{spec.title}: {scores} of {robot} over its configurations."
             latex_tables.append(
                 format_summary_table(
-                    summary,
-                    "latex",
-                    caption=caption,
-                    label=f"tab:summary-{robot}",
-                    layout=spec.layout,
+                    summary, "latex", caption=caption, label=f"tab:summary{tag}-{robot}", **options
                 )
             )
-            table = format_summary_table(summary, "markdown", layout=spec.layout)
+            table = format_summary_table(summary, "markdown", **options)
             markdown_tables.append(f"## {robot}\n\n{table}")
         latex = "\n".join(latex_tables)
         markdown += "\n".join(markdown_tables)
         csv = pd.concat(summaries, names=["robot"]).to_csv()
     return [
-        write_text_atomically(folder / "summary.csv", csv),
-        write_text_atomically(folder / "summary.md", markdown),
-        write_text_atomically(folder / "summary.tex", latex),
+        write_text_atomically(folder / f"summary{suffix}.csv", csv),
+        write_text_atomically(folder / f"summary{suffix}.md", markdown),
+        write_text_atomically(folder / f"summary{suffix}.tex", latex),
     ]
 
 
@@ -499,7 +553,36 @@ def _run_trajectory(
     figures and the report draw at most a few thousand points per curve, and say so).
     The two terms that grow with the samples are the trajectory itself (``(2n + 1) * 8``
     bytes a sample) and one score column at a time (8 bytes a sample) for the summary's
-    medians and the histograms.
+    medians and the histograms.  Each capacity of ``[compare] capacities`` in turn.
+    """
+    written: list[Path] = []
+    sections = _about(spec)
+    for capacity in spec.capacities:
+        files, capacity_sections = _run_trajectory_capacity(
+            spec, folder, capacity, progress, scheduler, seconds
+        )
+        written += files
+        sections += capacity_sections
+    if "html" in spec.formats:
+        from polyell.interactive import write_report
+
+        written.append(write_report(folder / "report.html", spec.title, sections))
+    return written
+
+
+def _run_trajectory_capacity(
+    spec: StudySpec,
+    folder: Path,
+    capacity: str,
+    progress: bool,
+    scheduler: str | None,
+    seconds: dict[str, float],
+) -> tuple[list[Path], list[tuple[str, Any]]]:
+    """One capacity of a trajectory study: its sweep, tables, figures, report sections.
+
+    The acceleration outputs keep their names; another capacity's carry its name
+    (``results_force.csv``, ``series_coverage_velocity.png``).  The limits along the path
+    (``tangent_limits``, where the trajectory has velocities) are accelerations'.
     """
     from polyell.figures import (
         plot_score_histogram,
@@ -509,12 +592,16 @@ def _run_trajectory(
     )
     from polyell.interactive import SeriesDecimator
 
+    suffix = "" if capacity == "acceleration" else f"_{capacity}"
+    by = "" if not suffix else f"{capacity}: "
     trajectory = spec.trajectory
     assert trajectory is not None
     robot = spec.robot  # a trajectory study has one robot (checked when it loads)
     model = robot.model
     first = model.dynamics(trajectory.q[0])
-    dataset = _sweep(spec, robot, trajectory, folder / "results", progress, scheduler, seconds)
+    dataset = _sweep(
+        spec, robot, trajectory, folder / f"results{suffix}", progress, scheduler, seconds, capacity
+    )
     import pandas as pd
     import pyarrow.parquet as pq
 
@@ -523,7 +610,7 @@ def _run_trajectory(
     count = len(trajectory)
     kinds = result_kinds(columns)
     x = "t" if trajectory.t is not None else "configuration"
-    tangent = trajectory.qd is not None
+    tangent = trajectory.qd is not None and capacity == "acceleration"
     series = {
         score: SeriesDecimator(count, [f"{k}_{score}" for k in kinds if f"{k}_{score}" in columns])
         for score in spec.series
@@ -550,7 +637,7 @@ def _run_trajectory(
                     along.add(frame[[x, *tangents]])
                 start = stop
 
-    written = [write_atomically(folder / "results.csv", write_results)]
+    written = [write_atomically(folder / f"results{suffix}.csv", write_results)]
     summaries = []
     for kind in kinds:  # the order of summarize(): ellipsoids, then scores
         for score in SUMMARY_SCORES:
@@ -559,11 +646,14 @@ def _run_trajectory(
                 values = pd.read_parquet(dataset, columns=[column])
                 summaries.append(summarize(values, (score,)))
     summary = pd.concat(summaries) if summaries else summarize(pd.DataFrame())
-    written += _write_summary(spec, folder, {"": summary}, count)
+    written += _write_summary(spec, folder, {"": summary}, count, capacity)
     shown = {score: decimator.result() for score, decimator in series.items()}
     for score, frame in shown.items():
-        figure = plot_score_series(frame, score, kinds=kinds, title=spec.title)
-        written += save_figure(figure, folder / f"series_{score}", spec.figure_formats, spec.dpi)
+        figure = plot_score_series(
+            frame, score, kinds=kinds, title=f"{by}{spec.title}", capacity=capacity
+        )
+        stem = folder / f"series_{score}{suffix}"
+        written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
     if along is not None:
         figure = plot_tangent_limits(along.result(), unit=task_unit(first.task, tex=True))
         written += save_figure(figure, folder / "tangent_limits", spec.figure_formats, spec.dpi)
@@ -575,33 +665,39 @@ def _run_trajectory(
         for score in spec.histograms
     }
     for score, frame in histograms.items():
-        figure = plot_score_histogram(frame, score, kinds=measured, title=f"{spec.title}")
-        written += save_figure(figure, folder / f"histogram_{score}", spec.figure_formats, spec.dpi)
+        figure = plot_score_histogram(
+            frame, score, kinds=measured, title=f"{by}{spec.title}", capacity=capacity
+        )
+        stem = folder / f"histogram_{score}{suffix}"
+        written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
+    sections: list[tuple[str, Any]] = []
     if "html" in spec.formats:
-        from polyell.interactive import interactive_histogram, interactive_series, write_report
+        from polyell.interactive import interactive_histogram, interactive_series
 
-        sections = _about(spec)
         for score, frame in shown.items():
-            figure = interactive_series(frame, score, total=count)
-            sections.append((score_display(score)[0], figure))
+            figure = interactive_series(frame, score, total=count, capacity=capacity)
+            sections.append((by + score_display(score)[0], figure))
         for score, frame in histograms.items():
-            sections.append(
-                (score_display(score)[0], interactive_histogram(frame, score, measured))
-            )
-        sections.append((f"Summary over {count} configurations (fractions)", summary))
-        written.append(write_report(folder / "report.html", spec.title, sections))
-    return written
+            figure = interactive_histogram(frame, score, measured, capacity=capacity)
+            sections.append((by + score_display(score)[0], figure))
+        sections.append((f"{by}Summary over {count} configurations (fractions)", summary))
+    return written, sections
 
 
 def _many_report(
     spec: StudySpec,
-    robot: str,
+    by: str,
     results: pd.DataFrame,
     summary: pd.DataFrame,
     varying: list[GridAxis],
     measured: list[str],
+    capacity: str,
+    maps: list[str],
 ) -> list[tuple[str, Any]]:
-    """The report's sections of one robot's grid or random sweep (``formats`` "html")."""
+    """The report's sections of one robot's sweep of a capacity (``formats`` "html").
+
+    ``by`` opens each section's title (the robot's name, the capacity, or ``""``).
+    """
     from polyell.interactive import (
         HtmlTable,
         interactive_histogram,
@@ -609,18 +705,18 @@ def _many_report(
         interactive_series,
     )
 
-    by = f"{robot}: " if robot else ""
     sections: list[tuple[str, Any]] = []
-    if len(varying) == 2 and spec.maps:  # one figure, a menu over the maps
-        figure = interactive_map(results, spec.maps, varying[1].name, varying[0].name)
+    if len(varying) == 2 and maps:  # one figure, a menu over the maps
+        figure = interactive_map(results, maps, varying[1].name, varying[0].name, capacity=capacity)
         sections.append((f"{by}Heat maps (choose the score in the menu)", figure))
     for score in spec.series:
-        sections.append((by + score_display(score)[0], interactive_series(results, score)))
-    for score in spec.histograms:
-        figure = interactive_histogram(results, score, measured)
+        figure = interactive_series(results, score, capacity=capacity)
         sections.append((by + score_display(score)[0], figure))
-    table = HtmlTable(format_summary_table(summary, "html", layout=spec.layout))
-    sections.append((f"{by}Summary over {len(results)} configurations", table))
+    for score in spec.histograms:
+        figure = interactive_histogram(results, score, measured, capacity=capacity)
+        sections.append((by + score_display(score)[0], figure))
+    text = format_summary_table(summary, "html", layout=spec.layout, capacity=capacity)
+    sections.append((f"{by}Summary over {len(results)} configurations", HtmlTable(text)))
     return sections
 
 

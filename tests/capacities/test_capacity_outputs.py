@@ -115,14 +115,13 @@ def test_study_capacities_are_checked_at_load(tmp_path, capacities, message):
         load_study(path)
 
 
-def test_other_capacities_need_points_and_velocity_limits(tmp_path):
-    path = tmp_path / "grid.toml"
+def test_posture_studies_compare_accelerations_and_velocities_need_limits(tmp_path):
+    path = tmp_path / "posture.toml"
     path.write_text(
-        '[robot]\nlibrary = "chiacchio2000"\n[grid]\nq1 = 0.1\nq2 = 0.5\n'
-        "q3 = { start = 0, stop = 1, num = 3 }\n"
+        '[robot]\nlibrary = "chiacchio2000"\n[posture]\nq0 = [0.3, 0.6, 0.9]\ndirection = "x"\n'
         '[compare]\ncapacities = ["force"]\n'
     )
-    with pytest.raises(pe.InputError, match=r"compare\.capacities.*\[\[points\]\]"):
+    with pytest.raises(pe.InputError, match=r"compare\.capacities.*posture study"):
         load_study(path)
     path = tmp_path / "noqd.toml"
     path.write_text(
@@ -166,6 +165,13 @@ def test_interactive_view_and_meshes_of_other_capacities(tmp_path, capacity):
     assert len(surface.vertices) == len(P.vertices) and len(surface.faces) == len(P.vertices) - 2
     written = export_comparison(cmp, tmp_path / "sets.obj")
     assert written and all(path.stat().st_size > 0 for path in written)
+    header = written[0].read_text().splitlines()[:2]  # the capacity and its unit
+    assert f"{capacity} sets in the task frame (x, y)" in header[0]
+    assert header[1] == f"# units: {an.unit()} on every axis"
+    assert an.unit() == {"force": "N", "velocity": "m/s"}[capacity]
+    plies = export_comparison(cmp, tmp_path / "sets.ply")
+    assert {path.name for path in plies} >= {f"sets_{kind}.ply" for kind in an.ellipsoid_kinds}
+    assert f"comment units: {an.unit()} on every axis" in plies[0].read_text()
 
 
 def test_cli_refuses_torque_limits_for_velocities(capsys):
