@@ -58,7 +58,33 @@ from polyell.validation import (
     magnitude_limit,
 )
 
-__all__ = ["ForceAnalysis"]
+__all__ = ["ForceAnalysis", "force_terms"]
+
+
+def force_terms(
+    J: NDArray[np.float64],
+    g: NDArray[np.float64],
+    tau_center: NDArray[np.float64],
+    half_range: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``A^T = J L^-1`` (..., m, n) and ``c = L^-1 (g - tau_c)`` (..., n), checked.
+
+    One configuration or a batch (the sweep's).  Raises :class:`InputError` where the
+    forces or gravity's share of the limits are not representable.
+    """
+    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+        M = J / half_range  # J L^-1 = A^T
+        c = (g - tau_center) / half_range
+    # forces are about 1 / |J L^-1| and gravity's share c is a number: no relative test
+    check_magnitudes(M, np.zeros(M.shape[:-1]), quantity=("forces", "J L^-1", "(none)"))
+    if not np.all(np.isfinite(c)) or np.abs(c).max() > 10.0 ** magnitude_limit(1):
+        raise InputError(
+            "dyn.g",
+            "gravity torques of the size of the torque limits (within 1e140 of them)",
+            f"L^-1 (g - tau_c) up to {np.abs(c).max():.3g}",
+            "give g and the torque limits in the same units (N m).",
+        )
+    return M, c
 
 
 class ForceAnalysis(Analysis):
@@ -112,18 +138,7 @@ class ForceAnalysis(Analysis):
         self.dynamics = dynamics
         self.tau_max, self.tau_min = check_torque_limits(tau_max, tau_min, dynamics.n)
         self.tau_center, self.half_range = centre_and_half_range(self.tau_max, self.tau_min)
-        with np.errstate(over="ignore", invalid="ignore", under="ignore"):
-            M = dynamics.J / self.half_range  # J L^-1 = A^T
-            self.c: NDArray[np.float64] = (dynamics.g - self.tau_center) / self.half_range
-        # forces are about 1 / |J L^-1| and gravity's share c is a number: no relative test
-        check_magnitudes(M, np.zeros(self.m), quantity=("forces", "J L^-1", "(none)"))
-        if not np.all(np.isfinite(self.c)) or np.abs(self.c).max() > 10.0 ** magnitude_limit(1):
-            raise InputError(
-                "dyn.g",
-                "gravity torques of the size of the torque limits (within 1e140 of them)",
-                f"L^-1 (g - tau_c) up to {np.abs(self.c).max():.3g}",
-                "give g and the torque limits in the same units (N m).",
-            )
+        M, self.c = force_terms(dynamics.J, dynamics.g, self.tau_center, self.half_range)
         self.A: NDArray[np.float64] = M.T
         self.svd = rank_revealing_svd(M, rank_rtol)
         self.affine_rtol = check_fraction("affine_rtol", affine_rtol)

@@ -240,7 +240,8 @@ _sorted_ball_points = lru_cache(maxsize=8)(_sorted_ball_points)
 
 
 def _count_inside(
-    E: Ellipsoid,
+    axes: NDArray[np.float64],
+    semi_axes: NDArray[np.float64],
     A: NDArray[np.float64],
     slack: NDArray[np.float64],
     samples: int,
@@ -248,6 +249,9 @@ def _count_inside(
     seed: int,
 ) -> NDArray[np.int64]:
     """How many quasi-Monte-Carlo points of each replicate, mapped into E, satisfy A x <= slack.
+
+    ``E`` is ``{c + U diag(s) u : |u| <= 1}`` with ``axes`` U (m, r) and ``semi_axes`` s
+    (r,); ``slack`` (F,) holds the facets' offsets about its centre c.
 
     The same counts as testing every point against every facet (``x = U diag(s) u``,
     ``all(x @ A.T <= slack)``), with the work only where the answer can be no: a facet
@@ -257,18 +261,19 @@ def _count_inside(
     slack_i`` minus that rounding for every facet (the scaled copy ``t E`` inside P) holds
     for all.  The rest are tested as before.
     """
-    reach = np.linalg.norm((A @ E.axes) * E.semi_axes, axis=1)
-    terms = A.shape[1] + E.rank + 2
-    rounding = ROUNDING_FACTOR * terms * float(np.finfo(float).eps) * float(np.max(E.semi_axes))
+    rank = len(semi_axes)
+    reach = np.linalg.norm((A @ axes) * semi_axes, axis=1)
+    terms = A.shape[1] + rank + 2
+    rounding = ROUNDING_FACTOR * terms * float(np.finfo(float).eps) * float(np.max(semi_axes))
     rounding *= max(1.0, float(np.linalg.norm(A, axis=1).max(initial=0.0)))
     margin = slack - rounding
     crossing = ~(reach < margin)  # NaN-safe: test a facet unless it surely holds
     with np.errstate(divide="ignore", invalid="ignore"):
         scales = np.where(reach > 0, margin / reach, np.where(margin >= 0, np.inf, -np.inf))
     radius = float(np.min(scales, initial=np.inf)) * (1.0 - 1e-12)
-    points, radii, replicate = _sorted_ball_points(E.rank, samples, replicates, seed)
+    points, radii, replicate = _sorted_ball_points(rank, samples, replicates, seed)
     start = int(np.searchsorted(radii, radius, side="right")) if radius > 0 else 0
-    offsets = (points[start:] * E.semi_axes) @ E.axes.T  # about E's centre
+    offsets = (points[start:] * semi_axes) @ axes.T  # about E's centre
     outside = ~np.all(offsets @ A[crossing].T <= slack[crossing], axis=1)
     missed = np.bincount(replicate[start:][outside], minlength=replicates)
     return samples - missed
@@ -319,7 +324,7 @@ def overlap(
         s = E.semi_axes[0]
         length = 0.0 if np.isnan(lo[0]) else max(0.0, min(hi[0], s) - max(lo[0], -s))
         return Overlap(length / P.volume, 1.0 - length / (2.0 * s), 0.0, 0.0)
-    shares = _count_inside(E, P.A, slack, samples, replicates, seed) / samples
+    shares = _count_inside(E.axes, E.semi_axes, P.A, slack, samples, replicates, seed) / samples
     share = float(shares.mean())
     stderr = float(shares.std(ddof=1) / np.sqrt(replicates))
     ratio = E.volume / P.volume

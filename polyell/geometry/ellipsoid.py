@@ -25,15 +25,27 @@ from polyell.validation import (
     magnitude_limit,
 )
 
-__all__ = ["Ellipsoid", "unit_ball_volume"]
+__all__ = ["Ellipsoid", "canonical_axes", "unit_ball_volume"]
 
 
-def _canonical_signs(axes: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Flip each column so that its largest-magnitude entry is positive."""
+def canonical_axes(
+    axes: NDArray[np.float64], semi_axes: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Axes (..., m, r) and semi-axes (..., r) as an :class:`Ellipsoid` keeps them.
+
+    Semi-axes in descending order (a stable sort) and each axis flipped so that its
+    largest-magnitude entry is positive: one ellipsoid, one representation, so that points
+    mapped into it (the quasi-Monte-Carlo points of a coverage) do not depend on how its
+    axes were computed.  Works on one ellipsoid or a batch.
+    """
     if axes.size == 0:
-        return axes
-    pivots = axes[np.argmax(np.abs(axes), axis=0), np.arange(axes.shape[1])]
-    return axes * np.where(pivots < 0, -1.0, 1.0)
+        return axes, semi_axes
+    order = np.argsort(-semi_axes, axis=-1, kind="stable")
+    semi_axes = np.take_along_axis(semi_axes, order, axis=-1)
+    axes = np.take_along_axis(axes, order[..., None, :], axis=-1)
+    pivot_rows = np.argmax(np.abs(axes), axis=-2)[..., None, :]
+    pivots = np.take_along_axis(axes, pivot_rows, axis=-2)
+    return axes * np.where(pivots < 0, -1.0, 1.0), semi_axes
 
 
 def unit_ball_volume(r: int) -> float:
@@ -107,9 +119,7 @@ class Ellipsoid(ConvexSet):
                 got,
                 "orthonormalise the axes, e.g. with an SVD.",
             )
-        order = np.argsort(-s, kind="stable")
-        self.semi_axes = s[order]
-        self.axes = _canonical_signs(U[:, order])
+        self.axes, self.semi_axes = canonical_axes(U, s)
         self.kind = kind
         if self.rank == m:
             basis, normals = np.eye(m), np.zeros((m, 0))

@@ -440,7 +440,10 @@ def _block_rows(
                 np.full(len(M), np.nan) if volumes is None else volume / volumes
             )
         records.append((kind, record, defined))
-    statistics = direction_scores(normals, h, xg, limits_slack, limits_floor, scored, directions)
+    midpoints = np.einsum("kcm,km->kc", normals, xg)
+    statistics = direction_scores(
+        normals, h, midpoints, limits_slack, limits_floor, scored, directions
+    )
     for (kind, record, defined), stats in zip(records, statistics, strict=True):
         record |= {f"{kind}_{key}": value for key, value in stats.items()}
         if not defined.all():  # an MVIE not certified: undefined, as in compare

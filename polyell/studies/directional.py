@@ -53,7 +53,7 @@ ROW_ELEMENTS = 2**15
 def direction_scores(
     normals: Array,
     half_widths: Array,
-    center: Array,
+    offsets: Array,
     slack: Array,
     floor: Array,
     ellipsoids: Sequence[tuple[Array, Array, Array]],
@@ -66,9 +66,10 @@ def direction_scores(
     normals : ndarray, shape (K, C, m)
         Unit facet normals of each polytope, one of each +-pair (zero: no constraint).
     half_widths : ndarray, shape (K, C)
-        ``h``: the polytope is ``{x : |a . (x - center)| <= h}`` (inf: no constraint).
-    center : ndarray, shape (K, m)
-        The polytopes' centres ``x_g``.
+        ``h``: the polytope is ``{x : |a . x - o| <= h}`` (inf: no constraint).
+    offsets : ndarray, shape (K, C)
+        ``o``: each facet pair's midpoint along its normal, ``a . x_g`` for a polytope
+        symmetric about ``x_g`` (a zonotope); a force polytope's pairs have their own.
     slack : ndarray, shape (K, C)
         :func:`~polyell.geometry.limits.facet_slack` for the lines that graze a polytope.
     floor : ndarray, shape (K, 1)
@@ -92,7 +93,7 @@ def direction_scores(
     for start in range(0, K, step):
         rows = slice(start, start + step)
         hi_p, feasible_p = polytope_far_ends(
-            normals[rows], half_widths[rows], center[rows], Tt, slack[rows], floor[rows]
+            normals[rows], half_widths[rows], offsets[rows], Tt, slack[rows], floor[rows]
         )
         with np.errstate(divide="ignore"):
             scale = 1.0 / np.abs(hi_p)  # shared by every ellipsoid (inf where hi_P = 0)
@@ -104,7 +105,7 @@ def direction_scores(
 
 
 def polytope_far_ends(
-    normals: Array, half_widths: Array, center: Array, Tt: Array, slack: Array, floor: Array
+    normals: Array, half_widths: Array, offsets: Array, Tt: Array, slack: Array, floor: Array
 ) -> tuple[Array, NDArray[np.bool_]]:
     """Far ends ``hi_P`` (K, k) of the lines ``{a t}`` in each polytope, and which meet it.
 
@@ -115,7 +116,6 @@ def polytope_far_ends(
     line that misses P but meets it grown by ``slack`` touches it at ``(lo + hi) / 2``, as
     :meth:`Polytope.limits`.  NaN where the line misses P.
     """
-    offsets = np.einsum("kcm,km->kc", normals, center)
     inside = (np.abs(offsets) < half_widths - floor).all(axis=1)
     hi = np.empty((len(normals), Tt.shape[1]))
     meets = np.ones(hi.shape, dtype=bool)

@@ -50,6 +50,7 @@ from polyell.storage import (
 from polyell.studies.batch import BatchOptions, batch_rows
 from polyell.studies.cluster import check_scheduler, local_cluster
 from polyell.studies.configurations import ConfigurationSet
+from polyell.studies.force_batch import force_rows
 from polyell.studies.trajectory import Trajectory
 from polyell.validation import (
     check_array,
@@ -108,8 +109,7 @@ class _Job:
                 else self.configurations[start:stop]
             )
             dyn = self.source.dynamics(q)
-        capacity = self.options.capacity
-        if dyn.m > dyn.n or capacity == "force":  # singular everywhere; forces: the scalar path
+        if dyn.m > dyn.n:  # singular everywhere: the scalar path
             values = _scalar_rows(dyn, np.ones(len(dyn), dtype=bool), self)
         else:
             values, scalar = _batch(dyn, self)
@@ -137,6 +137,8 @@ def _batch(dyn: Dynamics, job: _Job) -> tuple[dict[str, NDArray[np.float64]], ND
     unit ball (the velocity kind ``"yoshikawa"``) is the acceleration kind ``"chiacchio"``
     with the same minimum-norm witness.
     """
+    if job.options.capacity == "force":
+        return force_rows(dyn, job.tau_max, job.tau_min, job.directions, job.options)
     if job.options.capacity != "velocity":
         return batch_rows(dyn, job.tau_max, job.tau_min, job.directions, job.options)
     K, n = len(dyn), dyn.n

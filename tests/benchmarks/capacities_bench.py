@@ -272,7 +272,7 @@ def sweep_rates(repeats: int) -> list[str]:
 
     def count_points() -> None:
         for E, A, slack in work:
-            _count_inside(E, A, slack, 2**13, 8, 0)
+            _count_inside(E.axes, E.semi_axes, A, slack, 2**13, 8, 0)
 
     split = timed_alternately([build_polytopes, count_points], repeats)
     total = np.median(times[2]) / counts["force"] * 1e3

@@ -230,21 +230,21 @@ def bench_floor(repeats: int) -> list[str]:
             batch.batch_rows(dyn[:512], tau, -tau, T)
         finally:
             batch.direction_scores = original
-        normals, h, xg, slack, floor, ellipsoids, _ = captured["args"]
+        normals, h, midpoints, slack, floor, ellipsoids, _ = captured["args"]
         rows = len(normals)
         Tt = np.ascontiguousarray(T.T)
 
         def rest(dyn=dyn, tau=tau, m=m):
             batch.batch_rows(dyn, tau, -tau, sphere_directions(1, m))
 
-        def gauge(normals=normals, h=h, xg=xg, Tt=Tt, slack=slack, floor=floor):
-            directional.polytope_far_ends(normals, h, xg, Tt, slack, floor)
+        def gauge(normals=normals, h=h, midpoints=midpoints, Tt=Tt, slack=slack, floor=floor):
+            directional.polytope_far_ends(normals, h, midpoints, Tt, slack, floor)
 
         def ends(ellipsoids=ellipsoids, Tt=Tt):
             for center, axes, semi in ellipsoids:
                 directional._ellipsoid_far_ends(center, axes, semi, Tt)
 
-        hi_p, feasible_p = directional.polytope_far_ends(normals, h, xg, Tt, slack, floor)
+        hi_p, feasible_p = directional.polytope_far_ends(normals, h, midpoints, Tt, slack, floor)
         far = [directional._ellipsoid_far_ends(*e, Tt) for e in ellipsoids]
         scale = 1.0 / np.abs(hi_p)
 

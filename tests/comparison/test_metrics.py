@@ -54,7 +54,7 @@ def test_pruned_counts_equal_testing_every_point(samples):
                 continue
             for scaled in (E, pe.Ellipsoid(E.center, E.axes, 1.7 * E.semi_axes)):
                 slack = _slacks(scaled, P)
-                counts = _count_inside(scaled, P.A, slack, samples, 8, 0)
+                counts = _count_inside(scaled.axes, scaled.semi_axes, P.A, slack, samples, 8, 0)
                 expected = all_tested(scaled, P.A, slack, samples)
                 assert np.array_equal(counts, expected), (an.capacity, kind)
                 checked += 1
@@ -66,7 +66,9 @@ def test_touching_ellipsoid_counts_every_point():
     # The inscribed circle of the square |x|, |y| <= 1 touches all four sides.
     P = pe.HPolytope([[1, 0], [-1, 0], [0, 1], [0, -1]], [1, 1, 1, 1])
     E = pe.Ellipsoid([0.0, 0.0], np.eye(2), [1.0, 1.0])
-    assert np.array_equal(_count_inside(E, P.A, _slacks(E, P), 256, 8, 0), [256] * 8)
+    assert np.array_equal(
+        _count_inside(E.axes, E.semi_axes, P.A, _slacks(E, P), 256, 8, 0), [256] * 8
+    )
     # The circle of radius 1.2 crosses the sides (four caps outside) and not the corners.
     R = 1.2
     big = pe.Ellipsoid([0.0, 0.0], np.eye(2), [R, R])

@@ -111,10 +111,10 @@ def test_gauge_and_facet_cuts_agree():
     center = rng.normal(size=(K, m)) * 0.2
     T = sphere_directions(k, m)
     Tt = np.ascontiguousarray(T.T)
-    hi, meets = polytope_far_ends(normals, h, center, Tt, np.zeros((K, C)), np.zeros((K, 1)))
+    offsets = np.einsum("kcm,km->kc", normals, center)
+    hi, meets = polytope_far_ends(normals, h, offsets, Tt, np.zeros((K, C)), np.zeros((K, 1)))
     assert meets.all() and (hi > 0).all()
     # The same far ends by cutting each line with every facet pair, one row at a time.
-    offsets = np.einsum("kcm,km->kc", normals, center)
     slopes = np.einsum("kcm,dm->kcd", normals, T)
     with np.errstate(divide="ignore"):
         cuts = np.where(

@@ -1,0 +1,390 @@
+r"""The force capacity's sweep path: the scores of many configurations at once.
+
+For K configurations sharing (m, n), every step of
+``compare(analyze(dyn[k], ..., capacity="force")).to_row()`` is done with batched linear
+algebra, in the whitened coordinates of :class:`~polyell.capacities.force.ForceAnalysis`
+(``z = S U^T (h - h0)``, where the rows of the set are those of ``V``):
+
+* the set ``{h : |A h + c|_inf <= 1}``: its vertices from every choice of m rows and m
+  signs (``C(n, m) 2^m`` candidates, each an m x m solve, kept where every row holds), its
+  facets (the rows tight at a vertex) and its volume by Lawrence's formula for simple
+  polytopes (J. Lawrence, "Polytope volume computation", Math. Comp. 57, 1991), evaluated
+  for two directions that must agree;
+* the three ellipsoids (``chiacchio``, ``yoshikawa``, ``static``), their scales, volume
+  shares, directional statistics (:func:`~polyell.studies.directional.direction_scores`)
+  and torque witnesses, by the closed forms of the scalar path; an ellipsoid neither inside
+  nor around the set is counted by the same quasi-Monte-Carlo points
+  (:func:`~polyell.comparison.metrics._count_inside`).
+
+Rows this path does not cover are returned as a mask for the scalar path, so that every
+row equals ``compare(analyze(...)).to_row()`` to rounding: a rank of ``J`` below m (or
+within :data:`~polyell.studies.batch.RANK_BAND` of the threshold: an unbounded set), a part
+of gravity no force balances of normalized norm 1 or more (an empty ``chiacchio``
+ellipsoid; the set may be empty), vertices not in general position (another row within
+:data:`GENERAL_POSITION` of tight at a vertex, m nearly dependent rows), two volume
+evaluations that differ by more than :data:`VOLUME_RTOL`; and every row of a sweep that
+asks for the MVIE, the outer ellipsoid or candidates, of a task of fewer than two rows, or
+with more than :data:`MAX_CANDIDATES` vertex candidates.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from polyell.capacities.base import centre_and_half_range
+from polyell.capacities.force import force_terms
+from polyell.comparison.comparison import compared_kinds
+from polyell.comparison.metrics import INSIDE_RTOL, _count_inside, scale_rtol
+from polyell.geometry.ellipsoid import canonical_axes, unit_ball_volume
+from polyell.geometry.limits import facet_slack, rounding_floor
+from polyell.geometry.subspace import RANK_RTOL
+from polyell.geometry.zonotope import subsets
+from polyell.models.dynamics import Dynamics
+from polyell.studies.batch import BLOCK, RANK_BAND, BatchOptions, score_columns
+from polyell.studies.directional import direction_scores
+
+__all__ = ["GENERAL_POSITION", "MAX_CANDIDATES", "VOLUME_RTOL", "force_rows"]
+
+Array = NDArray[np.float64]
+
+#: Vertex candidates ``C(n, m) 2^m`` of a configuration above which the scalar path
+#: (cddlib) enumerates instead.
+MAX_CANDIDATES = 4096
+#: A row counts as tight at a vertex within this of its bound (whitened rows have norm at
+#: most 1 and the bounds are 1): a vertex with more than m rows that close, or m rows
+#: whose unit normals span a volume below :data:`DEPENDENT`, is left to cddlib.
+GENERAL_POSITION = 1e-9
+#: m unit normals spanning less than this volume (``|det|``) are taken as dependent.
+DEPENDENT = 1e-6
+#: Lawrence's sum can cancel: the two evaluations (two directions) must agree to this.
+VOLUME_RTOL = 1e-10
+#: The two generic directions of Lawrence's formula (fixed: rows are reproducible).
+_DIRECTIONS = np.random.default_rng(20001).normal(size=(2, 64))
+
+
+def force_rows(
+    dyn: Dynamics,
+    tau_max: Array,
+    tau_min: Array,
+    directions: Array,
+    options: BatchOptions,
+) -> tuple[dict[str, Array], NDArray[np.bool_]]:
+    """Score columns of a batch of force capacities, and which rows need the scalar path.
+
+    Parameters
+    ----------
+    dyn : Dynamics
+        A batch: J (K, m, n) and the gravity torques g (K, n) [N m].
+    tau_max, tau_min : ndarray, shape (n,)
+        Torque limits [N m].
+    directions : ndarray, shape (k, m)
+        Unit directions of the directional statistics.
+    options : BatchOptions
+        ``samples``, ``seed`` and ``rank_rtol`` as in :func:`polyell.compare`; with
+        ``mvie``, ``outer`` or candidates every row takes the scalar path.
+
+    Returns
+    -------
+    columns : dict of str to ndarray (K,)
+        :func:`~polyell.studies.batch.score_columns` of the force capacity; rows flagged
+        in ``scalar`` hold NaN.
+    scalar : ndarray of bool, shape (K,)
+        Rows to compute with ``compare(analyze(dyn[k], ..., capacity="force"))``.
+    """
+    K, m, n = dyn.J.shape
+    columns = {name: np.full(K, np.nan) for name in score_columns((), "force")}
+    for kind in compared_kinds("force"):
+        columns[f"{kind}_feasibility_mismatch"][:] = 0.0
+        columns[f"{kind}_directions_used"][:] = 0.0
+    scalar = np.ones(K, dtype=bool)
+    several = math.comb(n, m) * 2**m if m <= n else 0
+    if options.mvie or options.outer or options.candidates or not 2 <= m <= n:
+        return columns, scalar
+    if several > MAX_CANDIDATES:
+        return columns, scalar
+    tau_center, half = centre_and_half_range(tau_max, tau_min)
+    size = max(1, BLOCK * 64 // several)  # the (rows, candidates, n) arrays stay small
+    for start in range(0, K, size):
+        block = slice(start, start + size)
+        rows, values = _block_rows(
+            dyn.J[block], dyn.g[block], tau_center, half, directions, options
+        )
+        scalar[block][rows] = False
+        for name, column in values.items():
+            columns[name][start + rows] = column
+    return columns, scalar
+
+
+def _block_rows(
+    J: Array,
+    g: Array,
+    tau_center: Array,
+    half: Array,
+    directions: Array,
+    options: BatchOptions,
+) -> tuple[NDArray[np.int_], dict[str, Array]]:
+    """The rows of one block this path covers (indices into the block), and their scores."""
+    m = J.shape[1]
+    M, c = force_terms(J, g, tau_center, half)  # the checks (and errors) of analyze
+    U, s, Vt = np.linalg.svd(M, full_matrices=False)  # A = V S U^T, M = A^T = U S V^T
+    ok = s[:, -1] > options.rank_rtol * (1.0 + RANK_BAND) * s[:, 0]
+    along = np.einsum("kmn,kn->km", Vt, c)
+    c_perp = c - np.einsum("kmn,km->kn", Vt, along)
+    margin = 1.0 - np.einsum("kn,kn->k", c_perp, c_perp)
+    ok &= margin > 0.0
+    # HPolytope drops the rows negligible against the others (RANK_RTOL): no constraint
+    norms = np.linalg.norm(M, axis=1)  # |a_i| (K, n)
+    used = norms > RANK_RTOL * norms.max(axis=-1, keepdims=True)
+    vertices = _vertices(Vt, c_perp, used)
+    ok &= vertices.general
+    volume_z = vertices.volume
+    keep = np.flatnonzero(ok)
+    if not keep.size:
+        return keep, {}
+    M, c, U, s, Vt, c_perp = M[keep], c[keep], U[keep], s[keep], Vt[keep], c_perp[keep]
+    J, g, along, margin = J[keep], g[keep], along[keep], margin[keep]
+    z, is_vertex, facet = vertices.z[keep], vertices.is_vertex[keep], vertices.facet[keep]
+    h0 = -np.einsum("kij,kj->ki", U, along / s)
+    volume_p = volume_z[keep] / np.prod(s, axis=-1)
+
+    # The rows as unit normals: n_i . h in [(-1 - c_i) / |a_i|, (1 - c_i) / |a_i|]; about
+    # h0, n_i . (h - h0) in [-1 - cp_i, 1 - cp_i] / |a_i|.
+    A = np.swapaxes(M, 1, 2)  # (k, n, m)
+    norms, used = norms[keep], used[keep]
+    with np.errstate(divide="ignore"):
+        width = np.where(used, 1.0 / norms, np.inf)
+    normals = np.where(used[..., None], A * np.where(used, width, 0.0)[..., None], 0.0)
+    # Every one-sided facet (2n): unit normals, offsets about h0 and from the origin.
+    facet_normals = np.concatenate([normals, -normals], axis=1)
+    about_h0 = np.concatenate([(1.0 - c_perp) * width, (1.0 + c_perp) * width], axis=1)
+    from_origin = np.concatenate([(1.0 - c) * width, (1.0 + c) * width], axis=1)
+    points = h0[:, None, :] + np.einsum("kij,kvj->kvi", U, z / s[:, None, :])  # (k, V, m)
+    extent = np.max(
+        np.where(is_vertex, np.linalg.norm(points - h0[:, None, :], axis=-1), 0.0), axis=-1
+    )
+    center_norm = np.linalg.norm(h0, axis=-1)
+    terms = m + 2  # HPolytope's facet terms
+
+    rows: dict[str, Array] = {
+        "polytope_dim": np.full(len(keep), float(m)),
+        "polytope_volume": volume_p,
+        "polytope_ball_radius": np.maximum(0.0, np.min(np.where(facet, about_h0, np.inf), -1)),
+        "polytope_origin_radius": _origin_radius(facet, about_h0, from_origin, extent, h0),
+    }
+    # The directional limits: each row a pair about its own midpoint -c_i / |a_i|.
+    reach = 2.0 * (center_norm + extent)
+    slack = facet_slack(width, reach[:, None], terms)
+    floor = rounding_floor(reach[:, None], terms)
+    midpoints = np.where(used, -c * np.where(used, width, 0.0), 0.0)
+
+    ellipsoids = _ellipsoids(J, g, tau_center, half, U, s, h0, margin)
+    unit_ball = unit_ball_volume(m)
+    records = []
+    for kind, (center, axes, semi) in ellipsoids.items():
+        shift = center - h0
+        reach_e = np.linalg.norm(
+            np.einsum("kfm,kmj->kfj", facet_normals, axes) * semi[:, None], axis=-1
+        )
+        slacks = about_h0 - np.einsum("kfm,km->kf", facet_normals, shift)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            scale = np.min(np.where(facet, slacks / reach_e, np.inf), axis=-1)
+        local = np.einsum("kvm,kmj->kvj", points - center[:, None, :], axes) / semi[:, None, :]
+        enclosing = np.max(np.where(is_vertex, np.linalg.norm(local, axis=-1), 0.0), axis=-1)
+        volume = unit_ball * np.prod(semi, axis=-1)
+        bound = np.maximum(np.maximum(center_norm, np.linalg.norm(center, axis=-1)), extent)
+        rtol = np.maximum(INSIDE_RTOL, scale_rtol(bound, np.min(semi, axis=-1), m, 2))
+        coverage, overreach, coverage_err, overreach_err = _shares(
+            scale >= 1.0 - rtol,
+            enclosing <= 1.0 + rtol,
+            volume / volume_p,
+            (axes, semi, facet_normals, slacks, facet),
+            options,
+        )
+        # tau_n = A (h - h0) + c_perp: at the centre, and its spread over the boundary.
+        at_center = np.einsum("knm,km->kn", A, shift) + c_perp
+        spread = np.linalg.norm(np.einsum("knm,kmj->knj", A, axes) * semi[:, None, :], axis=-1)
+        records.append(
+            (
+                kind,
+                {
+                    "dimension": np.full(len(keep), float(m)),
+                    "volume": volume,
+                    "inscribed_scale": scale,
+                    "enclosing_scale": enclosing,
+                    "coverage": coverage,
+                    "coverage_stderr": coverage_err,
+                    "overreach": overreach,
+                    "overreach_stderr": overreach_err,
+                    "witness_torque_max": np.max(np.abs(at_center) + spread, axis=-1),
+                },
+            )
+        )
+    statistics = direction_scores(
+        normals, width, midpoints, slack, floor, list(ellipsoids.values()), directions
+    )
+    for (kind, record), stats in zip(records, statistics, strict=True):
+        rows |= {f"{kind}_{name}": value for name, value in (record | stats).items()}
+    return keep, rows
+
+
+class _Vertices(NamedTuple):
+    """The vertices of a block's force sets in whitened coordinates, and their volume.
+
+    Attributes
+    ----------
+    z : ndarray, shape (K, P, m)
+        Every candidate (P = C(n, m) 2^m); the vertices are those marked in ``is_vertex``.
+    is_vertex : ndarray of bool, shape (K, P)
+    facet : ndarray of bool, shape (K, 2n)
+        The one-sided rows (``+row`` then ``-row``) tight at some vertex: the facets.
+    general : ndarray of bool, shape (K,)
+        Vertices in general position and a volume both evaluations agree on.
+    volume : ndarray, shape (K,)
+        The volume in whitened coordinates (NaN where not ``general``).
+    """
+
+    z: Array
+    is_vertex: NDArray[np.bool_]
+    facet: NDArray[np.bool_]
+    general: NDArray[np.bool_]
+    volume: Array
+
+
+def _vertices(Vt: Array, c_perp: Array, used: NDArray[np.bool_]) -> _Vertices:
+    r"""Vertices of ``{z : |V z + c_perp|_inf <= 1}`` for a block, by every m rows and signs.
+
+    Rows not ``used`` (negligible, as :class:`~polyell.HPolytope` decides) constrain nothing.
+
+    Rows ``S`` and signs ``sigma`` give ``V_S z = sigma - c_perp,S``; the point is a vertex
+    when every row holds.  With the outward normals ``N = diag(sigma) V_S`` and a generic
+    direction ``w = N^T gamma``, Lawrence's formula gives the volume of a simple polytope,
+    ``sum (w . z)^m / (m! |det N| prod gamma)`` over the vertices (about an interior
+    point: h0 is ``z = 0``).
+    """
+    K, m, n = Vt.shape
+    V = np.where(used[..., None], np.swapaxes(Vt, 1, 2), 0.0)  # (K, n, m)
+    chosen = subsets(n, m)  # (C, m)
+    signs = np.array(np.meshgrid(*[[1.0, -1.0]] * m, indexing="ij")).reshape(m, -1).T
+    blocks = V[:, chosen, :]  # (K, C, m, m)
+    lengths = np.linalg.norm(blocks, axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        unit = blocks / lengths[..., None]
+        spans = np.abs(np.linalg.det(unit))  # NaN with a zero row: never a vertex
+    solvable = spans > DEPENDENT
+    safe = np.where(solvable[..., None, None], blocks, np.eye(m))
+    rhs = signs[None, None, :, :] - c_perp[:, chosen][:, :, None, :]  # (K, C, 2^m, m)
+    z = np.linalg.solve(safe, np.swapaxes(rhs, -1, -2))  # (K, C, m, 2^m)
+    z = np.swapaxes(z, -1, -2)  # (K, C, 2^m, m)
+    values = np.einsum("kcsm,knm->kcsn", z, V) + c_perp[:, None, None, :]
+    magnitude = np.abs(values)
+    feasible = (magnitude <= 1.0 + GENERAL_POSITION).all(axis=-1) & solvable[..., None]
+    near = magnitude >= 1.0 - GENERAL_POSITION
+    crowded = near.sum(axis=-1) > m  # another row tight to rounding: degenerate
+    # m nearly dependent rows elsewhere could hide a vertex: left to cddlib as well
+    spans_ok = (solvable | ~np.isfinite(spans) | (lengths.min(axis=-1) == 0)).all(axis=-1)
+    general = ~(feasible & crowded).any(axis=(1, 2)) & spans_ok
+    is_vertex = feasible & ~crowded
+    plus = np.any(is_vertex[..., None] & near & (values > 0), axis=(1, 2))
+    minus = np.any(is_vertex[..., None] & near & (values < 0), axis=(1, 2))
+    facet = np.concatenate([plus, minus], axis=-1)
+
+    # Lawrence: gamma solves N^T gamma = w; |det N| = |det V_S|.
+    factor = 1.0 / math.factorial(m)
+    volumes = []
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        det = np.abs(np.linalg.det(safe))[..., None]  # (K, C, 1)
+        for w in _DIRECTIONS[:, :m]:
+            w = w / np.linalg.norm(w)
+            gamma = np.linalg.solve(
+                np.swapaxes(safe, -1, -2), np.broadcast_to(w, (K, len(chosen), m))[..., None]
+            )[..., 0]  # for sigma = +1
+            # diag(sigma) V_S: gamma_sigma = sigma * gamma
+            products = np.prod(gamma, axis=-1)[..., None] * np.prod(signs, axis=-1)  # (K, C, 2^m)
+            heights = np.einsum("kcsm,m->kcs", z, w)
+            term = heights**m / (det * products)
+            volumes.append(factor * np.sum(np.where(is_vertex, term, 0.0), axis=(1, 2)))
+    first, second = volumes
+    general &= np.abs(first - second) <= VOLUME_RTOL * np.abs(first)
+    general &= first > 0
+    return _Vertices(
+        z.reshape(K, -1, m),
+        is_vertex.reshape(K, -1),
+        facet,
+        general,
+        np.where(general, first, np.nan),
+    )
+
+
+def _origin_radius(
+    facet: NDArray[np.bool_], about_h0: Array, from_origin: Array, extent: Array, h0: Array
+) -> Array:
+    """``HPolytope.origin_radius``: ``min b`` over the facets, NaN where 0 is outside."""
+    terms = h0.shape[-1] + 2
+    reach = np.linalg.norm(h0, axis=-1) + extent  # |0| + |centre| + size
+    slack = facet_slack(about_h0, reach[:, None], terms)
+    inside = np.all(~facet | (from_origin >= -slack), axis=-1)
+    radius = np.maximum(0.0, np.min(np.where(facet, from_origin, np.inf), axis=-1))
+    return np.where(inside, radius, np.nan)
+
+
+def _ellipsoids(
+    J: Array,
+    g: Array,
+    tau_center: Array,
+    half: Array,
+    U: Array,
+    s: Array,
+    h0: Array,
+    margin: Array,
+) -> dict[str, tuple[Array, Array, Array]]:
+    """``(centre, axes, semi-axes)`` of each force ellipsoid, as ``ForceAnalysis`` builds them."""
+    pseudo_inverse = np.linalg.pinv(np.swapaxes(J, 1, 2))  # (J^T)^+ (k, m, n)
+    classic_center = -np.einsum("kmn,kn->km", pseudo_inverse, g - tau_center)
+    classic_axes, classic_semi, _ = np.linalg.svd(pseudo_inverse * half, full_matrices=False)
+    sets = {
+        "chiacchio": (h0, U, np.sqrt(margin)[:, None] / s),
+        "yoshikawa": (classic_center, classic_axes, classic_semi),
+        "static": (np.zeros_like(h0), U, 1.0 / s),
+    }
+    return {
+        kind: (center, *canonical_axes(axes, semi)) for kind, (center, axes, semi) in sets.items()
+    }
+
+
+def _shares(
+    inside: NDArray[np.bool_],
+    around: NDArray[np.bool_],
+    ratio: Array,
+    sets: tuple[Array, Array, Array, Array, NDArray[np.bool_]],
+    options: BatchOptions,
+) -> tuple[Array, Array, Array, Array]:
+    """:func:`~polyell.comparison.metrics.overlap` per row.
+
+    Exact inside or around P, else the same quasi-Monte-Carlo counts (8 replicates of
+    ``options.samples`` points).
+    """
+    coverage = np.where(inside, np.minimum(1.0, ratio), 1.0)
+    overreach = np.where(inside, 0.0, np.maximum(0.0, 1.0 - 1.0 / ratio))
+    coverage_err, overreach_err = np.zeros_like(ratio), np.zeros_like(ratio)
+    axes, semi, normals, slacks, facet = sets
+    replicates = 8
+    for k in np.flatnonzero(~inside & ~around):
+        counts = _count_inside(
+            axes[k],
+            semi[k],
+            normals[k][facet[k]],
+            slacks[k][facet[k]],
+            options.samples,
+            replicates,
+            options.seed,
+        )
+        shares = counts / options.samples
+        share, stderr = float(shares.mean()), float(shares.std(ddof=1) / np.sqrt(replicates))
+        coverage[k] = min(1.0, share * ratio[k])
+        overreach[k] = 1.0 - share
+        coverage_err[k], overreach_err[k] = stderr * ratio[k], stderr
+    return coverage, overreach, coverage_err, overreach_err

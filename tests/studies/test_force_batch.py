@@ -1,0 +1,128 @@
+"""The force sweep path (polyell.studies.force_batch) against the scalar path, row by row.
+
+Every row it covers equals ``compare(analyze(..., capacity="force")).to_row()``: 1e-12
+relative to the value or 1, the columns of the set's volume to ten times ``VOLUME_RTOL``
+(Lawrence's formula, whose two evaluations must agree to it, against Qhull), the
+quasi-Monte-Carlo columns included (the same points, mapped by the same axes).  The rows it
+leaves to the scalar path -- singular, an empty gravity-consistent ellipsoid, vertices not
+in general position -- are those the tests build, and a sweep mixes both.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import polyell as pe
+from polyell.geometry.directions import sphere_directions
+from polyell.studies.batch import BatchOptions
+from polyell.studies.force_batch import VOLUME_RTOL, force_rows
+
+VOLUME_COLUMNS = ("polytope_volume", "_coverage", "_coverage_stderr", "_overreach")
+
+
+def arms(seed: int, K: int, m: int, n: int, gravity: float):
+    rng = np.random.default_rng(seed)
+    J = rng.normal(size=(K, m, n)) * rng.uniform(0.1, 10.0, size=(K, 1, n))
+    g = gravity * rng.normal(size=(K, n))
+    upper = rng.uniform(1.0, 3.0, n)
+    lower = -upper * rng.uniform(0.5, 1.0, n)
+    return J, g, upper, lower
+
+
+def dynamics(J, g) -> pe.Dynamics:
+    K, _, n = J.shape
+    return pe.Dynamics(J, np.broadcast_to(np.eye(n), (K, n, n)).copy(), g)
+
+
+def assert_row(columns, k, expected) -> None:
+    for name, want in expected.items():
+        got = columns[name][k]
+        if not np.isfinite(want):
+            assert got == want or (np.isnan(got) and np.isnan(want)), (k, name, got, want)
+            continue
+        scale = abs(want) if "radius" in name else max(1.0, abs(want))
+        rtol = 10 * VOLUME_RTOL if name.endswith(VOLUME_COLUMNS) else 1e-12
+        assert abs(got - want) <= rtol * max(scale, 1e-300), (k, name, got, want)
+
+
+@pytest.mark.parametrize(
+    ("m", "n", "gravity"),
+    [(2, 3, 0.3), (2, 7, 0.5), (3, 4, 0.05), (3, 7, 0.05), (3, 7, 0.6), (6, 7, 0.05)],
+)
+def test_rows_equal_compare(m, n, gravity):
+    J, g, upper, lower = arms(m * 10 + n, 24, m, n, gravity)
+    T = sphere_directions(40, m)
+    options = BatchOptions(capacity="force", samples=512, seed=3)
+    columns, scalar = force_rows(dynamics(J, g), upper, lower, T, options)
+    for k in np.flatnonzero(scalar):  # random arms are in general position: the rows left
+        # have gravity that no force balances beyond the limits (chiacchio empty)
+        analysis = pe.analyze(pe.Dynamics(J[k], np.eye(n), g[k]), upper, lower, capacity="force")
+        assert analysis.c_perp @ analysis.c_perp >= 1.0
+    for k in np.flatnonzero(~scalar):
+        analysis = pe.analyze(pe.Dynamics(J[k], np.eye(n), g[k]), upper, lower, capacity="force")
+        row = pe.compare(analysis, T, samples=512, seed=3, mvie=False, outer=False).to_row()
+        assert_row(columns, k, row)
+
+
+def test_left_to_the_scalar_path():
+    J, g, upper, lower = arms(5, 6, 3, 7, 0.05)
+    J[0] = np.outer([1.0, 2.0, 3.0], J[0, 0])  # rank 1: an unbounded set
+    g[1] = 10.0 * upper  # gravity no force balances beyond the limits: chiacchio empty
+    J[2][:, 1] = J[2][:, 0]  # two equal joints: parallel rows, vertices not in general position
+    J[3][:, 4] = 0.0  # a joint no force loads: no constraint, still in the batch
+    columns, scalar = force_rows(
+        dynamics(J, g), upper, lower, sphere_directions(8, 3), BatchOptions()
+    )
+    assert scalar.tolist() == [True, True, True, False, False, False]
+    assert np.isnan(columns["polytope_volume"][:3]).all()
+    an = pe.analyze(pe.Dynamics(J[3], np.eye(7), g[3]), upper, lower, capacity="force")
+    row = pe.compare(an, sphere_directions(8, 3), mvie=False, outer=False).to_row()
+    assert_row(columns, 3, row)
+
+
+@pytest.mark.parametrize("option", ["mvie", "outer"])
+def test_the_optimal_ellipsoids_take_the_scalar_path(option):
+    J, g, upper, lower = arms(6, 3, 2, 3, 0.1)
+    options = BatchOptions(capacity="force", **{option: True})
+    _, scalar = force_rows(dynamics(J, g), upper, lower, sphere_directions(8, 2), options)
+    assert scalar.all()
+
+
+def test_volume_against_the_hull_of_brute_force_vertices():
+    # An independent computation: every m rows and signs solved by lstsq, kept where all
+    # rows hold, and the volume of their convex hull (Qhull) -- not the scalar path's cdd.
+    from itertools import combinations, product
+
+    from scipy.spatial import ConvexHull
+
+    J, g, upper, lower = arms(8, 10, 3, 6, 0.3)
+    columns, scalar = force_rows(
+        dynamics(J, g), upper, lower, sphere_directions(8, 3), BatchOptions()
+    )
+    center, half = (upper + lower) / 2, (upper - lower) / 2
+    for k in np.flatnonzero(~scalar):
+        A, c = (J[k] / half).T, (g[k] - center) / half
+        points = []
+        for rows in combinations(range(6), 3):
+            for signs in product((1.0, -1.0), repeat=3):
+                h = np.linalg.lstsq(A[list(rows)], np.array(signs) - c[list(rows)], rcond=None)[0]
+                if np.all(np.abs(A @ h + c) <= 1 + 1e-9):
+                    points.append(h)
+        volume = ConvexHull(np.array(points)).volume
+        assert columns["polytope_volume"][k] == pytest.approx(volume, rel=1e-9)
+
+
+def test_sweep_mixes_both_paths_and_refuses_what_analyze_refuses():
+    J, g, upper, lower = arms(9, 8, 3, 7, 0.05)
+    J[2][:, 1] = J[2][:, 0]
+    dyn = dynamics(J, g)
+    frame = pe.sweep(dyn, tau_max=upper, tau_min=lower, capacity="force", directions=16, samples=64)
+    for k in (1, 2):
+        an = pe.analyze(dyn[k], upper, lower, capacity="force")
+        row = pe.compare(an, 16, samples=64, mvie=False, outer=False).to_row()
+        kept = {name: value for name, value in row.items() if name in frame.columns}
+        assert_row({name: frame[name].to_numpy() for name in kept}, k, kept)
+    g[4] = 1e200
+    with pytest.raises(pe.InputError, match=r"dyn\.g"):
+        pe.sweep(dynamics(J, g), tau_max=upper, tau_min=lower, capacity="force")
