@@ -274,7 +274,13 @@ def _count_inside(
     points, radii, replicate = _sorted_ball_points(rank, samples, replicates, seed)
     start = int(np.searchsorted(radii, radius, side="right")) if radius > 0 else 0
     offsets = (points[start:] * semi_axes) @ axes.T  # about E's centre
-    outside = ~np.all(offsets @ A[crossing].T <= slack[crossing], axis=1)
+    # each facet only on the points beyond its own radius (the copy of E it holds)
+    holds = np.where(scales > 0.0, scales, 0.0) * (1.0 - 1e-12)  # NaN: test every point
+    firsts = np.searchsorted(radii, holds, side="right")
+    outside = np.zeros(len(offsets), dtype=bool)
+    for i in np.flatnonzero(crossing):
+        tail = outside[firsts[i] - start :]
+        tail |= offsets[firsts[i] - start :] @ A[i] > slack[i]
     missed = np.bincount(replicate[start:][outside], minlength=replicates)
     return samples - missed
 

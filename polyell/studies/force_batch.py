@@ -162,7 +162,7 @@ def _block_rows(
     facet_normals = np.concatenate([normals, -normals], axis=1)
     about_h0 = np.concatenate([(1.0 - c_perp) * width, (1.0 + c_perp) * width], axis=1)
     from_origin = np.concatenate([(1.0 - c) * width, (1.0 + c) * width], axis=1)
-    points = h0[:, None, :] + np.einsum("kij,kvj->kvi", U, z / s[:, None, :])  # (k, V, m)
+    points = h0[:, None, :] + (z / s[:, None, :]) @ np.swapaxes(U, 1, 2)  # (k, V, m)
     extent = np.max(
         np.where(is_vertex, np.linalg.norm(points - h0[:, None, :], axis=-1), 0.0), axis=-1
     )
@@ -186,13 +186,11 @@ def _block_rows(
     records = []
     for kind, (center, axes, semi) in ellipsoids.items():
         shift = center - h0
-        reach_e = np.linalg.norm(
-            np.einsum("kfm,kmj->kfj", facet_normals, axes) * semi[:, None], axis=-1
-        )
+        reach_e = np.linalg.norm((facet_normals @ axes) * semi[:, None], axis=-1)
         slacks = about_h0 - np.einsum("kfm,km->kf", facet_normals, shift)
         with np.errstate(divide="ignore", invalid="ignore"):
             scale = np.min(np.where(facet, slacks / reach_e, np.inf), axis=-1)
-        local = np.einsum("kvm,kmj->kvj", points - center[:, None, :], axes) / semi[:, None, :]
+        local = ((points - center[:, None, :]) @ axes) / semi[:, None, :]
         enclosing = np.max(np.where(is_vertex, np.linalg.norm(local, axis=-1), 0.0), axis=-1)
         volume = unit_ball * np.prod(semi, axis=-1)
         bound = np.maximum(np.maximum(center_norm, np.linalg.norm(center, axis=-1)), extent)
@@ -206,7 +204,7 @@ def _block_rows(
         )
         # tau_n = A (h - h0) + c_perp: at the centre, and its spread over the boundary.
         at_center = np.einsum("knm,km->kn", A, shift) + c_perp
-        spread = np.linalg.norm(np.einsum("knm,kmj->knj", A, axes) * semi[:, None, :], axis=-1)
+        spread = np.linalg.norm((A @ axes) * semi[:, None, :], axis=-1)
         records.append(
             (
                 kind,
@@ -279,7 +277,7 @@ def _vertices(Vt: Array, c_perp: Array, used: NDArray[np.bool_]) -> _Vertices:
     rhs = signs[None, None, :, :] - c_perp[:, chosen][:, :, None, :]  # (K, C, 2^m, m)
     z = np.linalg.solve(safe, np.swapaxes(rhs, -1, -2))  # (K, C, m, 2^m)
     z = np.swapaxes(z, -1, -2)  # (K, C, 2^m, m)
-    values = np.einsum("kcsm,knm->kcsn", z, V) + c_perp[:, None, None, :]
+    values = (z @ np.swapaxes(V, 1, 2)[:, None]) + c_perp[:, None, None, :]
     magnitude = np.abs(values)
     feasible = (magnitude <= 1.0 + GENERAL_POSITION).all(axis=-1) & solvable[..., None]
     near = magnitude >= 1.0 - GENERAL_POSITION
@@ -304,7 +302,7 @@ def _vertices(Vt: Array, c_perp: Array, used: NDArray[np.bool_]) -> _Vertices:
             )[..., 0]  # for sigma = +1
             # diag(sigma) V_S: gamma_sigma = sigma * gamma
             products = np.prod(gamma, axis=-1)[..., None] * np.prod(signs, axis=-1)  # (K, C, 2^m)
-            heights = np.einsum("kcsm,m->kcs", z, w)
+            heights = z @ w
             term = heights**m / (det * products)
             volumes.append(factor * np.sum(np.where(is_vertex, term, 0.0), axis=(1, 2)))
     first, second = volumes
