@@ -82,7 +82,8 @@ class BatchOptions:
     capacity : str
         The capacity of :func:`polyell.analyze` (``"acceleration"``, ``"velocity"``,
         ``"force"``); the batch path computes accelerations, velocities as accelerations of
-        an arm with ``B = I`` and no gravity (the same zonotope), forces on the scalar path.
+        an arm with ``B = I`` and no gravity (the same zonotope); forces take
+        :func:`polyell.studies.force_batch.force_rows`.
     samples, seed : int
         Quasi-Monte-Carlo points per replicate and their seed, as in
         :func:`polyell.compare`: used by the rows that take the scalar path (an ellipsoid

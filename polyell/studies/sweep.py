@@ -428,7 +428,8 @@ def sweep(
         As in :func:`polyell.analyze`: the columns are ``<kind>_<score>`` over the
         capacity's own kinds (``static_*`` for forces).  Velocities take ``qd_max`` and
         ``qd_min`` (default the robot's own, ``robot.velocity_limits()``) instead of torque
-        limits; forces are computed configuration by configuration (the scalar path).
+        limits; forces take their own batch path
+        (:mod:`polyell.studies.force_batch`).
     qd_max, qd_min : array-like, shape (n,), optional
         Joint velocity limits [rad/s] of the velocity capacity.
 

@@ -209,10 +209,10 @@ def bench_capacities(repeats: int) -> list[str]:
 def sweep_rates(repeats: int) -> list[str]:
     """Section (o): pe.sweep at its defaults per capacity on random 3x7 arms, and the force cost.
 
-    The three capacities are timed alternately in one run; then the force rows' time is
-    split: the polytope (cddlib, the volume by Qhull), the quasi-Monte-Carlo coverage of
-    the ellipsoids that leave it (``overlap``'s counts alone, on the same ellipsoids), and
-    the remainder of ``compare``.
+    The three capacities and a force ``compare`` per configuration (the scalar path) are
+    timed alternately in one run; then the force rows' time is split: the
+    quasi-Monte-Carlo coverage of the ellipsoids that leave the set (``overlap``'s counts
+    alone, on the same ellipsoids) and the rest of the batch path.
     """
     from polyell.comparison.metrics import (
         _count_inside,
@@ -229,11 +229,19 @@ def sweep_rates(repeats: int) -> list[str]:
         J, np.broadcast_to(np.eye(7), (K, 7, 7)).copy(), 0.05 * rng.normal(size=(K, 7))
     )
     high = rng.uniform(1.0, 3.0, 7)
-    counts = {"acceleration": K, "velocity": K, "force": 400}
+    counts = {"acceleration": K, "velocity": K, "force": K, "force, one compare per row": 200}
+    per_row = dyn[: counts["force, one compare per row"]]
+
+    def one_compare_per_row() -> None:  # what a force sweep did before its batch path
+        for k in range(len(per_row)):
+            an = pe.analyze(per_row[k], high, capacity="force")
+            pe.compare(an, mvie=False, outer=False).to_row()
+
     calls = {
         "acceleration": lambda: pe.sweep(dyn, tau_max=high),
         "velocity": lambda: pe.sweep(dyn, capacity="velocity", qd_max=high),
-        "force": lambda: pe.sweep(dyn[: counts["force"]], tau_max=high, capacity="force"),
+        "force": lambda: pe.sweep(dyn, tau_max=high, capacity="force"),
+        "force, one compare per row": one_compare_per_row,
     }
     times = timed_alternately(list(calls.values()), repeats)
     lines = [
@@ -242,9 +250,11 @@ def sweep_rates(repeats: int) -> list[str]:
         "Sweeps at their defaults (`pe.sweep(dyn, ..., capacity=...)`: 256 directions, "
         "2^13 x 8 quasi-Monte-Carlo points where an ellipsoid leaves the set, no MVIE or "
         "outer ellipsoid), random 3x7 arms with B = I, g = 0.05 N(0, 1), symmetric limits; "
-        f"2,000 configurations, forces {counts['force']}; {repeats} repeats alternately, "
-        "one core, configurations/s median (min – max). Target for forces (issue 21): "
-        "10,000/s.",
+        f"{K:,} configurations, and beside them `pe.compare(pe.analyze(..., "
+        "capacity='force')).to_row()` one configuration at a time (the scalar path, what "
+        f"force sweeps did before their batch path) on {counts['force, one compare per row']}; "
+        f"{repeats} repeats alternately, one core, configurations/s median (min – max). "
+        "Target for forces (issue 21): 10,000/s.",
         "",
         "| capacity | configurations/s |",
         "|---|---|",
@@ -254,45 +264,41 @@ def sweep_rates(repeats: int) -> list[str]:
         lines.append(
             f"| {name} | {np.median(rates):,.0f} ({rates.min():,.0f} – {rates.max():,.0f}) |"
         )
-    force = dyn[: counts["force"]]
-    analyses = [pe.analyze(force[k], high, capacity="force") for k in range(len(force))]
-    polytopes = [an.polytope for an in analyses]
+    from polyell.studies.batch import BatchOptions
+    from polyell.studies.force_batch import force_rows
+
+    _, scalar = force_rows(dyn, high, -high, sphere_directions(256, 3), BatchOptions())
+    analyses = [pe.analyze(dyn[k], high, capacity="force") for k in range(K)]
     work = []
-    for an, P in zip(analyses, polytopes, strict=True):
+    for an in analyses:
+        if an.c_perp @ an.c_perp >= 1.0:
+            continue
+        P = an.polytope
         for kind in an.ellipsoid_kinds:
             E = an.ellipsoid(kind)
             tolerance = inside_rtol(E, P)
             if inscribed_scale(E, P) < 1 - tolerance and enclosing_scale(E, P) > 1 + tolerance:
                 work.append((E, P.A, _slacks(E, P)))
 
-    def build_polytopes() -> None:
-        for k in range(len(force)):
-            P = pe.analyze(force[k], high, capacity="force").polytope
-            _ = P.volume
-
     def count_points() -> None:
         for E, A, slack in work:
             _count_inside(E.axes, E.semi_axes, A, slack, 2**13, 8, 0)
 
-    split = timed_alternately([build_polytopes, count_points], repeats)
-    total = np.median(times[2]) / counts["force"] * 1e3
-    polytope, points = (np.median(t) / counts["force"] * 1e3 for t in split)
-    rest = total - polytope - points
+    (points_times,) = timed_alternately([count_points], repeats)
+    total = np.median(times[2]) / K * 1e3
+    points = np.median(points_times) / K * 1e3
     lines += [
         "",
-        f"Where a force row's {total:.2f} ms go (medians, ms per configuration): the "
-        f"polytope (cddlib about the centre h0, its volume by Qhull) {polytope:.2f}; the "
-        "quasi-Monte-Carlo coverage of the ellipsoids that leave it "
-        f"({len(work) / counts['force']:.2f} per configuration: the classic ellipsoid "
-        "nearly always, the static one sometimes; the gravity-consistent one is inside by "
-        f"construction) {points:.2f}; the rest of `compare` (the ellipsoids, directional "
-        f"limits of 256 directions, scales, witnesses, Python per row) {rest:.2f}. "
-        "10,000/s is 0.1 ms per configuration: the quasi-Monte-Carlo counts alone, on the "
-        "points they must test (outside the largest scaled copy of the ellipsoid inside "
-        "the set, against the facets it crosses), allow "
-        f"{1.0 / points * 1e3:,.0f}/s, so a batch force path (vertices, volume, limits and "
-        "ellipsoids vectorised over configurations) would be bounded by them at the "
-        "default 2^13 x 8 points.",
+        f"Where a force row's {total:.3f} ms go (medians, ms per configuration): the "
+        "quasi-Monte-Carlo coverage of the ellipsoids that leave the set "
+        f"({len(work) / K:.2f} per configuration: the classic ellipsoid nearly always, the "
+        "static one sometimes; the gravity-consistent one is inside by construction) "
+        f"{points:.3f}; the rest {total - points:.3f} (vertices, Lawrence volume, scales, "
+        "256 directional limits and witnesses batched over configurations, and the "
+        f"{int(scalar.sum())} of {K:,} rows the batch leaves to the scalar path). 10,000/s "
+        "is 0.1 ms per configuration: the quasi-Monte-Carlo counts alone, on the points "
+        "they must test (beyond the largest scaled copy of the ellipsoid inside each "
+        f"facet), allow {1.0 / points * 1e3:,.0f}/s at the default 2^13 x 8 points.",
         "",
     ]
     return lines
