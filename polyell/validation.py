@@ -368,6 +368,7 @@ def check_magnitudes(
     xg: NDArray[np.float64],
     argument: str | None = None,
     quantity: tuple[str, str, str] = ("accelerations", "the generators M (eq. 14)", "xg (eq. 8)"),
+    limits: str = "tau_max",
 ) -> None:
     """Refuse accelerations too large or too small for floating point (issue 15).
 
@@ -384,6 +385,9 @@ def check_magnitudes(
     quantity : (str, str, str)
         What the sets hold and what ``M`` and ``xg`` are, for the messages (the velocity
         and force capacities name theirs).
+    limits : {"tau_max", "qd_max"}
+        The joint limits the sets come from (torques, or the velocity capacity's joint
+        velocities): the messages name them with ``dyn`` and say how to rescale them.
 
     Raises
     ------
@@ -410,19 +414,22 @@ def check_magnitudes(
         if bad.any():
             k = int(np.flatnonzero(bad)[0])
             where = f" (configuration {k} of the batch)" if np.ndim(size) else ""
+            if argument:
+                fix = "scale the generators and the centre together."
+            elif limits == "qd_max":
+                fix = "scale the rows of J, or the joint velocity limits qd_max and qd_min."
+            else:
+                fix = (
+                    "scale the rows of J (and Jdot qdot), or the torque limits together "
+                    "with the gravity torques."
+                )
             raise InputError(
-                argument or "dyn",
+                argument or f"dyn or {limits}",
                 f"{what_sets} of size within 1e-{limit}..1e{limit} in a "
                 f"{m}-dimensional task, so that volumes in (unit)^{m} stay representable",
                 f"{what} of size {float(np.atleast_1d(size)[k]):.3g}{where}"
                 + ("" if np.isfinite(np.atleast_1d(size)[k]) else " (an overflow)"),
-                "express the task in other units: "
-                + (
-                    "scale the generators and the centre together."
-                    if argument
-                    else "scale the rows of J (and Jdot qdot), or the torque limits together "
-                    "with the gravity torques."
-                ),
+                "express the task in other units: " + fix,
             )
     tiny = np.atleast_1d((size_m > 0) & (size_m < MIN_RELATIVE_EXTENT * size_x))
     if tiny.any():
@@ -437,6 +444,15 @@ def check_magnitudes(
                 f"of size {float(np.atleast_1d(size_x)[k]):.3g}",
                 "shift the set so that its centre is near the origin (limits are taken "
                 "along lines through it).",
+            )
+        if limits == "qd_max":
+            raise InputError(
+                "qd_max",
+                f"a joint velocity box wider than {MIN_RELATIVE_EXTENT:.1e} of its centre's "
+                "image, so that the polytope's points are resolved in floating point",
+                f"{what_m} of size {float(np.atleast_1d(size_m)[k]):.3g} against the centre "
+                f"{what_x} of size {float(np.atleast_1d(size_x)[k]):.3g}{where}",
+                "give qd_max and qd_min that differ by more than their rounding.",
             )
         raise InputError(
             "tau_max",

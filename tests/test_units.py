@@ -225,5 +225,5 @@ def test_a_sweep_whose_accelerations_overflow_is_refused_without_a_warning(j, b,
     )
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        with pytest.raises(pe.InputError, match="dyn: expected accelerations of size"):
+        with pytest.raises(pe.InputError, match="dyn or tau_max: expected accelerations of size"):
             pe.sweep(dyn, tau_max=np.full(n, tau), directions=8)

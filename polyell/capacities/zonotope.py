@@ -47,7 +47,7 @@ class ZonotopeAnalysis(Analysis):
 
     def _set_generators(self, M: NDArray[np.float64], xg: NDArray[np.float64], rtol: float) -> None:
         if self.capacity == "velocity":
-            check_magnitudes(M, xg, quantity=("velocities", "J L_v", "J qd_c"))
+            check_magnitudes(M, xg, quantity=("velocities", "J L_v", "J qd_c"), limits="qd_max")
         else:
             check_magnitudes(M, xg)
         self.M, self.xg = M, xg

@@ -289,7 +289,10 @@ def block_sets(
         Binv_Jt = np.linalg.solve(B, np.swapaxes(J, -1, -2))  # (K, n, m); B is symmetric
         M = np.swapaxes(Binv_Jt, -1, -2) * half
         xg = xdd_bias - np.einsum("knm,kn->km", Binv_Jt, bias)
-    check_magnitudes(M, xg)
+    if options.capacity == "velocity":  # the zonotope of an arm with B = I, no gravity
+        check_magnitudes(M, xg, quantity=("velocities", "J L_v", "J qd_c"), limits="qd_max")
+    else:
+        check_magnitudes(M, xg)
     if m > n:
         return None, np.ones(K, dtype=bool)
     U, s, Vt = np.linalg.svd(M, full_matrices=False)

@@ -309,6 +309,27 @@ def test_velocity_limits_missing_misplaced_or_non_positive_are_refused():
         pe.analyze(dyn, [1.0, 1.0], qd_max=[1.0, 1.0])
 
 
+def test_limits_too_small_for_floating_point_are_named_with_their_fix():
+    J = np.random.default_rng(0).normal(size=(3, 7))
+    tiny = np.full(7, 1e-200)
+    with pytest.raises(pe.InputError, match=r"dyn or qd_max: .*joint velocity limits qd_max"):
+        pe.analyze(pe.Kinematics(J), capacity="velocity", qd_max=tiny)
+    with pytest.raises(pe.InputError, match=r"dyn or qd_max: .*joint velocity limits qd_max"):
+        pe.sweep(
+            pe.Dynamics(J[None], np.eye(7)[None], np.zeros((1, 7))),
+            capacity="velocity",
+            qd_max=tiny,
+        )
+    with pytest.raises(pe.InputError, match="qd_max: expected a joint velocity box wider"):
+        pe.analyze(
+            pe.Kinematics(J), capacity="velocity", qd_max=np.full(7, 1.0 + 1e-15), qd_min=np.ones(7)
+        )
+    dyn = pe.Dynamics(J, np.eye(7), np.zeros(7))
+    for capacity in ("acceleration", "force"):
+        with pytest.raises(pe.InputError, match=r"dyn or tau_max: .*the torque limits together"):
+            pe.analyze(dyn, tiny, capacity=capacity)
+
+
 def test_force_needs_gravity_torques():
     with pytest.raises(pe.InputError, match="dyn: expected dynamics with gravity torques"):
         pe.analyze(pe.Kinematics(np.eye(2)), [1.0, 1.0], capacity="force")
