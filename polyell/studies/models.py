@@ -812,6 +812,13 @@ inverse_at = "lo"'''
         what="Joint angles [rad]; several robots: `{ panda = [...], ur5 = [...] }`.",
         example='["pi/2", "-pi/2", "-pi/2"]',
     )
+    qd: JointAngles | None = key(
+        None,
+        what="Joint velocities [rad/s] of a URDF robot in motion (accelerations and forces): "
+        "the torque limits at qd from its torque-speed curves, and its Coriolis terms.",
+        example="[0.5, 0, -1, 0, 0, 0, 0]",
+        default_text="at rest",
+    )
     directions: Directions | None = key(
         None,
         what="Directions of the reported limits: names of task rows or unit vectors.",

@@ -30,6 +30,7 @@ from polyell.comparison.tables import (
 )
 from polyell.errors import InputError
 from polyell.models.task import task_unit
+from polyell.models.urdf import UrdfRobot
 from polyell.report import format_analysis
 from polyell.storage import (
     existing_parts,
@@ -102,12 +103,19 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
 
 
 def _analyze_point(spec: StudySpec, point: Point, capacity: str) -> Analysis:
+    """A point's analysis; in motion (``qd``, a URDF robot) with the torque limits at qd."""
     robot = _robot_of(spec, point.robot)
-    dynamics = robot.model.dynamics(point.q)
     if capacity == "velocity":
         qd_max, qd_min = robot.velocity_limits()
+        dynamics = robot.model.dynamics(point.q)
         return analyze(dynamics, capacity=capacity, qd_max=qd_max, qd_min=qd_min)
-    return analyze(dynamics, robot.tau_max, robot.tau_min, capacity=capacity)
+    if point.qd is None:
+        dynamics = robot.model.dynamics(point.q)
+        return analyze(dynamics, robot.tau_max, robot.tau_min, capacity=capacity)
+    assert isinstance(robot.model, UrdfRobot)  # checked at load
+    tau_max, tau_min = robot.torque_limits(point.qd)
+    dynamics = robot.model.dynamics(point.q, point.qd)
+    return analyze(dynamics, tau_max, tau_min, capacity=capacity)
 
 
 def _run_points_capacity(
@@ -136,11 +144,20 @@ def _run_points_capacity(
             candidates=spec.candidates,
         )
         q_text = ", ".join(f"{v:.6g}" for v in point.q)
+        motion = []
+        if point.qd is not None:
+            limits = "; ".join(
+                f"{name} = ({', '.join(f'{v:.6g}' for v in values)})"
+                for name, values in analysis.joint_limits().items()
+            )
+            qd_text = ", ".join(f"{v:.6g}" for v in point.qd)
+            motion = [f"qd = ({qd_text}) rad/s; torque limits at qd [N m]: {limits}", ""]
         numbers += [
             f"## {point.label}{': ' + point.title if point.title else ''}",
             "",
             f"q = ({q_text}) rad",
             "",
+            *motion,
             "```text",
             _along_directions(analysis, point),
             "```",

@@ -262,6 +262,8 @@ class Point:
         Figure title.
     robot : str
         The robot's name in a study of several robots, ``""`` in a study of one.
+    qd : ndarray, shape (n,), or None
+        Joint velocities [rad/s] of a robot in motion (a URDF robot); None: at rest.
     """
 
     name: str
@@ -271,6 +273,7 @@ class Point:
     inverse_at: Literal["lo", "hi"] = "hi"
     title: str = ""
     robot: str = ""
+    qd: NDArray[np.float64] | None = None
 
     @property
     def direction(self) -> NDArray[np.float64]:
@@ -443,42 +446,49 @@ def _directions(
 
 
 def _point_q(
-    table: models.PointTable, where: str, robot: Robot, names: list[str] | None
+    table: models.PointTable,
+    where: str,
+    robot: Robot,
+    names: list[str] | None,
+    field: Literal["q", "qd"] = "q",
 ) -> NDArray[np.float64]:
-    """The point's joint angles on ``robot`` (``names``: the robots of ``[[robots]]``)."""
+    """The point's joint angles (or ``qd``) on ``robot`` (``names``: those of ``[[robots]]``)."""
     n = robot.model.n
-    key = f"{where}.q"
-    if isinstance(table.q, dict):
+    key = f"{where}.{field}"
+    given = table.q if field == "q" else table.qd
+    what = "joint angles" if field == "q" else "joint velocities"
+    if isinstance(given, dict):
         if names is None:
             raise InputError(
                 key,
-                f"a list of {n} joint angles (a table of them per robot needs [[robots]])",
-                f"a table with keys {sorted(table.q)}",
+                f"a list of {n} {what} (a table of them per robot needs [[robots]])",
+                f"a table with keys {sorted(given)}",
             )
-        unknown = sorted(set(table.q) - set(names))
-        missing = [name for name in names if name not in table.q]
+        unknown = sorted(set(given) - set(names))
+        missing = [name for name in names if name not in given]
         if unknown or missing:
             from polyell.studies.models import did_you_mean
 
             raise InputError(
                 key,
-                f"one list of joint angles per robot {names}",
+                f"one list of {what} per robot {names}",
                 f"unknown robot(s) {unknown}" if unknown else f"none for {missing}",
                 did_you_mean(unknown, names),
             )
-        values, key = table.q[robot.name], f"{key}.{robot.name}"
+        values, key = given[robot.name], f"{key}.{robot.name}"
     else:
-        values = table.q
+        assert given is not None
+        values = given
     if len(values) != n:
         several = names is not None and len(names) > 1
         raise InputError(
             key,
-            f"{n} joint angles" + (f" (robot {robot.name!r})" if several else ""),
+            f"{n} {what}" + (f" (robot {robot.name!r})" if several else ""),
             f"{len(values)}",
-            "give q per robot: q = { "
+            f"give {field} per robot: {field} = {{ "
             + ", ".join(f"{name} = [...]" for name in names or ())
             + " }."
-            if several and not isinstance(table.q, dict)
+            if several and not isinstance(given, dict)
             else "",
         )
     return np.array(values, dtype=float)
@@ -496,6 +506,7 @@ def _points(
             with _within(f"{where}.q"):
                 rows = tuple(robot.model.dynamics(q).task)
             directions, labels = _directions(table, rows, where)
+            qd = None if table.qd is None else _point_qd(table, where, robot, names)
             points.append(
                 Point(
                     table.name,
@@ -505,9 +516,27 @@ def _points(
                     table.inverse_at,
                     table.title,
                     robot.name if several else "",
+                    qd,
                 )
             )
     return tuple(points)
+
+
+def _point_qd(
+    table: models.PointTable, where: str, robot: Robot, names: list[str] | None
+) -> NDArray[np.float64]:
+    """A moving point's joint velocities [rad/s]: a URDF robot's (Pinocchio's Coriolis terms)."""
+    if not isinstance(robot.model, UrdfRobot):
+        raise InputError(
+            f"{where}.qd",
+            "a URDF robot (its Coriolis and centrifugal torques come from Pinocchio)",
+            "qd for a planar arm",
+            "the planar arm is modelled at rest: drop qd, or load a URDF robot.",
+        )
+    qd = _point_q(table, where, robot, names, "qd")
+    with _within(f"{where}.qd"):
+        robot.torque_limits(qd)  # the torque-speed curves accept it (finite, in range)
+    return qd
 
 
 def _same_joint_count(robots_: tuple[Robot, ...], where: str, what: str) -> int:
@@ -712,6 +741,14 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
             percent=output.percent,
         )
     compare = study.compare
+    moving = [point.label for point in points if point.qd is not None]
+    if moving and "velocity" in compare.capacities:
+        raise InputError(
+            "compare.capacities",
+            "no 'velocity' with points in motion (the velocity set is every joint velocity)",
+            f"'velocity' and qd at {moving}",
+            "drop qd from those points, or study velocities in a file of their own.",
+        )
     if "velocity" in compare.capacities:  # every robot needs its joint velocity limits
         for number, robot in enumerate(robots_):
             if robot.model.qd_max is None:

@@ -257,3 +257,85 @@ def test_the_command_line_points_to_each_capacitys_outputs(tmp_path, capsys):
     assert listed[str(out / "results_velocity.csv")].startswith("velocity: one row of scores")
     assert str(out / "report.html") in listed and str(out / "summary.md") not in listed
     assert all(Path(name).exists() for name in listed)
+
+
+# --- points in motion (issue 21, item 5): qd, the torque limits at qd, Coriolis terms ----------
+
+MOVING = """
+title = "A moving arm"
+[robot]
+urdf = "arm.urdf"
+tip = "tip"
+task = "planar"
+tau_max = [100, 30, 5]
+torque_speed = {{ tau_stall = [150, 40, 6], qd_no_load = [4, 5, 8] }}
+[[points]]
+name = "moving"
+q = [0.3, 0.8, -0.4]
+qd = {qd}
+[compare]
+capacities = {capacities}
+directions = 8
+samples = 256
+[output]
+formats = ["png"]
+dpi = 20
+"""
+
+
+def _moving(tmp_path, qd="[2.0, -1.0, 3.0]", capacities='["acceleration", "force"]'):
+    from reference import PAPER_ARM, planar_urdf
+
+    (tmp_path / "arm.urdf").write_text(planar_urdf(PAPER_ARM))
+    path = tmp_path / "study.toml"
+    path.write_text(MOVING.format(qd=qd, capacities=capacities))
+    return path
+
+
+def test_a_point_in_motion_uses_the_limits_at_qd_and_states_them(tmp_path):
+    spec = load_study(_moving(tmp_path))
+    run_study(spec, tmp_path / "out")
+    robot = spec.robot
+    q, qd = np.array([0.3, 0.8, -0.4]), np.array([2.0, -1.0, 3.0])
+    tau_max, tau_min = robot.torque_limits(qd)
+    # joint 1 forward at 2 rad/s: 150 (1 - 2/4) = 75 < 100; joint 3: 6 (1 - 3/8) = 3.75 < 5
+    np.testing.assert_allclose(tau_max, [75.0, 30.0, 3.75], rtol=1e-15)
+    numbers = (tmp_path / "out" / "numbers.md").read_text()
+    assert "qd = (2, -1, 3) rad/s; torque limits at qd [N m]: tau_max = (75, 30, 3.75)" in numbers
+    for capacity in ("acceleration", "force"):
+        dyn = robot.model.dynamics(q, qd)  # with its Coriolis terms
+        expected = pe.compare(pe.analyze(dyn, tau_max, tau_min, capacity=capacity), 8, samples=256)
+        at_rest = pe.compare(
+            pe.analyze(robot.model.dynamics(q), robot.tau_max, robot.tau_min, capacity=capacity),
+            8,
+            samples=256,
+        )
+        assert expected.to_markdown() in numbers, capacity
+        assert at_rest.to_markdown() not in numbers, capacity
+
+
+@pytest.mark.parametrize(
+    ("qd", "capacities", "start"),
+    [
+        ("[1, 2]", '["acceleration"]', "points[0].qd: expected 3 joint velocities, got 2"),
+        (
+            "[1, 2, 3]",
+            '["acceleration", "velocity"]',
+            "compare.capacities: expected no 'velocity' with points in motion",
+        ),
+    ],
+)
+def test_points_in_motion_refused_with_the_key(tmp_path, qd, capacities, start):
+    with pytest.raises(pe.InputError) as info:
+        load_study(_moving(tmp_path, qd, capacities))
+    assert str(info.value).startswith(start), str(info.value)
+
+
+def test_a_planar_arm_point_cannot_move(tmp_path):
+    path = tmp_path / "study.toml"
+    path.write_text(
+        '[robot]\nlibrary = "chiacchio2000"\n[[points]]\nname = "p"\nq = [0.1, 0.2, 0.3]\n'
+        "qd = [1, 0, 0]\n"
+    )
+    with pytest.raises(pe.InputError, match=r"points\[0\]\.qd: expected a URDF robot"):
+        load_study(path)
