@@ -165,7 +165,7 @@ def subset_cofactors(G: NDArray[np.float64]) -> NDArray[np.float64]:
         flat = G.reshape(*batch, 3 * n)
         a, b, c, d = _cross_indices(n)
         products = flat.take(a, -1) * flat.take(b, -1) - flat.take(c, -1) * flat.take(d, -1)
-        return np.swapaxes(products.reshape(*batch, 3, -1), -1, -2)
+        return products.reshape(*batch, -1, 3)
     return cross(np.moveaxis(G[..., subsets(n, r - 1)], -3, -2))  # (..., C, r, r-1)
 
 
@@ -173,12 +173,18 @@ def subset_cofactors(G: NDArray[np.float64]) -> NDArray[np.float64]:
 def _cross_indices(n: int) -> tuple[NDArray[np.int_], ...]:
     """Flat indices into a (3, n) array for ``g_i x g_j`` over the pairs ``subsets(n, 2)``.
 
-    Component k of the cross product is ``g_i[k+1] g_j[k+2] - g_i[k+2] g_j[k+1]`` (mod 3).
+    Component k of the cross product is ``g_i[k+1] g_j[k+2] - g_i[k+2] g_j[k+1]`` (mod 3);
+    pair by pair, the three components of each together (a (C, 3) result).
     """
     pairs = subsets(n, 2)
-    i, j = pairs[:, 0], pairs[:, 1]
-    k1, k2 = np.array([[1], [2], [0]]), np.array([[2], [0], [1]])
-    return tuple((row * n + column).ravel() for row, column in ((k1, i), (k2, j), (k2, i), (k1, j)))
+    i, j = pairs[:, :1], pairs[:, 1:]
+    k1, k2 = np.array([[1, 2, 0]]), np.array([[2, 0, 1]])
+    indices = tuple(
+        (row * n + column).ravel() for row, column in ((k1, i), (k2, j), (k2, i), (k1, j))
+    )
+    for index in indices:
+        index.flags.writeable = False
+    return indices
 
 
 class ZonotopeFacets(NamedTuple):
@@ -247,11 +253,11 @@ def zonotope_facets(G: NDArray[np.float64]) -> ZonotopeFacets:
             cofactors, size = cofactors[independent], size[independent]
         half = cofactors / size[:, None]
     tol = _IN_FACET_RTOL * lengths
-    dots, in_facet, general = _incidence(half, gens, tol)
+    dots, size, in_facet, general = _incidence(half, gens, tol)
     if not general:  # two subsets may span one facet plane: keep its normal once
         half = _unique_directions(half)
-        dots, in_facet, general = _incidence(half, gens, tol)
-    offsets = np.abs(dots).sum(axis=1)
+        dots, size, in_facet, general = _incidence(half, gens, tol)
+    offsets = size.sum(axis=1)
     return ZonotopeFacets(
         gens,
         columns,
@@ -306,15 +312,17 @@ def unwhiten(
 
 def _incidence(
     normals: NDArray[np.float64], gens: NDArray[np.float64], tol: NDArray[np.float64]
-) -> tuple[NDArray[np.float64], NDArray[np.bool_], bool]:
-    """``a . g_i``, which generators lie in each plane, and whether each holds exactly r - 1.
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_], bool]:
+    """``a . g_i``, ``|a . g_i|``, the generators in each plane, and if each holds r - 1.
 
     In general position no two subsets share a plane (it would hold r generators), so
     the normals need no deduplication.
     """
     dots = normals @ gens
-    in_facet = np.abs(dots) <= tol
-    return dots, in_facet, bool((in_facet.sum(axis=1) == gens.shape[0] - 1).all())
+    size = np.abs(dots)
+    in_facet = size <= tol
+    general = np.count_nonzero(in_facet, axis=1) == gens.shape[0] - 1
+    return dots, size, in_facet, bool(general.all())
 
 
 def order_polygon(points: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -353,7 +361,10 @@ def zonotope_vertices(
         The extreme points; in counter-clockwise order when they are 2-D.
     """
     gens = facets.generators
-    out = gens if image is None else image[:, facets.columns]
+    if image is None:
+        out = gens
+    else:  # the columns kept (all of them unless some generator is zero)
+        out = image if len(facets.columns) == image.shape[1] else image[:, facets.columns]
     signs = _vertex_signs(facets)
     vertices = signs @ out.T
     return order_polygon(vertices) if out.shape[0] == 2 else vertices
