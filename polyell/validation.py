@@ -108,6 +108,15 @@ def check_array(
     InputError
         If ``value`` is not numeric, has the wrong shape or holds NaN or infinity.
     """
+    if (  # a float64 array of the right shape and finite: the copy, no more to check
+        type(value) is np.ndarray
+        and value.dtype == np.float64
+        and value.ndim == len(shape)
+        and all(not isinstance(s, int) or s == a for s, a in zip(shape, value.shape, strict=True))
+    ):
+        array = np.array(value)
+        if np.isfinite(array).all():
+            return array
 
     def expected() -> str:
         dims = ", ".join("k" if s is None else str(s) for s in shape)
@@ -206,6 +215,11 @@ def _check_torque_size(name: str, value: NDArray[np.float64]) -> None:
         )
 
 
+def _plain(value: object, n: int) -> bool:
+    """Whether ``value`` is a float64 array of shape (n,)."""
+    return type(value) is np.ndarray and value.dtype == np.float64 and value.shape == (n,)
+
+
 def check_torque_limits(
     tau_max: ArrayLike,
     tau_min: ArrayLike | None,
@@ -232,6 +246,17 @@ def check_torque_limits(
         If a shape is wrong, a value is not finite, or ``tau_min >= tau_max`` anywhere.
     """
     hi, lo = names
+    if _plain(tau_max, n) and (tau_min is None or _plain(tau_min, n)):
+        # float64 arrays of the right shape: finite, within MAX_TORQUE and ordered in a
+        # few operations (the checks below say what is wrong otherwise)
+        upper = np.array(tau_max)
+        lower = -upper if tau_min is None else np.array(tau_min)
+        if float(np.abs(upper).max(initial=0.0)) <= MAX_TORQUE and bool(
+            (upper > lower).all()
+            if tau_min is None
+            else (lower < upper).all() and float(np.abs(lower).max(initial=0.0)) <= MAX_TORQUE
+        ):
+            return upper, lower
     upper = check_array(hi, tau_max, (n,))
     _check_torque_size(hi, upper)
     if tau_min is None:
@@ -401,6 +426,16 @@ def check_magnitudes(
     m = M.shape[-2]
     limit = magnitude_limit(m)
     high = 10.0**limit
+    if M.ndim == 2 and M.size and xg.size:  # one set: the same tests on two numbers
+        one_m, one_x = float(np.abs(M).max()), float(np.abs(xg).max())
+        if (
+            one_m <= high
+            and one_x <= high
+            and not 0.0 < one_m < 1.0 / high
+            and not 0.0 < one_x < 1.0 / high
+            and not 0.0 < one_m < MIN_RELATIVE_EXTENT * one_x
+        ):
+            return
     size_m = np.max(np.abs(M), axis=(-2, -1)) if M.size else np.zeros(M.shape[:-2])
     size_x = np.max(np.abs(xg), axis=-1) if xg.size else np.zeros(xg.shape[:-1])
     what_sets, what_m, what_x = quantity

@@ -71,9 +71,10 @@ class ZonotopeAnalysis(Analysis):
         the task point, as the Panda's last joint for its position) add nothing to the set
         and are left out of it (its vertex enumeration would take them as degenerate).
         """
-        norms = np.linalg.norm(self.M, axis=0)
+        norms = np.sqrt((self.M * self.M).sum(axis=0))
         keep = norms > self.svd.rtol * norms.max(initial=0.0)
-        if keep.all() or not keep.any():
+        kept = np.count_nonzero(keep)
+        if kept == len(keep) or not kept:
             polytope = Polytope(self.M, self.xg, svd=self.svd)
         else:
             svd = self.svd._replace(V1=self.svd.V1[keep])

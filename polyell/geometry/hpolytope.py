@@ -19,7 +19,12 @@ from numpy.typing import ArrayLike, NDArray
 from polyell.errors import InputError, SolverError
 from polyell.geometry.convex_set import ConvexSet
 from polyell.geometry.limits import facet_slack, line_interval_in_halfspaces, rounding_floor
-from polyell.geometry.subspace import RANK_RTOL, AffineSubspace, rank_revealing_svd
+from polyell.geometry.subspace import (
+    RANK_RTOL,
+    AffineSubspace,
+    _whole_space,
+    rank_revealing_svd,
+)
 from polyell.geometry.zonotope import order_polygon
 from polyell.validation import check_array, magnitude_limit
 
@@ -116,7 +121,7 @@ class HPolytope(ConvexSet):
         not used, so the numbers it sees must be of the set's own size.
         """
         offsets = self._b_in - self._A_in @ self.center
-        if len(offsets) and offsets.min() > 1e-6 * np.median(offsets):
+        if len(offsets) and offsets.min() > 1e-6 * _median(offsets):
             return self.center
         return self._chebyshev_center()
 
@@ -127,7 +132,7 @@ class HPolytope(ConvexSet):
         self._vertices = empty
         self._facet_A, self._facet_b = empty, np.zeros(0)
         self._whitened = (empty, np.ones(m))
-        self.affine_set = AffineSubspace(self.center, np.eye(m), np.zeros((m, 0)))
+        self.affine_set = AffineSubspace(self.center, *_whole_space(m))
         self._empty = self._infeasible_row
         if self._empty:
             return
@@ -147,7 +152,19 @@ class HPolytope(ConvexSet):
         # posture) are U2, by the rank decision and not by cddlib's epsilon.
         svd = rank_revealing_svd(self._A_in.T)
         U1, S, lines = svd.U1, svd.sigma, svd.U2
-        description = _double_description(shifted / unit, svd.V1)
+        array = np.empty((len(shifted), svd.rank + 1))  # cdd's rows [b | -a]
+        array[:, 0], array[:, 1:] = shifted / unit, -svd.V1
+        listed = array.tolist()
+        bounded = _bounded_description(listed, array) if svd.rank == m else None
+        if bounded is not None:  # every row of points a vertex [1 | y]; no rays, no lines
+            rows, points = bounded
+            self._whitened = (points[:, 1:], unit / S)
+            self._vertices = origin + unit * (points[:, 1:] / S) @ U1.T
+            if m == 2 and len(self._vertices) > 2:
+                self._vertices = order_polygon(self._vertices)
+            self._facets_from_rows(rows, S, U1, unit, origin)
+            return
+        description = _double_description(listed, array)
         if description is None:
             self._empty = True
             return
@@ -168,14 +185,25 @@ class HPolytope(ConvexSet):
         # (U1 S a_y) . (x - origin) <= unit b_y; equalities: its linearity.
         inequality = np.ones(len(rows), dtype=bool)
         inequality[linear] = False
-        A_rows, b_rows = (-rows[inequality, 1:] * S) @ U1.T, unit * rows[inequality, 0]
-        scale = np.linalg.norm(A_rows, axis=1)
-        self._facet_A = A_rows / scale[:, None]
-        self._facet_b = b_rows / scale + self._facet_A @ origin
+        self._facets_from_rows(rows[inequality], S, U1, unit, origin)
         if linear:
             normals = rank_revealing_svd(U1 @ (-rows[linear, 1:] * S).T).U1  # (m, e)
             complement = rank_revealing_svd(np.eye(m) - normals @ normals.T).U1
             self.affine_set = AffineSubspace(origin, complement, normals)
+
+    def _facets_from_rows(
+        self,
+        rows: NDArray[np.float64],
+        S: NDArray[np.float64],
+        U1: NDArray[np.float64],
+        unit: float,
+        origin: NDArray[np.float64],
+    ) -> None:
+        """Facets from cdd's inequality rows ``[b_y | -a_y]``: unit normals, offsets."""
+        A_rows, b_rows = (-rows[:, 1:] * S) @ U1.T, unit * rows[:, 0]
+        scale = np.sqrt((A_rows * A_rows).sum(axis=1))
+        self._facet_A = A_rows / scale[:, None]
+        self._facet_b = b_rows / scale + self._facet_A @ origin
 
     # --- what the set is ---------------------------------------------------------------
 
@@ -356,11 +384,18 @@ def require_drawable(S: object, argument: str) -> None:
         )
 
 
+def _median(values: NDArray[np.float64]) -> float:
+    """``np.median`` of a 1-D array (the same number), without its general machinery."""
+    ordered = np.sort(values)
+    half = len(ordered) // 2
+    return float(ordered[half] if len(ordered) % 2 else (ordered[half - 1] + ordered[half]) / 2)
+
+
 Description = tuple[NDArray[np.float64], list[int], NDArray[np.float64], list[int]]
 
 
 def _double_description(
-    offsets: NDArray[np.float64], normals: NDArray[np.float64]
+    listed: list[list[float]], array: NDArray[np.float64]
 ) -> Description | None:
     """The double description of ``{y : normals y <= offsets}``; None if it is empty.
 
@@ -369,9 +404,8 @@ def _double_description(
     cddlib in floating point; where it reports a numerical inconsistency (a thin set in
     6-D), Qhull's half-space intersection about the interior point y = 0 (offsets > 0).
     """
-    matrix = cdd.matrix_from_array(
-        np.hstack([offsets[:, None], -normals]).tolist(), rep_type=cdd.RepType.INEQUALITY
-    )
+    matrix = cdd.matrix_from_array(listed, rep_type=cdd.RepType.INEQUALITY)
+    offsets, normals = array[:, 0], -array[:, 1:]
     r = normals.shape[1]
     try:
         cdd.matrix_canonicalize(matrix)
@@ -383,6 +417,65 @@ def _double_description(
     if not len(points):
         return None
     return rows, sorted(matrix.lin_set), points, sorted(generators.lin_set)
+
+
+#: A vertex is on a row's plane when its slack is at most this (whitened units, offsets
+#: at most 1), and off it when its slack is at least :data:`_OFF_PLANE`; a slack between
+#: the two leaves the decision to cddlib's canonical form.
+_ON_PLANE = 1e-9
+_OFF_PLANE = 1e-6
+
+
+def _bounded_description(
+    listed: list[list[float]], array: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+    """The facet rows and the points ``[1 | y]`` of a clearly full-dimensional polytope.
+
+    cddlib enumerates the vertices of the rows ``array = [offsets | -normals]`` as given;
+    the irredundant rows are then read from the incidence instead of cddlib's canonical
+    form (one LP per row).  For a bounded full-dimensional polytope a row is a facet
+    exactly when the vertices on its plane are not a proper subset of those on another
+    row (a lower face lies in a facet with more vertices) and not all of them (an
+    implicit equality); of rows with the same vertices (one plane) the canonical form
+    keeps the last.  Taken only when every decision is clear: no rays or lines, every
+    slack at most :data:`_ON_PLANE` or at least :data:`_OFF_PLANE`, no row on every vertex
+    and no two vertices on the same rows (a vertex is where its rows meet).  None otherwise
+    (an unbounded, empty, flat or borderline set: the caller canonicalises).
+    """
+    k, r = array.shape[0], array.shape[1] - 1
+    if k > 52:  # the vertices' rows as exact sums of powers of 2 below
+        return None
+    try:
+        generators = cdd.copy_generators(
+            cdd.polyhedron_from_matrix(
+                cdd.matrix_from_array(listed, rep_type=cdd.RepType.INEQUALITY)
+            )
+        )
+    except RuntimeError:
+        return None
+    rows = generators.array
+    if len(rows) <= r or generators.lin_set or any(row[0] != 1.0 for row in rows):
+        return None  # empty, flat, unbounded or scaled: the canonical path decides
+    points = np.array(rows, dtype=float)
+    slack = array @ points.T  # (k, V): b_i - a_i . y for the points [1 | y]
+    on = slack <= _ON_PLANE
+    if np.count_nonzero(on) != np.count_nonzero(slack < _OFF_PLANE):
+        return None  # a slack between the two: borderline
+    incidence = on.astype(float)
+    count = incidence.sum(axis=1)
+    keys = np.sort(_POWERS[:k] @ incidence)  # each vertex's rows as one number
+    if count.max() >= len(rows) or not bool((keys[1:] > keys[:-1]).all()):
+        return None  # an implicit equality, or two vertices on the same rows
+    # Row i's vertices all on row j, with j later in the order (count, index): row i is
+    # a lower face (fewer vertices) or the same plane again (kept once, the last).
+    within = incidence @ incidence.T == count[:, None]
+    order = count * k + _INDICES[:k]
+    facet = ~(within & (order[None, :] > order[:, None])).any(axis=1)
+    return array[facet], points
+
+
+_POWERS = 2.0 ** np.arange(52)
+_INDICES = np.arange(52, dtype=float)
 
 
 def _by_qhull(

@@ -165,7 +165,7 @@ def subset_cofactors(G: NDArray[np.float64]) -> NDArray[np.float64]:
         flat = G.reshape(*batch, 3 * n)
         a, b, c, d = _cross_indices(n)
         products = flat.take(a, -1) * flat.take(b, -1) - flat.take(c, -1) * flat.take(d, -1)
-        return np.swapaxes(products.reshape(*batch, 3, -1), -1, -2)
+        return products.reshape(*batch, -1, 3)
     return cross(np.moveaxis(G[..., subsets(n, r - 1)], -3, -2))  # (..., C, r, r-1)
 
 
@@ -173,12 +173,18 @@ def subset_cofactors(G: NDArray[np.float64]) -> NDArray[np.float64]:
 def _cross_indices(n: int) -> tuple[NDArray[np.int_], ...]:
     """Flat indices into a (3, n) array for ``g_i x g_j`` over the pairs ``subsets(n, 2)``.
 
-    Component k of the cross product is ``g_i[k+1] g_j[k+2] - g_i[k+2] g_j[k+1]`` (mod 3).
+    Component k of the cross product is ``g_i[k+1] g_j[k+2] - g_i[k+2] g_j[k+1]`` (mod 3);
+    pair by pair, the three components of each together (a (C, 3) result).
     """
     pairs = subsets(n, 2)
-    i, j = pairs[:, 0], pairs[:, 1]
-    k1, k2 = np.array([[1], [2], [0]]), np.array([[2], [0], [1]])
-    return tuple((row * n + column).ravel() for row, column in ((k1, i), (k2, j), (k2, i), (k1, j)))
+    i, j = pairs[:, :1], pairs[:, 1:]
+    k1, k2 = np.array([[1, 2, 0]]), np.array([[2, 0, 1]])
+    indices = tuple(
+        (row * n + column).ravel() for row, column in ((k1, i), (k2, j), (k2, i), (k1, j))
+    )
+    for index in indices:
+        index.flags.writeable = False
+    return indices
 
 
 class ZonotopeFacets(NamedTuple):
@@ -247,11 +253,11 @@ def zonotope_facets(G: NDArray[np.float64]) -> ZonotopeFacets:
             cofactors, size = cofactors[independent], size[independent]
         half = cofactors / size[:, None]
     tol = _IN_FACET_RTOL * lengths
-    dots, in_facet, general = _incidence(half, gens, tol)
+    dots, size, in_facet, general = _incidence(half, gens, tol)
     if not general:  # two subsets may span one facet plane: keep its normal once
         half = _unique_directions(half)
-        dots, in_facet, general = _incidence(half, gens, tol)
-    offsets = np.abs(dots).sum(axis=1)
+        dots, size, in_facet, general = _incidence(half, gens, tol)
+    offsets = size.sum(axis=1)
     return ZonotopeFacets(
         gens,
         columns,
@@ -306,15 +312,17 @@ def unwhiten(
 
 def _incidence(
     normals: NDArray[np.float64], gens: NDArray[np.float64], tol: NDArray[np.float64]
-) -> tuple[NDArray[np.float64], NDArray[np.bool_], bool]:
-    """``a . g_i``, which generators lie in each plane, and whether each holds exactly r - 1.
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_], bool]:
+    """``a . g_i``, ``|a . g_i|``, the generators in each plane, and if each holds r - 1.
 
     In general position no two subsets share a plane (it would hold r generators), so
     the normals need no deduplication.
     """
     dots = normals @ gens
-    in_facet = np.abs(dots) <= tol
-    return dots, in_facet, bool((in_facet.sum(axis=1) == gens.shape[0] - 1).all())
+    size = np.abs(dots)
+    in_facet = size <= tol
+    general = np.count_nonzero(in_facet, axis=1) == gens.shape[0] - 1
+    return dots, size, in_facet, bool(general.all())
 
 
 def order_polygon(points: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -353,14 +361,76 @@ def zonotope_vertices(
         The extreme points; in counter-clockwise order when they are 2-D.
     """
     gens = facets.generators
-    out = gens if image is None else image[:, facets.columns]
-    if facets.general_position:
-        positive = facets.dots > facets.in_plane_tol  # and not in the plane
-        signs = _signs_in_general_position(positive, facets.in_facet)
-    else:
-        signs = _signs_by_active_facets(gens, facets.normals, facets.offsets)
+    if image is None:
+        out = gens
+    else:  # the columns kept (all of them unless some generator is zero)
+        out = image if len(facets.columns) == image.shape[1] else image[:, facets.columns]
+    signs = _vertex_signs(facets)
     vertices = signs @ out.T
     return order_polygon(vertices) if out.shape[0] == 2 else vertices
+
+
+def _vertex_signs(facets: ZonotopeFacets) -> NDArray[np.float64]:
+    """The sign vectors (V, n) of the extreme points of a zonotope, from its facets."""
+    positive = facets.dots > facets.in_plane_tol  # and not in the plane
+    if facets.general_position:
+        return _signs_in_general_position(positive, facets.in_facet)
+    signs = _signs_by_faces(facets, positive)
+    if signs is None:
+        return _signs_by_active_facets(facets.generators, facets.normals, facets.offsets)
+    return signs
+
+
+def _signs_by_faces(
+    facets: ZonotopeFacets, positive: NDArray[np.bool_]
+) -> NDArray[np.float64] | None:
+    """Sign vectors of the vertices when some facets hold more than r - 1 generators.
+
+    A facet of normal ``a`` is ``sum_{a . g_i > 0} g_i - sum_{a . g_i < 0} g_i`` plus the
+    (r-1)-dimensional zonotope of the generators in its plane: its vertices are those of
+    that zonotope, found the same way one dimension down (a structured Jacobian, as the
+    Panda's, puts three generators in one plane), the generators off the plane keeping the
+    signs fixed by ``a``.  Every vertex lies on a facet, so these are all the vertices;
+    the decisions are the same in-plane tests as in general position.  None where a facet
+    holds fewer than r - 1 generators (a plane decided inconsistently) or a face drops a
+    generator as negligible: the caller then tests candidates against the active facets.
+    """
+    gens, in_facet = facets.generators, facets.in_facet
+    r, n = gens.shape
+    counts = in_facet.sum(axis=1)
+    if n >= 63 or bool((counts < r - 1).any()):
+        return None
+    bits = _bits(n)
+    general = counts == r - 1
+    free = np.nonzero(in_facet[general])[1].reshape(-1, r - 1)
+    keys = [(positive[general] @ bits + _corner_bits(r - 1) @ bits[free].T).ravel()]
+    normals = facets.normals[: len(in_facet)]
+    for f in np.flatnonzero(~general):
+        columns = np.flatnonzero(in_facet[f])
+        plane = np.linalg.svd(normals[f][:, None])[0][:, 1:]  # (r, r-1): orthogonal to a
+        face = zonotope_facets(plane.T @ gens[:, columns])
+        if len(face.columns) < len(columns):
+            return None
+        face_signs = (
+            _signs_in_general_position(face.dots > face.in_plane_tol, face.in_facet)
+            if face.general_position
+            else _signs_by_faces(face, face.dots > face.in_plane_tol)
+        )
+        if face_signs is None:
+            return None
+        keys.append(positive[f] @ bits + (face_signs > 0) @ bits[columns])
+    return _signs_of_keys(np.concatenate(keys), n)
+
+
+def _signs_of_keys(keys: NDArray[np.int64], n: int) -> NDArray[np.float64]:
+    """Sign vectors (V, n) of the integer keys and of their complements, without repeats."""
+    if n <= _SIGN_TABLE_JOINTS:  # mark the keys present in a table of all 2^n
+        present = np.zeros(1 << n, dtype=bool)
+        present[keys] = True
+        present |= present[::-1]
+        return _sign_table(n)[present]
+    keys = np.unique(np.concatenate([keys.ravel(), keys.ravel() ^ ((1 << n) - 1)]))
+    return (((keys[:, None] >> np.arange(n)) & 1) * 2.0 - 1.0).astype(np.float64)
 
 
 def _signs_in_general_position(
@@ -387,13 +457,7 @@ def _signs_in_general_position(
     # opposite facet's vertices have every bit flipped: key ^ (2^n - 1) = 2^n - 1 - key.
     bits = _bits(n)
     keys = positive @ bits + _corner_bits(free.shape[1]) @ bits[free].T  # (2^(r-1), F)
-    if n <= _SIGN_TABLE_JOINTS:  # mark the keys present in a table of all 2^n
-        present = np.zeros(1 << n, dtype=bool)
-        present[keys] = True
-        present |= present[::-1]
-        return _sign_table(n)[present]
-    keys = np.unique(np.concatenate([keys.ravel(), keys.ravel() ^ ((1 << n) - 1)]))
-    return (((keys[:, None] >> np.arange(n)) & 1) * 2.0 - 1.0).astype(np.float64)
+    return _signs_of_keys(keys, n)
 
 
 def _signs_by_active_facets(
