@@ -168,7 +168,7 @@ class ForceAnalysis(Analysis):
         """The exact force polytope ``{h : |A h + c|_inf <= 1}`` (unbounded or empty, said)."""
         A = np.vstack([self.A, -self.A])
         b = np.concatenate([1.0 - self.c, 1.0 + self.c])
-        polytope = HPolytope(A, b, center=self.center)
+        polytope = HPolytope(A, b, center=self.center, rank=self.rank)  # lines: Ker J^T
         polytope.affine_rtol = self.affine_rtol
         return polytope
 

@@ -10,6 +10,7 @@ floating-point arithmetic works on numbers of the set's own size.
 
 from __future__ import annotations
 
+import math
 from functools import cached_property
 
 import cdd
@@ -49,6 +50,10 @@ class HPolytope(ConvexSet):
         A reference point of the set (the force capacity passes the force of least
         torque residual); default its Chebyshev centre (the centre of the largest ball
         inside, by a linear program).
+    rank : int, optional
+        The rank of the normals as the caller decided it (the force capacity passes the
+        rank of ``J``): the set is unbounded along the rest (its lines); by default the
+        rank of the unit normals by ``RANK_RTOL``.
 
     Examples
     --------
@@ -58,7 +63,14 @@ class HPolytope(ConvexSet):
     (6.0, DirectionalLimits(lo=array(-1.), hi=array(2.)))
     """
 
-    def __init__(self, A: ArrayLike, b: ArrayLike, *, center: ArrayLike | None = None) -> None:
+    def __init__(
+        self,
+        A: ArrayLike,
+        b: ArrayLike,
+        *,
+        center: ArrayLike | None = None,
+        rank: int | None = None,
+    ) -> None:
         A = check_array("A", A, ("k", "m"))
         if A.shape[1] == 0:
             raise InputError("A", "at least one column (the task dimension m)", "shape (k, 0)")
@@ -84,6 +96,8 @@ class HPolytope(ConvexSet):
         keep = ~zero
         self._A_in, self._b_in = A[keep] / norms[keep, None], b[keep] / norms[keep]
         m = A.shape[1]
+        self._rank = rank
+        self._volume_y: float | None = None
         if center is None:
             self.center = self._chebyshev_center()
         else:
@@ -150,21 +164,28 @@ class HPolytope(ConvexSet):
         # the well-scaled V1: cdd meets no nearly parallel facets however thin the set is.
         # The lines of the set (normals spanning less than R^m, a force polytope at a singular
         # posture) are U2, by the rank decision and not by cddlib's epsilon.
-        svd = rank_revealing_svd(self._A_in.T)
+        svd = rank_revealing_svd(self._A_in.T, rank=self._rank)
         U1, S, lines = svd.U1, svd.sigma, svd.U2
         array = np.empty((len(shifted), svd.rank + 1))  # cdd's rows [b | -a]
         array[:, 0], array[:, 1:] = shifted / unit, -svd.V1
         listed = array.tolist()
+        # cddlib works in floating point: where the set is full-dimensional with the
+        # origin strictly inside, its answer is checked (no vertex missed, not empty) and
+        # replaced by an enumeration of every r rows where it fails (_complete).
+        solid = svd.rank == m and float(shifted.min()) > 0
         bounded = _bounded_description(listed, array) if svd.rank == m else None
         if bounded is not None:  # every row of points a vertex [1 | y]; no rays, no lines
-            rows, points = bounded
-            self._whitened = (points[:, 1:], unit / S)
-            self._vertices = origin + unit * (points[:, 1:] / S) @ U1.T
-            if m == 2 and len(self._vertices) > 2:
-                self._vertices = order_polygon(self._vertices)
-            self._facets_from_rows(rows, S, U1, unit, origin)
-            return
+            rows, points, closed = bounded
+            if not closed:  # not simple (or a vertex missed): the hull decides
+                self._volume_y = _hull_if_complete(points[:, 1:], svd.V1, array[:, 0])
+            if closed or self._volume_y is not None or not solid:
+                self._bounded_from(rows, points[:, 1:], S, U1, unit, origin)
+                return
         description = _double_description(listed, array)
+        if solid and not _is_complete(description, svd.V1, array[:, 0], self):
+            rows, points = _complete(array[:, 0], svd.V1, self)
+            self._bounded_from(rows, points, S, U1, unit, origin)
+            return
         if description is None:
             self._empty = True
             return
@@ -190,6 +211,22 @@ class HPolytope(ConvexSet):
             normals = rank_revealing_svd(U1 @ (-rows[linear, 1:] * S).T).U1  # (m, e)
             complement = rank_revealing_svd(np.eye(m) - normals @ normals.T).U1
             self.affine_set = AffineSubspace(origin, complement, normals)
+
+    def _bounded_from(
+        self,
+        rows: NDArray[np.float64],
+        y: NDArray[np.float64],
+        S: NDArray[np.float64],
+        U1: NDArray[np.float64],
+        unit: float,
+        origin: NDArray[np.float64],
+    ) -> None:
+        """A polytope's vertices from whitened points ``y`` and its facets from ``rows``."""
+        self._whitened = (y, unit / S)
+        self._vertices = origin + unit * (y / S) @ U1.T
+        if self.ambient_dim == 2 and len(self._vertices) > 2:  # counter-clockwise
+            self._vertices = order_polygon(self._vertices)
+        self._facets_from_rows(rows, S, U1, unit, origin)
 
     def _facets_from_rows(
         self,
@@ -273,6 +310,8 @@ class HPolytope(ConvexSet):
         y, stretch = self._whitened
         if r < len(stretch):
             y, stretch = self.affine_set.coordinates(self.vertices), np.ones(r)
+        elif self._volume_y is not None:  # the hull that certified the vertices
+            return float(self._volume_y * np.prod(stretch))
         if r == 1:
             return float((y.max() - y.min()) * stretch[0])
         from scipy.spatial import ConvexHull, QhullError
@@ -285,8 +324,13 @@ class HPolytope(ConvexSet):
 
     @cached_property
     def ball_radius(self) -> float:
-        """Radius of the largest ball about :attr:`center` inside the set, in its hull."""
-        if self.is_empty:
+        """Radius of the largest ball about :attr:`center` inside the set, in its hull.
+
+        NaN if the centre is outside (the force capacity's centre ``h0`` is outside when
+        gravity needs more than the limits along a direction no force balances), as
+        :attr:`origin_radius` is for the origin.
+        """
+        if self.is_empty or not self.contains(self.center):
             return float("nan")
         if not len(self.b):
             return float("inf")
@@ -428,7 +472,7 @@ _OFF_PLANE = 1e-6
 
 def _bounded_description(
     listed: list[list[float]], array: NDArray[np.float64]
-) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+) -> tuple[NDArray[np.float64], NDArray[np.float64], bool] | None:
     """The facet rows and the points ``[1 | y]`` of a clearly full-dimensional polytope.
 
     cddlib enumerates the vertices of the rows ``array = [offsets | -normals]`` as given;
@@ -440,7 +484,8 @@ def _bounded_description(
     keeps the last.  Taken only when every decision is clear: no rays or lines, every
     slack at most :data:`_ON_PLANE` or at least :data:`_OFF_PLANE`, no row on every vertex
     and no two vertices on the same rows (a vertex is where its rows meet).  None otherwise
-    (an unbounded, empty, flat or borderline set: the caller canonicalises).
+    (an unbounded, empty, flat or borderline set: the caller canonicalises).  The third
+    item says whether the vertices are certainly all of them (:func:`_closed`).
     """
     k, r = array.shape[0], array.shape[1] - 1
     if k > 52:  # the vertices' rows as exact sums of powers of 2 below
@@ -471,7 +516,24 @@ def _bounded_description(
     within = incidence @ incidence.T == count[:, None]
     order = count * k + _INDICES[:k]
     facet = ~(within & (order[None, :] > order[:, None])).any(axis=1)
-    return array[facet], points
+    return array[facet], points, _closed(incidence, r)
+
+
+def _closed(incidence: NDArray[np.float64], r: int) -> bool:
+    """Whether the vertices found are all of a simple polytope's (rows x vertices incidence).
+
+    In a simple r-polytope every vertex is on r rows and has r edges, each to the vertex
+    that shares all but one of its rows; the edges connect every vertex.  So the vertices
+    found (each a true vertex: feasible, on r rows) are all of them when each has its r
+    neighbours among them: a missed vertex would leave an edge of a found one unmatched.
+    False when the polytope is not simple (another check decides then).
+    """
+    per_vertex = incidence.sum(axis=0)
+    if not bool((per_vertex == r).all()):
+        return False
+    shared = incidence.T @ incidence  # rows two vertices share
+    neighbours = np.count_nonzero(shared == r - 1, axis=1)
+    return bool((neighbours == r).all())
 
 
 _POWERS = 2.0 ** np.arange(52)
@@ -507,8 +569,8 @@ def _by_qhull(
     facets = [
         i
         for i in range(len(offsets))
-        if np.linalg.matrix_rank(vertices[tight[:, i]] - vertices[tight[:, i]].mean(0)) >= r - 1
-        and tight[:, i].sum() >= r
+        if tight[:, i].sum() >= r  # (first: no mean of an empty selection)
+        and np.linalg.matrix_rank(vertices[tight[:, i]] - vertices[tight[:, i]].mean(0)) >= r - 1
     ]
     rows = np.hstack([offsets[facets, None], -normals[facets]])
     points = np.hstack([np.ones((len(vertices), 1)), vertices])
@@ -549,3 +611,141 @@ def _cone_sum(
         height = abs(float(middle @ span[k - 1]))  # the centre's distance to its hull
         total += height * _cone_sum(points, tight, sub, k - 1) / k
     return total
+
+
+#: A facet of the vertices' hull counts as a row's plane when its unit normal and offset
+#: are within this of the row's (whitened units: offsets at most 1).  Then every point of
+#: the set lies within ``(1 + R) CERTIFIED`` of the hull (R: the largest vertex norm).
+CERTIFIED = 1e-8
+#: Row subsets the last fallback (every r rows solved) may try.
+MAX_SUBSETS = 200_000
+
+
+def _hull_if_complete(
+    points: NDArray[np.float64], normals: NDArray[np.float64], offsets: NDArray[np.float64]
+) -> float | None:
+    """The volume of the hull of ``points`` (V, r) if it is all of ``{y : normals y <= offsets}``.
+
+    The points satisfy every row, so their hull lies in the set; the set lies in the hull
+    when every facet of the hull is (to :data:`CERTIFIED`) the plane of a row, since the
+    set is on the inner side of every row.  A vertex a floating-point enumeration missed
+    leaves a facet of the hull across the set, on no row's plane: None then (and when the
+    points do not span r dimensions).  Qhull computes the hull (joggled where its exact
+    merging fails, a "dupridge" in 6-D).
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
+    r = normals.shape[1]
+    norms = np.sqrt((normals * normals).sum(axis=1))
+    kept = norms > 0
+    unit, reach = normals[kept] / norms[kept, None], offsets[kept] / norms[kept]
+    if r == 1:
+        ends = [float(points.max()), -float(points.min())]
+        sides = [unit[:, 0] > 0, unit[:, 0] < 0]
+        ok = all(
+            np.any(side & (np.abs(reach - end) <= CERTIFIED))
+            for end, side in zip(ends, sides, strict=True)
+        )
+        return float(points.max() - points.min()) if ok and len(points) >= 2 else None
+    if len(points) < r + 1:
+        return None
+    try:
+        hull = ConvexHull(points)
+    except QhullError:
+        try:
+            hull = ConvexHull(points, qhull_options="QJ")
+        except QhullError:
+            return None
+    facet_normals, facet_offsets = hull.equations[:, :r], -hull.equations[:, r]
+    on_row = np.zeros(len(facet_offsets), dtype=bool)
+    for start in range(0, len(unit), 64):  # (facets, rows, r) differences, a few rows at a time
+        rows = slice(start, start + 64)
+        close = np.abs(facet_normals[:, None, :] - unit[None, rows, :]).max(axis=-1) <= CERTIFIED
+        close &= np.abs(facet_offsets[:, None] - reach[None, rows]) <= CERTIFIED
+        on_row |= close.any(axis=1)
+    return float(hull.volume) if on_row.all() else None
+
+
+def _by_enumeration(offsets: NDArray[np.float64], normals: NDArray[np.float64]) -> Description:
+    """The vertices of a bounded ``{y : normals y <= offsets}`` from every r rows, and its facets.
+
+    Every r-subset of rows is solved (in batches) and its point kept where every row holds
+    to rounding; a row is a facet when it holds r affinely independent vertices.  The last
+    resort of :class:`HPolytope` where the floating-point enumerations miss a vertex (rows
+    at angles near cddlib's epsilon), for up to :data:`MAX_SUBSETS` subsets (the caller's
+    check).
+    """
+    from itertools import combinations
+
+    k, r = normals.shape
+    found = []
+    subsets = np.array(list(combinations(range(k), r)), dtype=int).reshape(-1, r)
+    for start in range(0, len(subsets), 4096):
+        chosen = subsets[start : start + 4096]
+        blocks, rhs = normals[chosen], offsets[chosen]
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            det = np.linalg.det(blocks)
+        scale = np.prod(np.sqrt((blocks * blocks).sum(axis=-1)), axis=-1)
+        solvable = np.abs(det) > 1e-12 * scale
+        if not solvable.any():
+            continue
+        y = np.linalg.solve(blocks[solvable], rhs[solvable][..., None])[..., 0]
+        slack = offsets - y @ normals.T
+        found.append(y[(slack >= -1e-9 * max(1.0, float(np.abs(offsets).max()))).all(axis=1)])
+    vertices = np.concatenate(found) if found else np.zeros((0, r))
+    if len(vertices):
+        vertices = np.unique(np.round(vertices, 12), axis=0)
+    tight = np.abs(vertices @ normals.T - offsets) <= 1e-9 * max(1.0, float(offsets.max()))
+    facets = [
+        i
+        for i in range(k)
+        if tight[:, i].sum() >= r
+        and np.linalg.matrix_rank(vertices[tight[:, i]] - vertices[tight[:, i]].mean(0)) >= r - 1
+    ]
+    rows = np.hstack([offsets[facets, None], -normals[facets]])
+    return rows, [], np.hstack([np.ones((len(vertices), 1)), vertices]), []
+
+
+def _is_complete(
+    description: Description | None,
+    normals: NDArray[np.float64],
+    offsets: NDArray[np.float64],
+    polytope: HPolytope,
+) -> bool:
+    """Whether cddlib's description of a set with the origin strictly inside holds.
+
+    Not empty (the origin is inside), and where bounded (no rays, no equalities) every
+    vertex there: the hull of its points is the set (:func:`_hull_if_complete`, whose
+    volume is kept for :attr:`HPolytope.volume`).
+    """
+    if description is None:
+        return False
+    _, linear, points, _ = description
+    if linear or np.any(points[:, 0] == 0):  # unbounded: rays (not checked here)
+        return True
+    polytope._volume_y = _hull_if_complete(points[:, 1:] / points[:, :1], normals, offsets)
+    return polytope._volume_y is not None
+
+
+def _complete(
+    offsets: NDArray[np.float64], normals: NDArray[np.float64], polytope: HPolytope
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Facet rows and vertices where cddlib missed some: every r rows, else Qhull (checked).
+
+    The enumeration is complete by construction; Qhull's half-space intersection stands
+    in where it has too many subsets, and must pass the same check as cddlib.
+    """
+    k, r = normals.shape
+    if math.comb(k, r) <= MAX_SUBSETS:
+        rows, _, points, _ = _by_enumeration(offsets, normals)
+        return rows, points[:, 1:]
+    cause = SolverError("cddlib missed vertices of a full-dimensional set")
+    rows, _, points, _ = _by_qhull(offsets, normals, cause)
+    polytope._volume_y = _hull_if_complete(points[:, 1:], normals, offsets)
+    if polytope._volume_y is None:
+        raise SolverError(
+            f"half-spaces to vertices: cddlib and Qhull missed vertices of this set ({k} "
+            f"half-spaces in {r} dimensions, too many to try every {r} of them); express "
+            "it with fewer half-spaces or report it."
+        )
+    return rows, points[:, 1:]

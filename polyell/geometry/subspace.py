@@ -77,7 +77,9 @@ class RankRevealingSVD(NamedTuple):
         return (self.V1 / self.sigma) @ self.U1.T
 
 
-def rank_revealing_svd(M: NDArray[np.float64], rtol: float = RANK_RTOL) -> RankRevealingSVD:
+def rank_revealing_svd(
+    M: NDArray[np.float64], rtol: float = RANK_RTOL, rank: int | None = None
+) -> RankRevealingSVD:
     """Decompose ``M`` (eq. 35) and decide its numerical rank.
 
     Parameters
@@ -87,6 +89,10 @@ def rank_revealing_svd(M: NDArray[np.float64], rtol: float = RANK_RTOL) -> RankR
     rtol : float, optional
         Singular values ``<= rtol * sigma_max`` are treated as zero.  A zero matrix has
         rank 0.
+    rank : int, optional
+        A rank decided elsewhere (the same set seen through another matrix: a force
+        polytope's rows normalized, the rank of ``J``), used instead of ``rtol`` (at most
+        the number of non-zero singular values).
 
     Returns
     -------
@@ -103,7 +109,10 @@ def rank_revealing_svd(M: NDArray[np.float64], rtol: float = RANK_RTOL) -> RankR
     U, s, Vt, info = lapack.dgesdd(M, full_matrices=int(m > n))  # U is square either way
     if info != 0:
         raise SolverError(f"The SVD of M (eq. 35) did not converge: LAPACK dgesdd info={info}.")
-    rank = int(np.count_nonzero(s > rtol * s[0])) if s.size and s[0] > 0 else 0
+    positive = int(np.count_nonzero(s > 0))
+    if rank is None:
+        rank = int(np.count_nonzero(s > rtol * s[0])) if s.size and s[0] > 0 else 0
+    rank = min(rank, positive)
     return RankRevealingSVD(
         U1=U[:, :rank],
         U2=U[:, rank:],

@@ -81,10 +81,13 @@ def test_force_ellipsoid_and_limits_against_fifty_digits(m, n, kappa):
 def test_force_volume_where_qhull_finds_a_dupridge():
     """A regular 6x7 arm (cond J = 33) whose 91 whitened vertices make Qhull fail
     (QH6271 dupridge; found by the independent check): the volume by cones over the faces,
-    checked against Qhull in task coordinates, where it succeeds, and on regular cases."""
-    from scipy.spatial import ConvexHull
-
+    checked against Lawrence's formula of the force sweep (another algorithm, its two
+    evaluations agreeing to VOLUME_RTOL: ten times that here; Qhull in task coordinates
+    fails on these vertices as well), and on regular cases."""
+    from polyell.geometry.directions import sphere_directions
     from polyell.geometry.hpolytope import _face_volume
+    from polyell.studies.batch import BatchOptions
+    from polyell.studies.force_batch import VOLUME_RTOL, force_rows
 
     r = np.random.default_rng(173)
     n, m = 7, 6
@@ -94,7 +97,10 @@ def test_force_volume_where_qhull_finds_a_dupridge():
     tmax, tmin = r.uniform(1, 5, n), -r.uniform(0.5, 3, n)
     an = pe.analyze(pe.Dynamics(J, B, g), tmax, tmin, capacity="force")
     P = an.polytope
-    assert P.volume == pytest.approx(ConvexHull(P.vertices).volume, rel=1e-12)
+    batch = pe.Dynamics(J[None], B[None], g[None])
+    columns, scalar = force_rows(batch, tmax, tmin, sphere_directions(8, m), BatchOptions())
+    assert not scalar[0]
+    assert P.volume == pytest.approx(columns["polytope_volume"][0], rel=10 * VOLUME_RTOL)
     assert 0 <= pe.compare(an, 64, samples=256, mvie=False, outer=False)["chiacchio"].coverage <= 1
     for seed in range(2):
         other = pe.analyze(

@@ -1,0 +1,110 @@
+"""HPolytope's vertex sets are complete: checked against an enumeration of every m rows.
+
+Found by the independent check of the force sweep: cddlib in floating point missed
+vertices where two joints' columns of J are nearly proportional (rows at angles near its
+epsilon; 6 of 14 vertices, a volume of 3.15 for 9.83) and reported a clearly non-empty
+6-D set empty.  The reference here is independent of the package: every m-subset of the
+2n rows solved with numpy, the feasible points kept, their hull's volume by Qhull, and a
+point strictly inside found by a linear program.  Tolerances: the volumes to 1e-9 (the
+vertices are exact to rounding; the hull of a complete set is the set).
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+from scipy.optimize import linprog
+from scipy.spatial import ConvexHull
+
+import polyell as pe
+
+
+def rows_of(J, g, tau_max, tau_min):
+    centre, half = (tau_max + tau_min) / 2, (tau_max - tau_min) / 2
+    A, c = (J / half).T, (g - centre) / half
+    return np.vstack([A, -A]), np.concatenate([1 - c, 1 + c])
+
+
+def brute_force_volume(A, b):
+    m = A.shape[1]
+    points = []
+    for rows in itertools.combinations(range(len(A)), m):
+        block = A[list(rows)]
+        if abs(np.linalg.det(block)) < 1e-13 * np.prod(np.linalg.norm(block, axis=1)):
+            continue
+        x = np.linalg.solve(block, b[list(rows)])
+        if np.all(A @ x <= b + 1e-10 * np.abs(b).max()):
+            points.append(x)
+    return ConvexHull(np.array(points)).volume
+
+
+def nearly_proportional(seed, m, n, low):
+    rng = np.random.default_rng(seed)
+    J = rng.normal(size=(m, n))
+    J[:, 1] = J[:, 0] + 1e-7 * rng.normal(size=m)
+    g = 0.2 * rng.normal(size=n)
+    return J, g, 2.0 * np.ones(n), low * np.ones(n)
+
+
+@pytest.mark.parametrize(
+    ("seed", "m", "n", "low"), [([10, 3, 7], 3, 7, -1.5), (6, 6, 7, -2.0), (8, 6, 7, -2.0)]
+)
+def test_nearly_proportional_columns_keep_every_vertex(seed, m, n, low):
+    J, g, high, low = nearly_proportional(seed, m, n, low)
+    P = pe.analyze(pe.Dynamics(J, np.eye(n), g), high, low, capacity="force").polytope
+    A, b = rows_of(J, g, high, low)
+    assert not P.is_empty
+    assert P.volume == pytest.approx(brute_force_volume(A, b), rel=1e-9)
+    assert np.all(A @ P.vertices.T <= b[:, None] + 1e-9)  # every vertex in the set
+    # the limits along the axes (the line {a t} through the origin) equal a linear program's
+    for axis in np.eye(m):
+        best = linprog([-1.0], (A @ axis)[:, None], b, bounds=[(None, None)], method="highs")
+        assert P.limits(axis).hi == pytest.approx(-best.fun, rel=1e-7)
+
+
+def test_a_thin_but_full_set_is_not_reported_empty():
+    # sigma_min / sigma_max = 1e-9 (full rank): long and thin, its centre well inside
+    m, n = 6, 7
+    rng = np.random.default_rng(11)
+    U, _ = np.linalg.qr(rng.normal(size=(m, m)))
+    V, _ = np.linalg.qr(rng.normal(size=(n, m)))
+    J = (U * np.r_[np.ones(m - 1), 1e-9]) @ V.T
+    g = 0.3 * rng.normal(size=n)
+    high, low = 1 + rng.random(n), -1 - rng.random(n)
+    an = pe.analyze(pe.Dynamics(J, np.eye(n), g), high, low, capacity="force")
+    assert an.rank == m and not an.polytope.is_empty
+    A, b = rows_of(J, g, high, low)
+    assert np.all(A @ an.center < b)  # the centre h0 is strictly inside
+    assert an.polytope.is_bounded and an.polytope.volume > 0
+
+
+def test_ball_radius_is_undefined_when_the_centre_is_outside():
+    J = np.array([[-0.1151, 0.7603, -0.1067], [-0.2969, -0.0222, -1.2360]])
+    g = np.array([-0.3229, -0.1000, 0.3703])
+    high, low = np.array([2.456, 2.586, 0.879]), np.array([0.0, -2.617, -0.669])
+    an = pe.analyze(pe.Dynamics(J, np.eye(3), g), high, low, capacity="force")
+    assert not an.polytope.is_empty and not an.polytope.contains(an.center)
+    assert np.isnan(an.polytope.ball_radius)
+    inside = pe.HPolytope([[1, 0], [-1, 0], [0, 1], [0, -1]], [1, 1, 2, 1])
+    assert inside.ball_radius == pytest.approx(1.0)
+
+
+def test_the_set_is_unbounded_exactly_when_the_analysis_finds_j_singular():
+    # sigma_min / sigma_max of J L^-1 = 3.9e-11, below the rank threshold: rank 1 < 2,
+    # so unbounded along Ker J^T (before, the normalized rows decided full rank: a
+    # finite volume of 1e11 beside a singular analysis)
+    J = np.array(
+        [
+            [-0.05399071408198852, 1.492590424813789, 0.9550756548240461],
+            [-0.04568833493412482, 1.2630685217707298, 0.8082096571308486],
+        ]
+    )
+    g = np.array([0.07981925488880452, -0.10174704537497091, 0.1642703828603681])
+    high = np.array([2.957556923975349, 1.4830218157124804, 1.7901425192748097])
+    low = np.array([-1.36234262538768, -2.6677995600413937, -2.684567873686438])
+    an = pe.analyze(pe.Dynamics(J, np.eye(3), g), high, low, capacity="force")
+    assert an.rank == 1 and an.is_singular
+    assert not an.polytope.is_bounded and an.polytope.volume == np.inf
+    assert len(an.polytope.rays) > 0
