@@ -377,8 +377,50 @@ def _vertex_signs(facets: ZonotopeFacets) -> NDArray[np.float64]:
         return _signs_in_general_position(positive, facets.in_facet)
     signs = _signs_by_faces(facets, positive)
     if signs is None:
-        return _signs_by_active_facets(facets.generators, facets.normals, facets.offsets)
+        gens = facets.generators
+        signs = _signs_by_active_facets(gens, facets.normals, facets.offsets)
+        if not _hull_is_the_zonotope(signs @ gens.T, gens):
+            signs = _corner_signs(gens)
     return signs
+
+
+def _hull_is_the_zonotope(points: NDArray[np.float64], gens: NDArray[np.float64]) -> bool:
+    """Whether the hull of candidate vertices has the zonotope's volume (none missed).
+
+    The candidates are points of the zonotope, so their hull is inside it; equal volumes
+    (to 1e-9, the closed form against Qhull) leave no room for a missed vertex beyond
+    that.  The check of the last-resort path, which decides each candidate on facets
+    found to a tolerance.
+    """
+    from scipy.spatial import QhullError
+
+    r = gens.shape[0]
+    if r < 2:
+        return True
+    try:
+        hull = ConvexHull(points)
+    except (QhullError, ValueError):
+        return False
+    return bool(abs(hull.volume - zonotope_volume(gens)) <= 1e-9 * zonotope_volume(gens))
+
+
+def _corner_signs(gens: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The sign vectors of the vertices among all 2^n corners (Qhull), for n at most 16."""
+    from polyell.errors import SolverError
+
+    r, n = gens.shape
+    if n > MAX_CORNER_JOINTS:
+        raise SolverError(
+            f"zonotope vertices: the facets of this {r}-D zonotope of {n} generators were "
+            "decided inconsistently and its 2^n corners are too many to try; report it."
+        )
+    from scipy.spatial import QhullError
+
+    signs = np.array(list(product((-1.0, 1.0), repeat=n)))
+    try:
+        return signs[ConvexHull(signs @ gens.T).vertices]
+    except QhullError as exn:
+        raise SolverError(f"zonotope vertices: Qhull failed on the 2^n corners ({exn}).") from exn
 
 
 def _signs_by_faces(
@@ -475,7 +517,8 @@ def _signs_by_active_facets(
         dots = a @ gens
         in_facet = np.abs(dots) <= _IN_FACET_RTOL * lengths
         free = np.flatnonzero(in_facet)
-        corners = np.array(list(product((-1.0, 1.0), repeat=free.size))).reshape(-1, free.size)
+        corners = np.array(list(product((-1.0, 1.0), repeat=free.size)), dtype=float)
+        corners = corners.reshape(2**free.size, free.size)  # one empty row if none is free
         signs = np.repeat(np.sign(dots)[None, :], len(corners), axis=0)
         signs[:, free] = corners
         candidates.append(signs)
