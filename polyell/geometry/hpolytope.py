@@ -109,8 +109,10 @@ class HPolytope(ConvexSet):
     def _chebyshev_center(self) -> NDArray[np.float64]:
         """The centre of the largest ball inside (radius capped: unbounded sets have one).
 
-        Solved in units of the largest offset, so that HiGHS's absolute tolerances are
-        relative to the set; the origin for an empty set (never used).
+        Solved in units of the median offset, so that HiGHS's absolute tolerances are
+        relative to the set; the origin for an empty set (never used).  The cap, twice the
+        largest offset, never binds on a bounded set (its inradius is at most a convex
+        combination of offsets: the normals of its rows positively span R^m).
         """
         from scipy.optimize import linprog
 
@@ -121,7 +123,8 @@ class HPolytope(ConvexSet):
         cost = np.zeros(m + 1)
         cost[-1] = -1.0
         A_ub = np.hstack([self._A_in, np.ones((len(self._A_in), 1))])
-        bounds = [(None, None)] * m + [(0.0, 1.0)]
+        cap = 2.0 * float(np.abs(self._b_in).max()) / scale
+        bounds = [(None, None)] * m + [(0.0, max(cap, 1.0))]
         result = linprog(cost, A_ub, self._b_in / scale, bounds=bounds, method="highs")
         if result.status != 0:  # infeasible: an empty set
             return np.zeros(m)
@@ -145,6 +148,7 @@ class HPolytope(ConvexSet):
         self._rays, self._lines = empty, empty
         self._vertices = empty
         self._facet_A, self._facet_b = empty, np.zeros(0)
+        self._rows_y = np.zeros((0, m + 1))
         self._whitened = (empty, np.ones(m))
         self.affine_set = AffineSubspace(self.center, *_whole_space(m))
         self._empty = self._infeasible_row
@@ -237,6 +241,7 @@ class HPolytope(ConvexSet):
         origin: NDArray[np.float64],
     ) -> None:
         """Facets from cdd's inequality rows ``[b_y | -a_y]``: unit normals, offsets."""
+        self._rows_y = rows  # in the whitened coordinates (a volume's fallback)
         A_rows, b_rows = (-rows[:, 1:] * S) @ U1.T, unit * rows[:, 0]
         scale = np.sqrt((A_rows * A_rows).sum(axis=1))
         self._facet_A = A_rows / scale[:, None]
@@ -319,8 +324,16 @@ class HPolytope(ConvexSet):
         try:
             return float(ConvexHull(y).volume * np.prod(stretch))
         except QhullError:  # a dupridge in 6-D: sum cones over the faces instead
-            tight = self.facet_slacks(self.vertices) <= 1e-9 * max(1.0, self.extent)
-            return _face_volume(self.affine_set.coordinates(self.vertices), tight, r)
+            if r < len(stretch):
+                tight = self.facet_slacks(self.vertices) <= 1e-9 * max(1.0, self.extent)
+                return _face_volume(y, tight, r)
+            # in the whitened coordinates, with the facets there (a thin set is well
+            # shaped in them; in task coordinates its extent would swamp the tolerance)
+            normals, offsets = -self._rows_y[:, 1:], self._rows_y[:, 0]
+            lengths = np.sqrt((normals * normals).sum(axis=1))
+            slack = (offsets - y @ normals.T) / lengths
+            tight = slack <= 1e-9 * max(1.0, float(np.abs(y).max()))  # (V, F)
+            return _face_volume(y, tight, r) * float(np.prod(stretch))
 
     @cached_property
     def ball_radius(self) -> float:
@@ -503,6 +516,8 @@ def _bounded_description(
         return None  # empty, flat, unbounded or scaled: the canonical path decides
     points = np.array(rows, dtype=float)
     slack = array @ points.T  # (k, V): b_i - a_i . y for the points [1 | y]
+    if slack.min() < -_ON_PLANE:
+        return None  # a point outside a row: rows cddlib merged (nearly parallel)
     on = slack <= _ON_PLANE
     if np.count_nonzero(on) != np.count_nonzero(slack < _OFF_PLANE):
         return None  # a slack between the two: borderline
@@ -626,7 +641,8 @@ def _hull_if_complete(
 ) -> float | None:
     """The volume of the hull of ``points`` (V, r) if it is all of ``{y : normals y <= offsets}``.
 
-    The points satisfy every row, so their hull lies in the set; the set lies in the hull
+    The points must satisfy every row (to :data:`CERTIFIED`), so that their hull lies in
+    the set; the set lies in the hull
     when every facet of the hull is (to :data:`CERTIFIED`) the plane of a row, since the
     set is on the inner side of every row.  A vertex a floating-point enumeration missed
     leaves a facet of the hull across the set, on no row's plane: None then (and when the
@@ -639,6 +655,8 @@ def _hull_if_complete(
     norms = np.sqrt((normals * normals).sum(axis=1))
     kept = norms > 0
     unit, reach = normals[kept] / norms[kept, None], offsets[kept] / norms[kept]
+    if len(points) and float((points @ unit.T - reach).max()) > CERTIFIED:
+        return None  # a point outside a row: not a vertex of this set
     if r == 1:
         ends = [float(points.max()), -float(points.min())]
         sides = [unit[:, 0] > 0, unit[:, 0] < 0]

@@ -108,3 +108,53 @@ def test_the_set_is_unbounded_exactly_when_the_analysis_finds_j_singular():
     assert an.rank == 1 and an.is_singular
     assert not an.polytope.is_bounded and an.polytope.volume == np.inf
     assert len(an.polytope.rays) > 0
+
+
+def test_a_nearly_parallel_row_keeps_its_vertex():
+    # The square's top row and a copy tilted by 1e-6 about (0.9, 1): cddlib merged the two
+    # and returned (1, 1 + 1e-7), outside the tilted row; the vertex (0.9, 1) was lost.
+    tilt = 1e-6
+    a = np.array([-np.sin(tilt), np.cos(tilt)])
+    A = np.array([[1.0, 0], [-1, 0], [0, 1], [0, -1], a])
+    b = np.array([1.0, 1, 1, 1, a @ [0.9, 1.0]])
+    P = pe.HPolytope(A, b)
+    assert np.all(A @ P.vertices.T <= b[:, None] + 1e-12)
+    # the vertex where the rows meet, to their conditioning (eps / tilt)
+    assert np.min(np.linalg.norm(P.vertices - [0.9, 1.0], axis=1)) <= 1e-9
+    assert P.volume == pytest.approx(4 - 0.5 * 1.9**2 * np.tan(tilt), rel=1e-12)
+
+
+def test_the_default_centre_is_the_chebyshev_centre():
+    # an inradius (1.48) above the median offset: the radius cap bound, and the centre was
+    # another point of the set (ball radius 0.82)
+    A = np.array([[-0.067, -0.998], [0.853, -0.522], [0.095, -0.995], [0.593, -0.805]])
+    A = np.vstack([A, [[0.002, 1.0], [0.97, 0.244]]])
+    b = np.array([3.124, 0.664, 0.272, 0.432, 0.971, 1.074])
+    P = pe.HPolytope(A, b)
+    lengths = np.linalg.norm(A, axis=1)
+    best = linprog([0, 0, -1], np.c_[A, lengths], b, bounds=[(None, None)] * 2 + [(0, None)])
+    assert P.ball_radius == pytest.approx(best.x[2], rel=1e-9)
+
+
+def test_a_thin_force_set_has_its_volume_where_qhull_fails():
+    # sigma ratio 1e-9: Qhull finds a dupridge among the whitened vertices; the cones over
+    # the faces were summed in task coordinates, where the set's length (1e9) swamped the
+    # tolerance (4e-7 for 7e11).  Against Lawrence's formula of the force sweep, to the
+    # rounding bound m n eps cond of the data's conditioning.
+    from polyell.geometry.directions import sphere_directions
+    from polyell.studies.batch import BatchOptions
+    from polyell.studies.force_batch import force_rows
+
+    m, n = 6, 7
+    rng = np.random.default_rng(14)
+    U, _ = np.linalg.qr(rng.normal(size=(m, m)))
+    V, _ = np.linalg.qr(rng.normal(size=(n, m)))
+    J = (U * np.r_[np.ones(m - 1), 1e-9]) @ V.T
+    g = 0.3 * rng.normal(size=n)
+    high, low = 1 + rng.random(n), -1 - rng.random(n)
+    P = pe.analyze(pe.Dynamics(J, np.eye(n), g), high, low, capacity="force").polytope
+    batch = pe.Dynamics(J[None], np.eye(n)[None], g[None])
+    columns, scalar = force_rows(batch, high, low, sphere_directions(8, m), BatchOptions())
+    assert not scalar[0]
+    bound = m * n * np.finfo(float).eps * 1e9
+    assert P.volume == pytest.approx(columns["polytope_volume"][0], rel=bound)
