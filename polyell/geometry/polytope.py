@@ -169,7 +169,9 @@ class Polytope(ConvexSet):
         """Volume in the affine set (r-dimensional; 1 for a single point) [(m/s^2)^r].
 
         ``prod(sigma) vol({V_1^T u})``: the whitened zonotope's determinants are well
-        scaled, so the volume keeps its relative accuracy however thin P is.
+        scaled, so no cancellation comes from P's thinness itself; the rounding of the data
+        and of the SVD still give relative errors of about eps times the condition number
+        of the generators (3e-7 at 8e9, found by the second independent check).
         """
         return float(np.prod(self._svd.sigma)) * zonotope_volume(self._svd.V1.T)
 
