@@ -580,6 +580,18 @@ def _by_qhull(
         raise SolverError(f"half-spaces to vertices: cddlib ({cause}) and Qhull failed.") from exn
     vertices = np.unique(np.round(hull.intersections, 12), axis=0)
     # A row is a facet when it holds at least r affinely independent vertices.
+    return _description_of(vertices, normals, offsets)
+
+
+def _description_of(
+    vertices: NDArray[np.float64], normals: NDArray[np.float64], offsets: NDArray[np.float64]
+) -> Description:
+    """The description of a bounded set from its vertices (V, r) and rows.
+
+    A row is a facet when it holds r affinely independent vertices (to 1e-9 of the
+    offsets' scale).
+    """
+    r = normals.shape[1]
     tight = np.abs(vertices @ normals.T - offsets) <= 1e-9 * max(1.0, float(offsets.max()))
     facets = [
         i
@@ -588,8 +600,7 @@ def _by_qhull(
         and np.linalg.matrix_rank(vertices[tight[:, i]] - vertices[tight[:, i]].mean(0)) >= r - 1
     ]
     rows = np.hstack([offsets[facets, None], -normals[facets]])
-    points = np.hstack([np.ones((len(vertices), 1)), vertices])
-    return rows, [], points, []
+    return rows, [], np.hstack([np.ones((len(vertices), 1)), vertices]), []
 
 
 def _face_volume(points: NDArray[np.float64], tight: NDArray[np.bool_], k: int) -> float:
@@ -713,15 +724,7 @@ def _by_enumeration(offsets: NDArray[np.float64], normals: NDArray[np.float64]) 
     vertices = np.concatenate(found) if found else np.zeros((0, r))
     if len(vertices):
         vertices = np.unique(np.round(vertices, 12), axis=0)
-    tight = np.abs(vertices @ normals.T - offsets) <= 1e-9 * max(1.0, float(offsets.max()))
-    facets = [
-        i
-        for i in range(k)
-        if tight[:, i].sum() >= r
-        and np.linalg.matrix_rank(vertices[tight[:, i]] - vertices[tight[:, i]].mean(0)) >= r - 1
-    ]
-    rows = np.hstack([offsets[facets, None], -normals[facets]])
-    return rows, [], np.hstack([np.ones((len(vertices), 1)), vertices]), []
+    return _description_of(vertices, normals, offsets)
 
 
 def _is_complete(
