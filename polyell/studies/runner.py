@@ -328,12 +328,22 @@ def _run_many(
     """
     if spec.trajectory is not None:
         return _run_trajectory(spec, folder, progress, scheduler, seconds)
+    return _each_capacity(_run_many_capacity, spec, folder, progress, scheduler, seconds)
+
+
+def _each_capacity(
+    run_one: Any,
+    spec: StudySpec,
+    folder: Path,
+    progress: bool,
+    scheduler: str | None,
+    seconds: dict[str, float],
+) -> list[Path]:
+    """``run_one`` for each capacity of ``[compare] capacities``, then the HTML report."""
     written: list[Path] = []
     sections = _about(spec)
     for capacity in spec.capacities:
-        files, capacity_sections = _run_many_capacity(
-            spec, folder, capacity, progress, scheduler, seconds
-        )
+        files, capacity_sections = run_one(spec, folder, capacity, progress, scheduler, seconds)
         written += files
         sections += capacity_sections
     if "html" in spec.formats:
@@ -572,19 +582,7 @@ def _run_trajectory(
     bytes a sample) and one score column at a time (8 bytes a sample) for the summary's
     medians and the histograms.  Each capacity of ``[compare] capacities`` in turn.
     """
-    written: list[Path] = []
-    sections = _about(spec)
-    for capacity in spec.capacities:
-        files, capacity_sections = _run_trajectory_capacity(
-            spec, folder, capacity, progress, scheduler, seconds
-        )
-        written += files
-        sections += capacity_sections
-    if "html" in spec.formats:
-        from polyell.interactive import write_report
-
-        written.append(write_report(folder / "report.html", spec.title, sections))
-    return written
+    return _each_capacity(_run_trajectory_capacity, spec, folder, progress, scheduler, seconds)
 
 
 def _run_trajectory_capacity(
