@@ -33,6 +33,7 @@ from polyell.studies.spec import Robot
 from polyell.validation import (
     DIRECTION_NORM_RTOL,
     check_directions,
+    check_joint_velocities,
     check_points,
     check_torque_limits,
 )
@@ -56,7 +57,7 @@ MAIN_OUTPUTS = {
 #: The outputs a study writes once, whatever its capacities.
 _SHARED_OUTPUTS = ("numbers.md", "report.html", "manifest.json")
 #: Options whose value is a list of numbers, which may start with '-' (--q -pi/2,0,0).
-_LIST_OPTIONS = ("--q", "--tau-max", "--tau-min", "--direction")
+_LIST_OPTIONS = ("--q", "--qd", "--qd-max", "--qd-min", "--tau-max", "--tau-min", "--direction")
 
 
 def _join_list_options(argv: Sequence[str]) -> list[str]:
@@ -268,8 +269,8 @@ def _velocities(
             f"--qd for the planar arm {args.robot}",
             "the planar arm is modelled at rest: drop --qd, or load a URDF robot.",
         )
-    qd = check_points("--qd", args.qd, robot.model.n)
-    return (np.deg2rad(qd) if args.deg else qd), True
+    qd = np.deg2rad(args.qd) if args.deg else args.qd
+    return check_joint_velocities("--qd", qd, robot.model.n), True
 
 
 def _velocity_limits(

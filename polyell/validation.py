@@ -511,6 +511,24 @@ def source_torque_limits(
     return check_torque_limits(tau_max, tau_min, n)
 
 
+#: Joint speeds above this [rad/s] are refused: beyond any drive, and the Coriolis and
+#: centrifugal torques (quadratic in qd) would leave floating point before the limits do.
+MAX_JOINT_SPEED = 1e6
+
+
+def check_joint_velocities(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
+    """Joint velocities ``qd`` (n,) [rad/s or m/s] of a robot in motion, finite and bounded."""
+    qd = check_array(name, value, (n,), what="joint velocities [rad/s]")
+    if np.abs(qd).max(initial=0.0) > MAX_JOINT_SPEED:
+        raise InputError(
+            name,
+            f"joint velocities of at most {MAX_JOINT_SPEED:.0e} rad/s",
+            f"{np.abs(qd).max():.3g} rad/s",
+            "give the joint velocities in rad/s (m/s for prismatic joints).",
+        )
+    return qd
+
+
 def check_points(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]:
     """Check finite task-space points of shape ``(m,)`` or ``(..., m)``.
 

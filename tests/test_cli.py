@@ -194,3 +194,13 @@ def test_files_and_addresses_that_cannot_be_used(capsys, tmp_path, argv, fragmen
     assert main([a.format(tmp=tmp_path) for a in argv]) == 2
     err = only_line(capsys)
     assert err.startswith("polyell: error: ") and fragment in err
+
+
+def test_joint_velocity_options_take_a_leading_minus_and_are_bounded(capsys):
+    # qd_min is at most 0: "--qd-min -1,-2,-3" must not read as an option (found by the
+    # third independent check); speeds beyond any drive name --qd
+    assert main(["analyze", "--capacity", "velocity", "--qd-min", "-1,-2,-3"]) == 0
+    assert "qd_min: -1, -2, -3" in capsys.readouterr().out
+    q = ["--robot", "panda", "--q", "0,0,0,-1.5,0,1.5,0"]
+    assert main(["analyze", *q, "--qd", "1e20,0,0,0,0,0,0"]) == 2
+    assert "--qd: expected joint velocities of at most 1e+06 rad/s" in capsys.readouterr().err

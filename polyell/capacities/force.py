@@ -189,6 +189,12 @@ class ForceAnalysis(Analysis):
                 "gravity-consistent and static ellipsoids would be infinite cylinders and "
                 "the classic one flat."
             )
+        if self.polytope.is_empty:
+            raise UndefinedEllipsoidError(
+                f"The force ellipsoid {kind!r} is undefined here: the force set is empty (the "
+                "arm cannot hold itself against gravity within its torque limits), so no "
+                "ellipsoid describes it."
+            )
 
     def _build_ellipsoid(self, kind: str) -> Ellipsoid:
         self._require_bounded(kind)

@@ -902,7 +902,10 @@ class TrajectoryTable(Table):
     """A path the user already has.
 
     CSV, Parquet, .npy or .npz with columns `q1..qn`, optionally `qd1..qdn` (then the
-    accelerations along the path's tangent) and `t`. One robot only.
+    accelerations along the path's tangent) and `t`. One robot only. The sets along the
+    path are those of the robot at rest with its rated limits: `qd` gives the tangent
+    only (no Coriolis terms, no torque-speed derating; a `[[points]]` entry with `qd`
+    analyzes one configuration in motion).
     """
 
     heading: ClassVar[str] = "[trajectory]"

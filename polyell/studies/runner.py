@@ -6,13 +6,14 @@ import json
 import os
 import re
 import time
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from polyell.capacities import analyze
-from polyell.comparison.comparison import SCORE_NAMES, Comparison, compare
+from polyell.comparison.comparison import SCORE_NAMES, Comparison, compare, compared_kinds
 from polyell.comparison.limits import limits_table
 from polyell.comparison.point_tables import write_point_tables
 from polyell.comparison.summary import (
@@ -83,6 +84,20 @@ def _prepare(out: str | os.PathLike[str]) -> Path:
     return folder
 
 
+def _for_capacity(spec: StudySpec, capacity: str) -> StudySpec:
+    """The study with its tables' ``[output] sets`` kept to this capacity's sets.
+
+    A set of another compared capacity (``static`` beside accelerations) is left out of
+    this capacity's tables; that every set exists in some capacity is checked at load.
+    """
+    sets = spec.layout.sets
+    if sets is None:
+        return spec
+    own = {"polytope", *compared_kinds(capacity), *(c.name for c in spec.candidates)}
+    kept = tuple(name for name in sets if name in own)
+    return replace(spec, layout=replace(spec.layout, sets=kept or ("polytope",)))
+
+
 def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
     """Every capacity of the study at every point: tables, figures, numbers, report."""
     written: list[Path] = []
@@ -128,6 +143,7 @@ def _run_points_capacity(
 ) -> list[Path]:
     from polyell.figures import plot_directional_limits, plot_sets, plot_sets_3d, save_figure
 
+    spec = _for_capacity(spec, capacity)
     written: list[Path] = []
     frames = []
     comparisons: dict[str, Comparison] = {}
@@ -369,6 +385,7 @@ def _run_many_capacity(
     """
     import pandas as pd
 
+    spec = _for_capacity(spec, capacity)
     suffix = "" if capacity == "acceleration" else f"_{capacity}"
     runs: dict[str, pd.DataFrame] = {}
     for index, robot in enumerate(spec.robots):
@@ -534,6 +551,7 @@ def _write_summary(
     """
     import pandas as pd
 
+    spec = _for_capacity(spec, capacity)
     suffix = "" if capacity == "acceleration" else f"_{capacity}"
     scores = "scores" if not suffix else f"{capacity} scores"
     tag = suffix.replace("_", "-")  # LaTeX labels: tab:summary-force
@@ -607,6 +625,7 @@ def _run_trajectory_capacity(
     )
     from polyell.interactive import SeriesDecimator
 
+    spec = _for_capacity(spec, capacity)
     suffix = "" if capacity == "acceleration" else f"_{capacity}"
     by = "" if not suffix else f"{capacity}: "
     trajectory = spec.trajectory

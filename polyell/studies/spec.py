@@ -31,7 +31,7 @@ from polyell.models.task import task_unit
 from polyell.models.urdf import Payload, UrdfRobot
 from polyell.studies.configurations import uniform_rows
 from polyell.studies.trajectory import Trajectory, load_trajectory
-from polyell.validation import array_ndim, check_array
+from polyell.validation import array_ndim, check_array, check_joint_velocities
 
 if TYPE_CHECKING:  # pydantic is imported where study files are read (start-up time)
     from polyell.studies import models
@@ -533,9 +533,11 @@ def _point_qd(
             "qd for a planar arm",
             "the planar arm is modelled at rest: drop qd, or load a URDF robot.",
         )
-    qd = _point_q(table, where, robot, names, "qd")
-    with _within(f"{where}.qd"):
-        robot.torque_limits(qd)  # the torque-speed curves accept it (finite, in range)
+    qd = check_joint_velocities(
+        f"{where}.qd", _point_q(table, where, robot, names, "qd"), robot.model.n
+    )
+    with _within(where):  # the curves' refusals name "qd": points[i].qd
+        robot.torque_limits(qd)  # the torque-speed curves accept it (in their range)
     return qd
 
 
@@ -749,6 +751,28 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
             f"'velocity' and qd at {moving}",
             "drop qd from those points, or study velocities in a file of their own.",
         )
+    if candidates and len(compare.capacities) > 1:
+        raise InputError(
+            "candidates",
+            "a study of one capacity (a candidate's core and centre are in its units: "
+            "m/s^2, m/s or N)",
+            f"candidates beside compare.capacities = {list(compare.capacities)}",
+            "compare the candidates in a study of the capacity they describe.",
+        )
+    if output.sets is not None:  # each set is some compared capacity's, or a candidate
+        from polyell.comparison.comparison import compared_kinds
+
+        known = ["polytope", *(c.name for c in candidates)]
+        for capacity in compare.capacities:
+            known += [kind for kind in compared_kinds(capacity) if kind not in known]
+        unknown = [name for name in output.sets if name not in known]
+        if unknown:
+            raise InputError(
+                "output.sets",
+                f"sets among {known} (the compared capacities' ellipsoids and the candidates)",
+                repr(unknown),
+                "check the spelling, or add the capacity to [compare] capacities.",
+            )
     if "velocity" in compare.capacities:  # every robot needs its joint velocity limits
         for number, robot in enumerate(robots_):
             if robot.model.qd_max is None:

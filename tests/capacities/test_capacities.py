@@ -344,3 +344,12 @@ def test_kinds_of_another_capacity_are_refused():
     force = random_problem(1, 2, 3, capacity="force")
     with pytest.raises(pe.InputError, match="'static'"):
         force.inverse([0.0, 0.0], kind="mvie")
+
+
+def test_every_force_ellipsoid_is_undefined_where_the_set_is_empty():
+    arm = pe.robots.load("chiacchio2000")
+    an = pe.analyze(arm.dynamics([0.3, 0.7, -1.1]), [1.0, 1.0, 1.0], capacity="force")
+    assert an.polytope.is_empty
+    for kind in an.ellipsoid_kinds:
+        with pytest.raises(pe.UndefinedEllipsoidError, match="the force set is empty"):
+            an.ellipsoid(kind)

@@ -339,3 +339,63 @@ def test_a_planar_arm_point_cannot_move(tmp_path):
     )
     with pytest.raises(pe.InputError, match=r"points\[0\]\.qd: expected a URDF robot"):
         load_study(path)
+
+
+# --- found by the third independent check (study files and the command line) ---------------
+
+POINTS = """
+[robot]
+library = "chiacchio2000"
+[[points]]
+name = "p"
+q = [0.3, 0.7, -1.1]
+[compare]
+capacities = {capacities}
+directions = 8
+samples = 64
+mvie = false
+outer = false
+{extra}
+[output]
+formats = ["png"]
+dpi = 20
+{output}
+"""
+
+
+def _points_study(tmp_path, capacities, extra="", output=""):
+    path = tmp_path / "study.toml"
+    path.write_text(POINTS.format(capacities=capacities, extra=extra, output=output))
+    return path
+
+
+def test_output_sets_are_kept_per_capacity_and_checked_at_load(tmp_path):
+    # "static" is a force set: the acceleration tables leave it out instead of refusing
+    path = _points_study(
+        tmp_path, '["force", "acceleration"]', output='sets = ["polytope", "static"]'
+    )
+    run_study(load_study(path), tmp_path / "out")
+    assert "no gravity" in (tmp_path / "out" / "comparison_force.tex").read_text()
+    assert "no gravity" not in (tmp_path / "out" / "comparison.tex").read_text()
+    path = _points_study(tmp_path, '["velocity"]', output='sets = ["polytope", "static"]')
+    with pytest.raises(pe.InputError) as info:
+        load_study(path)
+    assert str(info.value).startswith("output.sets: expected sets among ['polytope', 'yoshikawa'")
+
+
+def test_candidates_need_a_study_of_one_capacity(tmp_path):
+    candidate = '[[candidates]]\nname = "c"\ncore = [[1e-3, 0], [0, 2e-3]]\ncenter = [0, -9.81]'
+    path = tmp_path / "study.toml"
+    path.write_text(
+        POINTS.format(capacities='["velocity", "acceleration"]', extra="", output="") + candidate
+    )
+    with pytest.raises(pe.InputError) as info:
+        load_study(path)
+    assert str(info.value).startswith("candidates: expected a study of one capacity")
+
+
+def test_moving_points_refuse_speeds_beyond_any_drive(tmp_path):
+    path = _moving(tmp_path, qd="[0, 1e300, 0]")
+    with pytest.raises(pe.InputError) as info:
+        load_study(path)
+    assert str(info.value).startswith("points[0].qd: expected joint velocities of at most 1e+06")
