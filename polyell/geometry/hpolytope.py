@@ -186,10 +186,12 @@ class HPolytope(ConvexSet):
                 self._bounded_from(rows, points[:, 1:], S, U1, unit, origin)
                 return
         description = _double_description(listed, array)
-        if solid and not _is_complete(description, svd.V1, array[:, 0], self):
-            rows, points = _complete(array[:, 0], svd.V1, self)
-            self._bounded_from(rows, points, S, U1, unit, origin)
-            return
+        if solid:
+            complete, self._volume_y = _checked(description, svd.V1, array[:, 0])
+            if not complete:
+                rows, points, self._volume_y = _complete(array[:, 0], svd.V1)
+                self._bounded_from(rows, points, S, U1, unit, origin)
+                return
         if description is None:
             self._empty = True
             return
@@ -727,46 +729,44 @@ def _by_enumeration(offsets: NDArray[np.float64], normals: NDArray[np.float64]) 
     return _description_of(vertices, normals, offsets)
 
 
-def _is_complete(
-    description: Description | None,
-    normals: NDArray[np.float64],
-    offsets: NDArray[np.float64],
-    polytope: HPolytope,
-) -> bool:
+def _checked(
+    description: Description | None, normals: NDArray[np.float64], offsets: NDArray[np.float64]
+) -> tuple[bool, float | None]:
     """Whether cddlib's description of a set with the origin strictly inside holds.
 
     Not empty (the origin is inside), and where bounded (no rays, no equalities) every
-    vertex there: the hull of its points is the set (:func:`_hull_if_complete`, whose
-    volume is kept for :attr:`HPolytope.volume`).
+    vertex there: the hull of its points is the set (:func:`_hull_if_complete`).  Returns
+    the verdict and that hull's whitened volume (None where not computed).
     """
     if description is None:
-        return False
+        return False, None
     _, linear, points, _ = description
     if linear or np.any(points[:, 0] == 0):  # unbounded: rays (not checked here)
-        return True
-    polytope._volume_y = _hull_if_complete(points[:, 1:] / points[:, :1], normals, offsets)
-    return polytope._volume_y is not None
+        return True, None
+    volume = _hull_if_complete(points[:, 1:] / points[:, :1], normals, offsets)
+    return volume is not None, volume
 
 
 def _complete(
-    offsets: NDArray[np.float64], normals: NDArray[np.float64], polytope: HPolytope
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    offsets: NDArray[np.float64], normals: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], float | None]:
     """Facet rows and vertices where cddlib missed some: every r rows, else Qhull (checked).
 
     The enumeration is complete by construction; Qhull's half-space intersection stands
-    in where it has too many subsets, and must pass the same check as cddlib.
+    in where it has too many subsets, and must pass the same check as cddlib.  The third
+    item is the whitened volume of the checking hull (None after the enumeration).
     """
     k, r = normals.shape
     if math.comb(k, r) <= MAX_SUBSETS:
         rows, _, points, _ = _by_enumeration(offsets, normals)
-        return rows, points[:, 1:]
+        return rows, points[:, 1:], None
     cause = SolverError("cddlib missed vertices of a full-dimensional set")
     rows, _, points, _ = _by_qhull(offsets, normals, cause)
-    polytope._volume_y = _hull_if_complete(points[:, 1:], normals, offsets)
-    if polytope._volume_y is None:
+    volume = _hull_if_complete(points[:, 1:], normals, offsets)
+    if volume is None:
         raise SolverError(
             f"half-spaces to vertices: cddlib and Qhull missed vertices of this set ({k} "
             f"half-spaces in {r} dimensions, too many to try every {r} of them); express "
             "it with fewer half-spaces or report it."
         )
-    return rows, points[:, 1:]
+    return rows, points[:, 1:], volume

@@ -40,6 +40,16 @@ def brute_force_volume(A, b):
     return ConvexHull(np.array(points)).volume
 
 
+def thin_arm(seed, m, n):
+    """J = U diag(1, ..., 1, 1e-9) V^T: full rank, sigma ratio 1e-9; gravity, limits."""
+    rng = np.random.default_rng(seed)
+    U, _ = np.linalg.qr(rng.normal(size=(m, m)))
+    V, _ = np.linalg.qr(rng.normal(size=(n, m)))
+    J = (U * np.r_[np.ones(m - 1), 1e-9]) @ V.T
+    g = 0.3 * rng.normal(size=n)
+    return J, g, 1 + rng.random(n), -1 - rng.random(n)
+
+
 def nearly_proportional(seed, m, n, low):
     rng = np.random.default_rng(seed)
     J = rng.normal(size=(m, n))
@@ -67,12 +77,7 @@ def test_nearly_proportional_columns_keep_every_vertex(seed, m, n, low):
 def test_a_thin_but_full_set_is_not_reported_empty():
     # sigma_min / sigma_max = 1e-9 (full rank): long and thin, its centre well inside
     m, n = 6, 7
-    rng = np.random.default_rng(11)
-    U, _ = np.linalg.qr(rng.normal(size=(m, m)))
-    V, _ = np.linalg.qr(rng.normal(size=(n, m)))
-    J = (U * np.r_[np.ones(m - 1), 1e-9]) @ V.T
-    g = 0.3 * rng.normal(size=n)
-    high, low = 1 + rng.random(n), -1 - rng.random(n)
+    J, g, high, low = thin_arm(11, m, n)
     an = pe.analyze(pe.Dynamics(J, np.eye(n), g), high, low, capacity="force")
     assert an.rank == m and not an.polytope.is_empty
     A, b = rows_of(J, g, high, low)
@@ -146,12 +151,7 @@ def test_a_thin_force_set_has_its_volume_where_qhull_fails():
     from polyell.studies.force_batch import force_rows
 
     m, n = 6, 7
-    rng = np.random.default_rng(14)
-    U, _ = np.linalg.qr(rng.normal(size=(m, m)))
-    V, _ = np.linalg.qr(rng.normal(size=(n, m)))
-    J = (U * np.r_[np.ones(m - 1), 1e-9]) @ V.T
-    g = 0.3 * rng.normal(size=n)
-    high, low = 1 + rng.random(n), -1 - rng.random(n)
+    J, g, high, low = thin_arm(14, m, n)
     P = pe.analyze(pe.Dynamics(J, np.eye(n), g), high, low, capacity="force").polytope
     batch = pe.Dynamics(J[None], np.eye(n)[None], g[None])
     columns, scalar = force_rows(batch, high, low, sphere_directions(8, m), BatchOptions())
