@@ -20,10 +20,12 @@ from polyell.geometry.polytope import Polytope
 from polyell.inverse import AffineMap
 
 __all__ = [
+    "CAP_GAP",
     "INSIDE_RTOL",
     "ROUNDING_FACTOR",
     "DirectionErrors",
     "Overlap",
+    "cap_share",
     "check_same_affine_set",
     "direction_errors",
     "enclosing_scale",
@@ -239,6 +241,85 @@ def _sorted_ball_points(
 _sorted_ball_points = lru_cache(maxsize=8)(_sorted_ball_points)
 
 
+#: Two caps of E (its parts beyond two facets) count as disjoint when the nearest point
+#: beyond both facets lies this far beyond E's boundary, relatively: well above the
+#: rounding of the normalized offsets, so an exact share never rests on a near-touching pair.
+CAP_GAP = 1e-9
+
+
+def cap_share(
+    reach_vectors: NDArray[np.float64], slack: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    r"""The exact share of E inside P where E's caps beyond P's facets are disjoint, else NaN.
+
+    In the coordinates ``u`` of E (``x = c + U diag(s) u``, ``|u| <= 1``) facet i reads
+    ``w_i . u <= slack_i`` with ``w_i = diag(s) U^T a_i``: its cap (the part of the unit
+    ball beyond it) lies at distance ``t_i = slack_i / |w_i|`` from the centre and holds the
+    share
+
+    .. math:: F_r(t) = \tfrac12 I_{1 - t^2}\left(\tfrac{r + 1}{2}, \tfrac12\right)
+              \quad (t \ge 0), \qquad F_r(t) = 1 - F_r(-t) \quad (t < 0)
+
+    of the ball (``I`` the regularized incomplete beta function).  ``E \ P`` is the union
+    of the caps; where no two of them meet (the nearest point beyond both facets, a
+    two-constraint projection, lies outside the ball by :data:`CAP_GAP`) the share inside
+    is ``1 - sum F_r(t_i)`` exactly, and 0 where one facet leaves all of E outside.
+
+    Parameters
+    ----------
+    reach_vectors : ndarray, shape (..., F, r)
+        ``w_i`` of every facet.
+    slack : ndarray, shape (..., F)
+        The facets' offsets about E's centre (``+inf``: a facet to ignore).
+
+    Returns
+    -------
+    ndarray, shape (...)
+        The share in [0, 1], NaN where two caps meet (or an input is NaN): estimate those.
+    """
+    from scipy.special import betainc
+
+    r = reach_vectors.shape[-1]
+    reach = np.linalg.norm(reach_vectors, axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(reach > 0, slack / reach, np.where(slack >= 0, np.inf, -np.inf))
+        unit = np.where(reach[..., None] > 0, reach_vectors / reach[..., None], 0.0)
+    t = np.where(np.isnan(slack) | np.isnan(reach), np.nan, t)
+    # only the facets that cut E from here: the first of each row, cut first
+    order = np.argsort(~(t < 1.0), axis=-1, kind="stable")
+    order = order[..., : int(np.sum(t < 1.0, axis=-1).max(initial=0))]
+    unit = np.take_along_axis(unit, order[..., None], axis=-2)
+    lost = np.any(t <= -1.0, axis=-1)  # one facet leaves all of E outside
+    t = np.take_along_axis(t, order, axis=-1)
+    cut = t < 1.0
+    ti, tj = t[..., :, None], t[..., None, :]
+    cosine = unit @ np.swapaxes(unit, -1, -2)
+    # The nearest point of {a_i . u >= t_i, a_j . u >= t_j}: on one plane if that point
+    # satisfies the other, else on both.
+    di, dj = np.maximum(ti, 0.0), np.maximum(tj, 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        both = np.sqrt(
+            np.maximum(0.0, ti * ti - 2.0 * cosine * ti * tj + tj * tj)
+            / np.maximum(0.0, 1.0 - cosine * cosine)
+        )
+        nearest = np.where(cosine * di >= tj, di, np.where(cosine * dj >= ti, dj, both))
+    pairs = cut[..., :, None] & cut[..., None, :] & ~np.eye(t.shape[-1], dtype=bool)
+    meet = np.any(pairs & ~(nearest >= 1.0 + CAP_GAP), axis=(-2, -1))
+    tc = np.clip(np.where(cut, t, 1.0), -1.0, 1.0)
+    x = np.abs(tc)  # I_x(a, b) = 1 - I_(1-x)(b, a): the argument that keeps its digits
+    half = np.where(
+        x * x < 0.5,
+        0.5 - 0.5 * betainc(0.5, (r + 1) / 2.0, x * x),
+        0.5 * betainc((r + 1) / 2.0, 0.5, (1.0 - x) * (1.0 + x)),
+    )
+    caps = np.where(tc >= 0.0, half, 1.0 - half)
+    share = np.clip(1.0 - np.sum(np.where(cut, caps, 0.0), axis=-1), 0.0, 1.0)
+    nan = np.any(np.isnan(slack) | np.isnan(reach), axis=-1)
+    share = np.where(meet | nan, np.nan, share)
+    result: NDArray[np.float64] = np.where(lost & ~nan, 0.0, share)
+    return result
+
+
 def _count_inside(
     axes: NDArray[np.float64],
     semi_axes: NDArray[np.float64],
@@ -299,7 +380,9 @@ def overlap(
     ``vol(E) / vol(P)``, overreach 0), when ``E`` contains ``P`` (``enclosing_scale <= 1 +
     inside_rtol``: coverage 1, overreach ``1 - vol(P) / vol(E)``) and in one dimension
     (intervals); :func:`inside_rtol` is the larger of :data:`INSIDE_RTOL` and the rounding
-    bound of the scales.  Otherwise the share
+    bound of the scales.  Exact as well when the parts of ``E`` beyond the facets (its
+    caps) are pairwise disjoint: the share of ``E`` outside is the sum of the caps' closed
+    forms (:func:`cap_share`).  Otherwise the share
     of ``E`` inside ``P`` is estimated by randomized quasi-Monte Carlo: ``replicates``
     independently scrambled Sobol' sets of ``samples`` points each, mapped uniformly into
     ``E``; the standard error is that of the replicate means.
@@ -330,10 +413,13 @@ def overlap(
         s = E.semi_axes[0]
         length = 0.0 if np.isnan(lo[0]) else max(0.0, min(hi[0], s) - max(lo[0], -s))
         return Overlap(length / P.volume, 1.0 - length / (2.0 * s), 0.0, 0.0)
+    ratio = E.volume / P.volume
+    exact = float(cap_share((P.A @ E.axes) * E.semi_axes, slack))
+    if not np.isnan(exact):
+        return Overlap(min(1.0, exact * ratio), 1.0 - exact, 0.0, 0.0)
     shares = _count_inside(E.axes, E.semi_axes, P.A, slack, samples, replicates, seed) / samples
     share = float(shares.mean())
     stderr = float(shares.std(ddof=1) / np.sqrt(replicates))
-    ratio = E.volume / P.volume
     # vol(E & P) <= vol(P): an estimate above 1 is noise of the sampling (within stderr)
     return Overlap(min(1.0, share * ratio), 1.0 - share, stderr * ratio, stderr)
 

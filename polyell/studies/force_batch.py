@@ -13,8 +13,9 @@ algebra, in the whitened coordinates of :class:`~polyell.capacities.force.ForceA
 * the three ellipsoids (``chiacchio``, ``yoshikawa``, ``static``), their scales, volume
   shares, directional statistics (:func:`~polyell.studies.directional.direction_scores`)
   and torque witnesses, by the closed forms of the scalar path; an ellipsoid neither inside
-  nor around the set is counted by the same quasi-Monte-Carlo points
-  (:func:`~polyell.comparison.metrics._count_inside`).
+  nor around the set has its exact share where its caps beyond the facets are disjoint
+  (:func:`~polyell.comparison.metrics.cap_share`), else the same quasi-Monte-Carlo
+  counts (:func:`~polyell.comparison.metrics._count_inside`).
 
 Rows this path does not cover are returned as a mask for the scalar path, so that every
 row equals ``compare(analyze(...)).to_row()`` to rounding: a rank of ``J`` below m (or
@@ -30,6 +31,7 @@ with more than :data:`MAX_CANDIDATES` vertex candidates.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -38,11 +40,11 @@ from numpy.typing import NDArray
 from polyell.capacities.base import centre_and_half_range
 from polyell.capacities.force import force_terms
 from polyell.comparison.comparison import compared_kinds
-from polyell.comparison.metrics import INSIDE_RTOL, _count_inside, scale_rtol
+from polyell.comparison.metrics import INSIDE_RTOL, _count_inside, cap_share, scale_rtol
 from polyell.geometry.ellipsoid import canonical_axes, unit_ball_volume
 from polyell.geometry.limits import facet_slack, rounding_floor
 from polyell.geometry.subspace import RANK_RTOL
-from polyell.geometry.zonotope import subsets
+from polyell.geometry.zonotope import cross, subsets
 from polyell.models.dynamics import Dynamics
 from polyell.studies.batch import BLOCK, RANK_BAND, BatchOptions, score_columns
 from polyell.studies.directional import direction_scores
@@ -60,10 +62,10 @@ MAX_CANDIDATES = 4096
 GENERAL_POSITION = 1e-9
 #: m unit normals spanning less than this volume (``|det|``) are taken as dependent.
 DEPENDENT = 1e-6
-#: Lawrence's sum can cancel: the two evaluations (two directions) must agree to this.
+#: Lawrence's sum can cancel: its two least cancelling evaluations must agree to this.
 VOLUME_RTOL = 1e-10
-#: The two generic directions of Lawrence's formula (fixed: rows are reproducible).
-_DIRECTIONS = np.random.default_rng(20001).normal(size=(2, 64))
+#: The three generic directions of Lawrence's formula (fixed: rows are reproducible).
+_DIRECTIONS = np.random.default_rng(20001).normal(size=(3, 64))
 
 
 def force_rows(
@@ -234,13 +236,14 @@ class _Vertices(NamedTuple):
 
     Attributes
     ----------
-    z : ndarray, shape (K, P, m)
-        Every candidate (P = C(n, m) 2^m); the vertices are those marked in ``is_vertex``.
-    is_vertex : ndarray of bool, shape (K, P)
+    z : ndarray, shape (K, V, m)
+        The vertices, as many as the row with the most; those of each row are marked in
+        ``is_vertex``.
+    is_vertex : ndarray of bool, shape (K, V)
     facet : ndarray of bool, shape (K, 2n)
         The one-sided rows (``+row`` then ``-row``) tight at some vertex: the facets.
     general : ndarray of bool, shape (K,)
-        Vertices in general position and a volume both evaluations agree on.
+        Vertices in general position and a volume the evaluations agree on.
     volume : ndarray, shape (K,)
         The volume in whitened coordinates (NaN where not ``general``).
     """
@@ -252,6 +255,56 @@ class _Vertices(NamedTuple):
     volume: Array
 
 
+@lru_cache(maxsize=16)
+def _layout(n: int, m: int) -> tuple[NDArray[np.int_], Array, Array]:
+    """The candidates of :func:`_vertices`: rows, signs, and which one-sided rows are tight.
+
+    Returns
+    -------
+    chosen : ndarray of int, shape (C, m)
+        Every m of the n rows.
+    signs : ndarray, shape (2^m, m)
+        Every choice of bounds (+1: ``1 - c``, -1: ``-1 - c``).
+    incidence : ndarray, shape (C 2^m, 2n)
+        1 where candidate ``(S, sigma)`` (in that order) is tight at the one-sided row
+        (``+row i``: column i, ``-row i``: column n + i).
+    """
+    chosen = subsets(n, m)
+    signs = np.array(np.meshgrid(*[[1.0, -1.0]] * m, indexing="ij")).reshape(m, -1).T
+    incidence = np.zeros((len(chosen), len(signs), 2 * n))
+    for a, rows in enumerate(chosen):
+        for b, sigma in enumerate(signs):
+            incidence[a, b, rows + n * (sigma < 0)] = 1.0
+    for array in (signs, incidence):
+        array.flags.writeable = False
+    return chosen, signs, incidence.reshape(-1, 2 * n)
+
+
+def _inverse_and_det(blocks: Array) -> tuple[Array, Array]:
+    """Inverses and ``|det|`` of a stack of m x m matrices; 0 for a singular one.
+
+    Up to m = 3 by the adjugate (for rows a, b, c its columns are ``b x c``, ``c x a``,
+    ``a x b``), a few array operations instead of one LAPACK call per matrix.
+    """
+    m = blocks.shape[-1]
+    if m > 3:
+        det = np.abs(np.linalg.det(blocks))
+        regular = (det > 0)[..., None, None]
+        inverse = np.linalg.inv(np.where(regular, blocks, np.eye(m)))
+        return np.where(regular, inverse, 0.0), det
+    rows = [blocks[..., i, :] for i in range(m)]
+    if m == 3:
+        adjugate = np.stack(
+            [cross(np.stack([rows[i - 2], rows[i - 1]], axis=-1)) for i in range(3)], axis=-1
+        )
+    else:
+        adjugate = np.stack([cross(rows[1][..., :, None]), -cross(rows[0][..., :, None])], axis=-1)
+    det = np.sum(rows[0] * adjugate[..., 0], axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inverse = np.where(det[..., None, None] != 0, adjugate / det[..., None, None], 0.0)
+    return inverse, np.abs(det)
+
+
 def _vertices(Vt: Array, c_perp: Array, used: NDArray[np.bool_]) -> _Vertices:
     r"""Vertices of ``{z : |V z + c_perp|_inf <= 1}`` for a block, by every m rows and signs.
 
@@ -261,59 +314,62 @@ def _vertices(Vt: Array, c_perp: Array, used: NDArray[np.bool_]) -> _Vertices:
     when every row holds.  With the outward normals ``N = diag(sigma) V_S`` and a generic
     direction ``w = N^T gamma``, Lawrence's formula gives the volume of a simple polytope,
     ``sum (w . z)^m / (m! |det N| prod gamma)`` over the vertices (about an interior
-    point: h0 is ``z = 0``).
+    point: h0 is ``z = 0``).  A direction nearly orthogonal to an edge makes the sum cancel:
+    of three directions the two with the least cancellation (``sum |term| / |sum|``) must
+    agree, and the least cancelling one gives the volume.
     """
     K, m, n = Vt.shape
+    chosen, signs, incidence = _layout(n, m)
     V = np.where(used[..., None], np.swapaxes(Vt, 1, 2), 0.0)  # (K, n, m)
-    chosen = subsets(n, m)  # (C, m)
-    signs = np.array(np.meshgrid(*[[1.0, -1.0]] * m, indexing="ij")).reshape(m, -1).T
     blocks = V[:, chosen, :]  # (K, C, m, m)
-    lengths = np.linalg.norm(blocks, axis=-1)
+    lengths = np.linalg.norm(V, axis=-1)[:, chosen]
+    inverse, det = _inverse_and_det(blocks)
     with np.errstate(divide="ignore", invalid="ignore"):
-        unit = blocks / lengths[..., None]
-        spans = np.abs(np.linalg.det(unit))  # NaN with a zero row: never a vertex
+        spans = det / np.prod(lengths, axis=-1)  # NaN with a zero row: never a vertex
     solvable = spans > DEPENDENT
-    safe = np.where(solvable[..., None, None], blocks, np.eye(m))
-    rhs = signs[None, None, :, :] - c_perp[:, chosen][:, :, None, :]  # (K, C, 2^m, m)
-    z = np.linalg.solve(safe, np.swapaxes(rhs, -1, -2))  # (K, C, m, 2^m)
-    z = np.swapaxes(z, -1, -2)  # (K, C, 2^m, m)
-    values = (z @ np.swapaxes(V, 1, 2)[:, None]) + c_perp[:, None, None, :]
-    magnitude = np.abs(values)
-    feasible = (magnitude <= 1.0 + GENERAL_POSITION).all(axis=-1) & solvable[..., None]
-    near = magnitude >= 1.0 - GENERAL_POSITION
-    crowded = near.sum(axis=-1) > m  # another row tight to rounding: degenerate
+    inverse = np.where(solvable[..., None, None], inverse, 0.0)
+    # z = V_S^-1 (sigma - c_S) for every sigma, as (K, m, P) with candidates (S, sigma)
+    bounds = (inverse @ c_perp[:, chosen][..., None])[..., 0]  # (K, C, m)
+    z = (inverse.reshape(-1, m) @ signs.T).reshape(*bounds.shape, -1) - bounds[..., None]
+    z = np.swapaxes(z, 1, 2).reshape(K, m, -1)
+    magnitude = V @ z
+    magnitude += c_perp[..., None]
+    magnitude = np.abs(magnitude, out=magnitude)  # (K, n, P)
+    feasible = ~(magnitude > 1.0 + GENERAL_POSITION).any(axis=1)
+    feasible &= np.repeat(solvable, len(signs), axis=1)
+    crowded = np.count_nonzero(magnitude >= 1.0 - GENERAL_POSITION, axis=1) > m
     # m nearly dependent rows elsewhere could hide a vertex: left to cddlib as well
     spans_ok = (solvable | ~np.isfinite(spans) | (lengths.min(axis=-1) == 0)).all(axis=-1)
-    general = ~(feasible & crowded).any(axis=(1, 2)) & spans_ok
-    is_vertex = feasible & ~crowded
-    plus = np.any(is_vertex[..., None] & near & (values > 0), axis=(1, 2))
-    minus = np.any(is_vertex[..., None] & near & (values < 0), axis=(1, 2))
-    facet = np.concatenate([plus, minus], axis=-1)
+    general = ~(feasible & crowded).any(axis=1) & spans_ok
+    candidates = feasible & ~crowded
+    facet = (candidates @ incidence) > 0  # no other row is tight: those would be crowded
 
-    # Lawrence: gamma solves N^T gamma = w; |det N| = |det V_S|.
-    factor = 1.0 / math.factorial(m)
-    volumes = []
+    # Only the vertices from here: the first V_max candidates in vertex-first order.
+    count = int(candidates.sum(axis=1).max(initial=0))
+    order = np.argsort(~candidates, axis=1, kind="stable")[:, :count]
+    is_vertex = np.take_along_axis(candidates, order, axis=1)
+    points = np.take_along_axis(z, order[:, None, :], axis=2)  # (K, m, V_max)
+    subset, sign = np.divmod(order, len(signs))
+    factor = np.where(is_vertex, np.prod(signs, axis=-1)[sign], 0.0) / math.factorial(m)
+    w = _DIRECTIONS[:, :m] / np.linalg.norm(_DIRECTIONS[:, :m], axis=1, keepdims=True)
+    gamma = np.tensordot(inverse, w, axes=(2, 1))  # V_S^T gamma = w: (K, C, m, 3)
+    gamma = np.take_along_axis(gamma, subset[..., None, None], axis=1)  # (K, V_max, m, 3)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        det = np.abs(np.linalg.det(safe))[..., None]  # (K, C, 1)
-        for w in _DIRECTIONS[:, :m]:
-            w = w / np.linalg.norm(w)
-            gamma = np.linalg.solve(
-                np.swapaxes(safe, -1, -2), np.broadcast_to(w, (K, len(chosen), m))[..., None]
-            )[..., 0]  # for sigma = +1
-            # diag(sigma) V_S: gamma_sigma = sigma * gamma
-            products = np.prod(gamma, axis=-1)[..., None] * np.prod(signs, axis=-1)  # (K, C, 2^m)
-            heights = z @ w
-            term = heights**m / (det * products)
-            volumes.append(factor * np.sum(np.where(is_vertex, term, 0.0), axis=(1, 2)))
-    first, second = volumes
-    general &= np.abs(first - second) <= VOLUME_RTOL * np.abs(first)
-    general &= first > 0
+        scale = np.take_along_axis(det, subset, axis=1)[..., None] * np.prod(gamma, axis=2)
+        heights = np.swapaxes(points, 1, 2) @ w.T  # (K, V_max, 3)
+        terms = factor[..., None] * heights**m / np.where(is_vertex[..., None], scale, 1.0)
+        sums = np.sum(terms, axis=1)  # (K, 3)
+        cancellation = np.sum(np.abs(terms), axis=1) / np.abs(sums)
+    ranked = np.argsort(np.nan_to_num(cancellation, nan=np.inf), axis=1, kind="stable")
+    best, second = np.take_along_axis(sums, ranked[:, :2], axis=1).T
+    general &= np.abs(best - second) <= VOLUME_RTOL * np.abs(best)
+    general &= best > 0
     return _Vertices(
-        z.reshape(K, -1, m),
-        is_vertex.reshape(K, -1),
+        np.swapaxes(points, 1, 2),
+        is_vertex,
         facet,
         general,
-        np.where(general, first, np.nan),
+        np.where(general, best, np.nan),
     )
 
 
@@ -362,15 +418,24 @@ def _shares(
 ) -> tuple[Array, Array, Array, Array]:
     """:func:`~polyell.comparison.metrics.overlap` per row.
 
-    Exact inside or around P, else the same quasi-Monte-Carlo counts (8 replicates of
-    ``options.samples`` points).
+    Exact inside or around P or with disjoint caps
+    (:func:`~polyell.comparison.metrics.cap_share`), else the same quasi-Monte-Carlo counts
+    (8 replicates of ``options.samples`` points).
     """
     coverage = np.where(inside, np.minimum(1.0, ratio), 1.0)
     overreach = np.where(inside, 0.0, np.maximum(0.0, 1.0 - 1.0 / ratio))
     coverage_err, overreach_err = np.zeros_like(ratio), np.zeros_like(ratio)
     axes, semi, normals, slacks, facet = sets
+    crossing = ~inside & ~around
+    exact = np.full(len(ratio), np.nan)
+    if crossing.any():
+        reach_vectors = (normals[crossing] @ axes[crossing]) * semi[crossing][:, None, :]
+        exact[crossing] = cap_share(reach_vectors, np.where(facet, slacks, np.inf)[crossing])
+    known = crossing & ~np.isnan(exact)
+    coverage = np.where(known, np.minimum(1.0, exact * ratio), coverage)
+    overreach = np.where(known, 1.0 - exact, overreach)
     replicates = 8
-    for k in np.flatnonzero(~inside & ~around):
+    for k in np.flatnonzero(crossing & ~known):
         counts = _count_inside(
             axes[k],
             semi[k],

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import polyell as pe
-from polyell.comparison.metrics import _ball_points, _count_inside, _slacks, overlap
+from polyell.comparison.metrics import _ball_points, _count_inside, _slacks, cap_share, overlap
 
 
 def all_tested(E: pe.Ellipsoid, A: np.ndarray, slack: np.ndarray, samples: int) -> np.ndarray:
@@ -69,10 +69,78 @@ def test_touching_ellipsoid_counts_every_point():
     assert np.array_equal(
         _count_inside(E.axes, E.semi_axes, P.A, _slacks(E, P), 256, 8, 0), [256] * 8
     )
-    # The circle of radius 1.2 crosses the sides (four caps outside) and not the corners.
+    # The circle of radius 1.2 crosses the sides (four caps outside) and not the corners:
+    # the caps are disjoint, so the share is exact; the counts agree with it.
     R = 1.2
     big = pe.Ellipsoid([0.0, 0.0], np.eye(2), [R, R])
     caps = 4.0 * (R**2 * np.arccos(1.0 / R) - np.sqrt(R**2 - 1.0))
     shares = overlap(big, P, samples=2**13)
-    assert shares.overreach_stderr > 0.0
-    assert abs(shares.overreach - caps / (np.pi * R**2)) <= 5.0 * shares.overreach_stderr
+    assert shares.overreach_stderr == 0.0
+    assert shares.overreach == pytest.approx(caps / (np.pi * R**2), rel=1e-13)
+    counts = _count_inside(big.axes, big.semi_axes, P.A, _slacks(big, P), 2**13, 8, 0) / 2**13
+    stderr = counts.std(ddof=1) / np.sqrt(8)
+    assert abs((1.0 - counts.mean()) - caps / (np.pi * R**2)) <= 5.0 * stderr
+
+
+def sphere_cap_share(t: float, r: int) -> float:
+    """Share of the unit r-ball beyond the plane at distance t: a 1-D integral, mpmath."""
+    import mpmath
+
+    mpmath.mp.dps = 30
+    density = lambda x: (1 - x * x) ** (mpmath.mpf(r - 1) / 2)  # noqa: E731
+    return float(mpmath.quad(density, [t, 1]) / mpmath.quad(density, [-1, 1]))
+
+
+@pytest.mark.parametrize("r", [1, 2, 3, 4, 6])
+def test_one_cap_against_its_integral(r):
+    for t in (-0.999, -0.6, -1e-3, 0.0, 0.3, 0.9, 0.999999):
+        w = np.zeros((1, r))
+        w[0, 0] = 2.5  # the facet x_1 <= 2.5 t in the ball's coordinates
+        share = cap_share(w, np.array([2.5 * t]))
+        assert share == pytest.approx(1.0 - sphere_cap_share(t, r), rel=1e-13, abs=1e-15)
+
+
+def test_cap_share_closed_forms_and_edges():
+    # A ball of radius 1.3 in the cube |x_i| <= 1: six disjoint caps of height 0.3.
+    R, h = 1.3, 0.3
+    cube = np.vstack([np.eye(3), -np.eye(3)])
+    exact = 1.0 - 6.0 * (np.pi * h * h * (3.0 * R - h) / 3.0) / (4.0 / 3.0 * np.pi * R**3)
+    assert cap_share(cube * R, np.ones(6)) == pytest.approx(exact, rel=1e-13)
+    # units: scaling E and P together changes nothing
+    for unit in (1e-150, 1e150):
+        assert cap_share(cube * R * unit, np.ones(6) * unit) == pytest.approx(exact, rel=1e-13)
+    # radius 1.8 > sqrt(3)... caps of neighbouring faces meet beyond the edges: not exact
+    assert np.isnan(cap_share(cube * 1.8, np.ones(6)))
+    # a facet with E wholly outside; one ignored (+inf); no cap at all; NaN stays NaN
+    assert cap_share(np.array([[1.0, 0.0], [0.0, 1.0]]), np.array([0.5, -1.0])) == 0.0
+    assert cap_share(np.array([[1.0, 0.0], [0.0, 1.0]]), np.array([np.inf, 2.0])) == 1.0
+    assert np.isnan(cap_share(np.array([[1.0, 0.0]]), np.array([np.nan])))
+    # batched: one row per ellipsoid
+    rows = cap_share(np.stack([cube * R, cube * 1.8]), np.ones((2, 6)))
+    assert rows[0] == pytest.approx(exact, rel=1e-13) and np.isnan(rows[1])
+
+
+@pytest.mark.parametrize("r", [2, 3, 6])
+def test_cap_share_against_sampling(r):
+    """Random facets around the unit ball: exact shares equal plain Monte Carlo, and no
+    sampled point lies beyond two facets where the caps are called disjoint."""
+    rng = np.random.default_rng(r)
+    x = rng.normal(size=(100_000, r))
+    x *= (rng.uniform(size=(len(x), 1)) ** (1.0 / r)) / np.linalg.norm(x, axis=1, keepdims=True)
+    exact = estimated = 0
+    for _ in range(40):
+        F = rng.integers(2, 12)
+        W = rng.normal(size=(F, r)) * 10.0 ** rng.uniform(-1, 1, size=(F, 1))
+        t = rng.uniform(0.4, 1.5, F)
+        slack = t * np.linalg.norm(W, axis=1)
+        share = cap_share(W, slack)
+        beyond = (x @ W.T) > slack
+        if np.isnan(share):
+            estimated += 1
+            continue
+        exact += 1
+        assert not np.any(beyond.sum(axis=1) > 1)
+        inside = 1.0 - beyond.any(axis=1).mean()
+        sigma = np.sqrt(share * (1.0 - share) / len(x))  # binomial, under the exact share
+        assert abs(share - inside) <= 5.0 * sigma + 1e-12
+    assert exact >= 5 and estimated >= 5  # both outcomes were tested
