@@ -553,7 +553,7 @@ def plot_score_histogram(
         raise InputError(
             "score", f"a score with columns in the results, e.g. {list(results)[:4]}", repr(score)
         )
-    name, factor = score_display(score)
+    name, factor = score_display(score, capacity)
     values = [factor * results[f"{kind}_{score}"].to_numpy(dtype=float) for kind in present]
     finite = [v[np.isfinite(v)] for v in values]
     edges = _bin_edges(np.concatenate(finite), bins)
@@ -608,7 +608,7 @@ def plot_score_series(
             "score", f"a score with columns in the results, e.g. {list(results)[:4]}", repr(score)
         )
     x = results["t"] if "t" in results else results["configuration"]
-    name, factor = score_display(score)
+    name, factor = score_display(score, capacity)
     figure = Figure(figsize=(6.0, 3.2), layout="constrained")
     ax = figure.add_subplot()
     for kind in present:

@@ -102,7 +102,7 @@ def _hover_text(kind: str, comparison: Comparison, unit: str) -> str:
     for score in _HOVER_SCORES:
         value = getattr(record, score)
         if np.isfinite(value):
-            name, factor = score_display(score)
+            name, factor = score_display(score, comparison.analysis.capacity)
             lines.append(f"{name} {factor * value:.4g}")
     return "<br>".join(lines)
 
@@ -350,7 +350,7 @@ def interactive_map(
         if column not in split:
             raise InputError("columns", "score columns <ellipsoid>_<score>", repr(column))
         kind, score = split[column]
-        label, factor = score_display(score)
+        label, factor = score_display(score, capacity)
         same = [c for c in mapped if split[c][1] == score]
         values = factor * table[same].to_numpy(dtype=float)
         finite = values[np.isfinite(values)]
@@ -436,7 +436,7 @@ def interactive_histogram(
     capacity = check_capacity(capacity)
     go = _plotly()
     chosen = _kinds_with(results, score, kinds)
-    label, factor = score_display(score)
+    label, factor = score_display(score, capacity)
     values = {}
     for kind in chosen:
         column = factor * results[f"{kind}_{score}"].to_numpy(dtype=float)
@@ -602,7 +602,7 @@ def interactive_series(
     capacity = check_capacity(capacity)
     go = _plotly()
     chosen = _kinds_with(results, score, kinds)
-    label, factor = score_display(score)
+    label, factor = score_display(score, capacity)
     total = len(results) if total is None else int(total)
     results = decimate_series(results, [f"{kind}_{score}" for kind in chosen])
     x = results["t"] if "t" in results else results["configuration"]

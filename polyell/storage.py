@@ -20,7 +20,7 @@ import re
 import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 from polyell.errors import InputError, StorageError
 
@@ -221,7 +221,9 @@ def folder_lock(folder: Path, name: str, what: str) -> Iterator[None]:
     """Hold an exclusive lock on a folder, or refuse at once if another process holds it.
 
     The lock is ``fcntl.flock`` on the file ``folder / name``: the operating system
-    releases it when its process ends, however it ends (a killed run leaves no stale lock).
+    releases it when its process ends, however it ends (a killed run leaves no stale lock,
+    only the file).  The holder removes the file before it lets go, and a process that
+    locked a file no longer under that name opens the current one again.
 
     Parameters
     ----------
@@ -241,23 +243,42 @@ def folder_lock(folder: Path, name: str, what: str) -> Iterator[None]:
     import fcntl
 
     path = folder / name
-    try:
-        handle = open(path, "a+")
-    except OSError as exn:
-        raise StorageError(f"Could not open {path}: {exn.strerror or exn}.") from exn
-    try:
+    refusal = InputError(
+        "out",
+        f"a folder no other {what} is writing",
+        f"{folder} is locked by a running {what}",
+        "wait for it to finish, or choose another folder.",
+    )
+    for _ in range(3):  # a holder that just finished may have removed the file we opened
+        try:
+            handle = open(path, "a+")
+        except OSError as exn:
+            raise StorageError(f"Could not open {path}: {exn.strerror or exn}.") from exn
         try:
             fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
-            raise InputError(
-                "out",
-                f"a folder no other {what} is writing",
-                f"{folder} is locked by a running {what}",
-                "wait for it to finish, or choose another folder.",
-            ) from None
+            handle.close()
+            raise refusal from None
+        if _names_this_file(path, handle):
+            break
+        handle.close()  # locked a file no longer in the folder: open the current one
+    else:
+        raise refusal
+    try:
         yield
     finally:
+        path.unlink(missing_ok=True)  # still holding the lock: no one else holds this file
         handle.close()  # releases the lock
+
+
+def _names_this_file(path: Path, handle: IO[str]) -> bool:
+    """Whether ``path`` still names the open file ``handle`` (not removed or replaced)."""
+    try:
+        on_disk = os.stat(path)
+    except FileNotFoundError:
+        return False
+    held = os.fstat(handle.fileno())
+    return (on_disk.st_dev, on_disk.st_ino) == (held.st_dev, held.st_ino)
 
 
 @contextlib.contextmanager

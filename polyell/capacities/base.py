@@ -196,7 +196,19 @@ class Analysis(ABC):
         """
         kind = self.check_kind(self.ellipsoid_kinds[0] if kind is None else kind)
         if kind not in self._ellipsoids:
-            ellipsoid = self._build_ellipsoid(kind)
+            try:
+                ellipsoid = self._build_ellipsoid(kind)
+            except InputError as error:  # an axis beyond floating point: the limits' doing
+                if error.argument not in ("semi_axes", "center"):
+                    raise
+                upper = next(iter(self.joint_limits()))
+                raise InputError(
+                    f"dyn or {upper}",
+                    f"limits whose {kind} ellipsoid has {error.expected}",
+                    f"{error.argument} {error.got}",
+                    f"check {upper} for a limit near zero or limits many orders of magnitude "
+                    "apart, or express the task in other units.",
+                ) from None
             ellipsoid.affine_rtol = self.affine_rtol
             self._ellipsoids[kind] = ellipsoid
         return self._ellipsoids[kind]

@@ -17,6 +17,7 @@ __all__ = [
     "SET_LABELS",
     "Quantity",
     "ellipsoid_label",
+    "quantity",
     "set_label",
 ]
 
@@ -113,3 +114,21 @@ QUANTITIES: dict[str, Quantity] = {
         _q("upper_error", "upper error", "share"),
     )
 }
+
+#: Where another capacity gives a quantity another meaning: ``{capacity: {name: quantity}}``
+#: (a velocity ellipsoid's witness is the normalized joint velocity its points need).
+CAPACITY_QUANTITIES = {
+    "velocity": {
+        "witness_torque_max": _q(
+            "witness_torque_max",
+            "witness max abs(qd_n)",
+            "number",
+            r"witness $\max \|\tilde{\dot q}\|_\infty$",
+        )
+    }
+}
+
+
+def quantity(name: str, capacity: str = "acceleration") -> Quantity:
+    """The quantity ``name`` (a key of :data:`QUANTITIES`) as a capacity labels it."""
+    return CAPACITY_QUANTITIES.get(capacity, {}).get(name) or QUANTITIES[name]

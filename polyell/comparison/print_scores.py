@@ -6,7 +6,7 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
-from polyell.comparison.labels import QUANTITIES, Quantity, set_label
+from polyell.comparison.labels import QUANTITIES, Quantity, quantity, set_label
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.limits import LIMIT_QUANTITIES
 from polyell.comparison.printable import Cell, Label, PrintTable, quantity_label, text_label
@@ -130,14 +130,15 @@ def scores_print_tables(
         One, or one per posture (``layout.split == "posture"``).
     """
     kinds = _sets(frames, layout)
-    quantities = check_scores(layout, DEFAULT_SCORES)
+    capacity = next(iter(frames.values())).attrs.get("capacity", "acceleration") if frames else ""
+    capacity = capacity or "acceleration"
+    quantities = [quantity(q.name, capacity) for q in check_scores(layout, DEFAULT_SCORES)]
     if layout.scores is None:  # the defaults: not a ratio to an optimum no one computed
         quantities = [q for q in quantities if _anywhere(frames, kinds, q.name)]
     unit = single_unit(units, layout)
     split = layout.split == "posture"
     named = not split and any(frames)
-    capacity = next(iter(frames.values())).attrs.get("capacity", "acceleration") if frames else ""
-    sets = tuple(text_label(set_label(kind, capacity or "acceleration"), "sets") for kind in kinds)
+    sets = tuple(text_label(set_label(kind, capacity), "sets") for kind in kinds)
     posture_stub = (Label("posture", "posture"),) if named else ()
     tables = []
     groups = [{name: frame} for name, frame in frames.items()] if split else [dict(frames)]

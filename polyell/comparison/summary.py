@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 from polyell.capacities import check_capacity
 from polyell.comparison.comparison import SCORE_NAMES
-from polyell.comparison.labels import QUANTITIES, set_label
+from polyell.comparison.labels import QUANTITIES, quantity, set_label
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.printable import Cell, Label, PrintTable, quantity_label, text_label
 from polyell.comparison.tables import Style, render_tables
@@ -142,13 +142,13 @@ def format_summary_table(
     chosen = [(k, s) for k in kinds for s in scores if (k, s) in summary.index]
     rows = []
     for (kind, score), record in summary.loc[chosen].iterrows():
-        quantity = QUANTITIES.get(str(score))
+        known = quantity(str(score), capacity) if str(score) in QUANTITIES else None
         name = (
-            quantity_label(quantity, layout.percent, "")
-            if quantity is not None
+            quantity_label(known, layout.percent, "")
+            if known is not None
             else text_label(str(score))
         )
-        shift = 2 if quantity is not None and quantity.kind == "share" and layout.percent else 0
+        shift = 2 if known is not None and known.kind == "share" and layout.percent else 0
         cells = tuple(
             Cell(float(record[column]), count=True)
             if column == "defined"

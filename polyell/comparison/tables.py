@@ -14,7 +14,13 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Literal
 
-from polyell.comparison.labels import ELLIPSOID_LABELS, QUANTITIES, ellipsoid_label, set_label
+from polyell.comparison.labels import (
+    ELLIPSOID_LABELS,
+    QUANTITIES,
+    ellipsoid_label,
+    quantity,
+    set_label,
+)
 from polyell.comparison.latex_text import (
     check_latex_label,
     check_text,
@@ -61,14 +67,13 @@ Style = Literal["latex", "markdown", "csv", "html"]
 PERCENT_SCORES = frozenset(name for name, q in QUANTITIES.items() if q.kind == "share")
 
 
-def score_display(score: str) -> tuple[str, float]:
+def score_display(score: str, capacity: str = "acceleration") -> tuple[str, float]:
     """The label and the factor a score is displayed with: ``("coverage [%]", 100.0)``.
 
-    The label is the tables' (:data:`~polyell.comparison.labels.QUANTITIES`), without the
-    volume's unit; a score without one is its name with spaces.
+    The label is the tables' (:func:`~polyell.comparison.labels.quantity` of the
+    capacity), without the volume's unit; a score without one is its name with spaces.
     """
-    quantity = QUANTITIES.get(score)
-    name = quantity.plain if quantity is not None else score.replace("_", " ")
+    name = quantity(score, capacity).plain if score in QUANTITIES else score.replace("_", " ")
     return (f"{name} [%]", 100.0) if score in PERCENT_SCORES else (name, 1.0)
 
 

@@ -189,7 +189,14 @@ class TorqueSpeed:
             raise InputError("tau_stall", "one stall torque per joint", "an empty list")
         _positive_sizes("tau_stall", stall, MAX_TORQUE, "N m")
         n = stall.size
-        speed = check_array("qd_no_load", qd_no_load, (n,), what="no-load speeds [rad/s]")
+        speed = check_array("qd_no_load", qd_no_load, (None,), what="no-load speeds [rad/s]")
+        if speed.size != n:  # either may be the wrong one: name both
+            raise InputError(
+                "tau_stall, qd_no_load",
+                "one stall torque and one no-load speed per joint (lists of one length)",
+                f"{n} stall torques and {speed.size} no-load speeds",
+                "give both for every joint of the robot, in joint order.",
+            )
         _positive_sizes("qd_no_load", speed, MAX_SPEED, "rad/s")
         speeds = np.stack([np.zeros(n), speed], axis=1)
         torques = np.stack([stall, np.zeros(n)], axis=1)

@@ -661,6 +661,14 @@ q = [0.1, 0.2, 0.3]"""
                 f"keys {sorted(self.model_fields_set)}",
                 "e.g. torque_speed = { tau_stall = [150, 40, 6], qd_no_load = [4, 5, 8] }.",
             )
+        if linear and len(self.tau_stall or ()) != len(self.qd_no_load or ()):  # which is wrong?
+            raise InputError(
+                "",
+                "tau_stall and qd_no_load of one length (one of each per joint)",
+                f"{len(self.tau_stall or ())} stall torques and "
+                f"{len(self.qd_no_load or ())} no-load speeds",
+                "give both for every joint of the robot, in joint order.",
+            )
         self.build()  # the curves' own checks (shapes, signs, order), naming the key
         return self
 

@@ -411,7 +411,7 @@ def _run_many_capacity(
     for name in maps:
         _, score = _split(name)
         finite = table[name].to_numpy(dtype=float)
-        finite = finite[np.isfinite(finite)] * score_display(score)[1]
+        finite = finite[np.isfinite(finite)] * score_display(score, capacity)[1]
         if finite.size:
             low, high = scales.get(score, (np.inf, -np.inf))
             scales[score] = (min(low, finite.min()), max(high, finite.max()))
@@ -460,7 +460,7 @@ def _many_outputs(
             break
         x_axis, y_axis = varying[1], varying[0]  # the last joint varies fastest: columns
         kind, score = _split(name)
-        label, factor = score_display(score)
+        label, factor = score_display(score, capacity)
         values = factor * results[name].to_numpy().reshape(y_axis.values.size, x_axis.values.size)
         figure = plot_score_map(
             values,
@@ -710,10 +710,10 @@ def _run_trajectory_capacity(
 
         for score, frame in shown.items():
             figure = interactive_series(frame, score, total=count, capacity=capacity)
-            sections.append((by + score_display(score)[0], figure))
+            sections.append((by + score_display(score, capacity)[0], figure))
         for score, frame in histograms.items():
             figure = interactive_histogram(frame, score, measured, capacity=capacity)
-            sections.append((by + score_display(score)[0], figure))
+            sections.append((by + score_display(score, capacity)[0], figure))
         sections.append((f"{by}Summary over {count} configurations (fractions)", summary))
     return written, sections
 
@@ -745,10 +745,10 @@ def _many_report(
         sections.append((f"{by}Heat maps (choose the score in the menu)", figure))
     for score in spec.series:
         figure = interactive_series(results, score, capacity=capacity)
-        sections.append((by + score_display(score)[0], figure))
+        sections.append((by + score_display(score, capacity)[0], figure))
     for score in spec.histograms:
         figure = interactive_histogram(results, score, measured, capacity=capacity)
-        sections.append((by + score_display(score)[0], figure))
+        sections.append((by + score_display(score, capacity)[0], figure))
     text = format_summary_table(summary, "html", layout=spec.layout, capacity=capacity)
     sections.append((f"{by}Summary over {len(results)} configurations", HtmlTable(text)))
     return sections

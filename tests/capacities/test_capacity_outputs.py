@@ -10,6 +10,7 @@ import pytest
 import polyell as pe
 from polyell.cli import main
 from polyell.comparison.labels import set_label
+from polyell.comparison.summary import format_summary_table, summarize
 from polyell.studies import load_study, run_study
 
 PAPER_ARM = pe.robots.load("chiacchio2000")
@@ -65,6 +66,27 @@ def test_labels_follow_the_capacity():
     an = pe.analyze(PAPER_ARM.dynamics(Q), PAPER_ARM.tau_max, capacity="force")
     table = pe.compare(an, 16, mvie=False, outer=False).to_markdown()
     assert "with gravity" in table and "[(N)^2]" in table
+
+
+def test_witness_labels_name_the_capacitys_joint_quantity():
+    # the velocity ellipsoids' witness is a normalized joint velocity, not a torque
+    kinematics = pe.Kinematics(PAPER_ARM.dynamics(Q).J)
+    an = pe.analyze(kinematics, capacity="velocity", qd_max=np.ones(3))
+    comparison = pe.compare(an, 16, mvie=False, outer=False)
+    for text in (comparison.to_markdown(), comparison.to_latex()):
+        assert "qd_n" in text or r"\tilde{\dot q}" in text
+        assert "tau_n" not in text and r"\tilde\tau" not in text
+    batch = pe.Dynamics(kinematics.J[None], np.eye(3)[None], np.zeros((1, 3)))
+    rows = pe.sweep(batch, capacity="velocity", qd_max=np.ones(3))
+    text = format_summary_table(summarize(rows), "markdown", capacity="velocity")
+    assert "witness max abs(qd_n)" in text
+    from polyell.figures import plot_score_histogram
+
+    figure = plot_score_histogram(rows, "witness_torque_max", capacity="velocity")
+    assert "qd_n" in figure.axes[0].get_xlabel()
+    for capacity in ("acceleration", "force"):
+        an = pe.analyze(PAPER_ARM.dynamics(Q), PAPER_ARM.tau_max, capacity=capacity)
+        assert "witness max abs(tau_n)" in pe.compare(an, 16, mvie=False, outer=False).to_markdown()
 
 
 STUDY = """

@@ -297,8 +297,9 @@ def test_the_inputs_are_copied():
         (
             [1.0, 2.0],
             [1.0],
-            "qd_no_load: expected an array of no-load speeds [rad/s] with shape (2,)",
+            "tau_stall, qd_no_load: expected one stall torque and one no-load speed per joint",
         ),
+        ([1.0], [[1.0]], "qd_no_load: expected an array of no-load speeds [rad/s] with shape"),
         ([1.0], [0.0], "qd_no_load: expected strictly positive values [rad/s]"),
         ([1.0], [-2.0], "qd_no_load: expected strictly positive values"),
         ([1.0], [np.nan], "qd_no_load: expected finite values"),

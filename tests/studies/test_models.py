@@ -503,8 +503,8 @@ def test_a_urdf_robot_file_with_velocity_limits_and_curves(tmp_path):
         ),
         (
             PAPER + LINEAR.replace("[4, 5, 8]", "[4, 5]"),
-            "robot.torque_speed.qd_no_load: expected an array of no-load speeds [rad/s] with "
-            "shape (3,)",
+            "robot.torque_speed: expected tau_stall and qd_no_load of one length (one of each "
+            "per joint), got 3 stall torques and 2 no-load speeds",
         ),
         (
             PAPER + 'torque_speed = { tau_stall = [1, "x", 3], qd_no_load = [1, 1, 1] }\n',

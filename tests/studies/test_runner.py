@@ -302,7 +302,7 @@ def test_a_killed_runs_temporary_files_are_removed_and_no_others(tmp_path):
     )
     run_study(load_study(spec_path), out)
     left = {path.name for path in out.iterdir() if path.name.startswith(".")}
-    assert left == {*foreign[:2], ".polyell-study.lock"}
+    assert left == set(foreign[:2])  # the study's lock file is gone with the lock
     assert (out / foreign[2]).exists()
 
 
@@ -315,7 +315,10 @@ def test_a_folder_another_study_is_writing_is_refused(tmp_path):
     with folder_lock(out, STUDY_LOCK, "study"):
         with pytest.raises(pe.InputError, match="locked by a running study"):
             run_study(spec, out)
-    assert list(out.iterdir()) == [out / STUDY_LOCK]  # nothing written
+        assert list(out.iterdir()) == [out / STUDY_LOCK]  # nothing written
+    assert list(out.iterdir()) == []  # released: the lock file removed
+    with folder_lock(out, STUDY_LOCK, "study"):  # and the folder can be locked again
+        assert (out / STUDY_LOCK).exists()
 
 
 @pytest.mark.parametrize(

@@ -380,3 +380,23 @@ def test_a_name_at_the_limit_is_written_atomically(tmp_path):
 
     path = write_text_atomically(tmp_path / ("\u00e9" * 127 + "x"), "text")  # 255 bytes in UTF-8
     assert path.read_text() == "text" and [p.name for p in tmp_path.iterdir()] == [path.name]
+
+
+def test_a_released_lock_leaves_no_file_and_no_second_holder(tmp_path):
+    import fcntl
+
+    from polyell.storage import _names_this_file, folder_lock
+
+    with folder_lock(tmp_path, "x.lock", "study"):
+        late = open(tmp_path / "x.lock", "a+")  # another process opened it just before
+    assert not (tmp_path / "x.lock").exists()
+    # that process now gets the lock of a file no longer in the folder, and must see so
+    fcntl.flock(late, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    assert not _names_this_file(tmp_path / "x.lock", late)
+    with folder_lock(tmp_path, "x.lock", "study"):  # the folder's lock is the current file
+        with open(tmp_path / "x.lock") as current:
+            assert _names_this_file(tmp_path / "x.lock", current)
+        with pytest.raises(pe.InputError, match="locked by a running study"):
+            with folder_lock(tmp_path, "x.lock", "study"):
+                pass
+    late.close()
