@@ -391,8 +391,10 @@ def compare(
         its default size is 360 in 2-D, 256 in 3-D, 2,000 above
         (:func:`~polyell.geometry.directions.default_direction_count`).
     samples : int, optional
-        Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the polytope, from
-        2 to 2^22 (a power of two keeps the Sobol' balance).
+        Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the polytope and
+        two of its caps beyond the facets meet (else its coverage is exact:
+        :func:`~polyell.comparison.metrics.overlap`), from 2 to 2^22 (a power of two keeps
+        the Sobol' balance).
     seed : int, optional
         Seed of those estimates, a non-negative integer.
     mvie : bool, optional

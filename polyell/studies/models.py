@@ -1014,8 +1014,9 @@ capacities = ["acceleration", "force"]"""
     outer: bool = key(True, what="Compute the minimum-volume enclosing ellipsoid.", example="false")
     samples: Annotated[int, Integer(MIN_SAMPLES, MAX_SAMPLES)] = key(
         2**13,
-        what="Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the polytope, "
-        "2 to 4194304 (2^22), in every kind of study.",
+        what="Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the polytope "
+        "and its parts beyond two facets meet (else its coverage is exact), 2 to 4194304 "
+        "(2^22), in every kind of study.",
         example="4096",
     )
     seed: Annotated[int, Integer(0, MAX_SEED)] = key(
