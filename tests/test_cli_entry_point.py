@@ -179,8 +179,10 @@ def test_folders_and_binary_files_as_study_or_robot_are_one_line(tmp_path):
 #: A study whose first run is interrupted by Ctrl-C (SIGINT) while it computes its third
 #: chunk: the run says where it stopped with a marker file and waits there for the signal.
 INTERRUPTED = """
-import importlib, os, sys, time
+import importlib, os, signal, sys, time
 from polyell.cli import main
+# Ctrl-C's default, even where the runner started us with SIGINT ignored (a background job)
+signal.signal(signal.SIGINT, signal.default_int_handler)
 sweep_module = importlib.import_module("polyell.studies.sweep")
 marker = sys.argv[1]
 compute = sweep_module._Job.chunk
