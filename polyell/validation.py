@@ -30,6 +30,7 @@ __all__ = [
     "check_torque_limits",
     "check_velocity_limits",
     "source_torque_limits",
+    "source_velocity_limits",
 ]
 
 #: The one rule for rounded input: numbers typed or printed to 5 significant digits or
@@ -509,6 +510,23 @@ def source_torque_limits(
         if tau_max is None:
             raise InputError("tau_max", "torque limits (the source has none of its own)", "None")
     return check_torque_limits(tau_max, tau_min, n)
+
+
+def source_velocity_limits(
+    source: object, qd_max: ArrayLike | None, qd_min: ArrayLike | None, n: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Velocity limits given, or else the robot's own (``robot.velocity_limits()``)."""
+    if qd_max is None:
+        if not hasattr(source, "velocity_limits"):
+            raise InputError(
+                "qd_max",
+                "joint velocity limits [rad/s] for the velocity capacity",
+                "none (a batched Dynamics has no limits of its own)",
+                "pass qd_max=[...] (and qd_min=).",
+            )
+        qd_max, default_min = source.velocity_limits()
+        qd_min = default_min if qd_min is None else qd_min
+    return check_torque_limits(qd_max, qd_min, n, names=("qd_max", "qd_min"))
 
 
 #: Joint speeds above this [rad/s] are refused: beyond any drive, and the Coriolis and

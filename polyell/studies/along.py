@@ -22,7 +22,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from polyell.capacities import ELLIPSOID_KINDS, analyze
+from polyell.capacities import (
+    ELLIPSOID_KINDS,
+    analyze,
+    capacity_class,
+    check_capacity,
+    joint_limits_of,
+)
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.limits import (
     DirectionalLimits,
@@ -41,6 +47,7 @@ from polyell.validation import (
     check_fraction,
     check_magnitudes,
     source_torque_limits,
+    source_velocity_limits,
 )
 
 __all__ = ["limits_along"]
@@ -56,9 +63,12 @@ def limits_along(
     tau_max: ArrayLike | None = None,
     tau_min: ArrayLike | None = None,
     *,
+    capacity: str = "acceleration",
+    qd_max: ArrayLike | None = None,
+    qd_min: ArrayLike | None = None,
     rank_rtol: float = RANK_RTOL,
 ) -> dict[str, DirectionalLimits]:
-    """Achievable accelerations along one unit direction per configuration.
+    """What a capacity's set and ellipsoids allow along one unit direction per configuration.
 
     Parameters
     ----------
@@ -70,16 +80,30 @@ def limits_along(
     directions : array-like, shape (K, m)
         One unit task direction per configuration (e.g. a path's tangents).
     tau_max, tau_min : array-like, shape (n,), optional
-        Torque limits; default the robot's own.
+        Torque limits of the acceleration and force capacities; default the robot's own.
+    capacity : {"acceleration", "velocity", "force"}, optional
+        Accelerations [m/s^2] (default), end-effector velocities [m/s] or static forces [N]
+        along the directions, as :func:`polyell.analyze` defines them.
+    qd_max, qd_min : array-like, shape (n,), optional
+        Joint velocity limits of the velocity capacity [rad/s]; default the robot's own.
     rank_rtol : float, optional
         As in :func:`polyell.analyze`: a relative tolerance in [0, 1).
 
     Returns
     -------
     dict of str to DirectionalLimits
-        ``"polytope"``, ``"chiacchio"`` and ``"yoshikawa"``: ``(lo, hi)`` of shape (K,),
-        NaN where the line misses the set (and for the classic ellipsoid where it is
-        undefined, at singular configurations).
+        ``"polytope"`` and each ellipsoid kind of the capacity (``chiacchio`` and
+        ``yoshikawa`` for accelerations): ``(lo, hi)`` of shape (K,), NaN where the line
+        misses the set or an ellipsoid is undefined (the classic one at singular
+        configurations); infinite along a ray of an unbounded force set.
+
+    Notes
+    -----
+    Accelerations and velocities are computed a block of configurations at once (a
+    velocity set is the zonotope of ``B = I``, ``g = 0`` and the joint velocity limits,
+    its ellipsoid that zonotope's image of the unit ball); forces, and configurations at
+    or near a singular one, one at a time.  Every row equals
+    ``analyze(...).polytope.limits(t)`` and ``.ellipsoid(kind).limits(t)``.
 
     Examples
     --------
@@ -90,8 +114,10 @@ def limits_along(
     >>> np.round(out["polytope"].hi, 3)
     array([53.7  , 13.034])
     """
+    capacity = check_capacity(capacity)
     rank_rtol = check_fraction("rank_rtol", rank_rtol)
-    dyn, upper, lower = _inputs(source, configurations, tau_max, tau_min)
+    upper, lower = joint_limits_of(capacity, tau_max, tau_min, qd_max, qd_min)
+    dyn, upper, lower = _inputs(source, configurations, upper, lower, capacity)
     T = check_directions("directions", directions, dyn.m)
     if T.ndim != 2 or len(T) != len(dyn):
         raise InputError(
@@ -99,27 +125,48 @@ def limits_along(
             f"one unit direction per configuration, shape ({len(dyn)}, {dyn.m})",
             f"shape {T.shape}",
         )
-    lo = {name: np.full(len(dyn), np.nan) for name in SETS}
-    hi = {name: np.full(len(dyn), np.nan) for name in SETS}
+    sets = ("polytope", *capacity_class(capacity).ellipsoid_kinds)
+    lo = {name: np.full(len(dyn), np.nan) for name in sets}
+    hi = {name: np.full(len(dyn), np.nan) for name in sets}
+    # The block path's sets by their names in the capacity: the velocity set is the
+    # zonotope of B = I, g = 0, its ellipsoid that zonotope's image ("chiacchio") ellipsoid.
+    names = {"polytope": "polytope", "chiacchio": "yoshikawa"} if capacity == "velocity" else {}
     size = 8 * block_size(dyn.m, dyn.n)  # no (rows, facets, directions) arrays here
     for start in range(0, len(dyn), size):
         rows = slice(start, start + size)
-        scalar = _block(dyn[rows], upper, lower, T[rows], rank_rtol, lo, hi, start)
-        for k in np.flatnonzero(scalar) + start:  # (near-)singular: the exact path
-            analysis = analyze(dyn[int(k)], upper, lower, rank_rtol=rank_rtol)
+        part = dyn[rows]
+        scalar = np.ones(len(part), dtype=bool)  # forces: one configuration at a time
+        if capacity != "force":
+            if capacity == "velocity":
+                eye = np.broadcast_to(np.eye(dyn.n), (len(part), dyn.n, dyn.n))
+                part = Dynamics(part.J, eye, np.zeros((len(part), dyn.n)))
+            block_lo = {name: np.full(len(part), np.nan) for name in SETS}
+            block_hi = {name: np.full(len(part), np.nan) for name in SETS}
+            scalar = _block(part, upper, lower, T[rows], rank_rtol, block_lo, block_hi, capacity)
+            for name, target in (names or dict(zip(SETS, SETS, strict=True))).items():
+                lo[target][rows], hi[target][rows] = block_lo[name], block_hi[name]
+        for k in np.flatnonzero(scalar) + start:  # forces, (near-)singular: the exact path
+            if capacity == "velocity":
+                analysis = analyze(
+                    dyn[int(k)], capacity=capacity, qd_max=upper, qd_min=lower, rank_rtol=rank_rtol
+                )
+            else:
+                analysis = analyze(
+                    dyn[int(k)], upper, lower, capacity=capacity, rank_rtol=rank_rtol
+                )
             lo["polytope"][k], hi["polytope"][k] = analysis.polytope.limits(T[k])
-            for kind in ELLIPSOID_KINDS:
+            for kind in sets[1:]:
                 try:
                     lo[kind][k], hi[kind][k] = analysis.ellipsoid(kind).limits(T[k])
                 except UndefinedEllipsoidError:
                     lo[kind][k] = hi[kind][k] = np.nan
-    return {name: DirectionalLimits(lo[name], hi[name]) for name in SETS}
+    return {name: DirectionalLimits(lo[name], hi[name]) for name in sets}
 
 
 def _inputs(
-    source: Any, configurations: ArrayLike | None, tau_max: Any, tau_min: Any
+    source: Any, configurations: ArrayLike | None, upper: Any, lower: Any, capacity: str
 ) -> tuple[Dynamics, Array, Array]:
-    """The batched dynamics and the checked torque limits."""
+    """The batched dynamics and the capacity's checked joint limits (given or the robot's)."""
     if isinstance(source, Dynamics):
         if source.batch_size is None or configurations is not None:
             raise InputError(
@@ -137,7 +184,9 @@ def _inputs(
         dyn = source.dynamics(q)
     else:
         raise InputError("source", "a robot or a batched pe.Dynamics", type(source).__name__)
-    return (dyn, *source_torque_limits(source, tau_max, tau_min, dyn.n))
+    if capacity == "velocity":
+        return (dyn, *source_velocity_limits(source, upper, lower, dyn.n))
+    return (dyn, *source_torque_limits(source, upper, lower, dyn.n))
 
 
 def _block(
@@ -148,23 +197,30 @@ def _block(
     rank_rtol: float,
     lo: dict[str, Array],
     hi: dict[str, Array],
-    start: int,
+    capacity: str,
 ) -> NDArray[np.bool_]:
-    """Fill the full-rank rows of one block; return the rows left to the exact path."""
+    """Fill the full-rank rows of one block (K,); return the rows left to the exact path.
+
+    ``capacity`` names what the zonotope holds in its messages: accelerations, or the
+    velocities of ``B = I``, ``g = 0`` and the joint velocity limits.
+    """
     J, B = dyn.J, dyn.B
     K, m, n = J.shape
     half = 0.5 * (upper - lower)
     Binv_Jt = np.linalg.solve(B, np.swapaxes(J, -1, -2))  # (K, n, m)
     M = np.swapaxes(Binv_Jt, -1, -2) * half
     xg = dyn.xdd_bias - np.einsum("knm,kn->km", Binv_Jt, dyn.g - 0.5 * (upper + lower))
-    check_magnitudes(M, xg)
+    if capacity == "velocity":
+        check_magnitudes(M, xg, quantity=("velocities", "J L_v", "J qd_c"), limits="qd_max")
+    else:
+        check_magnitudes(M, xg)
     U, s, Vt = np.linalg.svd(M, full_matrices=False)
     scalar = ~(s[:, -1] > rank_rtol * (1.0 + RANK_BAND) * s[:, 0]) if m <= n else np.ones(K, bool)
     ok = np.flatnonzero(~scalar)
     if ok.size == 0:
         return scalar
     J, B, M, U, s, Vt, xg, T = J[ok], B[ok], M[ok], U[ok], s[ok], Vt[ok], xg[ok], T[ok]
-    rows = ok + start
+    rows = ok
     # The polytope: each facet pair +-a bounds a.(lambda t) to [a.xg - h, a.xg + h]; a line
     # that misses P but meets it grown by the slack of Polytope.limits touches it.
     block = facets(U, s, Vt)

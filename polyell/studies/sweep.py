@@ -57,8 +57,8 @@ from polyell.validation import (
     check_directions,
     check_fraction,
     check_integer,
-    check_torque_limits,
     source_torque_limits,
+    source_velocity_limits,
 )
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
@@ -285,7 +285,7 @@ def _job(
             else configurations[0]
         ).m
     if options.capacity == "velocity":  # the joint velocity limits, in the same slots
-        upper, lower = _velocity_limits(source, tau_max, tau_min, n)
+        upper, lower = source_velocity_limits(source, tau_max, tau_min, n)
     else:
         upper, lower = source_torque_limits(source, tau_max, tau_min, n)
     unknown = sorted(set(scores) - set(SCORE_NAMES))
@@ -325,23 +325,6 @@ def _job(
     columns = (*polytope, *(f"{k}_{s}" for k in kinds for s in scores))
     options = replace(options, vertices=options.outer or "enclosing_scale" in scores)
     return _Job(source, configurations, upper, lower, T, scalar_directions, columns, options, n)
-
-
-def _velocity_limits(
-    source: object, qd_max: ArrayLike | None, qd_min: ArrayLike | None, n: int
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Velocity limits given, or else the robot's own (``robot.velocity_limits()``)."""
-    if qd_max is None:
-        if not hasattr(source, "velocity_limits"):
-            raise InputError(
-                "qd_max",
-                "joint velocity limits [rad/s] for the velocity capacity",
-                "none (a batched Dynamics has no limits of its own)",
-                "pass qd_max=[...] (and qd_min=).",
-            )
-        qd_max, default_min = source.velocity_limits()
-        qd_min = default_min if qd_min is None else qd_min
-    return check_torque_limits(qd_max, qd_min, n, names=("qd_max", "qd_min"))
 
 
 def sweep(
