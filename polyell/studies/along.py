@@ -146,14 +146,7 @@ def limits_along(
             for name, target in (names or dict(zip(SETS, SETS, strict=True))).items():
                 lo[target][rows], hi[target][rows] = block_lo[name], block_hi[name]
         for k in np.flatnonzero(scalar) + start:  # forces, (near-)singular: the exact path
-            if capacity == "velocity":
-                analysis = analyze(
-                    dyn[int(k)], capacity=capacity, qd_max=upper, qd_min=lower, rank_rtol=rank_rtol
-                )
-            else:
-                analysis = analyze(
-                    dyn[int(k)], upper, lower, capacity=capacity, rank_rtol=rank_rtol
-                )
+            analysis = analysis_within(dyn[int(k)], capacity, upper, lower, rank_rtol)
             lo["polytope"][k], hi["polytope"][k] = analysis.polytope.limits(T[k])
             for kind in sets[1:]:
                 try:
@@ -161,6 +154,15 @@ def limits_along(
                 except UndefinedEllipsoidError:
                     lo[kind][k] = hi[kind][k] = np.nan
     return {name: DirectionalLimits(lo[name], hi[name]) for name in sets}
+
+
+def analysis_within(
+    dyn: Dynamics, capacity: str, upper: Array, lower: Array, rank_rtol: float
+) -> Any:
+    """``polyell.analyze`` of one configuration within a capacity's checked joint limits."""
+    if capacity == "velocity":
+        return analyze(dyn, capacity=capacity, qd_max=upper, qd_min=lower, rank_rtol=rank_rtol)
+    return analyze(dyn, upper, lower, capacity=capacity, rank_rtol=rank_rtol)
 
 
 def _inputs(

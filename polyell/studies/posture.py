@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from polyell.capacities import analyze
+from polyell.capacities import capacity_class, check_capacity, joint_limits_of
 from polyell.comparison.candidates import Candidate, check_candidates
 from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.ellipsoid import Ellipsoid, unit_ball_volume
@@ -41,13 +41,14 @@ from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
 from polyell.geometry.outer import min_volume_enclosing_ellipsoid
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.models.self_motion import SelfMotion
-from polyell.studies.along import limits_along
+from polyell.studies.along import analysis_within, limits_along
 from polyell.studies.batch import BatchOptions, block_sets, block_size
 from polyell.validation import (
     check_array,
     check_fraction,
     check_points,
     source_torque_limits,
+    source_velocity_limits,
 )
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
@@ -138,6 +139,9 @@ def posture_choice(
     outer: bool = True,
     candidates: Sequence[Candidate] = (),
     rank_rtol: float = RANK_RTOL,
+    capacity: str = "acceleration",
+    qd_max: ArrayLike | None = None,
+    qd_min: ArrayLike | None = None,
 ) -> PostureChoice:
     """Which posture each index picks, and how much of the truth (the polytope) it loses.
 
@@ -163,6 +167,15 @@ def posture_choice(
         User-defined ellipsoids, under their names.
     rank_rtol : float, optional
         As in :func:`polyell.analyze`.
+    capacity : {"acceleration", "velocity", "force"}, optional
+        Whose sets and ellipsoids choose (:func:`polyell.analyze`): accelerations
+        (default), end-effector velocities (the zonotope of the joint velocity box and its
+        ellipsoid ``"yoshikawa"``, Yoshikawa's manipulability) or static forces (the
+        H-polytope and ``"chiacchio"``, ``"yoshikawa"``, ``"static"``).  Velocities are
+        computed a block of postures at once (the acceleration zonotope of ``B = I``,
+        ``g = 0``), forces one posture at a time.
+    qd_max, qd_min : array-like, shape (n,), optional
+        Joint velocity limits of the velocity capacity [rad/s]; default the robot's own.
 
     Returns
     -------
@@ -203,50 +216,37 @@ def posture_choice(
             f"{len(q)}",
             "sample the self-motion with pe.self_motion(robot, q0, count=...).",
         )
+    capacity = check_capacity(capacity)
+    upper, lower = joint_limits_of(capacity, tau_max, tau_min, qd_max, qd_min)
     dyn = robot.dynamics(q)
-    upper, lower = source_torque_limits(robot, tau_max, tau_min, dyn.n)
+    if capacity == "velocity":
+        upper, lower = source_velocity_limits(robot, upper, lower, dyn.n)
+    else:
+        upper, lower = source_torque_limits(robot, upper, lower, dyn.n)
     d = check_direction(direction, dyn.m)
     found = check_candidates(candidates)
     for candidate in found:
         candidate.check_sizes(dyn.m, dyn.n)
-    kinds = ["polytope", "chiacchio", "yoshikawa"]
+    definitions = capacity_class(capacity).ellipsoid_kinds
+    kinds = ["polytope", *definitions]
     kinds += [name for name, on in (("mvie", mvie), ("outer", outer)) if on]
     kinds += [candidate.name for candidate in found]
     K, m = len(dyn), dyn.m
     values = {kind: {name: np.full(K, np.nan) for name in QUANTITIES} for kind in kinds}
 
-    along = limits_along(dyn, None, np.broadcast_to(d, (K, m)), upper, lower, rank_rtol=rank_rtol)
-    for kind in ("polytope", "chiacchio", "yoshikawa"):
+    limits = {"qd_max": upper, "qd_min": lower} if capacity == "velocity" else {}
+    torques = () if limits else (upper, lower)
+    T = np.broadcast_to(d, (K, m))
+    along = limits_along(dyn, None, T, *torques, capacity=capacity, rank_rtol=rank_rtol, **limits)
+    for kind in ("polytope", *definitions):
         values[kind]["lo"][:], values[kind]["hi"][:] = along[kind]
-    options = BatchOptions(
-        mvie=mvie, outer=outer, vertices=outer, candidates=found, rank_rtol=rank_rtol
-    )
-    scalar = np.zeros(K, dtype=bool)
-    size = block_size(m, dyn.n, outer)
-    for start in range(0, K, size):
-        block = slice(start, start + size)
-        sets, flagged = block_sets(
-            dyn.J[block], dyn.B[block], dyn.g[block], dyn.xdd_bias[block], upper, lower, options
-        )
-        scalar[block] = flagged
-        if sets is None:
-            continue
-        rows = sets.rows + start
-        values["polytope"]["radius"][rows] = np.nan_to_num(sets.origin_radius, nan=0.0)
-        values["polytope"]["volume"][rows] = sets.volume
-        for kind, (axes, semi, _, center) in sets.ellipsoids.items():
-            centre = sets.xg if center is None else center
-            certified = ~np.isnan(semi).any(axis=-1)
-            scalar[rows[~certified]] = True  # (an MVIE the batch could not certify)
-            ok = rows[certified]
-            c, U, s = centre[certified], axes[certified], semi[certified]
-            values[kind]["radius"][ok] = ellipsoid_origin_radius(c, U, s)
-            values[kind]["volume"][ok] = unit_ball_volume(m) * np.prod(s, axis=-1)
-            if kind not in ("chiacchio", "yoshikawa"):
-                lo, hi = line_interval_in_ellipsoids(c, U, s, d[None])
-                values[kind]["lo"][ok], values[kind]["hi"][ok] = lo[:, 0], hi[:, 0]
+    scalar = np.ones(K, dtype=bool)  # forces: one posture at a time
+    if capacity != "force":
+        scalar[:] = False
+        _block_values(dyn, upper, lower, d, capacity, found, values, scalar, mvie, outer, rank_rtol)
     for k in np.flatnonzero(scalar):
-        _scalar_row(dyn[int(k)], upper, lower, d, found, kinds, values, int(k), rank_rtol)
+        analysis = analysis_within(dyn[int(k)], capacity, upper, lower, rank_rtol)
+        _scalar_row(analysis, d, found, kinds, values, int(k))
     defined = {kind: ~np.isnan(values[kind]["volume"]) for kind in kinds}
     for kind in kinds:
         lo, hi = values[kind]["lo"], values[kind]["hi"]
@@ -267,24 +267,77 @@ def posture_choice(
 
     q.flags.writeable = False
     d.flags.writeable = False
-    return PostureChoice(table, frame, d, q, task_unit(dyn.task))
+    return PostureChoice(table, frame, d, q, task_unit(dyn.task, capacity=capacity))
 
 
-def _scalar_row(
+def _block_values(
     dyn: Any,
     upper: Array,
     lower: Array,
+    d: Array,
+    capacity: str,
+    candidates: tuple[Candidate, ...],
+    values: dict[str, dict[str, Array]],
+    scalar: NDArray[np.bool_],
+    mvie: bool,
+    outer: bool,
+    rank_rtol: float,
+) -> None:
+    """Radius and volume (and the intervals of the other ellipsoids) by the batch path.
+
+    A velocity set is the acceleration zonotope of ``B = I``, ``g = 0`` and the joint
+    velocity limits; its ellipsoid ``"yoshikawa"`` is that zonotope's ``"chiacchio"``.
+    Marks in ``scalar`` the postures left to the scalar path.
+    """
+    K, m, n = len(dyn), dyn.m, dyn.n
+    B, g, bias = dyn.B, dyn.g, dyn.xdd_bias
+    names = {"chiacchio": "chiacchio", "yoshikawa": "yoshikawa"}
+    if capacity == "velocity":
+        B, g, bias = np.broadcast_to(np.eye(n), (K, n, n)), np.zeros((K, n)), np.zeros((K, m))
+        names = {"chiacchio": "yoshikawa"}
+    options = BatchOptions(
+        mvie=mvie, outer=outer, vertices=outer, candidates=candidates, rank_rtol=rank_rtol
+    )
+    size = block_size(m, n, outer)
+    for start in range(0, K, size):
+        block = slice(start, start + size)
+        sets, flagged = block_sets(
+            dyn.J[block], B[block], g[block], bias[block], upper, lower, options
+        )
+        scalar[block] = flagged
+        if sets is None:
+            continue
+        rows = sets.rows + start
+        values["polytope"]["radius"][rows] = np.nan_to_num(sets.origin_radius, nan=0.0)
+        values["polytope"]["volume"][rows] = sets.volume
+        for kind, (axes, semi, _, center) in sets.ellipsoids.items():
+            if kind in ("chiacchio", "yoshikawa") and kind not in names:
+                continue  # the acceleration classic ellipsoid of a velocity zonotope
+            name = names.get(kind, kind)
+            centre = sets.xg if center is None else center
+            certified = ~np.isnan(semi).any(axis=-1)
+            scalar[rows[~certified]] = True  # (an MVIE the batch could not certify)
+            ok = rows[certified]
+            c, U, s = centre[certified], axes[certified], semi[certified]
+            values[name]["radius"][ok] = ellipsoid_origin_radius(c, U, s)
+            values[name]["volume"][ok] = unit_ball_volume(m) * np.prod(s, axis=-1)
+            if kind not in names:  # the definitions' intervals come from limits_along
+                lo, hi = line_interval_in_ellipsoids(c, U, s, d[None])
+                values[name]["lo"][ok], values[name]["hi"][ok] = lo[:, 0], hi[:, 0]
+
+
+def _scalar_row(
+    analysis: Any,
     d: Array,
     candidates: tuple[Candidate, ...],
     kinds: list[str],
     values: dict[str, dict[str, Array]],
     k: int,
-    rank_rtol: float,
 ) -> None:
-    """Radius, volume (and intervals beyond both definitions) of one posture, one by one."""
-    analysis = analyze(dyn, upper, lower, rank_rtol=rank_rtol)
+    """Radius, volume (and intervals beyond the definitions) of one posture's analysis."""
     P = analysis.polytope
-    full = P.dim == dyn.m
+    m = P.ambient_dim
+    full = P.dim == m
     radius = P.origin_radius
     values["polytope"]["radius"][k] = radius if full and radius == radius else 0.0
     values["polytope"]["volume"][k] = P.volume if full else 0.0
@@ -295,9 +348,9 @@ def _scalar_row(
             for name in QUANTITIES:
                 values[kind][name][k] = np.nan
             continue
-        if kind not in ("chiacchio", "yoshikawa"):
+        if kind not in analysis.ellipsoid_kinds:
             values[kind]["lo"][k], values[kind]["hi"][k] = E.limits(d)
-        if E.rank == dyn.m:
+        if E.rank == m:
             values[kind]["radius"][k] = ellipsoid_origin_radius(
                 E.center[None], E.axes[None], E.semi_axes[None]
             )[0]
@@ -307,7 +360,7 @@ def _scalar_row(
 
 
 def _ellipsoid(analysis: Any, kind: str, candidates: tuple[Candidate, ...]) -> Ellipsoid:
-    if kind in ("chiacchio", "yoshikawa"):
+    if kind in analysis.ellipsoid_kinds:
         return analysis.ellipsoid(kind)
     if kind == "mvie":
         return max_volume_inscribed_ellipsoid(analysis.polytope)

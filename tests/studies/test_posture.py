@@ -356,3 +356,122 @@ def test_tables_are_written(tmp_path, paper_choice):
 def test_tables_refuse_a_missing_folder(tmp_path, paper_choice):
     with pytest.raises(pe.InputError, match=r"^folder:"):
         pe.write_posture_tables(paper_choice.table, tmp_path / "nowhere")
+
+
+def _support_radius(center: np.ndarray, shape: np.ndarray) -> float:
+    """min over unit n of n . c + sqrt(n^T Q n): the ball about 0 inside {c + Q^1/2 u}."""
+    w, V = np.linalg.eigh(shape)
+    return ellipsoid_radius(pe.Ellipsoid(center, V, np.sqrt(w)))
+
+
+def _quadratic_limit(center: np.ndarray, shape: np.ndarray, d: np.ndarray) -> float:
+    """min(-lo, hi) of {s : (s d - c)^T Q^-1 (s d - c) <= 1}, 0 if it misses 0 or the line."""
+    Qi = np.linalg.inv(shape)
+    a, b, c = d @ Qi @ d, -2.0 * d @ Qi @ center, center @ Qi @ center - 1.0
+    disc = b * b - 4 * a * c
+    if disc < 0:
+        return 0.0
+    lo, hi = (-b - np.sqrt(disc)) / (2 * a), (-b + np.sqrt(disc)) / (2 * a)
+    return max(0.0, min(-lo, hi))
+
+
+def test_velocity_choice_equals_an_independent_recomputation(paper_postures):
+    """Velocities: the zonotope of the joint velocity box (LP, Qhull over 2^n corners) and
+    Yoshikawa's ellipsoid {J qd_c + J L u}, from the robot's own velocity limits."""
+    choice = pe.posture_choice(ARM, paper_postures, direction=X, capacity="velocity")
+    assert choice.unit == "m/s"
+    assert list(dict.fromkeys(choice.values.columns.get_level_values(0))) == [
+        "polytope",
+        "yoshikawa",
+        "mvie",
+        "outer",
+    ]
+    centre, half = (ARM.qd_max + ARM.qd_min) / 2, (ARM.qd_max - ARM.qd_min) / 2
+    for k, q in enumerate(paper_postures):
+        J = ARM.dynamics(q).J
+        M, xg = J * half, J @ centre
+        lo, hi = lp_limits(M, xg, X)
+        radius, volume = hull_radius_and_volume(M, xg)
+        expected = {
+            ("polytope", "limit"): max(0.0, min(-lo, hi)),
+            ("polytope", "radius"): radius,
+            ("polytope", "volume"): volume,
+            ("yoshikawa", "limit"): _quadratic_limit(xg, M @ M.T, X),
+            ("yoshikawa", "radius"): _support_radius(xg, M @ M.T),
+            ("yoshikawa", "volume"): np.pi * np.sqrt(np.linalg.det(M @ M.T)),
+        }
+        analysis = pe.analyze(
+            ARM.dynamics(q), capacity="velocity", qd_max=ARM.qd_max, qd_min=ARM.qd_min
+        )
+        for kind, solve in (
+            ("mvie", max_volume_inscribed_ellipsoid),
+            ("outer", min_volume_enclosing_ellipsoid),
+        ):
+            expected[(kind, "volume")] = solve(analysis.polytope).volume
+        for key, value in expected.items():
+            rtol = 1e-7 if key[0] in ("mvie", "outer") else 1e-9
+            assert choice.values.loc[k, key] == pytest.approx(value, rel=rtol, abs=1e-12), (k, key)
+    table = choice.table
+    assert (table.loc["polytope", "regret"] == 0).all()
+    assert ((table["regret"] >= 0) & (table["regret"] <= 1)).all()
+
+
+def test_force_choice_equals_an_independent_recomputation(paper_postures):
+    """Forces: {h : tau_min <= J^T h + g <= tau_max} from every two rows (Qhull, LP), and
+    the three force ellipsoids from their shape matrices (the theory page's derivations)."""
+    postures = paper_postures[::4]
+    choice = pe.posture_choice(
+        ARM, postures, direction=X, capacity="force", mvie=False, outer=False
+    )
+    assert choice.unit == "N"
+    upper, lower = ARM.tau_max, ARM.tau_min
+    centre, half = (upper + lower) / 2, (upper - lower) / 2
+    for k, q in enumerate(postures):
+        dyn = ARM.dynamics(q)
+        J, g = dyn.J, dyn.g
+        A = np.vstack([J.T, -J.T])
+        b = np.concatenate([upper - g, g - lower])
+        points = []
+        for i, j in itertools.combinations(range(len(A)), 2):
+            if abs(np.linalg.det(A[[i, j]])) > 1e-12:
+                h = np.linalg.solve(A[[i, j]], b[[i, j]])
+                if np.all(A @ h <= b + 1e-9):
+                    points.append(h)
+        hull = ConvexHull(np.array(points))
+        inside = bool(np.all(b > 0))
+        radius = float(np.min(b / np.linalg.norm(A, axis=1))) if inside else 0.0
+        ends = []
+        for sign in (1.0, -1.0):  # max and min of s with s X in the set
+            result = optimize.linprog([-sign], A_ub=(A @ X)[:, None], b_ub=b, bounds=[(None, None)])
+            ends.append(sign * -result.fun)
+        P, qv = J.T / half[:, None], (g - centre) / half  # |P h + q| <= 1
+        G = P.T @ P
+        h0 = -np.linalg.solve(G, P.T @ qv)
+        shrink = 1.0 - (qv @ qv - (P.T @ qv) @ np.linalg.solve(G, P.T @ qv))
+        pinv = np.linalg.pinv(J.T)
+        shapes = {
+            "chiacchio": (h0, shrink * np.linalg.inv(G)),
+            "yoshikawa": (-pinv @ (g - centre), pinv @ np.diag(half**2) @ pinv.T),
+            "static": (np.zeros(2), np.linalg.inv(G)),
+        }
+        expected = {
+            ("polytope", "limit"): max(0.0, min(-ends[1], ends[0])),
+            ("polytope", "radius"): radius,
+            ("polytope", "volume"): hull.volume,
+        }
+        for kind, (c, Q) in shapes.items():
+            expected[(kind, "limit")] = _quadratic_limit(c, Q, X)
+            expected[(kind, "radius")] = _support_radius(c, Q)
+            expected[(kind, "volume")] = np.pi * np.sqrt(np.linalg.det(Q))
+        for key, value in expected.items():
+            assert choice.values.loc[k, key] == pytest.approx(value, rel=1e-8, abs=1e-9), (k, key)
+    assert (choice.table.loc["polytope", "regret"] == 0).all()
+
+
+def test_capacity_arguments_are_checked(paper_postures):
+    with pytest.raises(pe.InputError, match="tau_max"):
+        pe.posture_choice(ARM, paper_postures, ARM.tau_max, direction=X, capacity="velocity")
+    with pytest.raises(pe.InputError, match="qd_max"):
+        pe.posture_choice(ARM, paper_postures, direction=X, qd_max=ARM.qd_max)
+    with pytest.raises(pe.InputError, match="capacity"):
+        pe.posture_choice(ARM, paper_postures, direction=X, capacity="speed")
