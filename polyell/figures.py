@@ -724,7 +724,7 @@ def plot_posture_indices(
             best = np.nanmax(index) if np.any(index > 0) else np.nan
             if not best > 0:
                 continue  # undefined or zero everywhere: nothing to normalise
-            style = _style(kind, kinds)
+            style = _style(kind, kinds, values.attrs.get("capacity", "acceleration"))
             label = "polytope (truth)" if kind == "polytope" else str(style["label"])
             ax.plot(
                 x[order],

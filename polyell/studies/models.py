@@ -932,11 +932,12 @@ class PostureTable(Table):
     `pe.self_motion`) is sampled at `count` postures; every set's indices are computed
     there and the posture each index picks is compared with the truth, the polytope
     (`pe.posture_choice`): `posture_choice.{tex,md,csv}`, `posture_values.csv` and the
-    figure `posture_indices`. The criteria: the acceleration available both ways along
-    `direction`, the largest ball about the origin, the volume. With `targets`, the same
-    choice at that many seeded random reachable targets, aggregated
+    figure `posture_indices`. The criteria: the acceleration (velocity, force) available
+    both ways along `direction`, the largest ball about the origin, the volume. With
+    `targets`, the same choice at that many seeded random reachable targets, aggregated
     (`pe.posture_choice_over_targets`): `posture_targets.{tex,md,csv}`. Uses the
-    ellipsoids of `[compare]` (`mvie`, `outer`) and `[[candidates]]`; one robot.
+    ellipsoids of `[compare]` (`mvie`, `outer`, `capacities`: one set of these files per
+    capacity, `posture_choice_force.md`, ...) and `[[candidates]]`; one robot.
     """
 
     heading: ClassVar[str] = "[posture]"
@@ -1029,10 +1030,11 @@ capacities = ["acceleration", "force"]"""
         ("acceleration",),
         what="The capacities compared, each with its own tables and figures: "
         '"acceleration" (the paper\'s), "velocity" (needs the robot\'s qd_max), '
-        '"force". Every study but a posture study (it compares accelerations). The limits '
-        "along a trajectory (tangent_limits) are accelerations'. The acceleration outputs "
-        "keep their names; another capacity's carry it (comparison_force.tex, "
-        "summary_velocity.tex, results_force/).",
+        '"force", in every kind of study (a posture study chooses by each over the same '
+        "postures). The limits along a trajectory (tangent_limits) are accelerations'. The "
+        "acceleration outputs keep their names; another capacity's carry it "
+        "(comparison_force.tex, summary_velocity.tex, results_force/, "
+        "posture_choice_velocity.md).",
         example='["acceleration", "force", "velocity"]',
         default_text='["acceleration"]',
     )
@@ -1281,14 +1283,6 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
         if len(set(capacities)) != len(capacities) or not capacities:
             raise InputError(
                 "compare.capacities", "distinct capacity names, at least one", f"{list(capacities)}"
-            )
-        if capacities != ("acceleration",) and self.posture is not None:
-            raise InputError(
-                "compare.capacities",
-                "only accelerations in a posture study (it chooses postures by their "
-                "acceleration scores)",
-                f"{list(capacities)} in a posture study",
-                "compare other capacities at the chosen postures in a study of [[points]].",
             )
 
     def _check_output(self) -> None:

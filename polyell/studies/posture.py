@@ -263,6 +263,7 @@ def posture_choice(
     frame.columns = pd.MultiIndex.from_tuples(frame.columns, names=["kind", "quantity"])
     frame.index.name = "posture"
     table = choice_table(frame)
+    frame.attrs["capacity"] = table.attrs["capacity"] = capacity  # the sets' labels
     from polyell.models.task import task_unit
 
     q.flags.writeable = False

@@ -64,6 +64,7 @@ def _print_table(table: pd.DataFrame) -> PrintTable:
         headers.append(Label(plain, escape_latex(plain, "column"), tuple(
             escape_latex(line, "column") for line in lines
         )) if len(lines) > 1 else Label(plain, escape_latex(plain, "column")))  # fmt: skip
+    capacity = table.attrs.get("capacity", "acceleration")  # set by posture_choice
     rows = []
     for (kind, criterion), record in table.iterrows():
         cells = []
@@ -71,7 +72,10 @@ def _print_table(table: pd.DataFrame) -> PrintTable:
             value = float(record[column]) if record[column] is not None else math.nan
             kind_of = _COLUMNS[column][1]
             cells.append(Cell(value, 2 if kind_of == "share" else 0, count=kind_of == "index"))
-        stub = (text_label(set_label(str(kind)), "sets"), text_label(str(criterion), "criterion"))
+        stub = (
+            text_label(set_label(str(kind), capacity), "sets"),
+            text_label(str(criterion), "criterion"),
+        )
         rows.append((stub, tuple(cells)))
     stub_head = (Label("set", "set"), Label("criterion", "criterion"))
     return PrintTable(stub_head, tuple(headers), tuple(rows), grouped=True)

@@ -89,6 +89,9 @@ def posture_choice_over_targets(
     mvie: bool = True,
     outer: bool = True,
     candidates: Sequence[Candidate] = (),
+    capacity: str = "acceleration",
+    qd_max: ArrayLike | None = None,
+    qd_min: ArrayLike | None = None,
 ) -> PostureChoiceOverTargets:
     """The posture choice at many targets, aggregated: median and worst regret.
 
@@ -117,7 +120,7 @@ def posture_choice_over_targets(
         Postures sampled on each target's self-motion (at least 2).
     step : float, optional
         The self-motion's step (:func:`polyell.self_motion`).
-    mvie, outer, candidates
+    mvie, outer, candidates, capacity, qd_max, qd_min
         As in :func:`polyell.posture_choice`.
 
     Returns
@@ -186,6 +189,9 @@ def posture_choice_over_targets(
             mvie=mvie,
             outer=outer,
             candidates=candidates,
+            capacity=capacity,
+            qd_max=qd_max,
+            qd_min=qd_min,
         )
         tables.append(choice.table)
     frame = pd.concat(tables, keys=range(len(tables)), names=["target"])
@@ -200,6 +206,7 @@ def posture_choice_over_targets(
             "targets": grouped["regret"].count(),
         }
     )
+    summary.attrs["capacity"] = frame.attrs["capacity"] = capacity  # the sets' labels
     starts_array = np.array([motion.q0 for motion in motions])
     targets = np.array([motion.target for motion in motions])
     return PostureChoiceOverTargets(summary, frame, starts_array, targets)

@@ -61,8 +61,9 @@ STUDY_FILES = re.compile(
     r"|(?:comparison|limits|summary|scores|results)(?:_velocity|_force)?\.(?:csv|md|tex)"
     r"|(?:sets|limits|map|series|histogram)_[A-Za-z0-9_.-]+\.(?:pdf|png|svg)"
     r"|tangent_limits\.(?:pdf|png|svg)"
-    r"|posture_(?:choice|targets)\.(?:csv|md|tex)|posture_values\.csv"
-    r"|posture_indices\.(?:pdf|png|svg)"
+    r"|posture_(?:choice|targets)(?:_velocity|_force)?\.(?:csv|md|tex)"
+    r"|posture_values(?:_velocity|_force)?\.csv"
+    r"|posture_indices(?:_velocity|_force)?\.(?:pdf|png|svg)"
 )
 #: The lock a running study holds on its folder (hidden: not one of its outputs).
 STUDY_LOCK = ".polyell-study.lock"
@@ -247,16 +248,14 @@ def _run_points_capacity(
 def _run_posture(spec: StudySpec, folder: Path) -> list[Path]:
     """A posture study: the self-motion through q0, the choice of each index, the figure.
 
-    Writes ``posture_choice.{tex,md,csv}`` (:func:`polyell.write_posture_tables`),
+    The postures are sampled once; for each capacity of ``[compare] capacities`` writes
+    ``posture_choice.{tex,md,csv}`` (:func:`polyell.write_posture_tables`),
     ``posture_values.csv`` (one row per posture: its joint angles, its position along the
     manifold and every set's values), ``posture_indices.<format>`` and, with ``targets``,
-    ``posture_targets.{tex,md,csv}`` (the choice aggregated over random targets).
+    ``posture_targets.{tex,md,csv}`` (the choice aggregated over random targets); the
+    names of a capacity other than accelerations end in ``_<capacity>``.
     """
-    from polyell.figures import plot_posture_indices, save_figure
     from polyell.models.self_motion import self_motion
-    from polyell.studies.posture import posture_choice
-    from polyell.studies.posture_tables import write_posture_tables
-    from polyell.studies.posture_targets import posture_choice_over_targets
 
     posture = spec.posture
     assert posture is not None
@@ -264,21 +263,53 @@ def _run_posture(spec: StudySpec, folder: Path) -> list[Path]:
     motions = [
         self_motion(robot.model, q, posture.count, seed=posture.seed) for q in posture.starts
     ]
+    written: list[Path] = []
+    sections = _about(spec)
+    for capacity in spec.capacities:
+        files, capacity_sections = _posture_outputs(spec, folder, capacity, motions)
+        written += files
+        sections += capacity_sections
+    if "html" in spec.formats:
+        from polyell.interactive import write_report
+
+        written.append(write_report(folder / "report.html", spec.title, sections))
+    return written
+
+
+def _posture_outputs(
+    spec: StudySpec, folder: Path, capacity: str, motions: list[Any]
+) -> tuple[list[Path], list[tuple[str, Any]]]:
+    """One capacity's choice over the sampled postures: tables, values, figure, sections."""
+    from polyell.figures import plot_posture_indices, save_figure
+    from polyell.studies.posture import posture_choice
+    from polyell.studies.posture_tables import write_posture_tables
+    from polyell.studies.posture_targets import posture_choice_over_targets
+
+    posture = spec.posture
+    assert posture is not None
+    robot = spec.robots[0]
+    suffix = "" if capacity == "acceleration" else f"_{capacity}"
+    named = "" if len(spec.capacities) == 1 else f"{capacity}: "
     configurations = np.vstack([motion.configurations for motion in motions])
     options: dict[str, Any] = {
         "direction": posture.direction,
         "mvie": spec.mvie,
         "outer": spec.outer,
         "candidates": spec.candidates,
+        "capacity": capacity,
     }
-    choice = posture_choice(robot.model, configurations, robot.tau_max, robot.tau_min, **options)
+    # velocities: the robot's own joint velocity limits; the others its torque limits
+    torques = () if capacity == "velocity" else (robot.tau_max, robot.tau_min)
+    choice = posture_choice(robot.model, configurations, *torques, **options)
     along = f"along {posture.label}"
     written = list(
         write_posture_tables(
             choice.table,
             folder,
-            f"{spec.title}: the posture each index picks ({along}, {len(configurations)} postures)",
-            label="tab:posture-choice",
+            f"{spec.title}: {named}the posture each index picks ({along}, "
+            f"{len(configurations)} postures)",
+            label=f"tab:posture-choice{suffix.replace('_', '-')}",
+            stem=f"posture_choice{suffix}",
         ).values()
     )
     import pandas as pd
@@ -291,7 +322,8 @@ def _run_posture(spec: StudySpec, folder: Path) -> list[Path]:
     frame = pd.concat([joints, values], axis=1).assign(component=component, position=position)
     frame = frame[["component", "position", *[c for c in frame.columns[:-2]]]]
     frame.index.name = "posture"
-    written.append(write_text_atomically(folder / "posture_values.csv", frame.to_csv()))
+    values_csv = folder / f"posture_values{suffix}.csv"
+    written.append(write_text_atomically(values_csv, frame.to_csv()))
     # One traced curve has a position along it; a random walk's |q - q0|, or several
     # components, do not order the postures along one curve: the posture number then.
     traced = len(motions) == 1 and motions[0].method == "trace"
@@ -299,37 +331,33 @@ def _run_posture(spec: StudySpec, folder: Path) -> list[Path]:
         choice.values,
         choice.table,
         position=motions[0].position if traced else None,
-        title=f"{spec.title} ({along})",
+        title=f"{spec.title} ({named}{along})",
     )
-    written += save_figure(figure, folder / "posture_indices", spec.figure_formats, spec.dpi)
-    summary = None
+    stem = folder / f"posture_indices{suffix}"
+    written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
+    sections: list[tuple[str, Any]] = [
+        (f"{named}The posture each index picks ({along}; regret as a fraction)", choice.table)
+    ]
     if posture.targets is not None:
         over = posture_choice_over_targets(
             robot.model,
             None,
-            robot.tau_max,
-            robot.tau_min,
+            *torques,
             count=posture.targets,
             seed=posture.seed,
             postures=posture.count,
             **options,
         )
-        summary = over.summary
-        title = f"{spec.title}: regret over {len(over.targets)} random targets ({along})"
+        title = f"{spec.title}: {named}regret over {len(over.targets)} random targets ({along})"
         written += write_posture_tables(
-            summary, folder, title, label="tab:posture-targets", stem="posture_targets"
+            over.summary,
+            folder,
+            title,
+            label=f"tab:posture-targets{suffix.replace('_', '-')}",
+            stem=f"posture_targets{suffix}",
         ).values()
-    if "html" in spec.formats:
-        from polyell.interactive import write_report
-
-        sections = _about(spec)
-        sections.append(
-            (f"The posture each index picks ({along}; regret as a fraction)", choice.table)
-        )
-        if summary is not None:
-            sections.append((f"Over {posture.targets} random targets", summary))
-        written.append(write_report(folder / "report.html", spec.title, sections))
-    return written
+        sections.append((f"{named}Over {posture.targets} random targets", over.summary))
+    return written, sections
 
 
 def _run_many(

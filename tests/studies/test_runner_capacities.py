@@ -175,11 +175,6 @@ def test_a_trajectory_study_of_every_capacity(tmp_path):
 @pytest.mark.parametrize(
     ("study", "message"),
     [
-        (  # a posture study chooses postures by their acceleration scores
-            '[robot]\nlibrary = "chiacchio2000"\n[posture]\nq0 = [0.3, 0.6, 0.9]\n'
-            'direction = "x"\n[compare]\ncapacities = ["acceleration", "velocity"]\n',
-            r"compare\.capacities.*posture study",
-        ),
         (  # a map of a kind no compared capacity has
             GRID.format(capacities='["acceleration"]', maps='["static_coverage"]'),
             r"output\.maps.*'static_coverage'",
@@ -191,7 +186,7 @@ def test_a_trajectory_study_of_every_capacity(tmp_path):
             r"robot\.qd_max",
         ),
     ],
-    ids=["posture", "map-kind", "no-qd"],
+    ids=["map-kind", "no-qd"],
 )
 def test_capacities_of_sweeps_are_checked_at_load(tmp_path, study, message):
     path = tmp_path / "study.toml"
@@ -399,3 +394,39 @@ def test_moving_points_refuse_speeds_beyond_any_drive(tmp_path):
     with pytest.raises(pe.InputError) as info:
         load_study(path)
     assert str(info.value).startswith("points[0].qd: expected joint velocities of at most 1e+06")
+
+
+def test_a_posture_study_chooses_by_each_capacity(tmp_path):
+    """The postures are sampled once; each capacity's choice is the API's over them."""
+    path = tmp_path / "study.toml"
+    path.write_text(
+        '[robot]\nlibrary = "chiacchio2000"\n[posture]\nq0 = [1.5707963, -1.5707963, '
+        '-1.5707963]\ndirection = "x"\ncount = 24\ntargets = 2\n[compare]\nmvie = false\n'
+        'outer = false\ncapacities = ["acceleration", "velocity", "force"]\n'
+        '[output]\nformats = ["svg", "html"]\n'
+    )
+    spec = load_study(path)
+    out = tmp_path / "out"
+    run_study(spec, out)
+    arm = pe.robots.load("chiacchio2000")
+    postures = pd.read_csv(out / "posture_values.csv")[["q1", "q2", "q3"]].to_numpy()
+    for capacity, suffix, first in (
+        ("acceleration", "", "new (eq. 32/38)"),
+        ("velocity", "_velocity", "unit ball"),
+        ("force", "_force", "with gravity"),
+    ):
+        for name in ("posture_choice", "posture_targets"):
+            for ending in (".md", ".tex", ".csv"):
+                assert (out / f"{name}{suffix}{ending}").exists(), (capacity, name)
+        assert (out / f"posture_indices{suffix}.svg").exists()
+        values = pd.read_csv(out / f"posture_values{suffix}.csv")
+        assert np.array_equal(values[["q1", "q2", "q3"]].to_numpy(), postures)  # one sampling
+        choice = pe.posture_choice(
+            arm, postures, direction=[1.0, 0.0], capacity=capacity, mvie=False, outer=False
+        )
+        for (kind, quantity), column in choice.values.items():
+            np.testing.assert_allclose(
+                values[f"{kind}_{quantity}"], column, rtol=1e-12, err_msg=f"{capacity} {kind}"
+            )
+        assert first in (out / f"posture_choice{suffix}.md").read_text()
+    assert "force: The posture each index picks" in (out / "report.html").read_text()
