@@ -19,7 +19,7 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from numpy.typing import NDArray
 from scipy.spatial import ConvexHull
 
-from polyell.capacities import Analysis, check_capacity
+from polyell.capacities import Analysis, capacity_class, check_capacity
 from polyell.comparison.labels import ellipsoid_label
 from polyell.comparison.tables import score_display
 from polyell.errors import InputError, UndefinedEllipsoidError
@@ -629,16 +629,23 @@ def plot_score_series(
     return figure
 
 
-def plot_tangent_limits(results: pd.DataFrame, *, unit: str = "m/s$^2$") -> Figure:
-    """The achievable accelerations along the path's tangent: each set's interval over time."""
+def plot_tangent_limits(
+    results: pd.DataFrame, *, unit: str = "m/s$^2$", capacity: str = "acceleration"
+) -> Figure:
+    """What each set allows along the path's tangent: its interval over time.
+
+    ``capacity`` names the sets (accelerations by default; velocities, forces) and
+    ``unit`` is its task unit.
+    """
+    capacity = check_capacity(capacity)
     _check_texts(unit=unit)
     x = results["t"] if "t" in results else results["configuration"]
     figure = Figure(figsize=(6.0, 3.4), layout="constrained")
     ax = figure.add_subplot()
-    for name in ("polytope", "chiacchio", "yoshikawa"):
+    for name in ("polytope", *capacity_class(capacity).ellipsoid_kinds):
         if f"tangent_{name}_hi" not in results:
             continue
-        style = _style(name)
+        style = _style(name, (), capacity)
         for end in ("lo", "hi"):
             ax.plot(
                 x,

@@ -1031,10 +1031,10 @@ capacities = ["acceleration", "force"]"""
         what="The capacities compared, each with its own tables and figures: "
         '"acceleration" (the paper\'s), "velocity" (needs the robot\'s qd_max), '
         '"force", in every kind of study (a posture study chooses by each over the same '
-        "postures). The limits along a trajectory (tangent_limits) are accelerations'. The "
-        "acceleration outputs keep their names; another capacity's carry it "
-        "(comparison_force.tex, summary_velocity.tex, results_force/, "
-        "posture_choice_velocity.md).",
+        "postures, a trajectory study draws each one's limits along the path: "
+        "tangent_limits_velocity.png, the speeds along it). The acceleration outputs keep "
+        "their names; another capacity's carry it (comparison_force.tex, "
+        "summary_velocity.tex, results_force/, posture_choice_velocity.md).",
         example='["acceleration", "force", "velocity"]',
         default_text='["acceleration"]',
     )

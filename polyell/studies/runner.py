@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from polyell.capacities import analyze
+from polyell.capacities import analyze, capacity_class
 from polyell.comparison.comparison import SCORE_NAMES, Comparison, compare, compared_kinds
 from polyell.comparison.limits import limits_table
 from polyell.comparison.point_tables import write_point_tables
@@ -60,7 +60,7 @@ STUDY_FILES = re.compile(
     r"numbers\.md|report\.html|manifest\.json|results\.csv"
     r"|(?:comparison|limits|summary|scores|results)(?:_velocity|_force)?\.(?:csv|md|tex)"
     r"|(?:sets|limits|map|series|histogram)_[A-Za-z0-9_.-]+\.(?:pdf|png|svg)"
-    r"|tangent_limits\.(?:pdf|png|svg)"
+    r"|tangent_limits(?:_velocity|_force)?\.(?:pdf|png|svg)"
     r"|posture_(?:choice|targets)(?:_velocity|_force)?\.(?:csv|md|tex)"
     r"|posture_values(?:_velocity|_force)?\.csv"
     r"|posture_indices(?:_velocity|_force)?\.(?:pdf|png|svg)"
@@ -642,8 +642,9 @@ def _run_trajectory_capacity(
     """One capacity of a trajectory study: its sweep, tables, figures, report sections.
 
     The acceleration outputs keep their names; another capacity's carry its name
-    (``results_force.csv``, ``series_coverage_velocity.png``).  The limits along the path
-    (``tangent_limits``, where the trajectory has velocities) are accelerations'.
+    (``results_force.csv``, ``series_coverage_velocity.png``).  Where the trajectory has
+    velocities, what the capacity allows along the path's tangent is added to its results
+    (``tangent_<set>_lo``, ``_hi``) and drawn (``tangent_limits_force.png``).
     """
     from polyell.figures import (
         plot_score_histogram,
@@ -672,12 +673,12 @@ def _run_trajectory_capacity(
     count = len(trajectory)
     kinds = result_kinds(columns)
     x = "t" if trajectory.t is not None else "configuration"
-    tangent = trajectory.qd is not None and capacity == "acceleration"
+    tangent = trajectory.qd is not None
     series = {
         score: SeriesDecimator(count, [f"{k}_{score}" for k in kinds if f"{k}_{score}" in columns])
         for score in spec.series
     }
-    sets = ("polytope", "chiacchio", "yoshikawa")
+    sets = ("polytope", *capacity_class(capacity).ellipsoid_kinds)
     tangents = [f"tangent_{name}_{end}" for name in sets for end in ("lo", "hi")]
     along = SeriesDecimator(count, tangents) if tangent else None
 
@@ -687,10 +688,11 @@ def _run_trajectory_capacity(
             for index, part in enumerate(parts):
                 frame = pd.read_parquet(part)
                 stop = start + len(frame)
-                if tangent:  # the accelerations along the path, where the arm moves
+                if tangent:  # what the capacity allows along the path, where the arm moves
                     assert trajectory.qd is not None
                     piece = Trajectory(trajectory.q[start:stop], trajectory.qd[start:stop])
-                    limits = tangent_limits(model, piece, robot.tau_max, robot.tau_min)
+                    torques = () if capacity == "velocity" else (robot.tau_max, robot.tau_min)
+                    limits = tangent_limits(model, piece, *torques, capacity=capacity)
                     frame = frame.assign(**limits)
                 write_csv(frame, handle, header=index == 0)
                 for decimator in series.values():
@@ -717,8 +719,10 @@ def _run_trajectory_capacity(
         stem = folder / f"series_{score}{suffix}"
         written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
     if along is not None:
-        figure = plot_tangent_limits(along.result(), unit=task_unit(first.task, tex=True))
-        written += save_figure(figure, folder / "tangent_limits", spec.figure_formats, spec.dpi)
+        unit = task_unit(first.task, tex=True, capacity=capacity)
+        figure = plot_tangent_limits(along.result(), unit=unit, capacity=capacity)
+        stem = folder / f"tangent_limits{suffix}"
+        written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
     measured = [kind for kind in kinds if kind not in ("mvie", "outer")]  # not the optima
     histograms = {
         score: pd.read_parquet(

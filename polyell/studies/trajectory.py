@@ -48,7 +48,7 @@ from numpy.typing import NDArray
 from polyell.errors import InputError
 from polyell.studies.along import limits_along
 from polyell.studies.configurations import ConfigurationSet
-from polyell.validation import source_torque_limits
+from polyell.validation import source_torque_limits, source_velocity_limits
 
 __all__ = [
     "MAX_JOINT_VALUE",
@@ -671,9 +671,18 @@ TANGENT_RTOL = 1e-12
 
 
 def tangent_limits(
-    source: Any, trajectory: Trajectory, tau_max: Any = None, tau_min: Any = None
+    source: Any,
+    trajectory: Trajectory,
+    tau_max: Any = None,
+    tau_min: Any = None,
+    *,
+    capacity: str = "acceleration",
 ) -> dict[str, NDArray[np.float64]]:
-    """The achievable accelerations along the path's tangent ``J q̇ / |J q̇|``, per sample.
+    """What a capacity allows along the path's tangent ``J q̇ / |J q̇|``, per sample.
+
+    Accelerations by default: the velocity capacity gives the end-effector speeds along
+    the path the joint velocity limits allow (the robot's own), the force capacity the
+    forces along it.
 
     Computed in blocks of :data:`TANGENT_BLOCK` samples (memory independent of the
     path's length, besides the returned columns).
@@ -685,12 +694,14 @@ def tangent_limits(
     trajectory : Trajectory
         With velocities ``qd``.
     tau_max, tau_min : array-like, optional
-        Torque limits; default the robot's own.
+        Torque limits (of accelerations and forces); default the robot's own.
+    capacity : {"acceleration", "velocity", "force"}, optional
+        As in :func:`polyell.limits_along`.
 
     Returns
     -------
     dict of str to ndarray (K,)
-        ``tangent_<set>_lo`` and ``tangent_<set>_hi`` for the polytope and both
+        ``tangent_<set>_lo`` and ``tangent_<set>_hi`` for the polytope and the capacity's
         ellipsoids (:func:`polyell.limits_along`); NaN where the task velocity is zero
         (``|J qd| <= TANGENT_RTOL |J| max|qd|``: no tangent) or the line misses the set.
     """
@@ -706,7 +717,16 @@ def tangent_limits(
     upper = lower = None
     for start, stop in _blocks(K, TANGENT_BLOCK):
         dyn = source.dynamics(trajectory.q[start:stop])
-        if upper is None:
+        if upper is None and capacity == "velocity":
+            if tau_max is not None or tau_min is not None:
+                raise InputError(
+                    "tau_max",
+                    "no torque limits for the velocity capacity",
+                    "torque limits",
+                    "the speeds along the path use the robot's joint velocity limits.",
+                )
+            upper, lower = source_velocity_limits(source, None, None, dyn.n)
+        elif upper is None:
             upper, lower = source_torque_limits(source, tau_max, tau_min, dyn.n)
         qd = trajectory.qd[start:stop] / scale if scale > 0 else trajectory.qd[start:stop]
         velocity = np.einsum("kmn,kn->km", dyn.J, qd)
@@ -715,7 +735,10 @@ def tangent_limits(
         moving = (speed > TANGENT_RTOL * size) if scale > 0 else np.zeros(len(speed), bool)
         T = np.where(moving[:, None], velocity / np.where(moving, speed, 1.0)[:, None], 0.0)
         T[~moving, 0] = 1.0  # a placeholder direction; its rows are NaN below
-        limits = limits_along(dyn, None, T, upper, lower)
+        if capacity == "velocity":
+            limits = limits_along(dyn, None, T, capacity=capacity, qd_max=upper, qd_min=lower)
+        else:
+            limits = limits_along(dyn, None, T, upper, lower, capacity=capacity)
         for name, (lo, hi) in limits.items():
             for end, values in ((f"tangent_{name}_lo", lo), (f"tangent_{name}_hi", hi)):
                 if end not in columns:

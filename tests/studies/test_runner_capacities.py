@@ -139,7 +139,7 @@ def test_a_random_study_of_forces(tmp_path):
 
 
 def test_a_trajectory_study_of_every_capacity(tmp_path):
-    """Each capacity's series along the path; the tangent limits are accelerations'."""
+    """Each capacity's series along the path and what it allows along the path's tangent."""
     t = np.linspace(0.0, 1.0, 7)
     q = np.column_stack([0.2 + 0.3 * t, 0.4 + 0.5 * t, 0.9 - 0.4 * t])
     table = np.column_stack([t, q, np.tile([0.3, 0.5, -0.4], (t.size, 1))])
@@ -158,10 +158,27 @@ def test_a_trajectory_study_of_every_capacity(tmp_path):
         assert {f"results{suffix}.csv", f"summary{suffix}.tex", f"series_coverage{suffix}.png"} <= (
             written
         )
-    assert "tangent_limits.png" in written
-    assert not any(name.startswith("tangent_limits_") for name in written)
+    assert {"tangent_limits.png", "tangent_limits_force.png", "tangent_limits_velocity.png"} <= (
+        written
+    )
     velocity = pd.read_csv(out / "results_velocity.csv")
-    assert "tangent_polytope_lo" not in velocity  # accelerations along the path only
+    force = pd.read_csv(out / "results_force.csv")
+    assert "tangent_chiacchio_lo" not in velocity and "tangent_static_hi" in force
+    # the speed along the path: the joint velocity box through J, along J qd / |J qd|
+    for k in range(len(t)):
+        J = ARM.dynamics(q[k]).J
+        tangent = J @ table[k, 4:] / np.linalg.norm(J @ table[k, 4:])
+        an = pe.analyze(
+            ARM.dynamics(q[k]), capacity="velocity", qd_max=ARM.qd_max, qd_min=ARM.qd_min
+        )
+        lo, hi = an.polytope.limits(tangent)
+        assert (velocity["tangent_polytope_lo"][k], velocity["tangent_polytope_hi"][k]) == (
+            pytest.approx(float(lo), rel=1e-12),
+            pytest.approx(float(hi), rel=1e-12),
+        )
+        an = pe.analyze(ARM.dynamics(q[k]), ARM.tau_max, ARM.tau_min, capacity="force")
+        lo, hi = an.ellipsoid("static").limits(tangent)
+        assert force["tangent_static_hi"][k] == pytest.approx(float(hi), rel=1e-12)
     for k in (0, 3, 6):
         an = _analysis(q[k], "velocity")
         cmp = pe.compare(an, 16, samples=256, seed=0, outer=False)
