@@ -86,9 +86,9 @@ def sphere_cap_share(t: float, r: int) -> float:
     """Share of the unit r-ball beyond the plane at distance t: a 1-D integral, mpmath."""
     import mpmath
 
-    mpmath.mp.dps = 30
-    density = lambda x: (1 - x * x) ** (mpmath.mpf(r - 1) / 2)  # noqa: E731
-    return float(mpmath.quad(density, [t, 1]) / mpmath.quad(density, [-1, 1]))
+    with mpmath.workdps(30):  # not the global precision: other tests rely on it
+        density = lambda x: (1 - x * x) ** (mpmath.mpf(r - 1) / 2)  # noqa: E731
+        return float(mpmath.quad(density, [t, 1]) / mpmath.quad(density, [-1, 1]))
 
 
 @pytest.mark.parametrize("r", [1, 2, 3, 4, 6])
