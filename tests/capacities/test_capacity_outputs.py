@@ -137,21 +137,23 @@ def test_study_capacities_are_checked_at_load(tmp_path, capacities, message):
         load_study(path)
 
 
-def test_posture_studies_compare_accelerations_and_velocities_need_limits(tmp_path):
+def test_posture_studies_take_every_capacity_and_velocities_need_limits(tmp_path):
     path = tmp_path / "posture.toml"
     path.write_text(
         '[robot]\nlibrary = "chiacchio2000"\n[posture]\nq0 = [0.3, 0.6, 0.9]\ndirection = "x"\n'
         '[compare]\ncapacities = ["force"]\n'
     )
-    with pytest.raises(pe.InputError, match=r"compare\.capacities.*posture study"):
-        load_study(path)
-    path = tmp_path / "noqd.toml"
-    path.write_text(
-        "[robot]\ntau_max = [5, 5]\n[robot.planar]\nlengths = [1.0, 1.0]\nmasses = [1.0, 1.0]\n"
-        '[[points]]\nname = "p"\nq = [0.3, 0.6]\n[compare]\ncapacities = ["velocity"]\n'
-    )
-    with pytest.raises(pe.InputError, match=r"robot\.qd_max"):
-        load_study(path)
+    assert load_study(path).capacities == ("force",)
+    planar = "[robot]\ntau_max = [5, 5, 5]\n[robot.planar]\nlengths = [1.0, 1.0, 1.0]\n"
+    planar += "masses = [1.0, 1.0, 1.0]\n"
+    for where in (
+        '[[points]]\nname = "p"\nq = [0.3, 0.6, 0.2]\n',
+        '[posture]\nq0 = [0.3, 0.6, 0.9]\ndirection = "x"\n',
+    ):
+        path = tmp_path / "noqd.toml"
+        path.write_text(planar + where + '[compare]\ncapacities = ["velocity"]\n')
+        with pytest.raises(pe.InputError, match=r"robot\.qd_max"):
+            load_study(path)
 
 
 def test_force_figures_refuse_an_unbounded_set():
