@@ -44,9 +44,9 @@ from polyell.comparison.metrics import INSIDE_RTOL, _count_inside, cap_share, sc
 from polyell.geometry.ellipsoid import canonical_axes, unit_ball_volume
 from polyell.geometry.limits import facet_slack, rounding_floor
 from polyell.geometry.subspace import RANK_RTOL
-from polyell.geometry.zonotope import cross, subsets
+from polyell.geometry.zonotope import subsets
 from polyell.models.dynamics import Dynamics
-from polyell.studies.batch import BLOCK, RANK_BAND, BatchOptions, score_columns
+from polyell.studies.batch import BLOCK_MEMORY, RANK_BAND, BatchOptions, score_columns
 from polyell.studies.directional import direction_scores
 
 __all__ = ["GENERAL_POSITION", "MAX_CANDIDATES", "VOLUME_RTOL", "force_rows"]
@@ -109,7 +109,10 @@ def force_rows(
     if several > MAX_CANDIDATES:
         return columns, scalar
     tau_center, half = centre_and_half_range(tau_max, tau_min)
-    size = max(1, BLOCK * 64 // several)  # the (rows, candidates, n) arrays stay small
+    # Rows per block: the (rows, n, candidates) temporaries, about 3n + m arrays' worth of
+    # doubles per candidate, within a quarter of BLOCK_MEMORY (about 40 MiB measured for
+    # 936 rows of 3x7 arms); larger blocks spread the per-call cost of numpy.
+    size = max(1, (BLOCK_MEMORY // 4) // (8 * several * (3 * n + m)))
     for start in range(0, K, size):
         block = slice(start, start + size)
         rows, values = _block_rows(
@@ -284,7 +287,8 @@ def _inverse_and_det(blocks: Array) -> tuple[Array, Array]:
     """Inverses and ``|det|`` of a stack of m x m matrices; 0 for a singular one.
 
     Up to m = 3 by the adjugate (for rows a, b, c its columns are ``b x c``, ``c x a``,
-    ``a x b``), a few array operations instead of one LAPACK call per matrix.
+    ``a x b``), entry by entry over the stack: a few array operations instead of one
+    LAPACK call per matrix.
     """
     m = blocks.shape[-1]
     if m > 3:
@@ -292,17 +296,24 @@ def _inverse_and_det(blocks: Array) -> tuple[Array, Array]:
         regular = (det > 0)[..., None, None]
         inverse = np.linalg.inv(np.where(regular, blocks, np.eye(m)))
         return np.where(regular, inverse, 0.0), det
-    rows = [blocks[..., i, :] for i in range(m)]
+    e = np.ascontiguousarray(np.moveaxis(blocks, (-2, -1), (0, 1)))  # entry (i, j) first
+    adjugate = np.empty_like(e)  # adjugate[j, i]: the cofactor of entry (i, j)
     if m == 3:
-        adjugate = np.stack(
-            [cross(np.stack([rows[i - 2], rows[i - 1]], axis=-1)) for i in range(3)], axis=-1
-        )
+        for i in range(3):
+            for j in range(3):
+                i1, i2, j1, j2 = (i + 1) % 3, (i + 2) % 3, (j + 1) % 3, (j + 2) % 3
+                np.subtract(e[i1, j1] * e[i2, j2], e[i1, j2] * e[i2, j1], out=adjugate[j, i])
     else:
-        adjugate = np.stack([cross(rows[1][..., :, None]), -cross(rows[0][..., :, None])], axis=-1)
-    det = np.sum(rows[0] * adjugate[..., 0], axis=-1)
+        adjugate[0, 0], adjugate[0, 1], adjugate[1, 0], adjugate[1, 1] = (
+            e[1, 1],
+            -e[0, 1],
+            -e[1, 0],
+            e[0, 0],
+        )
+    det = np.sum(e[0] * adjugate[:, 0], axis=0)
     with np.errstate(divide="ignore", invalid="ignore"):
-        inverse = np.where(det[..., None, None] != 0, adjugate / det[..., None, None], 0.0)
-    return inverse, np.abs(det)
+        adjugate *= np.where(det != 0, 1.0 / det, 0.0)
+    return np.ascontiguousarray(np.moveaxis(adjugate, (0, 1), (-2, -1))), np.abs(det)
 
 
 def _vertices(Vt: Array, c_perp: Array, used: NDArray[np.bool_]) -> _Vertices:
@@ -352,8 +363,8 @@ def _vertices(Vt: Array, c_perp: Array, used: NDArray[np.bool_]) -> _Vertices:
     subset, sign = np.divmod(order, len(signs))
     factor = np.where(is_vertex, np.prod(signs, axis=-1)[sign], 0.0) / math.factorial(m)
     w = _DIRECTIONS[:, :m] / np.linalg.norm(_DIRECTIONS[:, :m], axis=1, keepdims=True)
-    gamma = np.tensordot(inverse, w, axes=(2, 1))  # V_S^T gamma = w: (K, C, m, 3)
-    gamma = np.take_along_axis(gamma, subset[..., None, None], axis=1)  # (K, V_max, m, 3)
+    at_vertex = np.take_along_axis(inverse.reshape(K, -1, m * m), subset[..., None], axis=1)
+    gamma = np.tensordot(at_vertex.reshape(K, -1, m, m), w, axes=(2, 1))  # V_S^T gamma = w
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         scale = np.take_along_axis(det, subset, axis=1)[..., None] * np.prod(gamma, axis=2)
         heights = np.swapaxes(points, 1, 2) @ w.T  # (K, V_max, 3)
