@@ -130,20 +130,19 @@ def limits_along(
     hi = {name: np.full(len(dyn), np.nan) for name in sets}
     # The block path's sets by their names in the capacity: the velocity set is the
     # zonotope of B = I, g = 0, its ellipsoid that zonotope's image ("chiacchio") ellipsoid.
-    names = {"polytope": "polytope", "chiacchio": "yoshikawa"} if capacity == "velocity" else {}
+    same = dict(zip(SETS, SETS, strict=True))
+    names = {"polytope": "polytope", "chiacchio": "yoshikawa"} if capacity == "velocity" else same
     size = 8 * block_size(dyn.m, dyn.n)  # no (rows, facets, directions) arrays here
     for start in range(0, len(dyn), size):
         rows = slice(start, start + size)
         part = dyn[rows]
         scalar = np.ones(len(part), dtype=bool)  # forces: one configuration at a time
         if capacity != "force":
-            if capacity == "velocity":
-                eye = np.broadcast_to(np.eye(dyn.n), (len(part), dyn.n, dyn.n))
-                part = Dynamics(part.J, eye, np.zeros((len(part), dyn.n)))
+            part = velocity_zonotope(part) if capacity == "velocity" else part
             block_lo = {name: np.full(len(part), np.nan) for name in SETS}
             block_hi = {name: np.full(len(part), np.nan) for name in SETS}
             scalar = _block(part, upper, lower, T[rows], rank_rtol, block_lo, block_hi, capacity)
-            for name, target in (names or dict(zip(SETS, SETS, strict=True))).items():
+            for name, target in names.items():
                 lo[target][rows], hi[target][rows] = block_lo[name], block_hi[name]
         for k in np.flatnonzero(scalar) + start:  # forces, (near-)singular: the exact path
             analysis = analysis_within(dyn[int(k)], capacity, upper, lower, rank_rtol)
@@ -154,6 +153,16 @@ def limits_along(
                 except UndefinedEllipsoidError:
                     lo[kind][k] = hi[kind][k] = np.nan
     return {name: DirectionalLimits(lo[name], hi[name]) for name in sets}
+
+
+def velocity_zonotope(dyn: Dynamics) -> Dynamics:
+    """A batch whose acceleration zonotope, within joint velocity limits, is the velocity set.
+
+    ``B = I``, ``g = 0`` and no bias: ``M = J L_v``, ``x_g = J qd_c``, and its image
+    ellipsoid (``"chiacchio"``) is the velocity capacity's ``"yoshikawa"``.
+    """
+    K, n = len(dyn), dyn.n
+    return Dynamics(dyn.J, np.broadcast_to(np.eye(n), (K, n, n)), np.zeros((K, n)))
 
 
 def analysis_within(

@@ -41,7 +41,7 @@ from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
 from polyell.geometry.outer import min_volume_enclosing_ellipsoid
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.models.self_motion import SelfMotion
-from polyell.studies.along import analysis_within, limits_along
+from polyell.studies.along import analysis_within, limits_along, velocity_zonotope
 from polyell.studies.batch import BatchOptions, block_sets, block_size
 from polyell.validation import (
     check_array,
@@ -291,11 +291,10 @@ def _block_values(
     Marks in ``scalar`` the postures left to the scalar path.
     """
     K, m, n = len(dyn), dyn.m, dyn.n
-    B, g, bias = dyn.B, dyn.g, dyn.xdd_bias
     names = {"chiacchio": "chiacchio", "yoshikawa": "yoshikawa"}
     if capacity == "velocity":
-        B, g, bias = np.broadcast_to(np.eye(n), (K, n, n)), np.zeros((K, n)), np.zeros((K, m))
-        names = {"chiacchio": "yoshikawa"}
+        dyn, names = velocity_zonotope(dyn), {"chiacchio": "yoshikawa"}
+    B, g, bias = dyn.B, dyn.g, dyn.xdd_bias
     options = BatchOptions(
         mvie=mvie, outer=outer, vertices=outer, candidates=candidates, rank_rtol=rank_rtol
     )
