@@ -9,7 +9,7 @@ algebra, in the whitened coordinates of :class:`~polyell.capacities.force.ForceA
   signs (``C(n, m) 2^m`` candidates, each an m x m solve, kept where every row holds), its
   facets (the rows tight at a vertex) and its volume by Lawrence's formula for simple
   polytopes (J. Lawrence, "Polytope volume computation", Math. Comp. 57, 1991), evaluated
-  for two directions that must agree;
+  for three directions, of which the two that cancel least must agree;
 * the three ellipsoids (``chiacchio``, ``yoshikawa``, ``static``), their scales, volume
   shares, directional statistics (:func:`~polyell.studies.directional.direction_scores`)
   and torque witnesses, by the closed forms of the scalar path; an ellipsoid neither inside
