@@ -29,6 +29,7 @@ __all__ = [
     "check_same_affine_set",
     "direction_errors",
     "enclosing_scale",
+    "estimate",
     "inscribed_scale",
     "inside_rtol",
     "overlap",
@@ -88,7 +89,7 @@ def inside_rtol(E: Ellipsoid, P: Polytope | HPolytope) -> float:
     if E.rank == 0:
         return INSIDE_RTOL
     if isinstance(P, HPolytope):  # facets are its data: (m + 2) terms, its vertices' reach
-        m, n, size = P.ambient_dim, 2, P.extent
+        m, n, size = P.ambient_dim, 2, P._size()  # an unbounded set: its facets' offsets
     else:
         (m, n), size = P.generators.shape, float(np.linalg.norm(P.generators, axis=0).sum())
     extent = max(float(np.linalg.norm(P.center)), float(np.linalg.norm(E.center)), size)
@@ -250,7 +251,7 @@ CAP_GAP = 1e-9
 def cap_share(
     reach_vectors: NDArray[np.float64], slack: NDArray[np.float64]
 ) -> NDArray[np.float64]:
-    r"""The exact share of E inside P where E's caps beyond P's facets are disjoint, else NaN.
+    r"""The exact share of E outside P where E's caps beyond P's facets are disjoint, else NaN.
 
     In the coordinates ``u`` of E (``x = c + U diag(s) u``, ``|u| <= 1``) facet i reads
     ``w_i . u <= slack_i`` with ``w_i = diag(s) U^T a_i``: its cap (the part of the unit
@@ -260,10 +261,13 @@ def cap_share(
     .. math:: F_r(t) = \tfrac12 I_{1 - t^2}\left(\tfrac{r + 1}{2}, \tfrac12\right)
               \quad (t \ge 0), \qquad F_r(t) = 1 - F_r(-t) \quad (t < 0)
 
-    of the ball (``I`` the regularized incomplete beta function).  ``E \ P`` is the union
+    of the ball (``I`` the regularized incomplete beta function; for small ``|t|`` as
+    ``1/2 - 1/2 I_{t^2}(1/2, (r+1)/2)``, which keeps its digits).  ``E \ P`` is the union
     of the caps; where no two of them meet (the nearest point beyond both facets, a
-    two-constraint projection, lies outside the ball by :data:`CAP_GAP`) the share inside
-    is ``1 - sum F_r(t_i)`` exactly, and 0 where one facet leaves all of E outside.
+    two-constraint projection, lies outside the ball by :data:`CAP_GAP`) the share outside
+    is ``sum F_r(t_i)`` exactly (summed as such: a small overreach keeps its relative
+    accuracy), and 1 where one facet leaves all of E outside.  Each row is normalised by
+    its largest entry first: the result does not depend on the units.
 
     Parameters
     ----------
@@ -275,21 +279,38 @@ def cap_share(
     Returns
     -------
     ndarray, shape (...)
-        The share in [0, 1], NaN where two caps meet (or an input is NaN): estimate those.
+        The share outside P in [0, 1], NaN where two caps meet (or an input is NaN):
+        estimate those.
     """
     from scipy.special import betainc
 
-    r = reach_vectors.shape[-1]
-    reach = np.linalg.norm(reach_vectors, axis=-1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.where(reach > 0, slack / reach, np.where(slack >= 0, np.inf, -np.inf))
-        unit = np.where(reach[..., None] > 0, reach_vectors / reach[..., None], 0.0)
-    t = np.where(np.isnan(slack) | np.isnan(reach), np.nan, t)
+    W = np.asarray(reach_vectors, dtype=float)
+    slack = np.asarray(slack, dtype=float)
+    if W.ndim < 2 or slack.shape != W.shape[:-1]:
+        raise InputError(
+            "reach_vectors",
+            "an (..., F, r) array and slack of shape (..., F)",
+            f"shapes {W.shape} and {slack.shape}",
+        )
+    r = W.shape[-1]
+    size = np.max(np.abs(W), axis=-1)  # rows scaled to entries of at most 1: no underflow
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        unit = np.where(size[..., None] > 0, W / size[..., None], 0.0)
+        norm = np.linalg.norm(unit, axis=-1)
+        unit = np.where(norm[..., None] > 0, unit / norm[..., None], 0.0)
+        reach = size * norm  # NaN with a NaN entry
+        t = np.where(
+            size > 0,
+            (slack / np.where(size > 0, size, 1.0)) / np.where(norm > 0, norm, 1.0),
+            np.where(slack >= 0, np.inf, -np.inf),
+        )
+    nan = np.any(np.isnan(slack) | np.isnan(reach), axis=-1)
+    t = np.where(np.isnan(slack) | np.isnan(reach), np.inf, t)
+    lost = np.any(t <= -1.0, axis=-1)  # one facet leaves all of E outside
     # only the facets that cut E from here: the first of each row, cut first
     order = np.argsort(~(t < 1.0), axis=-1, kind="stable")
     order = order[..., : int(np.sum(t < 1.0, axis=-1).max(initial=0))]
     unit = np.take_along_axis(unit, order[..., None], axis=-2)
-    lost = np.any(t <= -1.0, axis=-1)  # one facet leaves all of E outside
     t = np.take_along_axis(t, order, axis=-1)
     cut = t < 1.0
     ti, tj = t[..., :, None], t[..., None, :]
@@ -313,11 +334,28 @@ def cap_share(
         0.5 * betainc((r + 1) / 2.0, 0.5, (1.0 - x) * (1.0 + x)),
     )
     caps = np.where(tc >= 0.0, half, 1.0 - half)
-    share = np.clip(1.0 - np.sum(np.where(cut, caps, 0.0), axis=-1), 0.0, 1.0)
-    nan = np.any(np.isnan(slack) | np.isnan(reach), axis=-1)
-    share = np.where(meet | nan, np.nan, share)
-    result: NDArray[np.float64] = np.where(lost & ~nan, 0.0, share)
+    outside = np.clip(np.sum(np.where(cut, caps, 0.0), axis=-1), 0.0, 1.0)
+    outside = np.where(meet, np.nan, outside)
+    result: NDArray[np.float64] = np.where(nan, np.nan, np.where(lost, 1.0, outside))
     return result
+
+
+def estimate(counts: NDArray[np.int64], samples: int) -> tuple[float, float]:
+    """The share of points inside and its standard error, from each replicate's count.
+
+    The standard error of the replicate means; where every replicate counted the same
+    (no point, or every point, fell outside), the binomial error of the pooled count with
+    half a point added, ``sqrt(p (1 - p) / N)``, ``p = (k + 1/2) / (N + 1)``: an estimate
+    never reads as exact (standard error 0).
+    """
+    shares = counts / samples
+    replicates = len(counts)
+    stderr = float(shares.std(ddof=1) / np.sqrt(replicates))
+    if stderr == 0.0:
+        total = samples * replicates
+        p = (float(counts.sum()) + 0.5) / (total + 1.0)
+        stderr = float(np.sqrt(p * (1.0 - p) / total))
+    return float(shares.mean()), stderr
 
 
 def _count_inside(
@@ -385,7 +423,7 @@ def overlap(
     forms (:func:`cap_share`).  Otherwise the share
     of ``E`` inside ``P`` is estimated by randomized quasi-Monte Carlo: ``replicates``
     independently scrambled Sobol' sets of ``samples`` points each, mapped uniformly into
-    ``E``; the standard error is that of the replicate means.
+    ``E``; the standard error is that of the replicate means (never 0: :func:`estimate`).
 
     Parameters
     ----------
@@ -414,12 +452,11 @@ def overlap(
         length = 0.0 if np.isnan(lo[0]) else max(0.0, min(hi[0], s) - max(lo[0], -s))
         return Overlap(length / P.volume, 1.0 - length / (2.0 * s), 0.0, 0.0)
     ratio = E.volume / P.volume
-    exact = float(cap_share((P.A @ E.axes) * E.semi_axes, slack))
-    if not np.isnan(exact):
-        return Overlap(min(1.0, exact * ratio), 1.0 - exact, 0.0, 0.0)
-    shares = _count_inside(E.axes, E.semi_axes, P.A, slack, samples, replicates, seed) / samples
-    share = float(shares.mean())
-    stderr = float(shares.std(ddof=1) / np.sqrt(replicates))
+    outside = float(cap_share((P.A @ E.axes) * E.semi_axes, slack))
+    if not np.isnan(outside):
+        return Overlap(min(1.0, (1.0 - outside) * ratio), outside, 0.0, 0.0)
+    counts = _count_inside(E.axes, E.semi_axes, P.A, slack, samples, replicates, seed)
+    share, stderr = estimate(counts, samples)
     # vol(E & P) <= vol(P): an estimate above 1 is noise of the sampling (within stderr)
     return Overlap(min(1.0, share * ratio), 1.0 - share, stderr * ratio, stderr)
 

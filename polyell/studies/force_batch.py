@@ -40,7 +40,7 @@ from numpy.typing import NDArray
 from polyell.capacities.base import centre_and_half_range
 from polyell.capacities.force import force_terms
 from polyell.comparison.comparison import compared_kinds
-from polyell.comparison.metrics import INSIDE_RTOL, _count_inside, cap_share, scale_rtol
+from polyell.comparison.metrics import INSIDE_RTOL, _count_inside, cap_share, estimate, scale_rtol
 from polyell.geometry.ellipsoid import canonical_axes, unit_ball_volume
 from polyell.geometry.limits import facet_slack, rounding_floor
 from polyell.geometry.subspace import RANK_RTOL
@@ -442,9 +442,9 @@ def _shares(
     if crossing.any():
         reach_vectors = (normals[crossing] @ axes[crossing]) * semi[crossing][:, None, :]
         exact[crossing] = cap_share(reach_vectors, np.where(facet, slacks, np.inf)[crossing])
-    known = crossing & ~np.isnan(exact)
-    coverage = np.where(known, np.minimum(1.0, exact * ratio), coverage)
-    overreach = np.where(known, 1.0 - exact, overreach)
+    known = crossing & ~np.isnan(exact)  # exact: the share outside
+    coverage = np.where(known, np.minimum(1.0, (1.0 - exact) * ratio), coverage)
+    overreach = np.where(known, exact, overreach)
     replicates = 8
     for k in np.flatnonzero(crossing & ~known):
         counts = _count_inside(
@@ -456,8 +456,7 @@ def _shares(
             replicates,
             options.seed,
         )
-        shares = counts / options.samples
-        share, stderr = float(shares.mean()), float(shares.std(ddof=1) / np.sqrt(replicates))
+        share, stderr = estimate(counts, options.samples)
         coverage[k] = min(1.0, share * ratio[k])
         overreach[k] = 1.0 - share
         coverage_err[k], overreach_err[k] = stderr * ratio[k], stderr

@@ -82,42 +82,56 @@ def test_touching_ellipsoid_counts_every_point():
     assert abs((1.0 - counts.mean()) - caps / (np.pi * R**2)) <= 5.0 * stderr
 
 
-def sphere_cap_share(t: float, r: int) -> float:
+def sphere_cap_share(t: float, r: int, digits: int = 30) -> float:
     """Share of the unit r-ball beyond the plane at distance t: a 1-D integral, mpmath."""
     import mpmath
 
-    with mpmath.workdps(30):  # not the global precision: other tests rely on it
+    with mpmath.workdps(digits):  # not the global precision: other tests rely on it
+        t = mpmath.mpf(t)
         density = lambda x: (1 - x * x) ** (mpmath.mpf(r - 1) / 2)  # noqa: E731
         return float(mpmath.quad(density, [t, 1]) / mpmath.quad(density, [-1, 1]))
 
 
 @pytest.mark.parametrize("r", [1, 2, 3, 4, 6])
 def test_one_cap_against_its_integral(r):
-    for t in (-0.999, -0.6, -1e-3, 0.0, 0.3, 0.9, 0.999999):
+    for t in (-0.999, -0.6, -1e-3, 0.0, 0.3, 0.9, 0.999999, 1.0 - 1e-9):
         w = np.zeros((1, r))
-        w[0, 0] = 2.5  # the facet x_1 <= 2.5 t in the ball's coordinates
-        share = cap_share(w, np.array([2.5 * t]))
-        assert share == pytest.approx(1.0 - sphere_cap_share(t, r), rel=1e-13, abs=1e-15)
+        w[0, 0] = 1.0  # the facet x_1 <= t in the ball's coordinates (t exactly as given)
+        outside = cap_share(w, np.array([t]))
+        # summed, not 1 - share: a tiny cap keeps its relative accuracy (7.5e-19 at 1 - 1e-9)
+        assert outside == pytest.approx(sphere_cap_share(t, r, 50), rel=1e-12, abs=1e-300)
+        # a facet given in other units carries the rounding of t = slack / |w|: relative
+        # (r + 1) / 2 * 2 eps |t| / (1 - |t|) in the cap, the share's condition number
+        w[0, 0] = 2.5
+        bound = (r + 1) * 2.0**-52 * abs(t) / (1.0 - abs(t)) + 1e-12
+        outside = cap_share(w, np.array([2.5 * t]))
+        assert outside == pytest.approx(sphere_cap_share(t, r, 50), rel=bound, abs=1e-300)
 
 
 def test_cap_share_closed_forms_and_edges():
     # A ball of radius 1.3 in the cube |x_i| <= 1: six disjoint caps of height 0.3.
     R, h = 1.3, 0.3
     cube = np.vstack([np.eye(3), -np.eye(3)])
-    exact = 1.0 - 6.0 * (np.pi * h * h * (3.0 * R - h) / 3.0) / (4.0 / 3.0 * np.pi * R**3)
+    exact = 6.0 * (np.pi * h * h * (3.0 * R - h) / 3.0) / (4.0 / 3.0 * np.pi * R**3)
     assert cap_share(cube * R, np.ones(6)) == pytest.approx(exact, rel=1e-13)
-    # units: scaling E and P together changes nothing
-    for unit in (1e-150, 1e150):
+    # units: scaling E and P together changes nothing, down to 1e-300 and up to 1e300,
+    # nor does one row at another scale
+    for unit in (1e-300, 1e-200, 1e-160, 1e155, 1e300):
         assert cap_share(cube * R * unit, np.ones(6) * unit) == pytest.approx(exact, rel=1e-13)
+    mixed = np.array([1e-300, 1.0, 1e200, 1.0, 1.0, 1.0])
+    assert cap_share(cube * R * mixed[:, None], mixed) == pytest.approx(exact, rel=1e-13)
     # radius 1.8 > sqrt(3)... caps of neighbouring faces meet beyond the edges: not exact
     assert np.isnan(cap_share(cube * 1.8, np.ones(6)))
     # a facet with E wholly outside; one ignored (+inf); no cap at all; NaN stays NaN
-    assert cap_share(np.array([[1.0, 0.0], [0.0, 1.0]]), np.array([0.5, -1.0])) == 0.0
-    assert cap_share(np.array([[1.0, 0.0], [0.0, 1.0]]), np.array([np.inf, 2.0])) == 1.0
+    assert cap_share(np.array([[1.0, 0.0], [0.0, 1.0]]), np.array([0.5, -1.0])) == 1.0
+    assert cap_share(np.array([[1.0, 0.0], [0.0, 1.0]]), np.array([np.inf, 2.0])) == 0.0
     assert np.isnan(cap_share(np.array([[1.0, 0.0]]), np.array([np.nan])))
     # batched: one row per ellipsoid
     rows = cap_share(np.stack([cube * R, cube * 1.8]), np.ones((2, 6)))
     assert rows[0] == pytest.approx(exact, rel=1e-13) and np.isnan(rows[1])
+    for w, slack in ((np.ones(3), np.ones(3)), (np.ones((2, 3)), np.ones(3))):
+        with pytest.raises(pe.InputError, match="reach_vectors"):
+            cap_share(w, slack)
 
 
 @pytest.mark.parametrize("r", [2, 3, 6])
@@ -133,14 +147,31 @@ def test_cap_share_against_sampling(r):
         W = rng.normal(size=(F, r)) * 10.0 ** rng.uniform(-1, 1, size=(F, 1))
         t = rng.uniform(0.4, 1.5, F)
         slack = t * np.linalg.norm(W, axis=1)
-        share = cap_share(W, slack)
+        outside = cap_share(W, slack)
         beyond = (x @ W.T) > slack
-        if np.isnan(share):
+        if np.isnan(outside):
             estimated += 1
             continue
         exact += 1
         assert not np.any(beyond.sum(axis=1) > 1)
-        inside = 1.0 - beyond.any(axis=1).mean()
-        sigma = np.sqrt(share * (1.0 - share) / len(x))  # binomial, under the exact share
-        assert abs(share - inside) <= 5.0 * sigma + 1e-12
+        sampled = beyond.any(axis=1).mean()
+        sigma = np.sqrt(outside * (1.0 - outside) / len(x))  # binomial, under the exact share
+        assert abs(outside - sampled) <= 5.0 * sigma + 1e-12
     assert exact >= 5 and estimated >= 5  # both outcomes were tested
+
+
+def test_an_estimate_is_never_reported_as_exact():
+    """Replicates that all count the same (no point outside) still give a standard error."""
+    from polyell.comparison.metrics import estimate
+
+    share, stderr = estimate(np.full(8, 2**13), 2**13)
+    assert share == 1.0 and 0.0 < stderr < 1e-4
+    share, stderr = estimate(np.zeros(8, dtype=np.int64), 2**13)
+    assert share == 0.0 and 0.0 < stderr < 1e-4
+    # a thin set and a disc that reaches past it: coverage unknown to sampling, and said so
+    an = pe.analyze(
+        pe.Kinematics([[1.0, 0.0, 0.5], [0.0, 1e-6, 1e-6]]), capacity="velocity", qd_max=np.ones(3)
+    )
+    disc = pe.Candidate("disc", core=np.eye(2) / 0.25, center=[0.0, 0.0])
+    scores = pe.compare(an, mvie=False, outer=False, candidates=[disc])["disc"]
+    assert scores.overreach_stderr > 0.0 and scores.coverage_stderr > 0.1
