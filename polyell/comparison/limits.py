@@ -125,6 +125,16 @@ def posture_comparisons(
                 "a Comparison from pe.compare under a non-empty posture name",
                 type(comparison).__name__,
             )
+    capacities = {name: c.analysis.capacity for name, c in comparisons.items()}
+    if len(set(capacities.values())) > 1:  # one table: one set of ellipsoids, one unit
+        first = next(iter(capacities.values()))
+        other = next(name for name, capacity in capacities.items() if capacity != first)
+        raise InputError(
+            f"comparisons[{other!r}]",
+            f"comparisons of one capacity in one table (the first is {first!r})",
+            f"the {capacities[other]!r} capacity",
+            "make one table per capacity.",
+        )
     return dict(comparisons)
 
 

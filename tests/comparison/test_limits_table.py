@@ -129,3 +129,18 @@ def test_an_angular_task_is_in_rad_per_s2():
     assert list(dict.fromkeys(table["direction"])) == ["wx", "-wz"]
     with pytest.raises(pe.InputError, match="wx, wy, wz"):
         cmp.limits_table(["x"])
+
+
+def test_one_table_holds_one_capacity():
+    """Postures of different capacities have different ellipsoids and units: refused."""
+    from polyell.comparison.tables import format_comparison_table
+
+    J = [[1.0, 0.5, 0.2], [0.0, 1.0, 0.3]]
+    acc = pe.compare(pe.analyze(pe.Dynamics(J, np.eye(3), np.zeros(3)), [1, 2, 3]), 8)
+    vel = pe.compare(pe.analyze(pe.Kinematics(J), capacity="velocity", qd_max=[1, 2, 3]), 8)
+    for call in (
+        lambda: format_comparison_table({"a": acc, "v": vel}, "markdown"),
+        lambda: pe.limits_table({"a": acc, "v": vel}),
+    ):
+        with pytest.raises(pe.InputError, match=r"comparisons\['v'\].*one capacity"):
+            call()
