@@ -51,6 +51,7 @@ STYLES = {
     "yoshikawa": {"color": "black", "linestyle": ":", "linewidth": 1.6},
     "mvie": {"color": "0.55", "linestyle": "-.", "linewidth": 1.2},
     "outer": {"color": "0.3", "linestyle": (0, (7, 2)), "linewidth": 1.0},
+    "static": {"color": "0.5", "linestyle": (0, (4, 1.5, 1, 1.5)), "linewidth": 1.6},
 }
 #: Largest resolution of a saved figure: a 6-inch figure at 2400 dpi is 14400 pixels wide
 #: (about 0.6 GB of RGBA pixels for a square one), beyond any journal's requirement.

@@ -504,11 +504,21 @@ def check_magnitudes(
 def source_torque_limits(
     source: object, tau_max: ArrayLike | None, tau_min: ArrayLike | None, n: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Torque limits given, or else the source's own (a robot's ``tau_max``, ``tau_min``)."""
+    """Torque limits given, or else the source's own (a robot's ``tau_max``, ``tau_min``).
+
+    A ``tau_min`` given without ``tau_max`` goes with the robot's ``tau_max`` (as a
+    ``qd_min`` does with its ``qd_max``).
+    """
     if tau_max is None:
-        tau_max, tau_min = getattr(source, "tau_max", None), getattr(source, "tau_min", None)
+        tau_max, default_min = getattr(source, "tau_max", None), getattr(source, "tau_min", None)
         if tau_max is None:
-            raise InputError("tau_max", "torque limits (the source has none of its own)", "None")
+            raise InputError(
+                "tau_max",
+                "torque limits (the source has none of its own)",
+                "tau_min alone" if tau_min is not None else "None",
+                "pass tau_max=[...] (and tau_min=).",
+            )
+        tau_min = default_min if tau_min is None else tau_min
     return check_torque_limits(tau_max, tau_min, n)
 
 
@@ -521,7 +531,8 @@ def source_velocity_limits(
             raise InputError(
                 "qd_max",
                 "joint velocity limits [rad/s] for the velocity capacity",
-                "none (a batched Dynamics has no limits of its own)",
+                ("qd_min alone" if qd_min is not None else "none")
+                + " (a batched Dynamics has no limits of its own)",
                 "pass qd_max=[...] (and qd_min=).",
             )
         qd_max, default_min = source.velocity_limits()

@@ -295,3 +295,15 @@ def test_3d_outline_is_the_silhouette_of_the_ellipsoid(view):
         for section in sections:
             s = section - E.center
             np.testing.assert_allclose(np.einsum("ij,jk,ik->i", s, N, s), 1.0, rtol=1e-9)
+
+
+def test_every_force_ellipsoid_has_its_own_line():
+    from polyell.figures import _style
+
+    kinds = ("polytope", "chiacchio", "yoshikawa", "static")
+    drawn = [
+        (_style(k, kinds, "force")["color"], str(_style(k, kinds, "force")["linestyle"]))
+        for k in kinds
+    ]
+    assert len(set(drawn)) == len(kinds)
+    assert _style("static", kinds, "force")["label"] == "no gravity"

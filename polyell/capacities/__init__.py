@@ -156,7 +156,7 @@ def joint_limits_of(
     if capacity == "velocity":
         if tau_max is not None or tau_min is not None:
             raise InputError(
-                "tau_max",
+                "tau_max" if tau_max is not None else "tau_min",
                 "no torque limits for the velocity capacity",
                 "torque limits",
                 "pass the joint velocity limits as qd_max= (and qd_min=).",
@@ -164,9 +164,9 @@ def joint_limits_of(
         return qd_max, qd_min
     if qd_max is not None or qd_min is not None:
         raise InputError(
-            "qd_max",
+            "qd_max" if qd_max is not None else "qd_min",
             f"no joint velocity limits for the {capacity} capacity",
-            "qd_max/qd_min",
+            "joint velocity limits",
             "pass capacity='velocity' for velocities.",
         )
     return tau_max, tau_min

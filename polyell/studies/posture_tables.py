@@ -64,12 +64,19 @@ def _print_table(table: pd.DataFrame) -> PrintTable:
         headers.append(Label(plain, escape_latex(plain, "column"), tuple(
             escape_latex(line, "column") for line in lines
         )) if len(lines) > 1 else Label(plain, escape_latex(plain, "column")))  # fmt: skip
+    from pandas import NA
+
     capacity = table.attrs.get("capacity", "acceleration")  # set by posture_choice
     rows = []
     for (kind, criterion), record in table.iterrows():
         cells = []
         for column in columns:
-            value = float(record[column]) if record[column] is not None else math.nan
+            # <NA>: no posture picked (a set undefined at every posture)
+            value = (
+                math.nan
+                if record[column] is None or record[column] is NA
+                else float(record[column])
+            )
             kind_of = _COLUMNS[column][1]
             cells.append(Cell(value, 2 if kind_of == "share" else 0, count=kind_of == "index"))
         stub = (

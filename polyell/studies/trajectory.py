@@ -720,7 +720,7 @@ def tangent_limits(
         if upper is None and capacity == "velocity":
             if tau_max is not None or tau_min is not None:
                 raise InputError(
-                    "tau_max",
+                    "tau_max" if tau_max is not None else "tau_min",
                     "no torque limits for the velocity capacity",
                     "torque limits",
                     "the speeds along the path use the robot's joint velocity limits.",

@@ -222,3 +222,18 @@ def test_capacities_on_a_robot_with_its_own_velocity_limits_and_a_singular_postu
         pe.limits_along(ARM, q, T, ARM.tau_max, capacity="velocity")
     with pytest.raises(pe.InputError, match="capacity"):
         pe.limits_along(ARM, q, T, capacity="torque")
+
+
+def test_a_lower_limit_alone_goes_with_the_robots_upper_one():
+    q0, d = [[np.pi / 2, -np.pi / 2, -np.pi / 2]], [[0.6, 0.8]]
+    low = [-50.0, -10.0, -2.0]
+    for capacity in ("acceleration", "force"):
+        alone = pe.limits_along(ARM, q0, d, tau_min=low, capacity=capacity)["polytope"]
+        both = pe.limits_along(ARM, q0, d, ARM.tau_max, low, capacity=capacity)["polytope"]
+        assert (alone.lo[0], alone.hi[0]) == (both.lo[0], both.hi[0])
+        assert alone.lo[0] != pe.limits_along(ARM, q0, d, capacity=capacity)["polytope"].lo[0]
+    # the limits of another capacity are refused naming the one given
+    with pytest.raises(pe.InputError, match="^tau_min"):
+        pe.limits_along(ARM, q0, d, tau_min=low, capacity="velocity")
+    with pytest.raises(pe.InputError, match="^qd_min"):
+        pe.limits_along(ARM, q0, d, qd_min=[-1.0, -1.0, -1.0])

@@ -475,3 +475,20 @@ def test_capacity_arguments_are_checked(paper_postures):
         pe.posture_choice(ARM, paper_postures, direction=X, qd_max=ARM.qd_max)
     with pytest.raises(pe.InputError, match="capacity"):
         pe.posture_choice(ARM, paper_postures, direction=X, capacity="speed")
+
+
+def test_a_set_undefined_at_every_posture_is_written_as_such(tmp_path, paper_postures):
+    """A torque weighting has no force ellipsoid: no posture picked, the tables still written."""
+    weighted = pe.Candidate("w", weighting=np.diag([1.0, 1.0, 4.0]))
+    choice = pe.posture_choice(
+        ARM,
+        paper_postures[:6],
+        direction=X,
+        capacity="force",
+        candidates=[weighted],
+        mvie=False,
+        outer=False,
+    )
+    assert choice.table.loc[("w", "limit"), "picked"] is pd.NA
+    files = pe.write_posture_tables(choice.table, tmp_path)
+    assert "| w " in files["markdown"].read_text()
