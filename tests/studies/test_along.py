@@ -233,7 +233,7 @@ def test_a_lower_limit_alone_goes_with_the_robots_upper_one():
         assert (alone.lo[0], alone.hi[0]) == (both.lo[0], both.hi[0])
         assert alone.lo[0] != pe.limits_along(ARM, q0, d, capacity=capacity)["polytope"].lo[0]
     # the limits of another capacity are refused naming the one given
-    with pytest.raises(pe.InputError, match="^tau_min"):
+    with pytest.raises(pe.InputError, match=r"^tau_min"):
         pe.limits_along(ARM, q0, d, tau_min=low, capacity="velocity")
-    with pytest.raises(pe.InputError, match="^qd_min"):
+    with pytest.raises(pe.InputError, match=r"^qd_min"):
         pe.limits_along(ARM, q0, d, qd_min=[-1.0, -1.0, -1.0])
