@@ -773,6 +773,16 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
                 repr(unknown),
                 "check the spelling, or add the capacity to [compare] capacities.",
             )
+        for capacity in compare.capacities:  # each capacity's tables need one of its sets
+            own = [*compared_kinds(capacity), *(c.name for c in candidates)]
+            if not any(name in own for name in output.sets):
+                raise InputError(
+                    "output.sets",
+                    f"at least one set of each compared capacity (the {capacity} capacity's "
+                    f"are {list(compared_kinds(capacity))})",
+                    repr(list(output.sets)),
+                    f"add one of them, or leave {capacity!r} out of [compare] capacities.",
+                )
     if "velocity" in compare.capacities:  # every robot needs its joint velocity limits
         for number, robot in enumerate(robots_):
             if robot.model.qd_max is None:

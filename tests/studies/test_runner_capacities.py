@@ -202,8 +202,14 @@ def test_a_trajectory_study_of_every_capacity(tmp_path):
             '[compare]\ncapacities = ["velocity"]\n',
             r"robot\.qd_max",
         ),
+        (  # a capacity whose tables would hold none of its sets
+            '[robot]\nlibrary = "chiacchio2000"\n[[points]]\nname = "p"\nq = [0.3, 0.6, 0.9]\n'
+            '[compare]\ncapacities = ["acceleration", "force"]\n'
+            '[output]\nsets = ["polytope", "static"]\n',
+            r"output\.sets: expected at least one set of each compared capacity",
+        ),
     ],
-    ids=["map-kind", "no-qd"],
+    ids=["map-kind", "no-qd", "sets-of-one-capacity"],
 )
 def test_capacities_of_sweeps_are_checked_at_load(tmp_path, study, message):
     path = tmp_path / "study.toml"
