@@ -389,12 +389,12 @@ def _points_study(tmp_path, capacities, extra="", output=""):
 
 def test_output_sets_are_kept_per_capacity_and_checked_at_load(tmp_path):
     # "static" is a force set: the acceleration tables leave it out instead of refusing
-    path = _points_study(
-        tmp_path, '["force", "acceleration"]', output='sets = ["polytope", "static"]'
-    )
+    sets = 'sets = ["polytope", "static", "yoshikawa"]'
+    path = _points_study(tmp_path, '["force", "acceleration"]', output=sets)
     run_study(load_study(path), tmp_path / "out")
     assert "no gravity" in (tmp_path / "out" / "comparison_force.tex").read_text()
-    assert "no gravity" not in (tmp_path / "out" / "comparison.tex").read_text()
+    acceleration = (tmp_path / "out" / "comparison.tex").read_text()
+    assert "no gravity" not in acceleration and "classic (eq. 27)" in acceleration
     path = _points_study(tmp_path, '["velocity"]', output='sets = ["polytope", "static"]')
     with pytest.raises(pe.InputError) as info:
         load_study(path)
