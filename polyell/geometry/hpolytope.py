@@ -145,6 +145,7 @@ class HPolytope(ConvexSet):
     def _generators(self) -> None:
         m = self.ambient_dim
         empty = np.zeros((0, m))
+        self._line_slope = 0.0  # the largest singular value of the rows counted as zero
         self._rays, self._lines = empty, empty
         self._vertices = empty
         self._facet_A, self._facet_b = empty, np.zeros(0)
@@ -170,6 +171,8 @@ class HPolytope(ConvexSet):
         # posture) are U2, by the rank decision and not by cddlib's epsilon.
         svd = rank_revealing_svd(self._A_in.T, rank=self._rank)
         U1, S, lines = svd.U1, svd.sigma, svd.U2
+        if svd.rank < len(svd.singular_values):  # a unit line meets rows at slopes below it
+            self._line_slope = float(svd.singular_values[svd.rank])
         array = np.empty((len(shifted), svd.rank + 1))  # cdd's rows [b | -a]
         array[:, 0], array[:, 1:] = shifted / unit, -svd.V1
         listed = array.tolist()
@@ -426,8 +429,10 @@ class HPolytope(ConvexSet):
         reach = 2.0 * (float(np.linalg.norm(self.center)) + self._size())
         slack = facet_slack(self.half_widths, reach, self._terms)
         floor = rounding_floor(reach, self._terms)
-        # Unbounded: a line along a ray to rounding (unit normals and directions) is parallel.
-        slope_floor = 0.0 if self.is_bounded else self._terms * float(np.finfo(float).eps)
+        # Unbounded: a line within the rank decision of a ray (its slopes against the rows
+        # at most the largest singular value counted as zero, or rounding) is parallel to it.
+        eps = float(np.finfo(float).eps)
+        slope_floor = 0.0 if self.is_bounded else max(self._terms * eps, 2.0 * self._line_slope)
         return line_interval_in_halfspaces(self.A, self.b, lines, slack, floor, slope_floor)
 
 

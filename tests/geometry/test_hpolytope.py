@@ -158,3 +158,22 @@ def test_a_thin_force_set_has_its_volume_where_qhull_fails():
     assert not scalar[0]
     bound = m * n * np.finfo(float).eps * 1e9
     assert P.volume == pytest.approx(columns["polytope_volume"][0], rel=bound)
+
+
+def test_a_ray_at_the_rank_threshold_has_infinite_limits():
+    """sigma_3 / sigma_1 = 1e-11, below the rank tolerance: the force set has rays, and the
+    limits along them are infinite as for an exact kernel (they were about 1e12)."""
+    rng = np.random.default_rng(3)
+    U, _ = np.linalg.qr(rng.standard_normal((3, 3)))
+    V, _ = np.linalg.qr(rng.standard_normal((4, 4)))
+    S = np.zeros((3, 4))
+    S[:, :3] = np.diag([2.0, 1.5, 2e-11])
+    J = U @ S @ V.T
+    an = pe.analyze(pe.Dynamics(J, np.eye(4), [0.3, -0.2, 0.1, 0.4]), [5.0] * 4, capacity="force")
+    P = an.polytope
+    assert not P.is_bounded and an.rank == 2
+    for t in (U[:, 2], -U[:, 2], P.rays[0]):
+        lo, hi = P.limits(t)
+        assert lo == -np.inf and hi == np.inf
+    lo, hi = P.limits(U[:, 0])  # across the rays: bounded
+    assert np.isfinite(lo) and np.isfinite(hi)
