@@ -140,7 +140,13 @@ class ForceAnalysis(Analysis):
         self.tau_center, self.half_range = centre_and_half_range(self.tau_max, self.tau_min)
         M, self.c = force_terms(dynamics.J, dynamics.g, self.tau_center, self.half_range)
         self.A: NDArray[np.float64] = M.T
-        self.svd = rank_revealing_svd(M, rank_rtol)
+        # The rank is J's: the set is unbounded only along Ker J^T.  M = J L^-1 is
+        # ill-conditioned where the torque ranges differ by orders of magnitude, but that
+        # makes the set thin across the narrow range's rows, not infinite along the others.
+        kinematic = np.linalg.svd(dynamics.J, compute_uv=False)
+        rank_rtol = check_fraction("rank_rtol", rank_rtol)
+        rank = int(np.count_nonzero(kinematic > rank_rtol * kinematic[0])) if kinematic[0] else 0
+        self.svd = rank_revealing_svd(M, rank_rtol, rank=rank)
         self.affine_rtol = check_fraction("affine_rtol", affine_rtol)
         svd = self.svd
         along = svd.V1.T @ self.c  # the part of c that forces can balance, in V_1
@@ -160,14 +166,17 @@ class ForceAnalysis(Analysis):
 
     @property
     def rank(self) -> int:
-        """Numerical rank of ``J`` (of ``J L^-1``)."""
+        """Numerical rank of ``J`` (decided on ``J``, the rank of ``J L^-1`` as well)."""
         return self.svd.rank
 
     @cached_property
     def polytope(self) -> HPolytope:
         """The exact force polytope ``{h : |A h + c|_inf <= 1}`` (unbounded or empty, said)."""
-        A = np.vstack([self.A, -self.A])
-        b = np.concatenate([1.0 - self.c, 1.0 + self.c])
+        # In torques, tau_min <= J^T h + g <= tau_max: a row is negligible when its joint's
+        # column of J is (no force loads it), not when its torque range is wide.
+        J, g = self.dynamics.J, self.dynamics.g
+        A = np.vstack([J.T, -J.T])
+        b = np.concatenate([self.tau_max - g, g - self.tau_min])
         polytope = HPolytope(A, b, center=self.center, rank=self.rank)  # lines: Ker J^T
         polytope.affine_rtol = self.affine_rtol
         return polytope

@@ -232,6 +232,14 @@ class Comparison:
             # other configurations must not depend on it.
             return Scores(kind=kind, defined=False, reason=str(exn))
         P = self.analysis.polytope
+        if E.rank > P.dim and self.analysis.capacity == "force":
+            return Scores(  # the exact set flat to rounding at the edge of emptiness
+                kind=kind,
+                defined=False,
+                reason=f"the exact force set is {P.dim}-dimensional here (gravity alone "
+                "nearly exhausts some torque range: the set is flat to rounding), the "
+                f"ellipsoid {E.rank}-dimensional: no section of it to score.",
+            )
         check_same_affine_set(E, P)
         shares = overlap(E, P, samples=self._samples, seed=self._seed)
         errors = direction_errors(E.limits(self.directions), self.polytope_limits)

@@ -132,13 +132,14 @@ class HPolytope(ConvexSet):
         return center
 
     def _interior_point(self) -> NDArray[np.float64]:
-        """:attr:`center` if it is well inside every half-space, else the Chebyshev centre.
+        """:attr:`center` if it is strictly inside every half-space, else the Chebyshev centre.
 
-        cddlib works about this point, in units of its largest offset: exact arithmetic is
-        not used, so the numbers it sees must be of the set's own size.
+        cddlib works about this point, every row scaled to distance 1 from it (the polar
+        whitening of :meth:`_generators`): a thin set about a point strictly inside it,
+        as a force set about its centre h0, is as well scaled as a round one.
         """
         offsets = self._b_in - self._A_in @ self.center
-        if len(offsets) and offsets.min() > 1e-6 * _median(offsets):
+        if len(offsets) and offsets.min() > 0:
             return self.center
         return self._chebyshev_center()
 
@@ -170,11 +171,24 @@ class HPolytope(ConvexSet):
         # The lines of the set (normals spanning less than R^m, a force polytope at a singular
         # posture) are U2, by the rank decision and not by cddlib's epsilon.
         svd = rank_revealing_svd(self._A_in.T, rank=self._rank)
-        U1, S, lines = svd.U1, svd.sigma, svd.U2
+        U1, S, V1, lines = svd.U1, svd.sigma, svd.V1, svd.U2
         if svd.rank < len(svd.singular_values):  # a unit line meets rows at slopes below it
             self._line_slope = float(svd.singular_values[svd.rank])
+        if svd.rank and float(shifted.min()) > 0:
+            # Polar whitening within the row space: rows a_i / shifted_i (each at distance
+            # 1 from the origin) = V S U^T, y = S U^T U1^T (x - origin) gives the rows V
+            # with offsets 1, so that a thin slab (a force set with one tiny torque range)
+            # is as wide as any other and not taken for an equality by cddlib's epsilon.
+            polar = rank_revealing_svd(((self._A_in @ U1) / shifted[:, None]).T, rank=svd.rank)
+            U1, S, V1, shifted, unit = (
+                U1 @ polar.U1,
+                polar.sigma,
+                polar.V1,
+                np.ones_like(shifted),
+                1.0,
+            )
         array = np.empty((len(shifted), svd.rank + 1))  # cdd's rows [b | -a]
-        array[:, 0], array[:, 1:] = shifted / unit, -svd.V1
+        array[:, 0], array[:, 1:] = shifted / unit, -V1
         listed = array.tolist()
         # cddlib works in floating point: where the set is full-dimensional with the
         # origin strictly inside, its answer is checked (no vertex missed, not empty) and
@@ -184,15 +198,15 @@ class HPolytope(ConvexSet):
         if bounded is not None:  # every row of points a vertex [1 | y]; no rays, no lines
             rows, points, closed = bounded
             if not closed:  # not simple (or a vertex missed): the hull decides
-                self._volume_y = _hull_if_complete(points[:, 1:], svd.V1, array[:, 0])
+                self._volume_y = _hull_if_complete(points[:, 1:], V1, array[:, 0])
             if closed or self._volume_y is not None or not solid:
                 self._bounded_from(rows, points[:, 1:], S, U1, unit, origin)
                 return
         description = _double_description(listed, array)
         if solid:
-            complete, self._volume_y = _checked(description, svd.V1, array[:, 0])
+            complete, self._volume_y = _checked(description, V1, array[:, 0])
             if not complete:
-                rows, points, self._volume_y = _complete(array[:, 0], svd.V1)
+                rows, points, self._volume_y = _complete(array[:, 0], V1)
                 self._bounded_from(rows, points, S, U1, unit, origin)
                 return
         if description is None:
@@ -218,7 +232,8 @@ class HPolytope(ConvexSet):
         self._facets_from_rows(rows[inequality], S, U1, unit, origin)
         if linear:
             normals = rank_revealing_svd(U1 @ (-rows[linear, 1:] * S).T).U1  # (m, e)
-            complement = rank_revealing_svd(np.eye(m) - normals @ normals.T).U1
+            e = normals.shape[1]  # the complement's rank is m - e exactly (not its noise's)
+            complement = rank_revealing_svd(np.eye(m) - normals @ normals.T, rank=m - e).U1
             self.affine_set = AffineSubspace(origin, complement, normals)
 
     def _bounded_from(
@@ -446,13 +461,6 @@ def require_drawable(S: object, argument: str) -> None:
             "a force polytope is unbounded at a singular posture and empty where the arm "
             "cannot hold itself: draw another posture.",
         )
-
-
-def _median(values: NDArray[np.float64]) -> float:
-    """``np.median`` of a 1-D array (the same number), without its general machinery."""
-    ordered = np.sort(values)
-    half = len(ordered) // 2
-    return float(ordered[half] if len(ordered) % 2 else (ordered[half - 1] + ordered[half]) / 2)
 
 
 Description = tuple[NDArray[np.float64], list[int], NDArray[np.float64], list[int]]

@@ -141,9 +141,11 @@ def _block_rows(
     c_perp = c - np.einsum("kmn,km->kn", Vt, along)
     margin = 1.0 - np.einsum("kn,kn->k", c_perp, c_perp)
     ok &= margin > 0.0
-    # HPolytope drops the rows negligible against the others (RANK_RTOL): no constraint
     norms = np.linalg.norm(M, axis=1)  # |a_i| (K, n)
-    used = norms > RANK_RTOL * norms.max(axis=-1, keepdims=True)
+    # HPolytope drops the rows negligible against the others (RANK_RTOL), in torques: a
+    # joint whose column of J is negligible against the others' constrains no force
+    loads = np.linalg.norm(J, axis=1)
+    used = loads > RANK_RTOL * loads.max(axis=-1, keepdims=True)
     vertices = _vertices(Vt, c_perp, used)
     ok &= vertices.general
     volume_z = vertices.volume

@@ -177,3 +177,65 @@ def test_a_ray_at_the_rank_threshold_has_infinite_limits():
         assert lo == -np.inf and hi == np.inf
     lo, hi = P.limits(U[:, 0])  # across the rays: bounded
     assert np.isfinite(lo) and np.isfinite(hi)
+
+
+@pytest.mark.parametrize("t0", [1e-8, 1e-10, 1e-12])
+def test_a_thin_force_set_keeps_its_dimension_and_area(t0):
+    """One torque range 2 t0 wide, the others 2: the set is a thin parallelogram of area
+    4 t0 (the paper's planar arm shape), not a segment, nor unbounded (the rank is J's)."""
+    J = np.array([[1.0, 0.5, 0.2], [0.0, 1.0, 0.3]])
+    dyn = pe.Dynamics(J, np.diag([2.0, 1.0, 0.5]), [0.1, -0.2, 0.05])
+    an = pe.analyze(dyn, [t0, 1.0, 1.0], capacity="force")
+    P = an.polytope
+    assert an.rank == 2 and P.dim == 2 and P.is_bounded
+    # the area by brute force: every two rows, the hull of the feasible points
+    A = np.vstack([J.T, -J.T])
+    b = np.concatenate([np.array([t0, 1.0, 1.0]) - dyn.g, dyn.g + np.array([t0, 1.0, 1.0])])
+    points = [
+        np.linalg.solve(A[[i, j]], b[[i, j]])
+        for i, j in itertools.combinations(range(6), 2)
+        if abs(np.linalg.det(A[[i, j]])) > 1e-12
+    ]
+    inside = np.array([p for p in points if np.all(A @ p <= b + 1e-9 * t0)])
+    # a convex polygon: its vertices by angle about their mean, the shoelace formula
+    x, y = (inside - inside.mean(axis=0)).T
+    order = np.argsort(np.arctan2(y, x))
+    x, y = x[order], y[order]
+    area = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+    eps = np.finfo(float).eps
+    assert P.volume == pytest.approx(area, rel=10 * eps / t0)  # eps times cond (1 / t0)
+    row = pe.compare(an, 16, mvie=False, outer=False).to_row()
+    swept = pe.sweep(
+        pe.Dynamics(J[None], dyn.B[None], dyn.g[None]),
+        tau_max=[t0, 1, 1],
+        capacity="force",
+        directions=16,
+    )
+    assert swept["polytope_volume"][0] == pytest.approx(row["polytope_volume"], rel=10 * eps / t0)
+
+
+def test_a_force_set_at_the_edge_of_emptiness_is_scored_not_refused():
+    """Gravity pulls the set to a vertex: its volume falls as (1 - f)^3, and at f = 1 it is a
+    point whose ellipsoids are undefined with a reason (an unrelated InputError before)."""
+    rng = np.random.default_rng(21)
+    m, n = 3, 7
+    J = rng.normal(size=(m, n))
+    root = rng.normal(size=(n, n))
+    B = root @ root.T + n * np.eye(n)
+    upper, lower = rng.uniform(0.5, 2, n), -rng.uniform(0.5, 2, n)
+    d = np.linalg.svd(J)[2][m:].T @ rng.normal(size=n - m)
+    d /= np.abs(d).max()
+    A_ub = np.vstack([np.hstack([J.T, d[:, None]]), -np.hstack([J.T, d[:, None]])])
+    cost = np.r_[np.zeros(m), -1.0]
+    edge = -linprog(
+        cost, A_ub=A_ub, b_ub=np.concatenate([upper, -lower]), bounds=[(None, None)] * (m + 1)
+    ).fun
+    volumes = {}
+    for f in (1 - 1e-3, 1 - 1e-6, 1.0):
+        an = pe.analyze(pe.Dynamics(J, B, f * edge * d), upper, lower, capacity="force")
+        row = pe.compare(an, 16, mvie=False, outer=False).to_row()
+        volumes[f] = row["polytope_volume"]
+    assert volumes[1 - 1e-6] == pytest.approx(volumes[1 - 1e-3] * 1e-9, rel=1e-3)
+    assert volumes[1.0] in (0.0, 1.0) and row["polytope_dim"] < 3  # a point (or nothing)
+    comparison = pe.compare(an, 16, mvie=False, outer=False)
+    assert not comparison["static"].defined
