@@ -174,11 +174,12 @@ class HPolytope(ConvexSet):
         U1, S, V1, lines = svd.U1, svd.sigma, svd.V1, svd.U2
         if svd.rank < len(svd.singular_values):  # a unit line meets rows at slopes below it
             self._line_slope = float(svd.singular_values[svd.rank])
-        if svd.rank and float(shifted.min()) > 0:
+        if svd.rank and 0 < float(shifted.min()) < POLAR_RATIO * unit:
             # Polar whitening within the row space: rows a_i / shifted_i (each at distance
             # 1 from the origin) = V S U^T, y = S U^T U1^T (x - origin) gives the rows V
             # with offsets 1, so that a thin slab (a force set with one tiny torque range)
             # is as wide as any other and not taken for an equality by cddlib's epsilon.
+            # (Only then: cddlib is slower on rows all at distance 1.)
             polar = rank_revealing_svd(((self._A_in @ U1) / shifted[:, None]).T, rank=svd.rank)
             U1, S, V1, shifted, unit = (
                 U1 @ polar.U1,
@@ -491,6 +492,9 @@ def _double_description(
     return rows, sorted(matrix.lin_set), points, sorted(generators.lin_set)
 
 
+#: Rows closer to the interior point than this times the farthest one are whitened by
+#: their distances (a thin set, :meth:`HPolytope._generators`).
+POLAR_RATIO = 1e-3
 #: A vertex is on a row's plane when its slack is at most this (whitened units, offsets
 #: at most 1), and off it when its slack is at least :data:`_OFF_PLANE`; a slack between
 #: the two leaves the decision to cddlib's canonical form.
