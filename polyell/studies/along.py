@@ -46,8 +46,7 @@ from polyell.validation import (
     check_directions,
     check_fraction,
     check_magnitudes,
-    source_torque_limits,
-    source_velocity_limits,
+    source_limits,
 )
 
 __all__ = ["limits_along"]
@@ -195,9 +194,7 @@ def _inputs(
         dyn = source.dynamics(q)
     else:
         raise InputError("source", "a robot or a batched pe.Dynamics", type(source).__name__)
-    if capacity == "velocity":
-        return (dyn, *source_velocity_limits(source, upper, lower, dyn.n))
-    return (dyn, *source_torque_limits(source, upper, lower, dyn.n))
+    return (dyn, *source_limits(capacity, source, upper, lower, dyn.n))
 
 
 def _block(

@@ -47,8 +47,7 @@ from polyell.validation import (
     check_array,
     check_fraction,
     check_points,
-    source_torque_limits,
-    source_velocity_limits,
+    source_limits,
 )
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
@@ -219,10 +218,7 @@ def posture_choice(
     capacity = check_capacity(capacity)
     upper, lower = joint_limits_of(capacity, tau_max, tau_min, qd_max, qd_min)
     dyn = robot.dynamics(q)
-    if capacity == "velocity":
-        upper, lower = source_velocity_limits(robot, upper, lower, dyn.n)
-    else:
-        upper, lower = source_torque_limits(robot, upper, lower, dyn.n)
+    upper, lower = source_limits(capacity, robot, upper, lower, dyn.n)
     d = check_direction(direction, dyn.m)
     found = check_candidates(candidates)
     for candidate in found:

@@ -263,17 +263,11 @@ def _run_posture(spec: StudySpec, folder: Path) -> list[Path]:
     motions = [
         self_motion(robot.model, q, posture.count, seed=posture.seed) for q in posture.starts
     ]
-    written: list[Path] = []
-    sections = _about(spec)
-    for capacity in spec.capacities:
-        files, capacity_sections = _posture_outputs(spec, folder, capacity, motions)
-        written += files
-        sections += capacity_sections
-    if "html" in spec.formats:
-        from polyell.interactive import write_report
 
-        written.append(write_report(folder / "report.html", spec.title, sections))
-    return written
+    def one(spec: StudySpec, folder: Path, capacity: str, *_: Any) -> Any:
+        return _posture_outputs(spec, folder, capacity, motions)
+
+    return _each_capacity(one, spec, folder, False, None, {})
 
 
 def _posture_outputs(

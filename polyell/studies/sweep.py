@@ -57,8 +57,7 @@ from polyell.validation import (
     check_directions,
     check_fraction,
     check_integer,
-    source_torque_limits,
-    source_velocity_limits,
+    source_limits,
 )
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
@@ -284,10 +283,8 @@ def _job(
             if isinstance(configurations, ConfigurationSet)
             else configurations[0]
         ).m
-    if options.capacity == "velocity":  # the joint velocity limits, in the same slots
-        upper, lower = source_velocity_limits(source, tau_max, tau_min, n)
-    else:
-        upper, lower = source_torque_limits(source, tau_max, tau_min, n)
+    # (the joint velocity limits come in the torque slots)
+    upper, lower = source_limits(options.capacity, source, tau_max, tau_min, n)
     unknown = sorted(set(scores) - set(SCORE_NAMES))
     if unknown:
         raise InputError("scores", f"names among {list(SCORE_NAMES)}", f"unknown {unknown}")

@@ -45,10 +45,11 @@ from typing import IO, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from polyell.capacities import joint_limits_of
 from polyell.errors import InputError
 from polyell.studies.along import limits_along
 from polyell.studies.configurations import ConfigurationSet
-from polyell.validation import source_torque_limits, source_velocity_limits
+from polyell.validation import source_limits
 
 __all__ = [
     "MAX_JOINT_VALUE",
@@ -714,20 +715,12 @@ def tangent_limits(
     scale = float(np.max(np.abs(trajectory.qd))) if trajectory.qd.size else 0.0
     K = len(trajectory)
     columns: dict[str, NDArray[np.float64]] = {}
+    given = joint_limits_of(capacity, tau_max, tau_min, None, None)  # velocities: the robot's
     upper = lower = None
     for start, stop in _blocks(K, TANGENT_BLOCK):
         dyn = source.dynamics(trajectory.q[start:stop])
-        if upper is None and capacity == "velocity":
-            if tau_max is not None or tau_min is not None:
-                raise InputError(
-                    "tau_max" if tau_max is not None else "tau_min",
-                    "no torque limits for the velocity capacity",
-                    "torque limits",
-                    "the speeds along the path use the robot's joint velocity limits.",
-                )
-            upper, lower = source_velocity_limits(source, None, None, dyn.n)
-        elif upper is None:
-            upper, lower = source_torque_limits(source, tau_max, tau_min, dyn.n)
+        if upper is None:
+            upper, lower = source_limits(capacity, source, *given, dyn.n)
         qd = trajectory.qd[start:stop] / scale if scale > 0 else trajectory.qd[start:stop]
         velocity = np.einsum("kmn,kn->km", dyn.J, qd)
         speed = np.linalg.norm(velocity, axis=1)
