@@ -134,9 +134,10 @@ class HPolytope(ConvexSet):
     def _interior_point(self) -> NDArray[np.float64]:
         """:attr:`center` if it is strictly inside every half-space, else the Chebyshev centre.
 
-        cddlib works about this point, every row scaled to distance 1 from it (the polar
-        whitening of :meth:`_generators`): a thin set about a point strictly inside it,
-        as a force set about its centre h0, is as well scaled as a round one.
+        cddlib works about this point, in units of its farthest row, or, where some row
+        is much closer, with every row scaled to distance 1 from it (the polar whitening
+        of :meth:`_generators`): a thin set about a point strictly inside it, as a force
+        set about its centre h0, is then as well scaled as a round one.
         """
         offsets = self._b_in - self._A_in @ self.center
         if len(offsets) and offsets.min() > 0:
