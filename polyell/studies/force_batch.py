@@ -137,6 +137,9 @@ def _block_rows(
     M, c = force_terms(J, g, tau_center, half)  # the checks (and errors) of analyze
     U, s, Vt = np.linalg.svd(M, full_matrices=False)  # A = V S U^T, M = A^T = U S V^T
     ok = s[:, -1] > options.rank_rtol * (1.0 + RANK_BAND) * s[:, 0]
+    # the analysis decides the rank on J (ForceAnalysis): rows near J's threshold too
+    kinematic = np.linalg.svd(J, compute_uv=False)
+    ok &= kinematic[:, -1] > options.rank_rtol * (1.0 + RANK_BAND) * kinematic[:, 0]
     along = np.einsum("kmn,kn->km", Vt, c)
     c_perp = c - np.einsum("kmn,km->kn", Vt, along)
     margin = 1.0 - np.einsum("kn,kn->k", c_perp, c_perp)
