@@ -165,6 +165,11 @@ class HPolytope(ConvexSet):
         # works on numbers of order 1 whatever the set's size and distance from 0.
         origin = self._interior_point()
         shifted = self._b_in - self._A_in @ origin
+        if 0 < float(shifted.min()) < POLAR_RATIO * float(shifted.max()):
+            # far closer to one row than to another: from the analytic centre instead,
+            # where a thin set's rows are as close as its width allows, in every direction
+            origin = _analytic_center(self._A_in, self._b_in, origin)
+            shifted = self._b_in - self._A_in @ origin
         unit = float(np.abs(shifted).max()) or 1.0
         # Whitened coordinates (DESIGN.md section 7, "Thin zonotopes", for half-spaces): with
         # A = V1 S U1^T (rank by RANK_RTOL), y = S U1^T (x - origin) / unit turns the rows into
@@ -468,6 +473,35 @@ def require_drawable(S: object, argument: str) -> None:
 Description = tuple[NDArray[np.float64], list[int], NDArray[np.float64], list[int]]
 
 
+def _analytic_center(
+    A: NDArray[np.float64], b: NDArray[np.float64], start: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """The minimiser of ``-sum log(b - A x)`` by damped Newton steps from an interior point.
+
+    Steps of length ``1 / (1 + lambda)`` (``lambda`` the Newton decrement) stay inside
+    (the barrier is self-concordant), in the span of the rows (least squares: lines are
+    left alone).  ``start`` is returned where the set has no centre to converge to (a
+    recession direction: the slacks grow past 1e3 times their start) or the iterations
+    run out before the decrement is small.
+    """
+    x = start.copy()
+    slack = b - A @ x
+    limit = 1e3 * float(slack.max())
+    for _ in range(MAX_CENTERING_STEPS):
+        weights = 1.0 / slack
+        gradient = A.T @ weights
+        hessian = (A * weights[:, None] ** 2).T @ A
+        step = -np.linalg.lstsq(hessian, gradient, rcond=None)[0]
+        decrement = float(np.sqrt(max(0.0, -gradient @ step)))
+        if decrement < 1e-10:
+            return x
+        x = x + step / (1.0 + decrement)
+        slack = b - A @ x
+        if not (float(slack.min()) > 0 and float(slack.max()) < limit):
+            return start
+    return x if decrement < 0.25 else start
+
+
 def _double_description(
     listed: list[list[float]], array: NDArray[np.float64]
 ) -> Description | None:
@@ -496,6 +530,9 @@ def _double_description(
 #: Rows closer to the interior point than this times the farthest one are whitened by
 #: their distances (a thin set, :meth:`HPolytope._generators`).
 POLAR_RATIO = 1e-3
+#: Newton steps of :func:`_analytic_center` at most (quadratic convergence after the
+#: damped phase, whose length grows as the log of how far off centre the start is).
+MAX_CENTERING_STEPS = 200
 #: A vertex is on a row's plane when its slack is at most this (whitened units, offsets
 #: at most 1), and off it when its slack is at least :data:`_OFF_PLANE`; a slack between
 #: the two leaves the decision to cddlib's canonical form.

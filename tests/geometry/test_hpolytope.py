@@ -239,3 +239,42 @@ def test_a_force_set_at_the_edge_of_emptiness_is_scored_not_refused():
     assert volumes[1.0] in (0.0, 1.0) and row["polytope_dim"] < 3  # a point (or nothing)
     comparison = pe.compare(an, 16, mvie=False, outer=False)
     assert not comparison["static"].defined
+
+
+def test_thin_sets_about_a_poorly_placed_interior_point():
+    """The interior point far closer to one row than another (the Chebyshev centre of a
+    slab sits at its end; a centre given 1e-9 from a facet; gravity 1e-9 short of a joint's
+    limit): cddlib works from the analytic centre, and the sets keep their volume."""
+    box = [[1, 0], [0, 1], [-1, 0], [0, -1]]
+    P = pe.HPolytope(box, [1, 5e-9, 1, 5e-9])  # [-1, 1] x [-5e-9, 5e-9]
+    assert P.is_bounded and P.volume == pytest.approx(2e-8, rel=1e-6)
+    assert tuple(P.limits([1.0, 0.0])) == pytest.approx((-1.0, 1.0))
+    assert not P.contains([-5.0, 0.0])
+    for center in ([1 - 1e-9, 0.0], [1 - 1e-9, 1 - 1e-9]):
+        assert pe.HPolytope(box, [1, 1, 1, 1], center=center).volume == pytest.approx(4.0)
+    from scipy.stats import special_ortho_group
+
+    R = special_ortho_group.rvs(6, random_state=np.random.default_rng(1))
+    half = np.ones(6)
+    half[0] = 5e-9
+    P = pe.HPolytope(np.vstack([R.T, -R.T]), np.concatenate([half, half]))
+    assert P.volume == pytest.approx(np.prod(2 * half), rel=1e-6)  # eps times 2e8
+    J = np.array([[1.0, 0.0, -4.0], [0.0, 1.0, -2.0]])
+    g = (1 - 1e-9) * np.array([1.0, 0.5, 0.25])
+    an = pe.analyze(pe.Dynamics(J, np.eye(3), g), np.ones(3), -np.ones(3), capacity="force")
+    # the exact area: the polygon of every two rows (shoelace), 0.19140625 to 1e-9
+    A = np.vstack([J.T, -J.T])
+    b = np.concatenate([1 - g, 1 + g])
+    points = np.array(
+        [
+            np.linalg.solve(A[[i, j]], b[[i, j]])
+            for i, j in itertools.combinations(range(6), 2)
+            if abs(np.linalg.det(A[[i, j]])) > 1e-12
+        ]
+    )
+    inside = points[np.all(points @ A.T <= b + 1e-12, axis=1)]
+    x, y = (inside - inside.mean(axis=0)).T
+    order = np.argsort(np.arctan2(y, x))
+    x, y = x[order], y[order]
+    area = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+    assert an.polytope.is_bounded and an.polytope.volume == pytest.approx(area, rel=1e-7)

@@ -126,3 +126,64 @@ def test_sweep_mixes_both_paths_and_refuses_what_analyze_refuses():
     g[4] = 1e200
     with pytest.raises(pe.InputError, match=r"dyn\.g"):
         pe.sweep(dynamics(J, g), tau_max=upper, tau_min=lower, capacity="force")
+
+
+def test_rows_at_the_rank_threshold_of_J_follow_the_analysis():
+    """J's singular-value ratio 9.99999e-11, just below RANK_RTOL, J L^-1's 1.48e-10 above
+    it (the case of the sixth independent check): the analysis calls the set unbounded
+    (the rank is J's); the sweep scored it as bounded (volume 6e16)."""
+    J = np.array(
+        [
+            [
+                0.027161686242652153,
+                0.07081497801927512,
+                0.05924707279742232,
+                -0.028371571292263878,
+                0.10953720027333921,
+                0.2989970859189765,
+                0.11678145547825369,
+            ],
+            [
+                -0.058087156129311035,
+                -0.15144820066493722,
+                -0.12670768568219792,
+                0.06067383575848785,
+                -0.2342555501354112,
+                -0.6394374011617742,
+                -0.2497497502776941,
+            ],
+            [
+                0.04224788170799822,
+                0.11016626729520053,
+                0.09216717182281162,
+                -0.044127153139007266,
+                0.1703857721811008,
+                0.4651063644891467,
+                0.18166015969382468,
+            ],
+        ]
+    )
+    g = np.array(
+        [
+            0.07269082545741505,
+            -0.13286380798473657,
+            -0.3551964506605231,
+            -0.19455950654918697,
+            -0.13164456889381682,
+            0.09411569290733306,
+            0.15968588252496743,
+        ]
+    )
+    upper = np.linspace(1.0, 3.0, 7)
+    an = pe.analyze(pe.Dynamics(J, np.eye(7), g), upper, -0.8 * upper, capacity="force")
+    row = pe.compare(an, 16, mvie=False, outer=False).to_row()
+    swept = pe.sweep(
+        pe.Dynamics(J[None], np.eye(7)[None], g[None]),
+        tau_max=upper,
+        tau_min=-0.8 * upper,
+        capacity="force",
+        directions=16,
+    )
+    assert an.rank == 2 and row["polytope_volume"] == np.inf
+    assert swept["polytope_volume"][0] == np.inf
+    assert swept["polytope_ball_radius"][0] == row["polytope_ball_radius"]
