@@ -296,16 +296,12 @@ def cap_share(
     size = np.max(np.abs(W), axis=-1)  # rows scaled to entries of at most 1: no underflow
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         unit = np.where(size[..., None] > 0, W / size[..., None], 0.0)
-        norm = np.linalg.norm(unit, axis=-1)
-        unit = np.where(norm[..., None] > 0, unit / norm[..., None], 0.0)
-        reach = size * norm  # NaN with a NaN entry
-        t = np.where(
-            size > 0,
-            (slack / np.where(size > 0, size, 1.0)) / np.where(norm > 0, norm, 1.0),
-            np.where(slack >= 0, np.inf, -np.inf),
-        )
-    nan = np.any(np.isnan(slack) | np.isnan(reach), axis=-1)
-    t = np.where(np.isnan(slack) | np.isnan(reach), np.inf, t)
+        norm = np.maximum(np.linalg.norm(unit, axis=-1), 1.0)  # >= 1 with an entry of 1
+        unit = unit / norm[..., None]
+        t = np.where(size > 0, slack / size / norm, np.where(slack >= 0, np.inf, -np.inf))
+    bad = np.isnan(slack) | np.isnan(size)  # NaN in: NaN out
+    nan = np.any(bad, axis=-1)
+    t = np.where(bad, np.inf, t)
     lost = np.any(t <= -1.0, axis=-1)  # one facet leaves all of E outside
     # only the facets that cut E from here: the first of each row, cut first
     order = np.argsort(~(t < 1.0), axis=-1, kind="stable")
