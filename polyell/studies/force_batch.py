@@ -22,7 +22,9 @@ row equals ``compare(analyze(...)).to_row()`` to rounding: a rank of ``J`` below
 within :data:`~polyell.studies.batch.RANK_BAND` of the threshold: an unbounded set), a part
 of gravity no force balances of normalized norm 1 or more (an empty ``chiacchio``
 ellipsoid; the set may be empty), vertices not in general position (another row within
-:data:`GENERAL_POSITION` of tight at a vertex, m nearly dependent rows), two volume
+:data:`GENERAL_POSITION` of tight at a vertex), vertices the enumeration cannot certify
+complete (m nearly dependent rows, whose candidates it skips, may hide one: real robots
+have exactly dependent ones, and their sets stay here), two volume
 evaluations that differ by more than :data:`VOLUME_RTOL`; and every row of a sweep that
 asks for the MVIE, the outer ellipsoid or candidates, of a task of fewer than two rows, or
 with more than :data:`MAX_CANDIDATES` vertex candidates.
@@ -57,10 +59,11 @@ Array = NDArray[np.float64]
 #: (cddlib) enumerates instead.
 MAX_CANDIDATES = 4096
 #: A row counts as tight at a vertex within this of its bound (whitened rows have norm at
-#: most 1 and the bounds are 1): a vertex with more than m rows that close, or m rows
-#: whose unit normals span a volume below :data:`DEPENDENT`, is left to cddlib.
+#: most 1 and the bounds are 1): a vertex with more than m rows that close is left to
+#: cddlib.
 GENERAL_POSITION = 1e-9
-#: m unit normals spanning less than this volume (``|det|``) are taken as dependent.
+#: m unit normals spanning less than this volume (``|det|``) are taken as dependent: their
+#: candidate is skipped, and the edges of the vertices found certify that it was no vertex.
 DEPENDENT = 1e-6
 #: Lawrence's sum can cancel: its two least cancelling evaluations must agree to this.
 VOLUME_RTOL = 1e-10
@@ -264,8 +267,8 @@ class _Vertices(NamedTuple):
 
 
 @lru_cache(maxsize=16)
-def _layout(n: int, m: int) -> tuple[NDArray[np.int_], Array, Array]:
-    """The candidates of :func:`_vertices`: rows, signs, and which one-sided rows are tight.
+def _layout(n: int, m: int) -> tuple[NDArray[np.int_], Array, Array, NDArray[np.int64]]:
+    """The candidates of :func:`_vertices`: rows, signs, tight one-sided rows, edges.
 
     Returns
     -------
@@ -276,16 +279,53 @@ def _layout(n: int, m: int) -> tuple[NDArray[np.int_], Array, Array]:
     incidence : ndarray, shape (C 2^m, 2n)
         1 where candidate ``(S, sigma)`` (in that order) is tight at the one-sided row
         (``+row i``: column i, ``-row i``: column n + i).
+    edges : ndarray of int64, shape (C 2^m, m)
+        The m edges of each candidate as a vertex: its tight one-sided rows but one, as
+        bits (bit i: ``+row i``, bit n + i: ``-row i``).
     """
     chosen = subsets(n, m)
     signs = np.array(np.meshgrid(*[[1.0, -1.0]] * m, indexing="ij")).reshape(m, -1).T
-    incidence = np.zeros((len(chosen), len(signs), 2 * n))
-    for a, rows in enumerate(chosen):
-        for b, sigma in enumerate(signs):
-            incidence[a, b, rows + n * (sigma < 0)] = 1.0
-    for array in (signs, incidence):
+    tight = (chosen[:, None, :] + n * (signs[None] < 0)).reshape(-1, m)  # (C 2^m, m)
+    incidence = np.zeros((len(tight), 2 * n))
+    np.put_along_axis(incidence, tight, 1.0, axis=1)
+    bits = np.int64(1) << tight.astype(np.int64)
+    edges = bits.sum(axis=1, keepdims=True) - bits
+    for array in (signs, incidence, edges):
         array.flags.writeable = False
-    return chosen, signs, incidence.reshape(-1, 2 * n)
+    return chosen, signs, incidence, edges
+
+
+def _closed(candidates: NDArray[np.bool_], edges: NDArray[np.int64]) -> NDArray[np.bool_]:
+    """Rows whose vertices are all found: every edge of a vertex ends at another one.
+
+    The vertices of a simple bounded polytope and their edges (m - 1 tight rows) form a
+    connected graph in which every edge joins exactly two vertices; vertices of which each
+    edge is shared by exactly one other found vertex are therefore all of them.  This
+    certifies the enumeration where candidates of nearly dependent rows were skipped (a
+    spherical shoulder, parallel joint axes: rows with coplanar normals).
+
+    Parameters
+    ----------
+    candidates : ndarray of bool, shape (K, P)
+        The vertices found among the candidates of :func:`_layout`.
+    edges : ndarray of int64, shape (P, m)
+        Each candidate's edges, :func:`_layout`.
+
+    Returns
+    -------
+    ndarray of bool, shape (K,)
+    """
+    K, P = candidates.shape
+    width = int(edges.max(initial=1)).bit_length()
+    if width + int(K).bit_length() > 62:  # the keys would not fit one int64
+        return np.zeros(K, dtype=bool)
+    row, candidate = np.nonzero(candidates)
+    keys = np.sort(((row.astype(np.int64) << width)[:, None] + edges[candidate]).ravel())
+    starts = np.flatnonzero(np.r_[True, keys[1:] != keys[:-1]])
+    twice = np.diff(np.r_[starts, len(keys)]) == 2
+    closed = np.ones(K, dtype=bool)
+    closed[keys[starts[~twice]] >> width] = False
+    return closed
 
 
 def _inverse_and_det(blocks: Array) -> tuple[Array, Array]:
@@ -335,7 +375,7 @@ def _vertices(Vt: Array, c_perp: Array, used: NDArray[np.bool_]) -> _Vertices:
     agree, and the least cancelling one gives the volume.
     """
     K, m, n = Vt.shape
-    chosen, signs, incidence = _layout(n, m)
+    chosen, signs, incidence, edges = _layout(n, m)
     V = np.where(used[..., None], np.swapaxes(Vt, 1, 2), 0.0)  # (K, n, m)
     blocks = V[:, chosen, :]  # (K, C, m, m)
     lengths = np.linalg.norm(V, axis=-1)[:, chosen]
@@ -354,10 +394,10 @@ def _vertices(Vt: Array, c_perp: Array, used: NDArray[np.bool_]) -> _Vertices:
     feasible = ~(magnitude > 1.0 + GENERAL_POSITION).any(axis=1)
     feasible &= np.repeat(solvable, len(signs), axis=1)
     crowded = np.count_nonzero(magnitude >= 1.0 - GENERAL_POSITION, axis=1) > m
-    # m nearly dependent rows elsewhere could hide a vertex: left to cddlib as well
-    spans_ok = (solvable | ~np.isfinite(spans) | (lengths.min(axis=-1) == 0)).all(axis=-1)
-    general = ~(feasible & crowded).any(axis=1) & spans_ok
     candidates = feasible & ~crowded
+    # m nearly dependent rows (skipped above) could hide a vertex: the edges certify that
+    # none is missing
+    general = ~(feasible & crowded).any(axis=1) & _closed(candidates, edges)
     facet = (candidates @ incidence) > 0  # no other row is tight: those would be crowded
 
     # Only the vertices from here: the first V_max candidates in vertex-first order.
