@@ -315,7 +315,7 @@ def _closed(candidates: NDArray[np.bool_], edges: NDArray[np.int64]) -> NDArray[
     -------
     ndarray of bool, shape (K,)
     """
-    K, P = candidates.shape
+    K = len(candidates)
     width = int(edges.max(initial=1)).bit_length()
     if width + int(K).bit_length() > 62:  # the keys would not fit one int64
         return np.zeros(K, dtype=bool)

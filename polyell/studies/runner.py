@@ -43,7 +43,7 @@ from polyell.storage import (
 )
 from polyell.studies.cluster import check_scheduler
 from polyell.studies.spec import Point, Robot, StudySpec
-from polyell.studies.sweep import sweep
+from polyell.studies.sweep import PER_ROW, per_row_note, sweep
 from polyell.studies.trajectory import Trajectory, tangent_limits
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
@@ -514,6 +514,23 @@ def _many_outputs(
     return written, sections
 
 
+def _per_row_notes(folder: Path) -> list[str]:
+    """How many rows of each sweep dataset of a study left the batch (:func:`per_row_note`).
+
+    One note per dataset (``results*/``, a robot's ``robot=<name>/``), from its
+    ``_sweep.json`` (the capacity) and its ``per_row`` column.
+    """
+    import pandas as pd
+
+    notes = []
+    for meta in sorted(folder.glob("results*/**/_sweep.json")):
+        capacity = json.loads(meta.read_text(encoding="utf-8")).get("capacity", "acceleration")
+        note = per_row_note(pd.read_parquet(meta.parent, columns=[PER_ROW]), capacity)
+        robot = meta.parent.name.removeprefix("robot=")
+        notes.append(f"{robot} {note}" if meta.parent.name.startswith("robot=") else note)
+    return notes
+
+
 def _sweep(
     spec: StudySpec,
     robot: Robot,
@@ -908,6 +925,7 @@ def run_study(
             "spec": spec.path.name,
             "files": sorted(p.name for p in written),
             "seconds": {name: round(value, 3) for name, value in seconds.items()},
+            "per_row": _per_row_notes(folder),
         }
         written.append(
             write_text_atomically(folder / "manifest.json", json.dumps(manifest, indent=2) + "\n")

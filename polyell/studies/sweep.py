@@ -63,7 +63,7 @@ from polyell.validation import (
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
 
-__all__ = ["DEFAULT_SCORES", "sweep"]
+__all__ = ["DEFAULT_SCORES", "PER_ROW", "per_row_note", "sweep"]
 
 #: Progress notes (a resumed dataset), at level INFO: silent unless the application shows
 #: them (``polyell study`` does, on standard error).
@@ -74,6 +74,18 @@ _log = logging.getLogger("polyell")
 #: enumeration costs about a fifth of a sweep's time); ask for them in ``scores``.
 _OPT_IN = ("mvie_ratio", "outer_ratio", "enclosing_scale")
 DEFAULT_SCORES = tuple(name for name in SCORE_NAMES if name not in _OPT_IN)
+
+#: The column that says which rows were computed one configuration at a time
+#: (``compare(analyze(...))``, cddlib) instead of by the batch: singular configurations,
+#: sets the batch cannot certify.  Counted in the log and in a study's manifest.
+PER_ROW = "per_row"
+
+
+def per_row_note(frame: pd.DataFrame, capacity: str) -> str:
+    """``"force: 3 of 2000 rows per row (0.15 %)"``: how much of a sweep left the batch."""
+    count, total = int(frame[PER_ROW].sum()), len(frame)
+    share = 100.0 * count / total if total else 0.0
+    return f"{capacity}: {count} of {total} rows per row ({share:.2f} %)"
 
 
 @dataclass(frozen=True)
@@ -109,7 +121,8 @@ class _Job:
             )
             dyn = self.source.dynamics(q)
         if dyn.m > dyn.n:  # singular everywhere: the scalar path
-            values = _scalar_rows(dyn, np.ones(len(dyn), dtype=bool), self)
+            scalar = np.ones(len(dyn), dtype=bool)
+            values = _scalar_rows(dyn, scalar, self)
         else:
             values, scalar = _batch(dyn, self)
             if scalar.any():
@@ -125,6 +138,7 @@ class _Job:
             padded[:, : q.shape[1]] = q
             names = [f"q{i + 1}" for i in range(padded.shape[1])]
             frame = frame.join(pd.DataFrame(padded, columns=names))
+        frame[PER_ROW] = scalar
         return frame.join(pd.DataFrame({name: values[name] for name in self.columns}))
 
 
@@ -417,9 +431,11 @@ def sweep(
     -------
     DataFrame or Path
         One row per configuration: ``configuration`` (its index), ``q1``..``qn`` (for a
-        robot), ``polytope_dim``, ``polytope_volume``, ``polytope_ball_radius``,
-        ``polytope_origin_radius`` and the score columns; or the
-        dataset folder with ``out=``.
+        robot), ``per_row`` (True where the row left the batch for ``compare``, one
+        configuration at a time: counted in the log, :func:`per_row_note`),
+        ``polytope_dim``, ``polytope_volume``, ``polytope_ball_radius``,
+        ``polytope_origin_radius`` and the score columns; or the dataset folder with
+        ``out=``.
     """
     robots = (
         _named("source", source, "robots") if isinstance(source, Mapping | list | tuple) else None
@@ -466,7 +482,9 @@ def _run(
     """Compute a job: returned as a frame, or into the dataset ``out`` (resuming it)."""
     count = -(-job.size() // chunk)
     if out is None:
-        return _execute(job, list(range(count)), chunk, None, scheduler, progress)
+        frame = _execute(job, list(range(count)), chunk, None, scheduler, progress)
+        _log.info("sweep of %s", per_row_note(frame, job.options.capacity))
+        return frame
     folder = _folder(out)
     with dataset_lock(folder):
         todo = _resume(folder, job, chunk, count)
@@ -476,6 +494,10 @@ def _run(
         unfinished = [i for i in range(count) if not _done(folder, job, chunk, i)]
         if unfinished:  # pragma: no cover - a worker's write that vanished
             raise StorageError(f"{len(unfinished)} parts of {folder} are missing after the run.")
+    import pandas as pd
+
+    stored = pd.read_parquet(folder, columns=[PER_ROW])
+    _log.info("sweep of %s into %s", per_row_note(stored, job.options.capacity), folder)
     return folder
 
 

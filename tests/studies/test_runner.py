@@ -438,10 +438,16 @@ def test_a_random_study_of_two_robots_runs_one_sweep_each(tmp_path):
     spec = load_study(path)
     out = tmp_path / "out"
     run_study(spec, out)
+    robots = {"ur5": pe.robots.load("ur5"), "arm": pe.robots.load("chiacchio2000")}
     results = pd.read_csv(out / "results.csv")
     assert list(results.columns[:2]) == ["robot", "configuration"]
     assert results["robot"].tolist() == ["ur5"] * 3 + ["arm"] * 3
-    robots = {"ur5": pe.robots.load("ur5"), "arm": pe.robots.load("chiacchio2000")}
+    # the manifest counts the rows computed one at a time, per robot's dataset
+    per_row = {name: int(results.loc[results["robot"] == name, "per_row"].sum()) for name in robots}
+    assert json.loads((out / "manifest.json").read_text())["per_row"] == [
+        f"{name} acceleration: {per_row[name]} of 3 rows per row ({100 * per_row[name] / 3:.2f} %)"
+        for name in ("arm", "ur5")
+    ]
     limits = {"ur5": None, "arm": np.array([50.0, 20.0, 2.0])}
     for index, row in results.iterrows():
         robot = robots[row["robot"]]

@@ -38,9 +38,8 @@ def assert_rows_equal_compare(
             outer=mvie,
             candidates=candidates,
         ).to_row()
-        assert set(frame.columns) - set(expected) <= {"configuration", "q1", "q2", "q3", "t"} | {
-            f"q{i}" for i in range(1, 8)
-        }
+        unscored = {"configuration", "per_row", "t"} | {f"q{i}" for i in range(1, 8)}
+        assert set(frame.columns) - set(expected) <= unscored
         for name in frame.columns.intersection(list(expected)):
             tol = LOG_DET_TOL if "mvie" in name or "outer" in name else 1e-9
             np.testing.assert_allclose(
@@ -56,6 +55,7 @@ def test_grid_sweep_of_the_paper_arm_equals_compare_including_singularities():
     np.testing.assert_allclose(q, g.rows(0, 81))
     assert (frame["polytope_dim"] == 1).sum() == 9  # the stretched and folded postures
     assert frame.loc[frame["polytope_dim"] == 1, "yoshikawa_coverage"].isna().all()
+    assert frame["per_row"].tolist() == (frame["polytope_dim"] == 1).tolist()  # singular
     assert_rows_equal_compare(
         frame, lambda k: ARM.dynamics(q[k]), ARM.tau_max, None, None
     )  # the defaults agree
@@ -320,3 +320,14 @@ def test_sweep_refuses_a_bad_rank_rtol(rank_rtol):
     """A relative tolerance in [0, 1), as analyze and limits_along take it (check_fraction)."""
     with pytest.raises(pe.InputError, match="rank_rtol"):
         pe.sweep(ARM, np.zeros((2, 3)), rank_rtol=rank_rtol)
+
+
+def test_the_rows_left_to_compare_are_counted_in_the_log(caplog, tmp_path):
+    g = pe.grid(np.pi / 2, (-np.pi, np.pi, 5), (-np.pi, np.pi, 5))
+    with caplog.at_level("INFO", logger="polyell"):
+        frame = pe.sweep(ARM, g, directions=8)
+        pe.sweep(ARM, g, directions=8, out=tmp_path / "d", chunk=7)
+    singular = int((frame["polytope_dim"] < 2).sum())
+    assert singular > 0 and frame["per_row"].sum() == singular
+    note = f"acceleration: {singular} of 25 rows per row ({100 * singular / 25:.2f} %)"
+    assert [r.getMessage().split(" into ")[0] for r in caplog.records] == [f"sweep of {note}"] * 2
