@@ -501,13 +501,14 @@ def merge(old: str, new: list[str]) -> str:
 def main() -> None:
     from capacities_bench import SECTIONS as CAPACITY_SECTIONS
     from posture_bench import SECTIONS as POSTURE_SECTIONS
+    from robots_bench import SECTIONS as ROBOT_SECTIONS
     from speed_defaults import SECTIONS as DEFAULT_SECTIONS
 
     parser_sections = {"polytope": bench_polytope, "limits": bench_limits, "sweep": bench_sweep}
     parser_sections["mvie"] = bench_mvie
     parser_sections["along"] = bench_along
     parser_sections["startup"] = bench_startup
-    parser_sections |= DEFAULT_SECTIONS | POSTURE_SECTIONS | CAPACITY_SECTIONS
+    parser_sections |= DEFAULT_SECTIONS | POSTURE_SECTIONS | CAPACITY_SECTIONS | ROBOT_SECTIONS
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--repeats", type=int, default=7)
     parser.add_argument("--memory", type=int, nargs="*", default=[100_000, 1_000_000])
