@@ -42,14 +42,17 @@ from numpy.typing import NDArray
 from polyell.capacities.base import centre_and_half_range
 from polyell.capacities.force import force_terms
 from polyell.comparison.comparison import compared_kinds
-from polyell.comparison.metrics import INSIDE_RTOL, _count_inside, cap_share, estimate, scale_rtol
-from polyell.geometry.ellipsoid import canonical_axes, unit_ball_volume
-from polyell.geometry.limits import facet_slack, rounding_floor
+from polyell.comparison.scores import (
+    EllipsoidBatch,
+    SetBatch,
+    polytope_columns,
+    score_ellipsoids,
+)
+from polyell.geometry.ellipsoid import canonical_axes
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.geometry.zonotope import subsets
 from polyell.models.dynamics import Dynamics
 from polyell.studies.batch import BLOCK_MEMORY, RANK_BAND, BatchOptions, score_columns
-from polyell.studies.directional import direction_scores
 
 __all__ = ["GENERAL_POSITION", "MAX_CANDIDATES", "VOLUME_RTOL", "force_rows"]
 
@@ -162,7 +165,6 @@ def _block_rows(
     J, g, along, margin = J[keep], g[keep], along[keep], margin[keep]
     z, is_vertex, facet = vertices.z[keep], vertices.is_vertex[keep], vertices.facet[keep]
     h0 = -np.einsum("kij,kj->ki", U, along / s)
-    volume_p = volume_z[keep] / np.prod(s, axis=-1)
 
     # The rows as unit normals: n_i . h in [(-1 - c_i) / |a_i|, (1 - c_i) / |a_i|]; about
     # h0, n_i . (h - h0) in [-1 - cp_i, 1 - cp_i] / |a_i|.
@@ -170,75 +172,26 @@ def _block_rows(
     norms, used = norms[keep], used[keep]
     with np.errstate(divide="ignore"):
         width = np.where(used, 1.0 / norms, np.inf)
-    normals = np.where(used[..., None], A * np.where(used, width, 0.0)[..., None], 0.0)
-    # Every one-sided facet (2n): unit normals, offsets about h0 and from the origin.
-    facet_normals = np.concatenate([normals, -normals], axis=1)
-    about_h0 = np.concatenate([(1.0 - c_perp) * width, (1.0 + c_perp) * width], axis=1)
-    from_origin = np.concatenate([(1.0 - c) * width, (1.0 + c) * width], axis=1)
     points = h0[:, None, :] + (z / s[:, None, :]) @ np.swapaxes(U, 1, 2)  # (k, V, m)
-    extent = np.max(
-        np.where(is_vertex, np.linalg.norm(points - h0[:, None, :], axis=-1), 0.0), axis=-1
+    sets = SetBatch(
+        center=h0,
+        normals=np.where(used[..., None], A * np.where(used, width, 0.0)[..., None], 0.0),
+        widths=width,
+        midpoints=np.where(used, -c * np.where(used, width, 0.0), 0.0),
+        offsets=np.concatenate([(1.0 - c_perp) * width, (1.0 + c_perp) * width], axis=1),
+        facet=facet,
+        vertices=points,
+        is_vertex=is_vertex,
+        volume=volume_z[keep] / np.prod(s, axis=-1),
+        size=np.max(
+            np.where(is_vertex, np.linalg.norm(points - h0[:, None, :], axis=-1), 0.0), axis=-1
+        ),
+        terms=m + 2,  # HPolytope's facet terms
+        rtol_terms=2,
     )
-    center_norm = np.linalg.norm(h0, axis=-1)
-    terms = m + 2  # HPolytope's facet terms
-
-    rows: dict[str, Array] = {
-        "polytope_dim": np.full(len(keep), float(m)),
-        "polytope_volume": volume_p,
-        "polytope_ball_radius": np.maximum(0.0, np.min(np.where(facet, about_h0, np.inf), -1)),
-        "polytope_origin_radius": _origin_radius(facet, about_h0, from_origin, extent, h0),
-    }
-    # The directional limits: each row a pair about its own midpoint -c_i / |a_i|.
-    reach = 2.0 * (center_norm + extent)
-    slack = facet_slack(width, reach[:, None], terms)
-    floor = rounding_floor(reach[:, None], terms)
-    midpoints = np.where(used, -c * np.where(used, width, 0.0), 0.0)
-
-    ellipsoids = _ellipsoids(J, g, tau_center, half, U, s, h0, margin)
-    unit_ball = unit_ball_volume(m)
-    records = []
-    for kind, (center, axes, semi) in ellipsoids.items():
-        shift = center - h0
-        reach_e = np.linalg.norm((facet_normals @ axes) * semi[:, None], axis=-1)
-        slacks = about_h0 - np.einsum("kfm,km->kf", facet_normals, shift)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            scale = np.min(np.where(facet, slacks / reach_e, np.inf), axis=-1)
-        local = ((points - center[:, None, :]) @ axes) / semi[:, None, :]
-        enclosing = np.max(np.where(is_vertex, np.linalg.norm(local, axis=-1), 0.0), axis=-1)
-        volume = unit_ball * np.prod(semi, axis=-1)
-        bound = np.maximum(np.maximum(center_norm, np.linalg.norm(center, axis=-1)), extent)
-        rtol = np.maximum(INSIDE_RTOL, scale_rtol(bound, np.min(semi, axis=-1), m, 2))
-        coverage, overreach, coverage_err, overreach_err = _shares(
-            scale >= 1.0 - rtol,
-            enclosing <= 1.0 + rtol,
-            volume / volume_p,
-            (axes, semi, facet_normals, slacks, facet),
-            options,
-        )
-        # tau_n = A (h - h0) + c_perp: at the centre, and its spread over the boundary.
-        at_center = np.einsum("knm,km->kn", A, shift) + c_perp
-        spread = np.linalg.norm((A @ axes) * semi[:, None, :], axis=-1)
-        records.append(
-            (
-                kind,
-                {
-                    "dimension": np.full(len(keep), float(m)),
-                    "volume": volume,
-                    "inscribed_scale": scale,
-                    "enclosing_scale": enclosing,
-                    "coverage": coverage,
-                    "coverage_stderr": coverage_err,
-                    "overreach": overreach,
-                    "overreach_stderr": overreach_err,
-                    "witness_torque_max": np.max(np.abs(at_center) + spread, axis=-1),
-                },
-            )
-        )
-    statistics = direction_scores(
-        normals, width, midpoints, slack, floor, list(ellipsoids.values()), directions
-    )
-    for (kind, record), stats in zip(records, statistics, strict=True):
-        rows |= {f"{kind}_{name}": value for name, value in (record | stats).items()}
+    ellipsoids = _ellipsoids(J, g, tau_center, half, U, s, h0, margin, A, c_perp)
+    rows = polytope_columns(sets)
+    rows |= score_ellipsoids(sets, ellipsoids, directions, options.samples, options.seed)
     return keep, rows
 
 
@@ -429,18 +382,6 @@ def _vertices(Vt: Array, c_perp: Array, used: NDArray[np.bool_]) -> _Vertices:
     )
 
 
-def _origin_radius(
-    facet: NDArray[np.bool_], about_h0: Array, from_origin: Array, extent: Array, h0: Array
-) -> Array:
-    """``HPolytope.origin_radius``: ``min b`` over the facets, NaN where 0 is outside."""
-    terms = h0.shape[-1] + 2
-    reach = np.linalg.norm(h0, axis=-1) + extent  # |0| + |centre| + size
-    slack = facet_slack(about_h0, reach[:, None], terms)
-    inside = np.all(~facet | (from_origin >= -slack), axis=-1)
-    radius = np.maximum(0.0, np.min(np.where(facet, from_origin, np.inf), axis=-1))
-    return np.where(inside, radius, np.nan)
-
-
 def _ellipsoids(
     J: Array,
     g: Array,
@@ -450,8 +391,14 @@ def _ellipsoids(
     s: Array,
     h0: Array,
     margin: Array,
-) -> dict[str, tuple[Array, Array, Array]]:
-    """``(centre, axes, semi-axes)`` of each force ellipsoid, as ``ForceAnalysis`` builds them."""
+    A: Array,
+    c_perp: Array,
+) -> dict[str, EllipsoidBatch]:
+    """Each force ellipsoid, as ``ForceAnalysis`` builds it, and its torque witness.
+
+    The witness: ``tau_n = A (h - h0) + c_perp`` at the centre, plus its spread over the
+    boundary, at its largest.
+    """
     pseudo_inverse = np.linalg.pinv(np.swapaxes(J, 1, 2))  # (J^T)^+ (k, m, n)
     classic_center = -np.einsum("kmn,kn->km", pseudo_inverse, g - tau_center)
     classic_axes, classic_semi, _ = np.linalg.svd(pseudo_inverse * half, full_matrices=False)
@@ -460,49 +407,11 @@ def _ellipsoids(
         "yoshikawa": (classic_center, classic_axes, classic_semi),
         "static": (np.zeros_like(h0), U, 1.0 / s),
     }
-    return {
-        kind: (center, *canonical_axes(axes, semi)) for kind, (center, axes, semi) in sets.items()
-    }
-
-
-def _shares(
-    inside: NDArray[np.bool_],
-    around: NDArray[np.bool_],
-    ratio: Array,
-    sets: tuple[Array, Array, Array, Array, NDArray[np.bool_]],
-    options: BatchOptions,
-) -> tuple[Array, Array, Array, Array]:
-    """:func:`~polyell.comparison.metrics.overlap` per row.
-
-    Exact inside or around P or with disjoint caps
-    (:func:`~polyell.comparison.metrics.cap_share`), else the same quasi-Monte-Carlo counts
-    (8 replicates of ``options.samples`` points).
-    """
-    coverage = np.where(inside, np.minimum(1.0, ratio), 1.0)
-    overreach = np.where(inside, 0.0, np.maximum(0.0, 1.0 - 1.0 / ratio))
-    coverage_err, overreach_err = np.zeros_like(ratio), np.zeros_like(ratio)
-    axes, semi, normals, slacks, facet = sets
-    crossing = ~inside & ~around
-    exact = np.full(len(ratio), np.nan)
-    if crossing.any():
-        reach_vectors = (normals[crossing] @ axes[crossing]) * semi[crossing][:, None, :]
-        exact[crossing] = cap_share(reach_vectors, np.where(facet, slacks, np.inf)[crossing])
-    known = crossing & ~np.isnan(exact)  # exact: the share outside
-    coverage = np.where(known, np.minimum(1.0, (1.0 - exact) * ratio), coverage)
-    overreach = np.where(known, exact, overreach)
-    replicates = 8
-    for k in np.flatnonzero(crossing & ~known):
-        counts = _count_inside(
-            axes[k],
-            semi[k],
-            normals[k][facet[k]],
-            slacks[k][facet[k]],
-            options.samples,
-            replicates,
-            options.seed,
-        )
-        share, stderr = estimate(counts, options.samples)
-        coverage[k] = min(1.0, share * ratio[k])
-        overreach[k] = 1.0 - share
-        coverage_err[k], overreach_err[k] = stderr * ratio[k], stderr
-    return coverage, overreach, coverage_err, overreach_err
+    ellipsoids = {}
+    for kind, (center, axes, semi) in sets.items():
+        axes, semi = canonical_axes(axes, semi)
+        at_center = np.einsum("knm,km->kn", A, center - h0) + c_perp
+        spread = np.linalg.norm((A @ axes) * semi[:, None, :], axis=-1)
+        witness = np.max(np.abs(at_center) + spread, axis=-1)
+        ellipsoids[kind] = EllipsoidBatch(center, axes, semi, witness)
+    return ellipsoids
