@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polyell import __version__, robots
-from polyell.capacities import Analysis, analyze, check_capacity
+from polyell.capacities import Analysis, analyze, capacity_class, check_capacity
 from polyell.comparison import compare
 from polyell.errors import InputError, PolyellError, ProjectedInputWarning
 from polyell.expressions import evaluate_list
@@ -250,15 +250,15 @@ def _direction(args: argparse.Namespace, m: int) -> tuple[NDArray[np.float64], s
 
 
 def _velocities(
-    args: argparse.Namespace, robot: Robot, capacity: str
+    args: argparse.Namespace, robot: Robot, capacity: type[Analysis]
 ) -> tuple[NDArray[np.float64], bool]:
     """``--qd`` in rad/s (zeros without it) and whether the robot moves."""
     if args.qd is None:
         return np.zeros(robot.model.n), False
-    if capacity == "velocity":
+    if not capacity.in_motion:
         raise InputError(
             "--qd",
-            "no joint velocities for the velocity capacity (its set is every velocity)",
+            f"no joint velocities for the {capacity.capacity} capacity (its set is every velocity)",
             "--qd",
             "drop --qd, or analyze accelerations or forces of the moving robot.",
         )
@@ -313,12 +313,13 @@ def _analyze(args: argparse.Namespace) -> list[str]:
     robot = _robot(args.robot, args.tau_max, args.tau_min)
     q = _configuration(args, robot)
     capacity = check_capacity(args.capacity, "--capacity")
-    qd, moving = _velocities(args, robot, capacity)
-    if capacity == "velocity":
+    cls = capacity_class(capacity)
+    qd, moving = _velocities(args, robot, cls)
+    if "qd_max" in cls.limit_keywords:  # joint velocity limits: --qd-max, --qd-min
         if args.tau_max is not None or args.tau_min is not None:
             raise InputError(
                 "--tau-max",
-                "no torque limits for the velocity capacity",
+                f"no torque limits for the {capacity} capacity",
                 "--tau-max/--tau-min",
                 "give joint velocity limits with --qd-max (and --qd-min).",
             )
@@ -373,11 +374,12 @@ def _study(args: argparse.Namespace) -> None:
             shown = {name: what}
         else:  # each capacity's; another capacity's carry its name (comparison_force.md)
             stem, extension = name.rsplit(".", 1)
+            suffixes = {
+                capacity: capacity_class(capacity).output_suffix for capacity in spec.capacities
+            }
             shown = {
-                f"{stem}_{capacity}.{extension}" if capacity != "acceleration" else name: (
-                    f"{capacity}: {what}" if capacity != "acceleration" else what
-                )
-                for capacity in spec.capacities
+                f"{stem}{suffix}.{extension}": f"{capacity}: {what}" if suffix else what
+                for capacity, suffix in suffixes.items()
             }
         lines += [f"  {Path(args.out) / n}: {said}" for n, said in shown.items() if n in names]
     _emit("\n".join(lines))

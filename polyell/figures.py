@@ -129,14 +129,14 @@ def _style(
         index = others.index(kind) if kind in others else 0
         style = dict(CANDIDATE_STYLES[index % len(CANDIDATE_STYLES)])
     style.setdefault("label", ellipsoid_label(kind, capacity))
-    if kind == "polytope" and capacity != "acceleration":
-        style["label"] = "polytope"  # eq. 15 is the acceleration polytope
+    if kind == "polytope":  # eq. 15 is the acceleration polytope
+        style["label"] = capacity_class(capacity).polytope_label
     return style
 
 
 def _centre_label(analysis: Analysis) -> str:
     """The legend of the centre marker: the paper's symbol for accelerations."""
-    return r"centre $\ddot x_g$" if analysis.capacity == "acceleration" else "centre"
+    return analysis.centre_label_tex
 
 
 def _ellipsoids(

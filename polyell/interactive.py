@@ -145,8 +145,7 @@ def interactive_sets(
         "<br>".join(f"{label} {value:.4g} {unit}" for label, value in zip(labels, v, strict=True))
         for v in P.vertices
     ]
-    equation = " (15)" if analysis.capacity == "acceleration" else ""
-    polytope_name = f"polytope{equation}, volume {P.volume:.4g} ({unit})^{P.dim}"
+    polytope_name = f"{analysis.polytope_label}, volume {P.volume:.4g} ({unit})^{P.dim}"
     if m == 2:
         outline = P.vertices if P.dim < 2 else np.vstack([P.vertices, P.vertices[:1]])
         figure.add_trace(
@@ -244,7 +243,7 @@ def interactive_sets(
             )
         )
     centre = analysis.center
-    centre_name = "centre xg" if analysis.capacity == "acceleration" else "centre"
+    centre_name = analysis.centre_label
     marker = {"symbol": "cross", "color": "black", "size": 6}
     if m == 2:
         figure.add_trace(

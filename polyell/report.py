@@ -87,15 +87,15 @@ def format_analysis(
     """
     P, svd = analysis.polytope, analysis.svd  # type: ignore[attr-defined]
     unit = analysis.unit()
-    acceleration = analysis.capacity == "acceleration"
+    paper = analysis.paper  # the paper's names and equation numbers
     lines = [
         f"{analysis.capacity} capacity: task rows {', '.join(analysis.task)} [{unit}]"
-        if not acceleration
+        if not paper
         else f"task rows {', '.join(analysis.task)} [{unit}]",
-        f"rank {'J' if analysis.capacity == 'force' else 'M'} = {analysis.rank} of m = {analysis.m}"
+        f"rank {analysis.rank_matrix} = {analysis.rank} of m = {analysis.m}"
         + (" (singular configuration)" if analysis.is_singular else ""),
     ]
-    if acceleration:  # the paper's names and equation numbers
+    if paper:
         matrices = analysis.matrices()
         lines += [f"xdd_g (eq. 8) [{unit}]:", _matrix(matrices["xg"]), "M (eq. 14):"]
         lines += [_matrix(matrices["M"]), "SVD of M (eq. 35): singular values "]
@@ -112,7 +112,7 @@ def format_analysis(
         "  V1^T:",
         _matrix(svd.V1.T),
         "",
-        f"{'Polytope (eq. 15)' if acceleration else 'Exact set'}: dimension {P.dim}, "
+        f"{'Polytope (eq. 15)' if paper else 'Exact set'}: dimension {P.dim}, "
         f"{len(P.vertices)} vertices, {len(P.A)} facets, volume {P.volume:.6g}",
         f"  vertices [{unit}]:",
         _matrix(P.vertices),
@@ -150,17 +150,15 @@ def format_analysis(
     xdd, solutions = inverse_at_end(analysis, direction, inverse_at)
     if xdd is None:
         return "\n".join(lines)
-    point = "xdd" if acceleration else "x"
+    first = "new" if paper else analysis.ellipsoid_kinds[0]
     lines += [
         "",
-        f"Inverse maps at {point} = {np.round(xdd, 5).tolist()} ({inverse_at} end, "
-        f"{analysis.ellipsoid_kinds[0]}):"
-        if not acceleration
-        else f"Inverse maps at xdd = {np.round(xdd, 5).tolist()} ({inverse_at} end, new):",
+        f"Inverse maps at {analysis.point_symbol} = {np.round(xdd, 5).tolist()} "
+        f"({inverse_at} end, {first}):",
     ]
-    equations = {"chiacchio": " (eq. 33/40)", "yoshikawa": " (eq. 26)"} if acceleration else {}
+    equations = {"chiacchio": " (eq. 33/40)", "yoshikawa": " (eq. 26)"} if paper else {}
     joint, normalized = analysis.inverse_names
-    if analysis.capacity == "force":  # a force needs one torque, whatever the definition
+    if analysis.unique_inverse:  # a force needs one torque, whatever the definition
         solutions = dict(list(solutions.items())[:1])
     for name, solution in solutions.items():
         lines += [
@@ -239,8 +237,7 @@ def analysis_to_json(
     }
     xdd, solutions = inverse_at_end(analysis, direction, inverse_at)
     joint, normalized = analysis.inverse_names
-    point = "xdd" if analysis.capacity == "acceleration" else "x"
-    result["inverse"] = {"at": inverse_at, point: xdd} | {
+    result["inverse"] = {"at": inverse_at, analysis.point_symbol: xdd} | {
         kind: {joint: solution.joint, normalized: solution.normalized}
         for kind, solution in solutions.items()
     }

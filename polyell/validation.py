@@ -29,7 +29,6 @@ __all__ = [
     "check_spd",
     "check_torque_limits",
     "check_velocity_limits",
-    "source_limits",
     "source_torque_limits",
     "source_velocity_limits",
 ]
@@ -539,15 +538,6 @@ def source_velocity_limits(
         qd_max, default_min = source.velocity_limits()
         qd_min = default_min if qd_min is None else qd_min
     return check_torque_limits(qd_max, qd_min, n, names=("qd_max", "qd_min"))
-
-
-def source_limits(
-    capacity: str, source: object, upper: ArrayLike | None, lower: ArrayLike | None, n: int
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """A capacity's joint limits given, or else the robot's: velocities or torques."""
-    if capacity == "velocity":
-        return source_velocity_limits(source, upper, lower, n)
-    return source_torque_limits(source, upper, lower, n)
 
 
 #: Joint speeds above this [rad/s] are refused: beyond any drive, and the Coriolis and

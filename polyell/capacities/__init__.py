@@ -120,25 +120,16 @@ def analyze(
     >>> force.capacity, force.ellipsoid_kinds
     ('force', ('chiacchio', 'yoshikawa', 'static'))
     """
-    capacity = check_capacity(capacity)
-    options = {"rank_rtol": rank_rtol, "affine_rtol": affine_rtol}
-    upper, lower = joint_limits_of(capacity, tau_max, tau_min, qd_max, qd_min)
+    cls = capacity_class(capacity)
+    upper, lower = joint_limits_of(cls.capacity, tau_max, tau_min, qd_max, qd_min)
     if upper is None:
         raise InputError(
-            "qd_max" if capacity == "velocity" else "tau_max",
-            "joint velocity limits [rad/s] for the velocity capacity"
-            if capacity == "velocity"
-            else f"torque limits [N m] for the {capacity} capacity",
+            cls.limit_keywords[0],
+            f"{cls.limit_description} for the {cls.capacity} capacity",
             "none",
-            "pass qd_max=[...] (e.g. robot.qd_max, the URDF's velocity limits)."
-            if capacity == "velocity"
-            else "pass tau_max=[...] (and tau_min=), e.g. robot.tau_max.",
+            cls.limit_hint,
         )
-    if capacity == "velocity":
-        return VelocityAnalysis(dyn, upper, lower, **options)
-    if capacity == "force":
-        return ForceAnalysis(dyn, upper, lower, **options)
-    return AccelerationAnalysis(dyn, upper, lower, **options)
+    return cls(dyn, upper, lower, rank_rtol=rank_rtol, affine_rtol=affine_rtol)
 
 
 def joint_limits_of(

@@ -92,6 +92,12 @@ class AccelerationAnalysis(ZonotopeAnalysis):
     }
     quantity = "accelerations"
     inverse_names = ("qdd", "tau_n")
+    paper = True
+    output_suffix = ""
+    polytope_label = "polytope (15)"
+    point_symbol = "xdd"
+    centre_label = "centre xg"
+    centre_label_tex = r"centre $\ddot x_g$"
     dynamics: Dynamics
 
     def __init__(

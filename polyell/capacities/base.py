@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from functools import cached_property
-from typing import ClassVar, NamedTuple
+from typing import Any, ClassVar, NamedTuple, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -27,14 +27,28 @@ from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.polytope import Polytope
-from polyell.geometry.subspace import AFFINE_RTOL
+from polyell.geometry.subspace import AFFINE_RTOL, RANK_RTOL
 from polyell.inverse import AffineMap
 from polyell.models.dynamics import Dynamics
 from polyell.models.kinematics import Kinematics
 from polyell.models.task import task_unit
-from polyell.validation import check_points
+from polyell.validation import check_points, source_torque_limits
 
-__all__ = ["Analysis", "InverseSolution", "centre_and_half_range"]
+__all__ = ["Analysis", "InverseSolution", "JointLimited", "centre_and_half_range"]
+
+
+class JointLimited(Protocol):
+    """A robot with joint limits of its own (:class:`polyell.UrdfRobot`, a study's robot)."""
+
+    def torque_limits(
+        self, qd: ArrayLike | None = None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """``(tau_max, tau_min)`` [N m], at rest or derated at the joint velocities ``qd``."""
+        ...
+
+    def velocity_limits(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """``(qd_max, qd_min)`` [rad/s]."""
+        ...
 
 
 def centre_and_half_range(
@@ -114,6 +128,82 @@ class Analysis(ABC):
     quantity: ClassVar[str]
     #: Names of :class:`InverseSolution`'s two fields in reports: ``("qdd", "tau_n")``, ...
     inverse_names: ClassVar[tuple[str, str]]
+
+    # What callers ask of a capacity instead of comparing its name (issue 31).
+    #: The keyword arguments of :func:`polyell.analyze` (and of the sweeps and studies) for
+    #: the joint limits, ``(upper, lower)``: ``("tau_max", "tau_min")`` for torques,
+    #: ``("qd_max", "qd_min")`` for joint velocities.
+    limit_keywords: ClassVar[tuple[str, str]] = ("tau_max", "tau_min")
+    #: Those limits in words, with their unit, for messages: ``"torque limits [N m]"``.
+    limit_description: ClassVar[str] = "torque limits [N m]"
+    #: How to give the limits when they are missing (the hint of the InputError).
+    limit_hint: ClassVar[str] = "pass tau_max=[...] (and tau_min=), e.g. robot.tau_max."
+    #: Whether the set depends on the joint velocities ``qd`` of an arm in motion (torque
+    #: limits derated at ``qd``, Coriolis and centrifugal torques); the velocity set does
+    #: not (it is every joint velocity within the limits).
+    in_motion: ClassVar[bool] = True
+    #: True for the paper's capacity (accelerations, the default): its reports keep the
+    #: paper's names and equation numbers (``xdd_g (eq. 8)``, ``Polytope (eq. 15)``) and
+    #: name no capacity.
+    paper: ClassVar[bool] = False
+    #: What a study's output names of this capacity end with (before the extension):
+    #: ``""`` for the paper's (``summary.tex``), else ``"_<capacity>"`` (``summary_force.tex``).
+    output_suffix: ClassVar[str]
+    #: The legend of the exact set in figures: ``"polytope (15)"`` for the paper's.
+    polytope_label: ClassVar[str] = "polytope"
+    #: The symbol of a task point in reports: ``"xdd"`` (accelerations) or ``"x"``.
+    point_symbol: ClassVar[str] = "x"
+    #: The legend of the centre marker (plain text): ``"centre xg"`` for accelerations.
+    centre_label: ClassVar[str] = "centre"
+    #: The same in matplotlib's TeX: ``r"centre $\ddot x_g$"`` for accelerations.
+    centre_label_tex: ClassVar[str] = "centre"
+    #: The matrix whose rank reports state: ``"M"`` (a zonotope's generators) or ``"J"``.
+    rank_matrix: ClassVar[str] = "M"
+    #: True where every ellipsoid's inverse is the same (a force needs one torque): reports
+    #: show one.
+    unique_inverse: ClassVar[bool] = False
+
+    @abstractmethod
+    def __init__(
+        self,
+        dynamics: Dynamics | Kinematics,
+        upper: ArrayLike,
+        lower: ArrayLike | None = None,
+        *,
+        rank_rtol: float = RANK_RTOL,
+        affine_rtol: float = AFFINE_RTOL,
+    ) -> None:
+        """The analysis at one configuration within the joint limits ``upper``, ``lower``.
+
+        The limits are those named by :attr:`limit_keywords`; ``lower`` defaults to
+        ``-upper``.
+        """
+
+    @classmethod
+    def limit_arguments(cls, upper: Any, lower: Any) -> dict[str, Any]:
+        """``{limit_keywords[0]: upper, limit_keywords[1]: lower}``: keyword arguments."""
+        return dict(zip(cls.limit_keywords, (upper, lower), strict=True))
+
+    @classmethod
+    def robot_limits(
+        cls, robot: JointLimited, qd: ArrayLike | None = None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """A robot's own joint limits of this capacity, ``(upper, lower)``.
+
+        Its torque limits, at rest or at the joint velocities ``qd`` (the velocity
+        capacity: its joint velocity limits, ``qd`` unused).
+        """
+        return robot.torque_limits(qd)
+
+    @classmethod
+    def source_limits(
+        cls, source: object, upper: ArrayLike | None, lower: ArrayLike | None, n: int
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The joint limits given, checked, or else those of ``source`` (a robot).
+
+        Raises an InputError naming the limit keyword when neither is there.
+        """
+        return source_torque_limits(source, upper, lower, n)
 
     @abstractmethod
     def matrices(self) -> dict[str, NDArray[np.float64]]:

@@ -116,6 +116,9 @@ class ForceAnalysis(Analysis):
     }
     quantity = "forces"
     inverse_names = ("tau", "tau_n")
+    output_suffix = "_force"
+    rank_matrix = "J"
+    unique_inverse = True  # the torque a force needs is unique
     dynamics: Dynamics
 
     def __init__(

@@ -23,7 +23,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from polyell.capacities.base import InverseSolution, centre_and_half_range
+from polyell.capacities.base import InverseSolution, JointLimited, centre_and_half_range
 from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid
@@ -31,7 +31,7 @@ from polyell.geometry.subspace import AFFINE_RTOL, RANK_RTOL
 from polyell.inverse import AffineMap
 from polyell.models.dynamics import Dynamics
 from polyell.models.kinematics import Kinematics
-from polyell.validation import check_fraction, check_torque_limits
+from polyell.validation import check_fraction, check_torque_limits, source_velocity_limits
 
 __all__ = ["VelocityAnalysis"]
 
@@ -62,6 +62,40 @@ class VelocityAnalysis(ZonotopeAnalysis):
     }
     quantity = "velocities"
     inverse_names = ("qd", "u")
+    limit_keywords = ("qd_max", "qd_min")
+    limit_description = "joint velocity limits [rad/s]"
+    limit_hint = "pass qd_max=[...] (e.g. robot.qd_max, the URDF's velocity limits)."
+    in_motion = False
+    output_suffix = "_velocity"
+    magnitude_names = ("velocities", "J L_v", "J qd_c")
+    # its set is the acceleration zonotope of B = I, g = 0, its ellipsoid that one's image
+    acceleration_names: ClassVar[dict[str, str]] = {
+        "polytope": "polytope",
+        "chiacchio": "yoshikawa",
+    }
+
+    @classmethod
+    def acceleration_dynamics(cls, dyn: Dynamics) -> Dynamics:
+        """A batch with ``B = I``, ``g = 0`` and no bias: ``M = J L_v``, ``x_g = J qd_c``.
+
+        Its image ellipsoid (``"chiacchio"``) is the velocity capacity's ``"yoshikawa"``.
+        """
+        K, n = len(dyn), dyn.n
+        return Dynamics(dyn.J, np.broadcast_to(np.eye(n), (K, n, n)), np.zeros((K, n)))
+
+    @classmethod
+    def robot_limits(
+        cls, robot: JointLimited, qd: ArrayLike | None = None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The robot's joint velocity limits ``(qd_max, qd_min)`` (``qd`` unused)."""
+        return robot.velocity_limits()
+
+    @classmethod
+    def source_limits(
+        cls, source: object, upper: ArrayLike | None, lower: ArrayLike | None, n: int
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Joint velocity limits given, checked, or else ``source.velocity_limits()``."""
+        return source_velocity_limits(source, upper, lower, n)
 
     def __init__(
         self,

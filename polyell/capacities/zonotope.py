@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import warnings
 from functools import cached_property
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -22,6 +23,7 @@ from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.polytope import Polytope
 from polyell.geometry.subspace import RankRevealingSVD, rank_revealing_svd
 from polyell.inverse import AffineMap
+from polyell.models.dynamics import Dynamics
 from polyell.validation import check_magnitudes
 
 __all__ = ["ZonotopeAnalysis"]
@@ -45,11 +47,34 @@ class ZonotopeAnalysis(Analysis):
     xg: NDArray[np.float64]
     svd: RankRevealingSVD
 
+    #: What the sets hold and what ``M`` and ``xg`` are, for the messages of
+    #: :func:`~polyell.validation.check_magnitudes`.
+    magnitude_names: ClassVar[tuple[str, str, str]] = (
+        "accelerations",
+        "the generators M (eq. 14)",
+        "xg (eq. 8)",
+    )
+    #: The block paths (:mod:`polyell.studies.batch`) compute the acceleration zonotope of
+    #: :meth:`acceleration_dynamics` and its sets: this capacity's sets by the names of
+    #: the acceleration sets that are them (``{acceleration set: set}``).
+    acceleration_names: ClassVar[dict[str, str]] = {
+        "polytope": "polytope",
+        "chiacchio": "chiacchio",
+        "yoshikawa": "yoshikawa",
+    }
+
+    @classmethod
+    def acceleration_dynamics(cls, dyn: Dynamics) -> Dynamics:
+        """The batch whose acceleration zonotope, within this capacity's limits, is its set."""
+        return dyn
+
+    @classmethod
+    def check_generators(cls, M: NDArray[np.float64], xg: NDArray[np.float64]) -> None:
+        """Refuse generators and centres (one set or a batch) beyond floating point."""
+        check_magnitudes(M, xg, quantity=cls.magnitude_names, limits=cls.limit_keywords[0])
+
     def _set_generators(self, M: NDArray[np.float64], xg: NDArray[np.float64], rtol: float) -> None:
-        if self.capacity == "velocity":
-            check_magnitudes(M, xg, quantity=("velocities", "J L_v", "J qd_c"), limits="qd_max")
-        else:
-            check_magnitudes(M, xg)
+        self.check_generators(M, xg)
         self.M, self.xg = M, xg
         self.svd = rank_revealing_svd(M, rtol)
 

@@ -31,6 +31,7 @@ from polyell.comparison.tables import format_comparison_table
 from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.directions import directions_in
 from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
 from polyell.geometry.outer import min_volume_enclosing_ellipsoid
 from polyell.storage import write_text_atomically
@@ -232,13 +233,13 @@ class Comparison:
             # other configurations must not depend on it.
             return Scores(kind=kind, defined=False, reason=str(exn))
         P = self.analysis.polytope
-        if E.rank > P.dim and self.analysis.capacity == "force":
+        if E.rank > P.dim and isinstance(P, HPolytope):  # a zonotope has its ellipsoids' rank
             return Scores(  # the exact set flat to rounding at the edge of emptiness
                 kind=kind,
                 defined=False,
-                reason=f"the exact force set is {P.dim}-dimensional here (gravity alone "
-                "nearly exhausts some torque range: the set is flat to rounding), the "
-                f"ellipsoid {E.rank}-dimensional: no section of it to score.",
+                reason=f"the exact {self.analysis.capacity} set is {P.dim}-dimensional here "
+                "(gravity alone nearly exhausts some torque range: the set is flat to "
+                f"rounding), the ellipsoid {E.rank}-dimensional: no section of it to score.",
             )
         check_same_affine_set(E, P)
         shares = overlap(E, P, samples=self._samples, seed=self._seed)

@@ -82,7 +82,8 @@ def write_point_tables(
     limits = limits_table(named, directions_per_point)
     prefix = f"{title}: " if title else ""
     capacities = {c.analysis.capacity for c in named.values()}
-    what = "" if capacities == {"acceleration"} else f"{' and '.join(sorted(capacities))} "
+    paper = bool(named) and all(c.analysis.paper for c in named.values())  # names none
+    what = "" if paper else f"{' and '.join(sorted(capacities))} "
     limits_caption = (  # (the units are in the headers, typeset)
         f"{prefix}directional {what}limits of the exact polytope and of each ellipsoid, "
         "and each limit's error relative to the polytope's, (e - p)/|p|."

@@ -24,11 +24,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from polyell.capacities import (
     ELLIPSOID_KINDS,
+    Analysis,
     analyze,
     capacity_class,
     check_capacity,
     joint_limits_of,
 )
+from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.limits import (
     DirectionalLimits,
@@ -45,8 +47,6 @@ from polyell.validation import (
     check_array,
     check_directions,
     check_fraction,
-    check_magnitudes,
-    source_limits,
 )
 
 __all__ = ["limits_along"]
@@ -114,9 +114,10 @@ def limits_along(
     array([53.7  , 13.034])
     """
     capacity = check_capacity(capacity)
+    cls = capacity_class(capacity)
     rank_rtol = check_fraction("rank_rtol", rank_rtol)
     upper, lower = joint_limits_of(capacity, tau_max, tau_min, qd_max, qd_min)
-    dyn, upper, lower = _inputs(source, configurations, upper, lower, capacity)
+    dyn, upper, lower = _inputs(source, configurations, upper, lower, cls)
     T = check_directions("directions", directions, dyn.m)
     if T.ndim != 2 or len(T) != len(dyn):
         raise InputError(
@@ -124,24 +125,20 @@ def limits_along(
             f"one unit direction per configuration, shape ({len(dyn)}, {dyn.m})",
             f"shape {T.shape}",
         )
-    sets = ("polytope", *capacity_class(capacity).ellipsoid_kinds)
+    sets = ("polytope", *cls.ellipsoid_kinds)
     lo = {name: np.full(len(dyn), np.nan) for name in sets}
     hi = {name: np.full(len(dyn), np.nan) for name in sets}
-    # The block path's sets by their names in the capacity: the velocity set is the
-    # zonotope of B = I, g = 0, its ellipsoid that zonotope's image ("chiacchio") ellipsoid.
-    same = dict(zip(SETS, SETS, strict=True))
-    names = {"polytope": "polytope", "chiacchio": "yoshikawa"} if capacity == "velocity" else same
     size = 8 * block_size(dyn.m, dyn.n)  # no (rows, facets, directions) arrays here
     for start in range(0, len(dyn), size):
         rows = slice(start, start + size)
         part = dyn[rows]
         scalar = np.ones(len(part), dtype=bool)  # forces: one configuration at a time
-        if capacity != "force":
-            part = velocity_zonotope(part) if capacity == "velocity" else part
+        if issubclass(cls, ZonotopeAnalysis):  # a block at once, as acceleration zonotopes
+            part = cls.acceleration_dynamics(part)
             block_lo = {name: np.full(len(part), np.nan) for name in SETS}
             block_hi = {name: np.full(len(part), np.nan) for name in SETS}
-            scalar = _block(part, upper, lower, T[rows], rank_rtol, block_lo, block_hi, capacity)
-            for name, target in names.items():
+            scalar = _block(part, upper, lower, T[rows], rank_rtol, block_lo, block_hi, cls)
+            for name, target in cls.acceleration_names.items():
                 lo[target][rows], hi[target][rows] = block_lo[name], block_hi[name]
         for k in np.flatnonzero(scalar) + start:  # forces, (near-)singular: the exact path
             analysis = analysis_within(dyn[int(k)], capacity, upper, lower, rank_rtol)
@@ -154,27 +151,20 @@ def limits_along(
     return {name: DirectionalLimits(lo[name], hi[name]) for name in sets}
 
 
-def velocity_zonotope(dyn: Dynamics) -> Dynamics:
-    """A batch whose acceleration zonotope, within joint velocity limits, is the velocity set.
-
-    ``B = I``, ``g = 0`` and no bias: ``M = J L_v``, ``x_g = J qd_c``, and its image
-    ellipsoid (``"chiacchio"``) is the velocity capacity's ``"yoshikawa"``.
-    """
-    K, n = len(dyn), dyn.n
-    return Dynamics(dyn.J, np.broadcast_to(np.eye(n), (K, n, n)), np.zeros((K, n)))
-
-
 def analysis_within(
     dyn: Dynamics, capacity: str, upper: Array, lower: Array, rank_rtol: float
 ) -> Any:
     """``polyell.analyze`` of one configuration within a capacity's checked joint limits."""
-    if capacity == "velocity":
-        return analyze(dyn, capacity=capacity, qd_max=upper, qd_min=lower, rank_rtol=rank_rtol)
-    return analyze(dyn, upper, lower, capacity=capacity, rank_rtol=rank_rtol)
+    limits = capacity_class(capacity).limit_arguments(upper, lower)
+    return analyze(dyn, capacity=capacity, rank_rtol=rank_rtol, **limits)
 
 
 def _inputs(
-    source: Any, configurations: ArrayLike | None, upper: Any, lower: Any, capacity: str
+    source: Any,
+    configurations: ArrayLike | None,
+    upper: Any,
+    lower: Any,
+    capacity: type[Analysis],
 ) -> tuple[Dynamics, Array, Array]:
     """The batched dynamics and the capacity's checked joint limits (given or the robot's)."""
     if isinstance(source, Dynamics):
@@ -194,7 +184,7 @@ def _inputs(
         dyn = source.dynamics(q)
     else:
         raise InputError("source", "a robot or a batched pe.Dynamics", type(source).__name__)
-    return (dyn, *source_limits(capacity, source, upper, lower, dyn.n))
+    return (dyn, *capacity.source_limits(source, upper, lower, dyn.n))
 
 
 def _block(
@@ -205,7 +195,7 @@ def _block(
     rank_rtol: float,
     lo: dict[str, Array],
     hi: dict[str, Array],
-    capacity: str,
+    capacity: type[ZonotopeAnalysis],
 ) -> NDArray[np.bool_]:
     """Fill the full-rank rows of one block (K,); return the rows left to the exact path.
 
@@ -218,10 +208,7 @@ def _block(
     Binv_Jt = np.linalg.solve(B, np.swapaxes(J, -1, -2))  # (K, n, m)
     M = np.swapaxes(Binv_Jt, -1, -2) * half
     xg = dyn.xdd_bias - np.einsum("knm,kn->km", Binv_Jt, dyn.g - 0.5 * (upper + lower))
-    if capacity == "velocity":
-        check_magnitudes(M, xg, quantity=("velocities", "J L_v", "J qd_c"), limits="qd_max")
-    else:
-        check_magnitudes(M, xg)
+    capacity.check_generators(M, xg)
     U, s, Vt = np.linalg.svd(M, full_matrices=False)
     scalar = ~(s[:, -1] > rank_rtol * (1.0 + RANK_BAND) * s[:, 0]) if m <= n else np.ones(K, bool)
     ok = np.flatnonzero(~scalar)

@@ -32,6 +32,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from polyell.capacities import capacity_class, check_capacity, joint_limits_of
+from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.comparison.candidates import Candidate, check_candidates
 from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.ellipsoid import Ellipsoid, unit_ball_volume
@@ -41,14 +42,9 @@ from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
 from polyell.geometry.outer import min_volume_enclosing_ellipsoid
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.models.self_motion import SelfMotion
-from polyell.studies.along import analysis_within, limits_along, velocity_zonotope
+from polyell.studies.along import analysis_within, limits_along
 from polyell.studies.batch import BatchOptions, block_sets, block_size
-from polyell.validation import (
-    check_array,
-    check_fraction,
-    check_points,
-    source_limits,
-)
+from polyell.validation import check_array, check_fraction, check_points
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
@@ -216,30 +212,30 @@ def posture_choice(
             "sample the self-motion with pe.self_motion(robot, q0, count=...).",
         )
     capacity = check_capacity(capacity)
+    cls = capacity_class(capacity)
     upper, lower = joint_limits_of(capacity, tau_max, tau_min, qd_max, qd_min)
     dyn = robot.dynamics(q)
-    upper, lower = source_limits(capacity, robot, upper, lower, dyn.n)
+    upper, lower = cls.source_limits(robot, upper, lower, dyn.n)
     d = check_direction(direction, dyn.m)
     found = check_candidates(candidates)
     for candidate in found:
         candidate.check_sizes(dyn.m, dyn.n)
-    definitions = capacity_class(capacity).ellipsoid_kinds
+    definitions = cls.ellipsoid_kinds
     kinds = ["polytope", *definitions]
     kinds += [name for name, on in (("mvie", mvie), ("outer", outer)) if on]
     kinds += [candidate.name for candidate in found]
     K, m = len(dyn), dyn.m
     values = {kind: {name: np.full(K, np.nan) for name in QUANTITIES} for kind in kinds}
 
-    limits = {"qd_max": upper, "qd_min": lower} if capacity == "velocity" else {}
-    torques = () if limits else (upper, lower)
+    limits = cls.limit_arguments(upper, lower)
     T = np.broadcast_to(d, (K, m))
-    along = limits_along(dyn, None, T, *torques, capacity=capacity, rank_rtol=rank_rtol, **limits)
+    along = limits_along(dyn, None, T, capacity=capacity, rank_rtol=rank_rtol, **limits)
     for kind in ("polytope", *definitions):
         values[kind]["lo"][:], values[kind]["hi"][:] = along[kind]
     scalar = np.ones(K, dtype=bool)  # forces: one posture at a time
-    if capacity != "force":
+    if issubclass(cls, ZonotopeAnalysis):  # a block at once, as acceleration zonotopes
         scalar[:] = False
-        _block_values(dyn, upper, lower, d, capacity, found, values, scalar, mvie, outer, rank_rtol)
+        _block_values(dyn, upper, lower, d, cls, found, values, scalar, mvie, outer, rank_rtol)
     for k in np.flatnonzero(scalar):
         analysis = analysis_within(dyn[int(k)], capacity, upper, lower, rank_rtol)
         _scalar_row(analysis, d, found, kinds, values, int(k))
@@ -272,7 +268,7 @@ def _block_values(
     upper: Array,
     lower: Array,
     d: Array,
-    capacity: str,
+    capacity: type[ZonotopeAnalysis],
     candidates: tuple[Candidate, ...],
     values: dict[str, dict[str, Array]],
     scalar: NDArray[np.bool_],
@@ -287,9 +283,8 @@ def _block_values(
     Marks in ``scalar`` the postures left to the scalar path.
     """
     K, m, n = len(dyn), dyn.m, dyn.n
-    names = {"chiacchio": "chiacchio", "yoshikawa": "yoshikawa"}
-    if capacity == "velocity":
-        dyn, names = velocity_zonotope(dyn), {"chiacchio": "yoshikawa"}
+    names = {kind: name for kind, name in capacity.acceleration_names.items() if kind != "polytope"}
+    dyn = capacity.acceleration_dynamics(dyn)
     B, g, bias = dyn.B, dyn.g, dyn.xdd_bias
     options = BatchOptions(
         mvie=mvie, outer=outer, vertices=outer, candidates=candidates, rank_rtol=rank_rtol

@@ -106,7 +106,7 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
     report: list[tuple[str, Any]] = _about(spec)
     for capacity in spec.capacities:
         # The acceleration outputs keep their names; another capacity's carry its name.
-        suffix = "" if capacity == "acceleration" else f"_{capacity}"
+        suffix = capacity_class(capacity).output_suffix
         if len(spec.capacities) > 1:
             numbers += [f"# {capacity.capitalize()} capacity", ""]
         written += _run_points_capacity(spec, folder, capacity, suffix, numbers, report)
@@ -121,17 +121,14 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
 def _analyze_point(spec: StudySpec, point: Point, capacity: str) -> Analysis:
     """A point's analysis; in motion (``qd``, a URDF robot) with the torque limits at qd."""
     robot = _robot_of(spec, point.robot)
-    if capacity == "velocity":
-        qd_max, qd_min = robot.velocity_limits()
-        dynamics = robot.model.dynamics(point.q)
-        return analyze(dynamics, capacity=capacity, qd_max=qd_max, qd_min=qd_min)
+    cls = capacity_class(capacity)
+    limits = cls.limit_arguments(*cls.robot_limits(robot, point.qd))
     if point.qd is None:
         dynamics = robot.model.dynamics(point.q)
-        return analyze(dynamics, robot.tau_max, robot.tau_min, capacity=capacity)
-    assert isinstance(robot.model, UrdfRobot)  # checked at load
-    tau_max, tau_min = robot.torque_limits(point.qd)
-    dynamics = robot.model.dynamics(point.q, point.qd)
-    return analyze(dynamics, tau_max, tau_min, capacity=capacity)
+    else:  # (no points in motion in a study of velocities: checked at load)
+        assert isinstance(robot.model, UrdfRobot)  # checked at load
+        dynamics = robot.model.dynamics(point.q, point.qd)
+    return analyze(dynamics, capacity=capacity, **limits)
 
 
 def _run_points_capacity(
@@ -282,7 +279,8 @@ def _posture_outputs(
     posture = spec.posture
     assert posture is not None
     robot = spec.robots[0]
-    suffix = "" if capacity == "acceleration" else f"_{capacity}"
+    cls = capacity_class(capacity)
+    suffix = cls.output_suffix
     named = "" if len(spec.capacities) == 1 else f"{capacity}: "
     configurations = np.vstack([motion.configurations for motion in motions])
     options: dict[str, Any] = {
@@ -293,8 +291,8 @@ def _posture_outputs(
         "capacity": capacity,
     }
     # velocities: the robot's own joint velocity limits; the others its torque limits
-    torques = () if capacity == "velocity" else (robot.tau_max, robot.tau_min)
-    choice = posture_choice(robot.model, configurations, *torques, **options)
+    limits = cls.limit_arguments(*cls.robot_limits(robot))
+    choice = posture_choice(robot.model, configurations, **limits, **options)
     along = f"along {posture.label}"
     written = list(
         write_posture_tables(
@@ -336,7 +334,7 @@ def _posture_outputs(
         over = posture_choice_over_targets(
             robot.model,
             None,
-            *torques,
+            **limits,
             count=posture.targets,
             seed=posture.seed,
             postures=posture.count,
@@ -408,7 +406,7 @@ def _run_many_capacity(
     import pandas as pd
 
     spec = _for_capacity(spec, capacity)
-    suffix = "" if capacity == "acceleration" else f"_{capacity}"
+    suffix = capacity_class(capacity).output_suffix
     runs: dict[str, pd.DataFrame] = {}
     for index, robot in enumerate(spec.robots):
         configurations = spec.configurations(index)
@@ -462,7 +460,7 @@ def _many_outputs(
     ``robot`` is its name in a study of several robots, else ``""``; ``maps`` the study's
     maps this capacity has columns for.
     """
-    suffix = "" if capacity == "acceleration" else f"_{capacity}"
+    suffix = capacity_class(capacity).output_suffix
     if maps or spec.series or spec.histograms:  # matplotlib: a second of start-up
         from polyell.figures import (
             plot_score_histogram,
@@ -547,11 +545,8 @@ def _sweep(
     are bounded by the robot's joint velocity limits, the other capacities by its torques.
     """
     started = time.perf_counter()
-    if capacity == "velocity":
-        qd_max, qd_min = robot.velocity_limits()
-        limits: dict[str, Any] = {"qd_max": qd_max, "qd_min": qd_min}
-    else:
-        limits = {"tau_max": robot.tau_max, "tau_min": robot.tau_min}
+    cls = capacity_class(capacity)
+    limits = cls.limit_arguments(*cls.robot_limits(robot))
     dataset = sweep(
         robot.model,
         configurations,
@@ -591,7 +586,7 @@ def _write_summary(
     import pandas as pd
 
     spec = _for_capacity(spec, capacity)
-    suffix = "" if capacity == "acceleration" else f"_{capacity}"
+    suffix = capacity_class(capacity).output_suffix
     scores = "scores" if not suffix else f"{capacity} scores"
     tag = suffix.replace("_", "-")  # LaTeX labels: tab:summary-force
     options: dict[str, Any] = {"layout": spec.layout, "capacity": capacity}
@@ -666,7 +661,7 @@ def _run_trajectory_capacity(
     from polyell.interactive import SeriesDecimator
 
     spec = _for_capacity(spec, capacity)
-    suffix = "" if capacity == "acceleration" else f"_{capacity}"
+    suffix = capacity_class(capacity).output_suffix
     by = "" if not suffix else f"{capacity}: "
     trajectory = spec.trajectory
     assert trajectory is not None
@@ -685,11 +680,13 @@ def _run_trajectory_capacity(
     kinds = result_kinds(columns)
     x = "t" if trajectory.t is not None else "configuration"
     tangent = trajectory.qd is not None
+    cls = capacity_class(capacity)
+    limits = cls.limit_arguments(*cls.robot_limits(robot)) if tangent else {}
     series = {
         score: SeriesDecimator(count, [f"{k}_{score}" for k in kinds if f"{k}_{score}" in columns])
         for score in spec.series
     }
-    sets = ("polytope", *capacity_class(capacity).ellipsoid_kinds)
+    sets = ("polytope", *cls.ellipsoid_kinds)
     tangents = [f"tangent_{name}_{end}" for name in sets for end in ("lo", "hi")]
     along = SeriesDecimator(count, tangents) if tangent else None
 
@@ -702,9 +699,8 @@ def _run_trajectory_capacity(
                 if tangent:  # what the capacity allows along the path, where the arm moves
                     assert trajectory.qd is not None
                     piece = Trajectory(trajectory.q[start:stop], trajectory.qd[start:stop])
-                    torques = () if capacity == "velocity" else (robot.tau_max, robot.tau_min)
-                    limits = tangent_limits(model, piece, *torques, capacity=capacity)
-                    frame = frame.assign(**limits)
+                    along_path = tangent_limits(model, piece, capacity=capacity, **limits)
+                    frame = frame.assign(**along_path)
                 write_csv(frame, handle, header=index == 0)
                 for decimator in series.values():
                     decimator.add(frame[[x, *decimator.traces]])

@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from polyell import robots
+from polyell.capacities import capacity_class
 from polyell.comparison.candidates import Candidate, check_candidates
 from polyell.comparison.directions import named_direction
 from polyell.comparison.layout import TableLayout
@@ -744,11 +745,12 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
         )
     compare = study.compare
     moving = [point.label for point in points if point.qd is not None]
-    if moving and "velocity" in compare.capacities:
+    still = [c for c in compare.capacities if not capacity_class(c).in_motion]
+    if moving and still:
         raise InputError(
             "compare.capacities",
-            "no 'velocity' with points in motion (the velocity set is every joint velocity)",
-            f"'velocity' and qd at {moving}",
+            f"no {still[0]!r} with points in motion (the {still[0]} set is every joint velocity)",
+            f"{still[0]!r} and qd at {moving}",
             "drop qd from those points, or study velocities in a file of their own.",
         )
     if candidates and len(compare.capacities) > 1:
@@ -783,7 +785,8 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
                     repr(list(output.sets)),
                     f"add one of them, or leave {capacity!r} out of [compare] capacities.",
                 )
-    if "velocity" in compare.capacities:  # every robot needs its joint velocity limits
+    if any("qd_max" in capacity_class(c).limit_keywords for c in compare.capacities):
+        # every robot needs its joint velocity limits
         for number, robot in enumerate(robots_):
             if robot.model.qd_max is None:
                 where = "robot" if len(robots_) == 1 else f"robots[{number}]"

@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from tqdm import tqdm
 
-from polyell.capacities import analyze, check_capacity, joint_limits_of
+from polyell.capacities import analyze, capacity_class, check_capacity, joint_limits_of
 from polyell.comparison.candidates import Candidate, check_candidates
 from polyell.comparison.comparison import (
     MAX_SAMPLES,
@@ -57,7 +57,6 @@ from polyell.validation import (
     check_directions,
     check_fraction,
     check_integer,
-    source_limits,
 )
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
@@ -79,6 +78,12 @@ DEFAULT_SCORES = tuple(name for name in SCORE_NAMES if name not in _OPT_IN)
 #: (``compare(analyze(...))``, cddlib) instead of by the batch: singular configurations,
 #: sets the batch cannot certify.  Counted in the log and in a study's manifest.
 PER_ROW = "per_row"
+
+
+def _log_per_row(frame: pd.DataFrame, capacity: str, where: str = "") -> None:
+    """Log :func:`per_row_note`: at INFO (shown by ``polyell study``) where rows left the batch."""
+    level = logging.INFO if frame[PER_ROW].any() else logging.DEBUG
+    _log.log(level, "note: sweep of %s%s", per_row_note(frame, capacity), where)
 
 
 def per_row_note(frame: pd.DataFrame, capacity: str) -> str:
@@ -171,24 +176,12 @@ def _scalar_rows(
     """``compare(analyze(...)).to_row()`` for the flagged rows (NaN elsewhere)."""
     values = {name: np.full(len(dyn), np.nan) for name in job.columns}
     options = job.options
+    # (a capacity's limits come in the torque slots, whatever they are)
+    limits = capacity_class(options.capacity).limit_arguments(job.tau_max, job.tau_min)
     for k in np.flatnonzero(rows):
-        one = dyn[int(k)]
-        if options.capacity == "velocity":
-            analysis = analyze(
-                one,
-                capacity="velocity",
-                qd_max=job.tau_max,
-                qd_min=job.tau_min,
-                rank_rtol=options.rank_rtol,
-            )
-        else:
-            analysis = analyze(
-                one,
-                job.tau_max,
-                job.tau_min,
-                capacity=options.capacity,
-                rank_rtol=options.rank_rtol,
-            )
+        analysis = analyze(
+            dyn[int(k)], capacity=options.capacity, rank_rtol=options.rank_rtol, **limits
+        )
         row = compare(
             analysis,
             job.scalar_directions,
@@ -298,7 +291,7 @@ def _job(
             else configurations[0]
         ).m
     # (the joint velocity limits come in the torque slots)
-    upper, lower = source_limits(options.capacity, source, tau_max, tau_min, n)
+    upper, lower = capacity_class(options.capacity).source_limits(source, tau_max, tau_min, n)
     unknown = sorted(set(scores) - set(SCORE_NAMES))
     if unknown:
         raise InputError("scores", f"names among {list(SCORE_NAMES)}", f"unknown {unknown}")
@@ -483,7 +476,7 @@ def _run(
     count = -(-job.size() // chunk)
     if out is None:
         frame = _execute(job, list(range(count)), chunk, None, scheduler, progress)
-        _log.info("sweep of %s", per_row_note(frame, job.options.capacity))
+        _log_per_row(frame, job.options.capacity)
         return frame
     folder = _folder(out)
     with dataset_lock(folder):
@@ -497,7 +490,7 @@ def _run(
     import pandas as pd
 
     stored = pd.read_parquet(folder, columns=[PER_ROW])
-    _log.info("sweep of %s into %s", per_row_note(stored, job.options.capacity), folder)
+    _log_per_row(stored, job.options.capacity, f" into {folder}")
     return folder
 
 
@@ -583,8 +576,7 @@ def _sweep_robots(
     run: Callable[[_Job, Path | None], pd.DataFrame | Path],
 ) -> pd.DataFrame | Path:
     """:func:`sweep` of several robots: one job each, side by side under a ``robot`` key."""
-    velocity = options.capacity == "velocity"  # its limits came in the torque slots
-    names = ("qd_max", "qd_min") if velocity else ("tau_max", "tau_min")
+    names = capacity_class(options.capacity).limit_keywords  # (given in the torque slots)
     for name, value in zip(names, (tau_max, tau_min), strict=True):
         if value is not None:
             raise InputError(

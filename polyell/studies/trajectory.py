@@ -45,11 +45,10 @@ from typing import IO, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polyell.capacities import joint_limits_of
+from polyell.capacities import capacity_class, joint_limits_of
 from polyell.errors import InputError
 from polyell.studies.along import limits_along
 from polyell.studies.configurations import ConfigurationSet
-from polyell.validation import source_limits
 
 __all__ = [
     "MAX_JOINT_VALUE",
@@ -678,12 +677,13 @@ def tangent_limits(
     tau_min: Any = None,
     *,
     capacity: str = "acceleration",
+    qd_max: Any = None,
+    qd_min: Any = None,
 ) -> dict[str, NDArray[np.float64]]:
     """What a capacity allows along the path's tangent ``J q̇ / |J q̇|``, per sample.
 
     Accelerations by default: the velocity capacity gives the end-effector speeds along
-    the path the joint velocity limits allow (the robot's own), the force capacity the
-    forces along it.
+    the path the joint velocity limits allow, the force capacity the forces along it.
 
     Computed in blocks of :data:`TANGENT_BLOCK` samples (memory independent of the
     path's length, besides the returned columns).
@@ -698,6 +698,8 @@ def tangent_limits(
         Torque limits (of accelerations and forces); default the robot's own.
     capacity : {"acceleration", "velocity", "force"}, optional
         As in :func:`polyell.limits_along`.
+    qd_max, qd_min : array-like, optional
+        Joint velocity limits [rad/s] of the velocity capacity; default the robot's own.
 
     Returns
     -------
@@ -715,12 +717,13 @@ def tangent_limits(
     scale = float(np.max(np.abs(trajectory.qd))) if trajectory.qd.size else 0.0
     K = len(trajectory)
     columns: dict[str, NDArray[np.float64]] = {}
-    given = joint_limits_of(capacity, tau_max, tau_min, None, None)  # velocities: the robot's
+    cls = capacity_class(capacity)
+    given = joint_limits_of(cls.capacity, tau_max, tau_min, qd_max, qd_min)
     upper = lower = None
     for start, stop in _blocks(K, TANGENT_BLOCK):
         dyn = source.dynamics(trajectory.q[start:stop])
         if upper is None:
-            upper, lower = source_limits(capacity, source, *given, dyn.n)
+            upper, lower = cls.source_limits(source, *given, dyn.n)
         qd = trajectory.qd[start:stop] / scale if scale > 0 else trajectory.qd[start:stop]
         velocity = np.einsum("kmn,kn->km", dyn.J, qd)
         speed = np.linalg.norm(velocity, axis=1)
@@ -728,10 +731,7 @@ def tangent_limits(
         moving = (speed > TANGENT_RTOL * size) if scale > 0 else np.zeros(len(speed), bool)
         T = np.where(moving[:, None], velocity / np.where(moving, speed, 1.0)[:, None], 0.0)
         T[~moving, 0] = 1.0  # a placeholder direction; its rows are NaN below
-        if capacity == "velocity":
-            limits = limits_along(dyn, None, T, capacity=capacity, qd_max=upper, qd_min=lower)
-        else:
-            limits = limits_along(dyn, None, T, upper, lower, capacity=capacity)
+        limits = limits_along(dyn, None, T, capacity=capacity, **cls.limit_arguments(upper, lower))
         for name, (lo, hi) in limits.items():
             for end, values in ((f"tangent_{name}_lo", lo), (f"tangent_{name}_hi", hi)):
                 if end not in columns:
