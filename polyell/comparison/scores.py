@@ -8,7 +8,7 @@ scales, coverage and overreach (exact inside or around the set, exact where the 
 beyond the facets are disjoint, :func:`~polyell.comparison.metrics.cap_share`, else
 the same quasi-Monte-Carlo estimate as :func:`~polyell.comparison.metrics.overlap`),
 volume ratios to the MVIE and the outer ellipsoid, directional statistics
-(:func:`~polyell.studies.directional.direction_scores`) and witnesses.
+(:func:`~polyell.comparison.directional.direction_scores`) and witnesses.
 """
 
 from __future__ import annotations
@@ -18,10 +18,10 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from polyell.comparison.directional import direction_scores
 from polyell.comparison.metrics import INSIDE_RTOL, _count_inside, cap_share, estimate, scale_rtol
 from polyell.geometry.ellipsoid import unit_ball_volume
 from polyell.geometry.limits import facet_slack, rounding_floor
-from polyell.studies.directional import direction_scores
 
 __all__ = ["EllipsoidBatch", "SetBatch", "polytope_columns", "score_ellipsoids"]
 
@@ -133,7 +133,7 @@ def score_ellipsoids(
     directions: Array,
     samples: int,
     seed: int,
-) -> dict[str, Array]:
+) -> tuple[dict[str, Array], NDArray[np.bool_]]:
     """The ``<kind>_<score>`` columns of every ellipsoid (``Comparison.to_row``).
 
     Parameters
@@ -151,9 +151,13 @@ def score_ellipsoids(
 
     Returns
     -------
-    dict of str to ndarray (K,)
+    columns : dict of str to ndarray (K,)
+    undecided : ndarray of bool, shape (K,)
+        Rows with an ellipsoid that is not inside the set where the vertices are not
+        enumerated: whether it lies around the set (exact shares) is not known here.
     """
     K, _, m = sets.normals.shape
+    undecided = np.zeros(K, dtype=bool)
     normals, _ = sets.one_sided()
     from_center = sets.offsets
     unit_ball = unit_ball_volume(m)
@@ -182,8 +186,12 @@ def score_ellipsoids(
         rtol = np.maximum(
             INSIDE_RTOL, scale_rtol(extent, np.min(semi, axis=-1), m, sets.rtol_terms)
         )
+        inside = (scale >= 1.0 - rtol) | ~defined  # (undefined: no estimate)
+        if sets.vertices is None:
+            undecided |= ~inside
+            inside |= undecided
         shares = _shares(
-            (scale >= 1.0 - rtol) | ~defined,  # (undefined: no estimate)
+            inside,
             enclosing <= 1.0 + rtol,
             volume / sets.volume,
             (E.axes, semi, normals, slacks, sets.facet),
@@ -229,7 +237,7 @@ def score_ellipsoids(
             for name, values in record.items():
                 values[missing] = 0.0 if name in _COUNTS else np.nan
         rows |= {f"{kind}_{name}": values for name, values in record.items()}
-    return rows
+    return rows, undecided
 
 
 def _shares(

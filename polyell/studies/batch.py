@@ -8,9 +8,10 @@ F = L^-1 B J^+), the MVIE, the outer ellipsoid and user-defined candidates
 (rays against facets, eq. 24), the directional statistics and the exact torque witnesses.
 Both definitions always lie inside the polytope (E_yoshikawa within E_chiacchio within P)
 and the outer ellipsoid around it, so coverage and overreach are exact.  Configurations
-this path does not cover -- a rank below m (singular), vertices not in general position
-(when they are needed), an ellipsoid neither inside nor around P to rounding -- are
-returned as a mask for the scalar path, so every row equals
+this path does not cover -- a rank below m (singular), vertices (when they are needed)
+not in general position for m > 3 or decided too near a tolerance
+(:func:`~polyell.studies.block_sets.vertex_signs`), an ellipsoid neither inside nor around
+P to rounding -- are returned as a mask for the scalar path, so every row equals
 ``compare(analyze(...)).to_row()``.
 """
 
@@ -27,9 +28,13 @@ from numpy.typing import NDArray
 from polyell.capacities import check_capacity
 from polyell.comparison.candidates import Candidate
 from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES, compared_kinds
-from polyell.comparison.metrics import INSIDE_RTOL, scale_rtol
-from polyell.geometry.ellipsoid import unit_ball_volume
-from polyell.geometry.limits import facet_slack, rounding_floor
+from polyell.comparison.scores import (
+    EllipsoidBatch,
+    SetBatch,
+    polytope_columns,
+    score_ellipsoids,
+)
+from polyell.geometry.limits import facet_slack
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.geometry.zonotope import cross, subsets
 from polyell.inverse import classic_terms
@@ -41,7 +46,6 @@ from polyell.studies.block_sets import (
     vertex_count,
     vertex_signs,
 )
-from polyell.studies.directional import direction_scores
 from polyell.validation import check_magnitudes
 
 __all__ = ["BatchOptions", "BlockSets", "batch_rows", "block_sets", "score_columns"]
@@ -276,8 +280,8 @@ def block_sets(
         The sets of the rows this path covers (None if it covers none).
     scalar : ndarray of bool, shape (K,)
         Rows to compute by the scalar path: a rank below m or within :data:`RANK_BAND` of
-        the threshold, more rows than joints, vertices not in general position (when they
-        are needed).
+        the threshold, more rows than joints, vertices :func:`vertex_signs` does not
+        enumerate (when they are needed).
     """
     K, m, n = J.shape
     # Inputs near 1e308 may overflow here; check_magnitudes refuses the inf and NaN that
@@ -303,7 +307,7 @@ def block_sets(
     with np.errstate(divide="ignore", invalid="ignore"):  # rows sent to the scalar path
         block = facets(U, s, Vt)
     signs = None
-    if options.vertices:  # rows not in general position: the scalar path enumerates
+    if options.vertices:  # rows vertex_signs leaves: the scalar path enumerates
         signs, generic = vertex_signs(Vt, block.whitened)
         scalar |= ~generic
     ok = ~scalar
@@ -380,88 +384,41 @@ def _block_rows(
     sets, scalar = block_sets(J, B, g, xdd_bias, tau_max, tau_min, options)
     if sets is None:
         return columns, scalar
-    M, xg, normals, h, size_p = sets.M, sets.xg, sets.normals, sets.offsets, sets.size
-    ellipsoids, volume_p = sets.ellipsoids, sets.volume
-    vertices = None if sets.signs is None else sets.signs @ np.swapaxes(M, 1, 2)  # about xg
-    # Polytope.limits: the slack of facet_slack, reach |x| + |xg| + size.
-    reach = np.linalg.norm(xg, axis=-1) + size_p
-    limits_slack = facet_slack(h, 2.0 * reach[:, None], m + n + 2)
-    limits_floor = rounding_floor(2.0 * reach[:, None], m + n + 2)
-
-    unit_ball = unit_ball_volume(m)
-    optimum = {
-        kind: unit_ball * np.prod(ellipsoids[kind][1], axis=-1) if kind in ellipsoids else None
-        for kind in ("mvie", "outer")
-    }
-    rows: dict[str, Array] = {
-        "polytope_dim": np.full(len(M), float(m)),
-        "polytope_volume": volume_p,
-        # Isotropic radii: the facet pair +-a (offset h about xg) is at h - |a.xg| from 0.
-        "polytope_ball_radius": np.min(h, axis=-1),
-        "polytope_origin_radius": sets.origin_radius,
-    }
-    exact = np.ones(len(M), dtype=bool)
-    scored: list[tuple[Array, Array, Array]] = []
-    records: list[tuple[str, dict[str, Array], NDArray[np.bool_]]] = []
-    for kind, (axes, semi, witness, center) in ellipsoids.items():
-        defined = np.asarray(~np.isnan(semi).any(axis=-1), dtype=bool)
-        semi = np.where(defined[:, None], semi, 1.0)  # undefined rows: NaN scores below
-        shift = np.zeros_like(xg) if center is None else center - xg
-        # A facet pair +-a with offset h about xg leaves h -+ a.shift on either side.
-        reach = np.linalg.norm((normals @ axes) * semi[:, None, :], axis=-1)
-        with np.errstate(divide="ignore"):
-            scale = np.min((h - np.abs(np.einsum("kcm,km->kc", normals, shift))) / reach, axis=-1)
-        enclosing = np.full(len(M), np.nan)
-        if vertices is not None:
-            local = np.stack([vertices - shift[:, None, :], -vertices - shift[:, None, :]])
-            enclosing = np.max(
-                np.linalg.norm((local @ axes) / semi[:, None, :], axis=-1), axis=(0, 2)
-            )
-        volume = unit_ball * np.prod(semi, axis=-1)
-        # metrics.inside_rtol, per row: extent max(|xg|, |c|, sum of generator lengths).
-        extent = np.maximum(
-            np.maximum(np.linalg.norm(xg, axis=-1), np.linalg.norm(xg + shift, axis=-1)),
-            size_p,
-        )
-        rtol = np.maximum(INSIDE_RTOL, scale_rtol(extent, np.min(semi, axis=-1), m, n))
-        inside = scale >= 1.0 - rtol
-        around = ~inside & (enclosing <= 1.0 + rtol)
-        exact &= inside | around | ~defined
-        scored.append((xg + shift, axes, semi))
-        record = {
-            f"{kind}_dimension": np.full(len(M), float(m)),
-            f"{kind}_volume": volume,
-            f"{kind}_inscribed_scale": scale,
-            f"{kind}_enclosing_scale": enclosing,
-            f"{kind}_coverage": np.where(around, 1.0, volume / volume_p),
-            f"{kind}_coverage_stderr": np.zeros(len(M)),
-            f"{kind}_overreach": np.where(around, 1.0 - volume_p / volume, 0.0),
-            f"{kind}_overreach_stderr": np.zeros(len(M)),
-            f"{kind}_witness_torque_max": witness,
-        }
-        for name, volumes in optimum.items():
-            record[f"{kind}_{name}_ratio"] = (
-                np.full(len(M), np.nan) if volumes is None else volume / volumes
-            )
-        records.append((kind, record, defined))
-    midpoints = np.einsum("kcm,km->kc", normals, xg)
-    statistics = direction_scores(
-        normals, h, midpoints, limits_slack, limits_floor, scored, directions
+    M, xg, normals, h = sets.M, sets.xg, sets.normals, sets.offsets
+    vertices = None
+    if sets.signs is not None:  # about xg, one of each +-pair
+        half = sets.signs @ np.swapaxes(M, 1, 2)
+        vertices = np.concatenate([xg[:, None, :] + half, xg[:, None, :] - half], axis=1)
+    zonotopes = SetBatch(
+        center=xg,
+        normals=normals,
+        widths=h,
+        midpoints=np.einsum("kcm,km->kc", normals, xg),
+        offsets=np.concatenate([h, h], axis=1),
+        facet=np.ones((len(M), 2 * h.shape[1]), dtype=bool),
+        vertices=vertices,
+        is_vertex=None if vertices is None else np.ones(vertices.shape[:2], dtype=bool),
+        volume=sets.volume,
+        size=sets.size,
+        terms=m + n + 2,  # Polytope's facet terms
+        rtol_terms=n,
     )
-    for (kind, record, defined), stats in zip(records, statistics, strict=True):
-        record |= {f"{kind}_{key}": value for key, value in stats.items()}
-        if not defined.all():  # an MVIE not certified: undefined, as in compare
-            undefined = {"feasibility_mismatch": 0.0, "directions_used": 0.0}
-            for name, values in record.items():  # (every ratio to it is NaN there already)
-                values[~defined] = undefined.get(name[len(kind) + 1 :], np.nan)
-        rows |= record
+    ellipsoids = {
+        kind: EllipsoidBatch(xg if center is None else center, axes, semi, witness)
+        for kind, (axes, semi, witness, center) in sets.ellipsoids.items()
+    }
+    scores, undecided = score_ellipsoids(
+        zonotopes, ellipsoids, directions, options.samples, options.seed
+    )
+    rows = polytope_columns(zonotopes) | scores
     indices = sets.rows
     for name, values in rows.items():
         columns[name][indices] = values
-    scalar[indices[~exact]] = True  # neither inside nor around P to rounding: exact path
+    # an ellipsoid not inside P where its vertices are not enumerated: the exact path
+    scalar[indices[undecided]] = True
     for name in columns:
-        if name not in ("polytope_dim",):
-            columns[name][indices[~exact]] = np.nan
+        if name != "polytope_dim":
+            columns[name][indices[undecided]] = np.nan
     return columns, scalar
 
 

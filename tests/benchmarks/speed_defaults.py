@@ -26,8 +26,9 @@ import numpy as np
 from run_benchmarks import summary, timed_alternately
 
 import polyell as pe
+from polyell.comparison import directional
 from polyell.geometry.directions import default_direction_count, sphere_directions
-from polyell.studies import batch, directional
+from polyell.studies import batch
 
 __all__ = ["SECTIONS"]
 

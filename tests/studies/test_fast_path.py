@@ -21,8 +21,8 @@ import numpy as np
 import pytest
 
 import polyell as pe
+from polyell.comparison.directional import polytope_far_ends
 from polyell.geometry.directions import default_direction_count, sphere_directions
-from polyell.studies.directional import polytope_far_ends
 from reference import random_spd
 
 TOL = 1e-12
