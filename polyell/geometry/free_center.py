@@ -29,9 +29,15 @@ from numpy.typing import ArrayLike, NDArray
 from polyell.errors import SolverError, UndefinedEllipsoidError
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope
-from polyell.geometry.logdet import centred_mvee
+from polyell.geometry.logdet import centred_mvee_batch
 
-__all__ = ["FreeCenterBatch", "free_center_mvee", "free_center_mvie", "free_center_mvie_batch"]
+__all__ = [
+    "FreeCenterBatch",
+    "free_center_mvee",
+    "free_center_mvee_batch",
+    "free_center_mvie",
+    "free_center_mvie_batch",
+]
 
 
 def _frame(P: HPolytope, what: str) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -254,8 +260,10 @@ def free_center_mvie(P: HPolytope, *, gap: float = MVIE_GAP) -> Ellipsoid:
     return Ellipsoid(center + F @ y0, W, s, kind="mvie")
 
 
-def free_center_mvee(P: HPolytope) -> Ellipsoid:
+def free_center_mvee(P: HPolytope, *, gap: float = MVIE_GAP) -> Ellipsoid:
     """The minimum-volume ellipsoid around a bounded H-polytope (its vertices), in its hull.
+
+    :func:`free_center_mvee_batch` for one problem, in the whitened frame of the hull.
 
     Raises
     ------
@@ -269,18 +277,68 @@ def free_center_mvee(P: HPolytope) -> Ellipsoid:
         return _point(P, "outer")
     center, F = _frame(P, "minimum-volume enclosing ellipsoid")
     y = np.linalg.lstsq(F, (P.vertices - center).T, rcond=None)[0].T  # (V, r), round
-    lifted = np.hstack([y, np.ones((len(y), 1))])
-    H = centred_mvee(lifted).shape  # {z : z^T H z <= 1} around +-(y_i, 1)
-    H11, h12, h22 = H[:r, :r], H[:r, r], H[r, r]
-    y0 = -np.linalg.solve(H11, h12)
-    level = 1.0 - h22 + float(h12 @ -y0)  # (y - y0)^T H11 (y - y0) <= level
-    if not level > 0:
-        raise SolverError("minimum-volume enclosing ellipsoid: a degenerate lifted solution.")
-    eigenvalues, eigenvectors = np.linalg.eigh(H11 / level)
-    offsets = (y - y0) @ eigenvectors
-    grow = max(1.0, float(np.sqrt(np.max((offsets**2) @ eigenvalues))))  # through a vertex
-    W, s, _ = np.linalg.svd(F @ (eigenvectors * (grow / np.sqrt(eigenvalues))), full_matrices=False)
-    return Ellipsoid(center + F @ y0, W, s, kind="outer")
+    result = free_center_mvee_batch(y[None], np.ones((1, len(y)), dtype=bool), gap=gap)
+    if not result.converged[0]:
+        raise SolverError(
+            f"minimum-volume enclosing ellipsoid: certified optimality gap "
+            f"{result.gaps[0]:.3g} after {result.iterations[0]} iterations (target "
+            f"{gap:.3g}) on {len(y)} vertices in R^{r}."
+        )
+    W, s, _ = np.linalg.svd(F @ result.shapes[0], full_matrices=False)
+    return Ellipsoid(center + F @ result.centers[0], W, s, kind="outer")
+
+
+def free_center_mvee_batch(
+    points: NDArray[np.float64],
+    present: NDArray[np.bool_],
+    *,
+    gap: float = MVIE_GAP,
+) -> FreeCenterBatch:
+    """The minimum-volume ellipsoids around K point sets, their centres free, batched.
+
+    Each is the section at ``t = 1`` of the centred one around the lifted points
+    ``+-(v_i, 1)`` (Todd, *Minimum-Volume Ellipsoids*, 2016, section 2.3), solved by
+    :func:`~polyell.geometry.logdet.centred_mvee_batch` with its certified gap, then grown
+    to pass through the farthest point (so that it encloses them to rounding).
+
+    Parameters
+    ----------
+    points : ndarray, shape (K, V, r)
+        The point sets, best of size about 1 about the origin (padded).
+    present : ndarray of bool, shape (K, V)
+        The points of each set (the others are ignored).
+    gap : float, optional
+        Target certified gap in ``log det``.
+
+    Returns
+    -------
+    FreeCenterBatch
+        Centres, shapes C (``{d + C u : |u| <= 1}``), gaps; a set whose solution is not
+        certified or degenerate has ``converged`` False (and NaN shapes).
+    """
+    r = points.shape[-1]
+    lifted = np.where(
+        present[..., None], np.concatenate([points, np.ones((*present.shape, 1))], -1), 0.0
+    )
+    H, gaps, iterations = centred_mvee_batch(lifted, gap=gap)
+    H11, h12, h22 = H[:, :r, :r], H[:, :r, r], H[:, r, r]
+    converged = gaps <= gap
+    H11 = np.where(converged[:, None, None], H11, np.eye(r))
+    h12, h22 = np.where(converged[:, None], h12, 0.0), np.where(converged, h22, 0.0)
+    centers = -np.linalg.solve(H11, h12[..., None])[..., 0]
+    level = 1.0 - h22 - np.einsum("ki,ki->k", h12, centers)  # (y - y0)^T H11 (y - y0) <= level
+    converged &= level > 0
+    eigenvalues, eigenvectors = np.linalg.eigh(H11 / np.where(converged, level, 1.0)[:, None, None])
+    converged &= np.all(eigenvalues > 0, axis=-1)
+    eigenvalues = np.where(converged[:, None], eigenvalues, 1.0)
+    offsets = (points - centers[:, None, :]) @ eigenvectors
+    reach = np.max(np.where(present, ((offsets**2) @ eigenvalues[..., None])[..., 0], 0.0), axis=1)
+    grow = np.maximum(1.0, np.sqrt(reach))  # through the farthest point
+    shapes = (eigenvectors * (grow[:, None] / np.sqrt(eigenvalues))[:, None, :]) @ np.swapaxes(
+        eigenvectors, 1, 2
+    )
+    shapes = np.where(converged[:, None, None], shapes, np.nan)
+    return FreeCenterBatch(centers, shapes, gaps, iterations, converged)
 
 
 class _State(NamedTuple):

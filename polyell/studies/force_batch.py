@@ -11,7 +11,7 @@ algebra, in the whitened coordinates of :class:`~polyell.capacities.force.ForceA
   polytopes (J. Lawrence, "Polytope volume computation", Math. Comp. 57, 1991), evaluated
   for three directions, of which the two that cancel least must agree;
 * the three ellipsoids (``chiacchio``, ``yoshikawa``, ``static``), their scales, volume
-  shares, directional statistics (:func:`~polyell.studies.directional.direction_scores`)
+  shares, directional statistics (:func:`~polyell.comparison.directional.direction_scores`)
   and torque witnesses, by the closed forms of the scalar path; an ellipsoid neither inside
   nor around the set has its exact share where its caps beyond the facets are disjoint
   (:func:`~polyell.comparison.metrics.cap_share`), else the same quasi-Monte-Carlo
@@ -49,6 +49,11 @@ from polyell.comparison.scores import (
     score_ellipsoids,
 )
 from polyell.geometry.ellipsoid import canonical_axes
+from polyell.geometry.free_center import (
+    FreeCenterBatch,
+    free_center_mvee_batch,
+    free_center_mvie_batch,
+)
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.geometry.zonotope import subsets
 from polyell.models.dynamics import Dynamics
@@ -110,7 +115,7 @@ def force_rows(
         columns[f"{kind}_directions_used"][:] = 0.0
     scalar = np.ones(K, dtype=bool)
     several = math.comb(n, m) * 2**m if m <= n else 0
-    if options.mvie or options.outer or options.candidates or not 2 <= m <= n:
+    if options.candidates or not 2 <= m <= n:
         return columns, scalar
     if several > MAX_CANDIDATES:
         return columns, scalar
@@ -190,9 +195,19 @@ def _block_rows(
         rtol_terms=2,
     )
     ellipsoids = _ellipsoids(J, g, tau_center, half, U, s, h0, margin, A, c_perp)
+    # The optimal ellipsoids, solved in the whitened coordinates z = S U^T (h - h0)
+    to_force = (h0, U / s[:, None, :], A, c_perp)
+    if options.mvie:
+        V = np.swapaxes(Vt, 1, 2) * used[..., None]
+        rows_z = np.concatenate([V, -V], axis=1)
+        bounds = np.concatenate([1.0 - c_perp, 1.0 + c_perp], axis=1)
+        mvie = free_center_mvie_batch(rows_z, bounds, facet)
+        ellipsoids["mvie"] = _mapped(mvie, *to_force)
+    if options.outer:
+        ellipsoids["outer"] = _mapped(free_center_mvee_batch(z, is_vertex), *to_force)
     rows = polytope_columns(sets)
-    rows |= score_ellipsoids(sets, ellipsoids, directions, options.samples, options.seed)
-    return keep, rows
+    scores, _ = score_ellipsoids(sets, ellipsoids, directions, options.samples, options.seed)
+    return keep, rows | scores  # (the vertices are known: every share is decided)
 
 
 class _Vertices(NamedTuple):
@@ -407,11 +422,34 @@ def _ellipsoids(
         "yoshikawa": (classic_center, classic_axes, classic_semi),
         "static": (np.zeros_like(h0), U, 1.0 / s),
     }
-    ellipsoids = {}
-    for kind, (center, axes, semi) in sets.items():
-        axes, semi = canonical_axes(axes, semi)
-        at_center = np.einsum("knm,km->kn", A, center - h0) + c_perp
-        spread = np.linalg.norm((A @ axes) * semi[:, None, :], axis=-1)
-        witness = np.max(np.abs(at_center) + spread, axis=-1)
-        ellipsoids[kind] = EllipsoidBatch(center, axes, semi, witness)
-    return ellipsoids
+    return {
+        kind: _with_witness(center, *canonical_axes(axes, semi), h0, A, c_perp)
+        for kind, (center, axes, semi) in sets.items()
+    }
+
+
+def _with_witness(
+    center: Array, axes: Array, semi: Array, h0: Array, A: Array, c_perp: Array
+) -> EllipsoidBatch:
+    """An ellipsoid and its witness: ``tau_n = A (h - h0) + c_perp`` at its largest.
+
+    At the centre, plus its spread over the boundary.
+    """
+    at_center = np.einsum("knm,km->kn", A, center - h0) + c_perp
+    spread = np.linalg.norm((A @ axes) * semi[:, None, :], axis=-1)
+    return EllipsoidBatch(center, axes, semi, np.max(np.abs(at_center) + spread, axis=-1))
+
+
+def _mapped(
+    solution: FreeCenterBatch, h0: Array, to_force: Array, A: Array, c_perp: Array
+) -> EllipsoidBatch:
+    """An optimal ellipsoid ``{d + C u}`` of the whitened set, in forces ``h0 + T z``.
+
+    Not certified (``converged`` False): undefined, NaN semi-axes (as in ``compare``).
+    """
+    ok = solution.converged
+    center = h0 + np.einsum("kmr,kr->km", to_force, np.nan_to_num(solution.centers))
+    shapes = np.where(ok[:, None, None], solution.shapes, np.eye(h0.shape[1]))
+    axes, semi, _ = np.linalg.svd(to_force @ shapes)
+    E = _with_witness(center, *canonical_axes(axes, semi), h0, A, c_perp)
+    return E._replace(semi=np.where(ok[:, None], E.semi, np.nan))
