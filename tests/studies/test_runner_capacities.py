@@ -18,6 +18,7 @@ import pytest
 
 import polyell as pe
 from polyell.comparison.labels import set_label
+from polyell.geometry.free_center import MVIE_GAP
 from polyell.studies import load_study, run_study
 
 ARM = pe.robots.load("chiacchio2000")
@@ -80,7 +81,12 @@ def test_a_grid_study_writes_each_capacity_equal_to_compare(tmp_path):
             for kind in cmp.kinds:
                 for score in SCORES:
                     expected = getattr(cmp[kind], score)
-                    assert row[f"{kind}_{score}"] == pytest.approx(expected, rel=1e-12, abs=0)
+                    # an optimal volume is certified within MVIE_GAP of the optimum, in
+                    # either computation (a force set's are solved in other frames), its
+                    # shape to about the square root of that
+                    rtol = 2 * MVIE_GAP if score == "mvie_ratio" else 1e-12
+                    rtol = 2 * np.sqrt(2 * MVIE_GAP) if kind in ("mvie", "outer") else rtol
+                    assert row[f"{kind}_{score}"] == pytest.approx(expected, rel=rtol, abs=0)
     # The datasets stay apart: one folder per capacity, each resumable on its own.
     assert (out / "results").is_dir() and (out / "results_force").is_dir()
     files = json.loads((out / "manifest.json").read_text())["files"]
