@@ -4,9 +4,9 @@ One implementation for every capacity: a capacity's batched set builder describe
 as :class:`SetBatch` (slabs ``|n . x - mu| <= w``, the one-sided rows that are facets, the
 vertices, the volume) and its ellipsoids as ``(centre, axes, semi-axes, witness)``; this
 module turns them into the columns of ``Comparison.to_row`` -- inscribed and enclosing
-scales, coverage and overreach (exact inside or around the set, exact where the caps
-beyond the facets are disjoint, :func:`~polyell.comparison.metrics.cap_share`, else
-the same quasi-Monte-Carlo estimate as :func:`~polyell.comparison.metrics.overlap`),
+scales, coverage and overreach (exact inside or around the set, else the union of the
+caps beyond the facets, :func:`~polyell.comparison.metrics.cap_union_share`, as
+:func:`~polyell.comparison.metrics.overlap` computes them),
 volume ratios to the MVIE and the outer ellipsoid, directional statistics
 (:func:`~polyell.comparison.directional.direction_scores`) and witnesses.
 """
@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polyell.comparison.directional import direction_scores
-from polyell.comparison.metrics import INSIDE_RTOL, _count_inside, cap_share, estimate, scale_rtol
+from polyell.comparison.metrics import INSIDE_RTOL, cap_union_share, scale_rtol
 from polyell.geometry.ellipsoid import unit_ball_volume
 from polyell.geometry.limits import facet_slack, rounding_floor
 
@@ -145,9 +145,9 @@ def score_ellipsoids(
     directions : ndarray, shape (k, m)
         Unit directions of the directional statistics.
     samples, seed : int
-        Quasi-Monte-Carlo points per replicate and their seed, as in
-        :func:`polyell.compare`, where an ellipsoid is neither inside nor around the set and
-        its caps meet.
+        The sampling budget and seed of :func:`~polyell.comparison.metrics.cap_union_share`,
+        as in :func:`polyell.compare`, where an ellipsoid is neither inside nor around the
+        set and its caps meet.
 
     Returns
     -------
@@ -169,7 +169,7 @@ def score_ellipsoids(
     records: list[dict[str, Array]] = []
     scored, undefined = [], []
     for E in ellipsoids.values():
-        defined = ~np.isnan(E.semi).any(axis=-1)
+        defined = np.asarray(~np.isnan(E.semi).any(axis=-1), dtype=bool)
         semi = np.where(defined[:, None], E.semi, 1.0)  # undefined rows: NaN below
         shift = E.center - sets.center
         reach = np.linalg.norm((normals @ E.axes) * semi[:, None, :], axis=-1)
@@ -250,29 +250,21 @@ def _shares(
 ) -> tuple[Array, Array, Array, Array]:
     """Coverage, overreach and their standard errors, as in ``metrics.overlap``.
 
-    Exact inside or around P or with disjoint caps
-    (:func:`~polyell.comparison.metrics.cap_share`), else the same quasi-Monte-Carlo counts
-    (8 replicates of ``samples`` points).
+    Exact inside or around P; else the share of E outside, the union of its caps beyond
+    the facets (:func:`~polyell.comparison.metrics.cap_union_share`: exact where no two
+    meet, else estimated with its standard error), all crossing rows at once.
     """
     coverage = np.where(inside, np.minimum(1.0, ratio), 1.0)
     overreach = np.where(inside, 0.0, np.maximum(0.0, 1.0 - 1.0 / ratio))
     coverage_err, overreach_err = np.zeros_like(ratio), np.zeros_like(ratio)
     axes, semi, normals, slacks, facet = sets
     crossing = ~inside & ~around
-    exact = np.full(len(ratio), np.nan)
     if crossing.any():
         reach_vectors = (normals[crossing] @ axes[crossing]) * semi[crossing][:, None, :]
-        exact[crossing] = cap_share(reach_vectors, np.where(facet, slacks, np.inf)[crossing])
-    known = crossing & ~np.isnan(exact)  # exact: the share outside
-    coverage = np.where(known, np.minimum(1.0, (1.0 - exact) * ratio), coverage)
-    overreach = np.where(known, exact, overreach)
-    replicates = 8
-    for k in np.flatnonzero(crossing & ~known):
-        counts = _count_inside(
-            axes[k], semi[k], normals[k][facet[k]], slacks[k][facet[k]], samples, replicates, seed
+        outside, stderr = cap_union_share(
+            reach_vectors, np.where(facet, slacks, np.inf)[crossing], samples=samples, seed=seed
         )
-        share, stderr = estimate(counts, samples)
-        coverage[k] = min(1.0, share * ratio[k])
-        overreach[k] = 1.0 - share
-        coverage_err[k], overreach_err[k] = stderr * ratio[k], stderr
+        coverage[crossing] = np.minimum(1.0, (1.0 - outside) * ratio[crossing])
+        overreach[crossing] = outside
+        coverage_err[crossing], overreach_err[crossing] = stderr * ratio[crossing], stderr
     return coverage, overreach, coverage_err, overreach_err

@@ -325,7 +325,7 @@ def free_center_mvee_batch(
     converged = gaps <= gap
     H11 = np.where(converged[:, None, None], H11, np.eye(r))
     h12, h22 = np.where(converged[:, None], h12, 0.0), np.where(converged, h22, 0.0)
-    centers = -np.linalg.solve(H11, h12[..., None])[..., 0]
+    centers = np.asarray(-np.linalg.solve(H11, h12[..., None])[..., 0], dtype=float)
     level = 1.0 - h22 - np.einsum("ki,ki->k", h12, centers)  # (y - y0)^T H11 (y - y0) <= level
     converged &= level > 0
     eigenvalues, eigenvectors = np.linalg.eigh(H11 / np.where(converged, level, 1.0)[:, None, None])

@@ -10,12 +10,10 @@ algebra, in the whitened coordinates of :class:`~polyell.capacities.force.ForceA
   facets (the rows tight at a vertex) and its volume by Lawrence's formula for simple
   polytopes (J. Lawrence, "Polytope volume computation", Math. Comp. 57, 1991), evaluated
   for three directions, of which the two that cancel least must agree;
-* the three ellipsoids (``chiacchio``, ``yoshikawa``, ``static``), their scales, volume
-  shares, directional statistics (:func:`~polyell.comparison.directional.direction_scores`)
-  and torque witnesses, by the closed forms of the scalar path; an ellipsoid neither inside
-  nor around the set has its exact share where its caps beyond the facets are disjoint
-  (:func:`~polyell.comparison.metrics.cap_share`), else the same quasi-Monte-Carlo
-  counts (:func:`~polyell.comparison.metrics._count_inside`).
+* the three ellipsoids (``chiacchio``, ``yoshikawa``, ``static``) with their torque
+  witnesses, and with ``mvie``, ``outer`` the optimal ones (solved together in the whitened
+  coordinates), scored by the one scorer of every capacity
+  (:func:`~polyell.comparison.scores.score_ellipsoids`).
 
 Rows this path does not cover are returned as a mask for the scalar path, so that every
 row equals ``compare(analyze(...)).to_row()`` to rounding: a rank of ``J`` below m (or
@@ -24,10 +22,9 @@ of gravity no force balances of normalized norm 1 or more (an empty ``chiacchio`
 ellipsoid; the set may be empty), vertices not in general position (another row within
 :data:`GENERAL_POSITION` of tight at a vertex), vertices the enumeration cannot certify
 complete (m nearly dependent rows, whose candidates it skips, may hide one: real robots
-have exactly dependent ones, and their sets stay here), two volume
-evaluations that differ by more than :data:`VOLUME_RTOL`; and every row of a sweep that
-asks for the MVIE, the outer ellipsoid or candidates, of a task of fewer than two rows, or
-with more than :data:`MAX_CANDIDATES` vertex candidates.
+have exactly dependent ones, and their sets stay here), two volume evaluations that
+differ by more than :data:`VOLUME_RTOL`; and every row of a sweep with candidates, of a
+task of fewer than two rows, or with more than :data:`MAX_CANDIDATES` vertex candidates.
 """
 
 from __future__ import annotations

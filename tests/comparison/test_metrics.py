@@ -12,7 +12,14 @@ import numpy as np
 import pytest
 
 import polyell as pe
-from polyell.comparison.metrics import _ball_points, _count_inside, _slacks, cap_share, overlap
+from polyell.comparison.metrics import (
+    _ball_points,
+    _count_inside,
+    _slacks,
+    cap_share,
+    cap_union_share,
+    overlap,
+)
 
 
 def all_tested(E: pe.Ellipsoid, A: np.ndarray, slack: np.ndarray, samples: int) -> np.ndarray:
@@ -168,10 +175,22 @@ def test_an_estimate_is_never_reported_as_exact():
     assert share == 1.0 and 0.0 < stderr < 1e-4
     share, stderr = estimate(np.zeros(8, dtype=np.int64), 2**13)
     assert share == 0.0 and 0.0 < stderr < 1e-4
-    # a thin set and a disc that reaches past it: coverage unknown to sampling, and said so
+    # A thin set and a disc that reaches past it.  Uniform points of the disc could not
+    # tell its coverage (1e-5 of them land in the set); the share outside is the union of
+    # the disc's caps, whose overlaps are known exactly here (the caps beyond the long
+    # sides nest: no sampled part), so it is exact.  Independently: in (x, Y = y / 1e-6)
+    # the set is the zonotope of (1, 0), (0, 1), (0.5, 1) (area 4 (1 + 1 + 0.5) = 10) and
+    # the disc the strip |x| <= 0.5 (to 4e-12); the strip holds the full height -2 <= Y <=
+    # 2 of the set, area 4: coverage 0.4.
     an = pe.analyze(
         pe.Kinematics([[1.0, 0.0, 0.5], [0.0, 1e-6, 1e-6]]), capacity="velocity", qd_max=np.ones(3)
     )
     disc = pe.Candidate("disc", core=np.eye(2) / 0.25, center=[0.0, 0.0])
     scores = pe.compare(an, mvie=False, outer=False, candidates=[disc])["disc"]
-    assert scores.overreach_stderr > 0.0 and scores.coverage_stderr > 0.1
+    assert scores.coverage == pytest.approx(0.4, rel=1e-9) and scores.coverage_stderr <= 1e-9
+    assert scores.overreach == pytest.approx(1.0 - 0.4 * 1e-5 / (np.pi / 4), rel=1e-12)
+    # where overlaps are sampled, a standard error (cap_union_share falls back on half a
+    # point when every replicate agrees)
+    W, t = np.eye(3), np.full(3, 0.2)
+    share, stderr = cap_union_share(W, t)
+    assert stderr > 0.0
