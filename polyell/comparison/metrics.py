@@ -181,71 +181,6 @@ class Overlap(NamedTuple):
     overreach_stderr: float
 
 
-def _uniform_in_ball(points: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Map points of (0, 1)^(r+1) to uniform points of the unit r-ball."""
-    from scipy.stats import norm  # here: scipy.stats takes half a second to import
-
-    r = points.shape[1] - 1
-    gaussian = norm.ppf(np.clip(points[:, :r], 1e-12, 1 - 1e-12))
-    directions = gaussian / np.linalg.norm(gaussian, axis=1, keepdims=True)
-    return directions * points[:, r:] ** (1.0 / r)
-
-
-def _ball_points(
-    r: int, samples: int, replicates: int, seed: int
-) -> tuple[NDArray[np.float64], ...]:
-    """The quasi-Monte-Carlo points of :func:`overlap`: uniform in the unit r-ball.
-
-    ``replicates`` independently scrambled Sobol' sets of ``samples`` points, the first
-    ``samples`` of a power-of-two draw (the size at which scipy's generator keeps its
-    balance and issues no warning), from ``seed``.  They depend on nothing else: a sweep
-    of many configurations draws them once (:func:`_sorted_ball_points` keeps them).
-    """
-    from scipy.stats import qmc
-
-    rng = np.random.default_rng(seed)
-    exponent = max(0, int(samples - 1).bit_length())
-    sets = []
-    for _ in range(replicates):
-        sobol = qmc.Sobol(d=r + 1, scramble=True, seed=rng)
-        ball = _uniform_in_ball(sobol.random_base2(exponent)[:samples])
-        ball.flags.writeable = False
-        sets.append(ball)
-    return tuple(sets)
-
-
-@lru_cache(maxsize=8)
-def _sorted_ball_points(
-    r: int, samples: int, replicates: int, seed: int
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]:
-    """Every replicate's points of :func:`_ball_points` together, sorted by radius.
-
-    Only how many points of each replicate fall inside P enters an estimate, not their
-    order: sorted, the points of the ball of radius t (all inside P when ``t E`` is) are a
-    prefix, and one product tests the rest of every replicate at once.
-
-    Returns
-    -------
-    points : ndarray, shape (replicates * samples, r)
-    radii : ndarray, shape (replicates * samples,)
-        Their norms, ascending.
-    replicate : ndarray of int, shape (replicates * samples,)
-        The replicate each point belongs to.
-    """
-    sets = _ball_points(r, samples, replicates, seed)
-    points = np.concatenate(sets)
-    radii = np.linalg.norm(points, axis=1)
-    order = np.argsort(radii, kind="stable")
-    replicate = np.repeat(np.arange(replicates), samples)[order]
-    points, radii = points[order], radii[order]
-    for array in (points, radii, replicate):
-        array.flags.writeable = False
-    return points, radii, replicate
-
-
-_sorted_ball_points = lru_cache(maxsize=8)(_sorted_ball_points)
-
-
 #: Two caps of E (its parts beyond two facets) count as disjoint when the nearest point
 #: beyond both facets lies this far beyond E's boundary, relatively: well above the
 #: rounding of the normalized offsets, so an exact share never rests on a near-touching pair.
@@ -423,8 +358,7 @@ def _cap_heights(points: int, replicates: int, seed: int) -> NDArray[np.float64]
     interval of length ``2 / points`` (the distribution of a scrambled one-dimensional
     Sobol' set, without importing scipy.stats: half a second), each with its mirror image
     in its interval (every point uniform, the pair exact for a linear integrand), from the
-    stream ``(seed, 1)`` of ``numpy.random.default_rng``: independent of the points of the
-    ball (:func:`_ball_points` draws from ``seed``).
+    stream ``(seed, 1)`` of ``numpy.random.default_rng``.
 
     Returns
     -------
@@ -798,52 +732,6 @@ def estimate(counts: NDArray[np.int64], samples: int) -> tuple[float, float]:
         p = (float(counts.sum()) + 0.5) / (total + 1.0)
         stderr = float(np.sqrt(p * (1.0 - p) / total))
     return float(shares.mean()), stderr
-
-
-def _count_inside(
-    axes: NDArray[np.float64],
-    semi_axes: NDArray[np.float64],
-    A: NDArray[np.float64],
-    slack: NDArray[np.float64],
-    samples: int,
-    replicates: int,
-    seed: int,
-) -> NDArray[np.int64]:
-    """How many quasi-Monte-Carlo points of each replicate, mapped into E, satisfy A x <= slack.
-
-    ``E`` is ``{c + U diag(s) u : |u| <= 1}`` with ``axes`` U (m, r) and ``semi_axes`` s
-    (r,); ``slack`` (F,) holds the facets' offsets about its centre c.
-
-    The same counts as testing every point against every facet (``x = U diag(s) u``,
-    ``all(x @ A.T <= slack)``), with the work only where the answer can be no: a facet
-    whose reach over E (``|diag(s) U^T a_i|``) stays below its slack by more than the
-    rounding of ``a_i . x`` (``ROUNDING_FACTOR (m + r + 2) eps s_max`` for unit normals)
-    holds for every point of E, and a point of radius at most ``t`` with ``t reach_i <=
-    slack_i`` minus that rounding for every facet (the scaled copy ``t E`` inside P) holds
-    for all.  The rest are tested as before.
-    """
-    rank = len(semi_axes)
-    reach = np.linalg.norm((A @ axes) * semi_axes, axis=1)
-    terms = A.shape[1] + rank + 2
-    rounding = ROUNDING_FACTOR * terms * float(np.finfo(float).eps) * float(np.max(semi_axes))
-    rounding *= max(1.0, float(np.linalg.norm(A, axis=1).max(initial=0.0)))
-    margin = slack - rounding
-    crossing = ~(reach < margin)  # NaN-safe: test a facet unless it surely holds
-    with np.errstate(divide="ignore", invalid="ignore"):
-        scales = np.where(reach > 0, margin / reach, np.where(margin >= 0, np.inf, -np.inf))
-    radius = float(np.min(scales, initial=np.inf)) * (1.0 - 1e-12)
-    points, radii, replicate = _sorted_ball_points(rank, samples, replicates, seed)
-    start = int(np.searchsorted(radii, radius, side="right")) if radius > 0 else 0
-    offsets = (points[start:] * semi_axes) @ axes.T  # about E's centre
-    # each facet only on the points beyond its own radius (the copy of E it holds)
-    holds = np.where(scales > 0.0, scales, 0.0) * (1.0 - 1e-12)  # NaN: test every point
-    firsts = np.searchsorted(radii, holds, side="right")
-    outside = np.zeros(len(offsets), dtype=bool)
-    for i in np.flatnonzero(crossing):
-        tail = outside[firsts[i] - start :]
-        tail |= offsets[firsts[i] - start :] @ A[i] > slack[i]
-    missed = np.bincount(replicate[start:][outside], minlength=replicates)
-    return samples - missed
 
 
 def overlap(

@@ -6,7 +6,8 @@ caps in closed form), the union's volume of a ball minus a wedge by integrating 
 directions (scipy), and plain Monte Carlo with 10^7 points in 4-D to 6-D and for the
 ellipsoids of a Panda arm's force capacity.  Each estimate agrees within 4 standard errors
 (combined with the reference's own) and its standard error is no larger than the one of
-the uniform quasi-Monte-Carlo estimate it replaces (``_count_inside``, 8 x 2^13 points).
+the uniform quasi-Monte-Carlo estimate it replaces (``reference.qmc_count_inside``, 8 x
+2^13 points).
 """
 
 from __future__ import annotations
@@ -18,19 +19,19 @@ import pytest
 
 import polyell as pe
 from polyell.comparison.metrics import (
-    _count_inside,
     _slacks,
     cap_share,
     cap_union_share,
     estimate,
     overlap,
 )
+from reference import qmc_count_inside
 
 
 def old_stderr(W: np.ndarray, t: np.ndarray) -> float:
     """Standard error of the uniform quasi-Monte-Carlo estimate for the unit ball's caps."""
     r = W.shape[1]
-    counts = _count_inside(np.eye(r), np.ones(r), W, t, 2**13, 8, 0)
+    counts = qmc_count_inside(np.eye(r), np.ones(r), W, t, 2**13, 8, 0)
     return estimate(counts, 2**13)[1]
 
 
@@ -383,7 +384,7 @@ def test_panda_force_ellipsoids_against_plain_monte_carlo(q, kind):
         scores.coverage_stderr, coverage_error
     )
     # no larger a standard error than the uniform estimate's
-    counts = _count_inside(E.axes, E.semi_axes, P.A, _slacks(E, P), 2**13, 8, 0)
+    counts = qmc_count_inside(E.axes, E.semi_axes, P.A, _slacks(E, P), 2**13, 8, 0)
     assert scores.overreach_stderr <= estimate(counts, 2**13)[1]
     # the same numbers as overlap itself, in a batch of one
     assert overlap(E, P).overreach == scores.overreach

@@ -1,8 +1,8 @@
-"""The quasi-Monte-Carlo counts of ``overlap``: pruned work, the same counts as testing all.
+"""The uniform quasi-Monte-Carlo counts (the reference of ``cap_union_share``'s tests).
 
-``_count_inside`` skips the facets no point of the ellipsoid can cross and the points of
-the largest scaled copy inside the polytope; each replicate's count must equal the count of
-testing every point against every facet, for the ellipsoids of every capacity (inside,
+``reference.qmc_count_inside`` skips the facets no point of the ellipsoid can cross and the
+points of the largest scaled copy inside the polytope; each replicate's count must equal the
+count of testing every point against every facet, for the ellipsoids of every capacity (inside,
 partly outside, touching, thin), in 2-D, 3-D and 6-D.
 """
 
@@ -13,19 +13,18 @@ import pytest
 
 import polyell as pe
 from polyell.comparison.metrics import (
-    _ball_points,
-    _count_inside,
     _slacks,
     cap_share,
     cap_union_share,
     overlap,
 )
+from reference import ball_points, qmc_count_inside
 
 
 def all_tested(E: pe.Ellipsoid, A: np.ndarray, slack: np.ndarray, samples: int) -> np.ndarray:
     """Every point against every facet (the estimate's definition)."""
     counts = []
-    for ball in _ball_points(E.rank, samples, 8, 0):
+    for ball in ball_points(E.rank, samples, 8, 0):
         offsets = (ball * E.semi_axes) @ E.axes.T
         counts.append(np.count_nonzero(np.all(offsets @ A.T <= slack, axis=1)))
     return np.array(counts)
@@ -61,7 +60,7 @@ def test_pruned_counts_equal_testing_every_point(samples):
                 continue
             for scaled in (E, pe.Ellipsoid(E.center, E.axes, 1.7 * E.semi_axes)):
                 slack = _slacks(scaled, P)
-                counts = _count_inside(scaled.axes, scaled.semi_axes, P.A, slack, samples, 8, 0)
+                counts = qmc_count_inside(scaled.axes, scaled.semi_axes, P.A, slack, samples, 8, 0)
                 expected = all_tested(scaled, P.A, slack, samples)
                 assert np.array_equal(counts, expected), (an.capacity, kind)
                 checked += 1
@@ -74,7 +73,7 @@ def test_touching_ellipsoid_counts_every_point():
     P = pe.HPolytope([[1, 0], [-1, 0], [0, 1], [0, -1]], [1, 1, 1, 1])
     E = pe.Ellipsoid([0.0, 0.0], np.eye(2), [1.0, 1.0])
     assert np.array_equal(
-        _count_inside(E.axes, E.semi_axes, P.A, _slacks(E, P), 256, 8, 0), [256] * 8
+        qmc_count_inside(E.axes, E.semi_axes, P.A, _slacks(E, P), 256, 8, 0), [256] * 8
     )
     # The circle of radius 1.2 crosses the sides (four caps outside) and not the corners:
     # the caps are disjoint, so the share is exact; the counts agree with it.
@@ -84,7 +83,7 @@ def test_touching_ellipsoid_counts_every_point():
     shares = overlap(big, P, samples=2**13)
     assert shares.overreach_stderr == 0.0
     assert shares.overreach == pytest.approx(caps / (np.pi * R**2), rel=1e-13)
-    counts = _count_inside(big.axes, big.semi_axes, P.A, _slacks(big, P), 2**13, 8, 0) / 2**13
+    counts = qmc_count_inside(big.axes, big.semi_axes, P.A, _slacks(big, P), 2**13, 8, 0) / 2**13
     stderr = counts.std(ddof=1) / np.sqrt(8)
     assert abs((1.0 - counts.mean()) - caps / (np.pi * R**2)) <= 5.0 * stderr
 
