@@ -42,8 +42,8 @@ if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
 
 __all__ = ["COMPARED_KINDS", "SCORE_NAMES", "Comparison", "Scores", "compare", "compared_kinds"]
 
-#: Quasi-Monte-Carlo points per replicate: at least 2 (a mean and a spread), at most 2^22
-#: (the replicate's points, (samples, r + 1) floats, then take at most 230 MB in 6-D).
+#: The sampling budget of a share estimate (``cap_union_share``): at least 2, at most 2^22
+#: (where three caps meet, ``samples`` directions of r floats per replicate and row).
 MIN_SAMPLES, MAX_SAMPLES = 2, 2**22
 #: Largest seed (numpy's generators take any non-negative integer; 2^63 - 1 fits every
 #: file format a study writes).
@@ -400,10 +400,10 @@ def compare(
         its default size is 360 in 2-D, 256 in 3-D, 2,000 above
         (:func:`~polyell.geometry.directions.default_direction_count`).
     samples : int, optional
-        Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the polytope and
-        two of its caps beyond the facets meet (else its coverage is exact:
-        :func:`~polyell.comparison.metrics.overlap`), from 2 to 2^22 (a power of two keeps
-        the Sobol' balance).
+        Sampling budget where an ellipsoid leaves the polytope and two of its caps beyond
+        the facets meet (else its coverage is exact): ``samples / 512`` heights per pair of
+        caps and replicate, ``samples`` directions where three caps meet
+        (:func:`~polyell.comparison.metrics.cap_union_share`), from 2 to 2^22.
     seed : int, optional
         Seed of those estimates, a non-negative integer.
     mvie : bool, optional

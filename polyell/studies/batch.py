@@ -89,9 +89,8 @@ class BatchOptions:
         an arm with ``B = I`` and no gravity (the same zonotope); forces take
         :func:`polyell.studies.force_batch.force_rows`.
     samples, seed : int
-        Quasi-Monte-Carlo points per replicate and their seed, as in
-        :func:`polyell.compare`: used by the rows that take the scalar path (an ellipsoid
-        neither inside nor around P is measured by Monte Carlo there).
+        The sampling budget and seed of a share estimate, as in :func:`polyell.compare`
+        (:func:`~polyell.comparison.metrics.cap_union_share`).
     """
 
     mvie: bool = False

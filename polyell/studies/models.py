@@ -1015,9 +1015,10 @@ capacities = ["acceleration", "force"]"""
     outer: bool = key(True, what="Compute the minimum-volume enclosing ellipsoid.", example="false")
     samples: Annotated[int, Integer(MIN_SAMPLES, MAX_SAMPLES)] = key(
         2**13,
-        what="Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the polytope "
-        "and its parts beyond two facets meet (else its coverage is exact), 2 to 4194304 "
-        "(2^22), in every kind of study.",
+        what="Sampling budget where an ellipsoid leaves the polytope and its parts beyond "
+        "two facets meet (else its coverage is exact): samples / 512 heights per pair of "
+        "caps and replicate (16 at the default), samples directions where three caps meet; "
+        "2 to 4194304 (2^22), in every kind of study.",
         example="4096",
     )
     seed: Annotated[int, Integer(0, MAX_SEED)] = key(

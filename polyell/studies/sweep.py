@@ -400,11 +400,11 @@ def sweep(
         (the same solver on the vertices) and every ``outer_ratio``.
     candidates : sequence of Candidate
         User-defined ellipsoids (:class:`polyell.Candidate`), scored like the built-in
-        ones under ``<name>_<score>``.  One that is neither inside nor around P at a
-        configuration takes the scalar path there (Monte Carlo coverage: slower).
+        ones under ``<name>_<score>``.  One that is not inside P where the vertices are not
+        enumerated takes the per-row path there (``per_row``).
     samples : int
-        Quasi-Monte-Carlo points per replicate where an ellipsoid leaves the polytope, as in
-        :func:`polyell.compare` (from 2 to 2^22; a power of two keeps the Sobol' balance).
+        Sampling budget where an ellipsoid leaves the polytope, as in
+        :func:`polyell.compare` (from 2 to 2^22).
     seed : int
         Seed of those estimates, a non-negative integer.
     rank_rtol : float
