@@ -11,7 +11,7 @@ per-row path (the ``per_row`` column).
 from __future__ import annotations
 
 import numpy as np
-from run_benchmarks import summary, timed_alternately
+from run_benchmarks import timed_alternately
 from speed_defaults import random_arms
 
 import polyell as pe
@@ -33,6 +33,12 @@ def _cases():
         yield name, robot, q, {}
     dyn, tau_max = random_arms(COUNT, 3, 7)
     yield "random 3x7 arms", dyn, None, {"tau_max": tau_max}
+
+
+def _rate(count: int, seconds: list[float]) -> str:
+    """Configurations per second: median (min – max) over the runs."""
+    rates = count / np.asarray(seconds)
+    return f"{np.median(rates):,.0f} ({rates.min():,.0f} – {rates.max():,.0f})"
 
 
 def _limits(capacity: str, limits: dict) -> dict:
@@ -83,7 +89,7 @@ def bench_robots(repeats: int) -> list[str]:
         for (capacity, optimal, _), seconds in zip(calls, times, strict=True):
             count = OPTIMAL_COUNT if optimal else COUNT
             per_row = int(frames[capacity, optimal]["per_row"].sum())
-            rates[capacity, optimal] = (summary([count / t for t in seconds]), per_row, count)
+            rates[capacity, optimal] = (_rate(count, seconds), per_row, count)
         for capacity in CAPACITIES:
             (fast, fast_rows, n1), (slow, slow_rows, n2) = (
                 rates[capacity, False],
