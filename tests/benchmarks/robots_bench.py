@@ -36,7 +36,7 @@ def _cases():
 
 
 def _rate(count: int, seconds: list[float]) -> str:
-    """Configurations per second: median (min – max) over the runs."""
+    """Configurations per second: median (min - max) over the runs."""
     rates = count / np.asarray(seconds)
     return f"{np.median(rates):,.0f} ({rates.min():,.0f} – {rates.max():,.0f})"
 
