@@ -23,8 +23,8 @@ ellipsoid; the set may be empty), vertices not in general position (another row 
 :data:`GENERAL_POSITION` of tight at a vertex), vertices the enumeration cannot certify
 complete (m nearly dependent rows, whose candidates it skips, may hide one: real robots
 have exactly dependent ones, and their sets stay here), two volume evaluations that
-differ by more than :data:`VOLUME_RTOL`; and every row of a sweep with candidates, of a
-task of fewer than two rows, or with more than :data:`MAX_CANDIDATES` vertex candidates.
+differ by more than :data:`VOLUME_RTOL`; and every row of a task of fewer than two rows, or
+with more than :data:`MAX_CANDIDATES` vertex candidates.
 """
 
 from __future__ import annotations
@@ -38,6 +38,7 @@ from numpy.typing import NDArray
 
 from polyell.capacities.base import centre_and_half_range
 from polyell.capacities.force import force_terms
+from polyell.comparison.candidates import Candidate
 from polyell.comparison.comparison import compared_kinds
 from polyell.comparison.scores import (
     EllipsoidBatch,
@@ -94,8 +95,9 @@ def force_rows(
     directions : ndarray, shape (k, m)
         Unit directions of the directional statistics.
     options : BatchOptions
-        ``samples``, ``seed`` and ``rank_rtol`` as in :func:`polyell.compare`; with
-        ``mvie``, ``outer`` or candidates every row takes the scalar path.
+        ``samples``, ``seed``, ``rank_rtol``, ``mvie``, ``outer`` and ``candidates`` as in
+        :func:`polyell.compare` (a candidate given by a torque weighting defines no force
+        ellipsoid: NaN).
 
     Returns
     -------
@@ -106,13 +108,13 @@ def force_rows(
         Rows to compute with ``compare(analyze(dyn[k], ..., capacity="force"))``.
     """
     K, m, n = dyn.J.shape
-    columns = {name: np.full(K, np.nan) for name in score_columns((), "force")}
-    for kind in compared_kinds("force"):
+    columns = {name: np.full(K, np.nan) for name in score_columns(options.candidates, "force")}
+    for kind in (*compared_kinds("force"), *(c.name for c in options.candidates)):
         columns[f"{kind}_feasibility_mismatch"][:] = 0.0
         columns[f"{kind}_directions_used"][:] = 0.0
     scalar = np.ones(K, dtype=bool)
     several = math.comb(n, m) * 2**m if m <= n else 0
-    if options.candidates or not 2 <= m <= n:
+    if not 2 <= m <= n:
         return columns, scalar
     if several > MAX_CANDIDATES:
         return columns, scalar
@@ -202,6 +204,8 @@ def _block_rows(
         ellipsoids["mvie"] = _mapped(mvie, *to_force)
     if options.outer:
         ellipsoids["outer"] = _mapped(free_center_mvee_batch(z, is_vertex), *to_force)
+    for candidate in options.candidates:
+        ellipsoids[candidate.name] = _candidate(candidate, h0, A, c_perp)
     rows = polytope_columns(sets)
     scores, _ = score_ellipsoids(sets, ellipsoids, directions, options.samples, options.seed)
     return keep, rows | scores  # (the vertices are known: every share is decided)
@@ -450,3 +454,20 @@ def _mapped(
     axes, semi, _ = np.linalg.svd(to_force @ shapes)
     E = _with_witness(center, *canonical_axes(axes, semi), h0, A, c_perp)
     return E._replace(semi=np.where(ok[:, None], E.semi, np.nan))
+
+
+def _candidate(candidate: Candidate, h0: Array, A: Array, c_perp: Array) -> EllipsoidBatch:
+    """A candidate ``{(h - c)^T N (h - c) <= 1}`` at every configuration (centre c or h0).
+
+    A weighting of normalized joint quantities defines no force ellipsoid: undefined (NaN
+    semi-axes), as ``compare`` reports it.
+    """
+    K, m = h0.shape
+    if candidate.core is None:
+        nan = np.full((K, m), np.nan)
+        return EllipsoidBatch(h0, np.broadcast_to(np.eye(m), (K, m, m)), nan, nan[:, 0])
+    eigenvalues, eigenvectors = np.linalg.eigh(candidate.core)
+    center = h0 if candidate.center is None else np.broadcast_to(candidate.center, (K, m))
+    axes = np.broadcast_to(eigenvectors, (K, m, m))
+    semi = np.broadcast_to(1.0 / np.sqrt(eigenvalues), (K, m))
+    return _with_witness(np.array(center), np.array(axes), np.array(semi), h0, A, c_perp)

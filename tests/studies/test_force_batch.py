@@ -239,3 +239,27 @@ def test_rows_at_the_rank_threshold_of_J_follow_the_analysis():
     assert an.rank == 2 and row["polytope_volume"] == np.inf
     assert swept["polytope_volume"][0] == np.inf
     assert swept["polytope_ball_radius"][0] == row["polytope_ball_radius"]
+
+
+def test_candidates_are_scored_in_the_batch_as_compare_scores_them():
+    # A core and centre (inside, crossing or around the set), the set's own centre, and a
+    # torque weighting (no force ellipsoid: undefined, NaN, as compare reports it); the
+    # force sweep raised a KeyError with any candidate before.
+    J, g, upper, lower = arms(71, 8, 3, 7, 0.05)
+    candidates = (
+        pe.Candidate("round", core=np.eye(3) / 0.3**2),  # the sets are about 0.3 across
+        pe.Candidate("off", core=np.diag([25.0, 100.0, 4.0]), center=[0.05, -0.02, 0.01]),
+        pe.Candidate("weighted", weighting=np.eye(7)),
+    )
+    T = sphere_directions(16, 3)
+    options = BatchOptions(capacity="force", candidates=candidates, samples=256)
+    columns, scalar = force_rows(dynamics(J, g), upper, lower, T, options)
+    assert not scalar.any()
+    assert np.isnan(columns["weighted_coverage"]).all()
+    crossing = 0
+    for k in range(len(J)):
+        analysis = pe.analyze(pe.Dynamics(J[k], np.eye(7), g[k]), upper, lower, capacity="force")
+        row = pe.compare(analysis, T, samples=256, mvie=False, outer=False, candidates=candidates)
+        crossing += row["round"].coverage_stderr > 0
+        assert_row(columns, k, row.to_row())
+    assert crossing > 0  # some are estimated (caps that meet), not only exact
