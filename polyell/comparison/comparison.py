@@ -213,7 +213,7 @@ class Comparison:
             return np.nan
         try:
             return self.ellipsoid(kind).volume
-        except SolverError:
+        except (SolverError, UndefinedEllipsoidError):  # none here: no ratio to it
             return np.nan
 
     def _score(self, kind: str) -> Scores:

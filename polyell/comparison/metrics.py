@@ -827,6 +827,10 @@ def relative_error(
 ) -> NDArray[np.float64]:
     """``(e - p) / |p|`` of directional limits, elementwise; NaN where either is NaN or p = 0.
 
+    Where the polytope's limit is infinite (an unbounded set, along a ray) and the
+    ellipsoid's finite, the limit of that ratio, ``-sign(p)``: -1 for an upper limit (the
+    ellipsoid states none of it).
+
     Parameters
     ----------
     ellipsoid, polytope : ndarray, shape (k,)
@@ -842,7 +846,10 @@ def relative_error(
     e, p = np.asarray(ellipsoid, dtype=float), np.asarray(polytope, dtype=float)
     used = ~np.isnan(e) & ~np.isnan(p) & (p != 0)
     error = np.full(np.broadcast_shapes(e.shape, p.shape), np.nan)
-    error[used] = (e[used] - p[used]) / np.abs(p[used])
+    infinite = used & np.isinf(p) & np.isfinite(e)
+    finite = used & np.isfinite(p)
+    error[finite] = (e[finite] - p[finite]) / np.abs(p[finite])
+    error[infinite] = -np.sign(p[infinite])
     return error
 
 

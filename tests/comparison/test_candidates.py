@@ -223,3 +223,23 @@ def test_a_core_singular_in_double_precision_is_refused_without_a_warning(entry)
         warnings.simplefilter("error")
         with pytest.raises(pe.InputError, match=r"c\.core"):
             pe.compare(an, 10, mvie=False, outer=False, candidates=[candidate])
+
+
+def test_a_core_candidate_at_an_unbounded_force_set(recwarn):
+    # The paper's arm stretched (q2 = q3 = 0): the force set is unbounded along the arm.
+    # The candidate is scored (no MVIE to compare with: its ratio is NaN, not an error that
+    # stopped a study), and along the unbounded directions it states none of the set: a
+    # relative error of -1 (the limit of (e - p) / |p|), without a RuntimeWarning.
+    arm = pe.robots.load("chiacchio2000")
+    analysis = pe.analyze(arm.dynamics([np.pi / 2, 0.0, 0.0]), arm.tau_max, capacity="force")
+    assert not analysis.polytope.is_bounded
+    candidate = pe.Candidate("round", core=np.eye(2) * 400.0)
+    T = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])
+    scores = pe.compare(analysis, T, candidates=[candidate])["round"]
+    assert scores.defined and np.isnan(scores.mvie_ratio) and scores.coverage == 0.0
+    hi = analysis.polytope.limits(T).hi
+    assert np.isinf(hi).any()
+    errors = pe.comparison.metrics.relative_error(np.full(len(T), 0.05), hi)
+    np.testing.assert_array_equal(errors[np.isinf(hi)], -1.0)
+    assert scores.direction_error_max >= 1.0 - 1e-12  # the unbounded directions count
+    assert not [w for w in recwarn if issubclass(w.category, RuntimeWarning)]
