@@ -320,6 +320,10 @@ def _cap_geometry(
             / np.maximum(0.0, 1.0 - cosine * cosine)
         )
         nearest = np.where(cosine * di >= tj, di, np.where(cosine * dj >= ti, dj, both))
+    # Opposite normals to rounding (the two sides of one row of a thin set): the caps meet
+    # only if the planes cross (t_i + t_j <= 0); 1 - cos^2 of a few eps is no angle.
+    opposite = 1.0 + cosine <= ANTIPARALLEL
+    nearest = np.where(opposite & (ti + tj > 0.0), np.inf, nearest)
     pairs = cut[..., :, None] & cut[..., None, :] & ~np.eye(t.shape[-1], dtype=bool)
     pairs &= ~(nearest >= 1.0 + CAP_GAP)
     meet = np.any(pairs, axis=(-2, -1))
@@ -331,6 +335,9 @@ def _cap_geometry(
     return result, _Caps(unit, np.where(cut, tc, 1.0), cut, caps, pairs, lost, nan)
 
 
+#: Two unit normals with ``1 + cos`` at most this are opposite (the two sides of one row,
+#: rounded): a few eps, an angle below 1e-7.
+ANTIPARALLEL = 8.0 * float(np.finfo(float).eps)
 #: Heights per pair of meeting caps and replicate of :func:`cap_union_share`: ``samples //
 #: CAP_SAMPLES_RATIO`` (a power of two; 16 at the default 2^13).  Chosen so that the
 #: standard error stays well below the uniform 8 x 2^13-point estimate's on a Panda arm's

@@ -388,3 +388,31 @@ def test_panda_force_ellipsoids_against_plain_monte_carlo(q, kind):
     assert scores.overreach_stderr <= estimate(counts, 2**13)[1]
     # the same numbers as overlap itself, in a batch of one
     assert overlap(E, P).overreach == scores.overreach
+
+
+def test_the_two_sides_of_a_thin_set_are_disjoint_caps():
+    # A 2x4 arm whose joint 3 has a torque range 1.2e-9 wide: the force set is a thin strip
+    # between the two sides of that row, whose unit normals are opposite to rounding
+    # (1 - cos^2 of a few eps, which read as an angle put their crossing inside E). The
+    # caps beyond them do not meet: the share is exact. Reference: the area of (unit disc
+    # & polygon) in E's coordinates by mpmath, from the independent check (0.93722109);
+    # the strip's width limits the digits (eps / 1e-9 relative).
+    J = np.array(
+        [
+            [1.2708039082075797, -0.1691529815213515, 0.058932245487839936, 0.1879194118872056],
+            [-1.677968206472629, 0.26908106282207145, 0.011350513858207402, -0.04632293555458984],
+        ]
+    )
+    g = np.array([0.6061590873818129, 2.4818803814702766, 2.2423314664576375, -0.9448978527129451])
+    tau_max = np.array([9.7585389804505, 8.731297578412669, 2.242331467054087, 2.937940307156687])
+    tau_min = np.array(
+        [-9.91687994144522, -4.359103829631466, 2.242331465861188, -8.00508343394651]
+    )
+    analysis = pe.analyze(pe.Dynamics(J, np.eye(4), g), tau_max, tau_min, capacity="force")
+    scores = pe.compare(analysis, 16, mvie=False, outer=False)["yoshikawa"]
+    assert scores.coverage == pytest.approx(0.9372210890341984, rel=1e-6)
+    assert scores.overreach == pytest.approx(0.99999999963848278543, rel=1e-15)
+    assert scores.coverage_stderr == 0.0
+    frame = pe.sweep(pe.Dynamics(J[None], np.eye(4)[None], g[None]), tau_max=tau_max,
+                     tau_min=tau_min, capacity="force", directions=16)  # fmt: skip
+    assert frame["yoshikawa_coverage"][0] == pytest.approx(scores.coverage, rel=1e-6)
