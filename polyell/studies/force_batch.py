@@ -289,6 +289,8 @@ def _closed(candidates: NDArray[np.bool_], edges: NDArray[np.int64]) -> NDArray[
     if width + int(K).bit_length() > 62:  # the keys would not fit one int64
         return np.zeros(K, dtype=bool)
     row, candidate = np.nonzero(candidates)
+    if not row.size:  # no vertex in any row: nothing to close (the volume check refuses them)
+        return np.ones(K, dtype=bool)
     keys = np.sort(((row.astype(np.int64) << width)[:, None] + edges[candidate]).ravel())
     starts = np.flatnonzero(np.r_[True, keys[1:] != keys[:-1]])
     twice = np.diff(np.r_[starts, len(keys)]) == 2

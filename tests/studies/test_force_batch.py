@@ -263,3 +263,22 @@ def test_candidates_are_scored_in_the_batch_as_compare_scores_them():
         crossing += row["round"].coverage_stderr > 0
         assert_row(columns, k, row.to_row())
     assert crossing > 0  # some are estimated (caps that meet), not only exact
+
+
+@pytest.mark.parametrize(
+    ("J", "g"),
+    [
+        ([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], [0.0, 0.0, 5.0]),  # cannot hold itself: empty
+        ([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], [0.0, 0.0, 0.5]),  # a joint no force loads
+        ([[0.0, 1.0, 0.0], [0.0, 2.0, 0.0]], [0.0, 0.0, 0.0]),  # rank 1: unbounded
+        ([[0.0, 0.0, 0.0], [0.0, 0.0, 0.0]], [0.0, 0.0, 0.0]),  # J = 0
+    ],
+)
+def test_a_block_without_any_vertex_is_left_to_compare(J, g):
+    # Found by the independent check: a block whose rows have no vertex candidate at all
+    # raised a raw IndexError in the edge certificate; each row equals compare.
+    dyn = dynamics(np.array([J]), np.array([g]))
+    frame = pe.sweep(dyn, tau_max=np.ones(3), capacity="force", directions=8)
+    row = pe.compare(pe.analyze(dyn[0], np.ones(3), capacity="force"), 8).to_row()
+    for column in ("polytope_dim", "polytope_volume", "static_coverage"):
+        assert frame[column][0] == pytest.approx(row[column], nan_ok=True), column
