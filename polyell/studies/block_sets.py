@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polyell.comparison.candidates import Candidate
+from polyell.geometry.ellipsoid import canonical_axes
 from polyell.geometry.logdet import centred_mvee_batch
 from polyell.geometry.mvie import MVIE_GAP
 from polyell.geometry.zonotope import DEPENDENT_RTOL, subset_cofactors, subsets, unwhiten
@@ -343,6 +344,7 @@ def candidate_ellipsoid(
         axes = np.broadcast_to(eigenvectors, (K, m, m))
         semi = np.broadcast_to(1.0 / np.sqrt(eigenvalues), (K, m))
         center = xg if candidate.center is None else np.broadcast_to(candidate.center, (K, m))
+    axes, semi = canonical_axes(np.array(axes), np.array(semi))  # as Ellipsoid: the same points
     # M^+ = V1 Sigma^-1 U^T: at the centre, and the reach along the axes.
     pinv_t = np.swapaxes(V1t, 1, 2) / s[:, None, :] @ np.swapaxes(U, 1, 2)  # (K, n, m)
     at_center = np.einsum("knm,km->kn", pinv_t, center - xg)

@@ -470,6 +470,6 @@ def _candidate(candidate: Candidate, h0: Array, A: Array, c_perp: Array) -> Elli
         return EllipsoidBatch(h0, np.broadcast_to(np.eye(m), (K, m, m)), nan, nan[:, 0])
     eigenvalues, eigenvectors = np.linalg.eigh(candidate.core)
     center = h0 if candidate.center is None else np.broadcast_to(candidate.center, (K, m))
-    axes = np.broadcast_to(eigenvectors, (K, m, m))
-    semi = np.broadcast_to(1.0 / np.sqrt(eigenvalues), (K, m))
+    axes, semi = canonical_axes(eigenvectors, 1.0 / np.sqrt(eigenvalues))  # as Ellipsoid
+    axes, semi = np.broadcast_to(axes, (K, m, m)), np.broadcast_to(semi, (K, m))
     return _with_witness(np.array(center), np.array(axes), np.array(semi), h0, A, c_perp)

@@ -246,9 +246,15 @@ def test_candidates_are_scored_in_the_batch_as_compare_scores_them():
     # torque weighting (no force ellipsoid: undefined, NaN, as compare reports it); the
     # force sweep raised a KeyError with any candidate before.
     J, g, upper, lower = arms(71, 8, 3, 7, 0.05)
+    # a rotated core: its axes as Ellipsoid keeps them (the same sampled points as compare)
+    rotated = np.linalg.qr(np.random.default_rng(5).normal(size=(3, 3)))[0]
     candidates = (
         pe.Candidate("round", core=np.eye(3) / 0.3**2),  # the sets are about 0.3 across
-        pe.Candidate("off", core=np.diag([25.0, 100.0, 4.0]), center=[0.05, -0.02, 0.01]),
+        pe.Candidate(
+            "off",
+            core=rotated @ np.diag([25.0, 100.0, 4.0]) @ rotated.T,
+            center=[0.05, -0.02, 0.01],
+        ),
         pe.Candidate("weighted", weighting=np.eye(7)),
     )
     T = sphere_directions(16, 3)
@@ -263,6 +269,7 @@ def test_candidates_are_scored_in_the_batch_as_compare_scores_them():
         crossing += row["round"].coverage_stderr > 0
         assert_row(columns, k, row.to_row())
     assert crossing > 0  # some are estimated (caps that meet), not only exact
+    assert (columns["off_coverage_stderr"] > 0).any()
 
 
 @pytest.mark.parametrize(

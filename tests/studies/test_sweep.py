@@ -332,3 +332,31 @@ def test_the_rows_left_to_compare_are_counted_in_the_log(caplog, tmp_path):
     note = f"acceleration: {singular} of 25 rows per row ({100 * singular / 25:.2f} %)"
     messages = [r.getMessage().split(" into ")[0] for r in caplog.records]
     assert messages == [f"note: sweep of {note}"] * 2
+
+
+def test_a_candidate_crossing_the_zonotope_is_estimated_in_the_batch_as_compare_does():
+    # With the vertices enumerated (enclosing_scale), a candidate neither inside nor around
+    # P is estimated in the batch: the same points as compare (its axes kept as Ellipsoid
+    # keeps them), so the same shares and standard errors.
+    rng = np.random.default_rng(12)
+    J, g, limit = rng.normal(size=(6, 3, 6)), rng.normal(size=(6, 6)), np.full(6, 3.0)
+    dyn = pe.Dynamics(J, np.broadcast_to(np.eye(6), (6, 6, 6)).copy(), g)
+    rotated = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+    candidates = [
+        pe.Candidate("tilted", core=rotated @ np.diag([1 / 144, 1 / 36, 1 / 400]) @ rotated.T),
+        pe.Candidate("weighted", weighting=np.diag(rng.uniform(0.3, 3.0, 6))),
+    ]
+    scores = [s for s in pe.SCORE_NAMES if s not in ("mvie_ratio", "outer_ratio")]
+    frame = pe.sweep(dyn, tau_max=limit, candidates=candidates, directions=16, scores=scores)
+    assert not frame["per_row"].any()
+    estimated = 0
+    for k in range(len(J)):
+        row = pe.compare(
+            pe.analyze(dyn[k], limit), 16, mvie=False, outer=False, candidates=candidates
+        ).to_row()
+        estimated += row["tilted_coverage_stderr"] > 0
+        for name in ("coverage", "overreach", "coverage_stderr", "enclosing_scale"):
+            for kind in ("tilted", "weighted"):
+                column = f"{kind}_{name}"
+                assert frame[column][k] == pytest.approx(row[column], rel=1e-12, abs=1e-15)
+    assert estimated > 0
