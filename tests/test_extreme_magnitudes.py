@@ -63,3 +63,32 @@ def test_the_range_narrows_with_the_task_dimension():
     pe.compare(pe.analyze(scaled(1e45, m=6, n=8), np.ones(8)), 16)  # 6-D: within 1e+-48
     with pytest.raises(pe.InputError, match=r"1e-48\.\.1e48 in a 6-dimensional task"):
         pe.analyze(scaled(1e50, m=6, n=8), np.ones(8))
+
+
+@pytest.mark.parametrize("scale", [1e-160, 1e-200, 1e-280])
+def test_a_force_set_in_tiny_units_is_the_same_set(scale):
+    # Found by the independent check: J, g and the torque limits scaled together leave the
+    # force set unchanged; numpy's norms of rows of 1e-200 underflowed to 0 (every row
+    # dropped: an unbounded set, then a raw ValueError).
+    J = np.array([[1.0, 0.5, 0.2], [0.0, 1.0, 0.3]])
+    g, limit = np.array([0.1, 0.2, 0.0]), np.array([1.0, 2.0, 3.0])
+    unit = pe.compare(pe.analyze(pe.Dynamics(J, np.eye(3), g), limit, capacity="force"), 16)
+    analysis = pe.analyze(pe.Dynamics(J * scale, np.eye(3), g * scale), limit * scale,
+                          capacity="force")  # fmt: skip
+    assert analysis.polytope.volume == pytest.approx(8.0, rel=1e-12)
+    scaled = pe.compare(analysis, 16)
+    assert scaled["static"].coverage == pytest.approx(unit["static"].coverage, rel=1e-12)
+    frame = pe.sweep(pe.Dynamics(J[None] * scale, np.eye(3)[None], g[None] * scale),
+                     tau_max=limit * scale, capacity="force", directions=16)  # fmt: skip
+    assert frame["polytope_volume"][0] == pytest.approx(8.0, rel=1e-12)
+
+
+def test_subnormal_jacobians_and_underflowing_accelerations_are_refused():
+    J = np.array([[1.0, 0.5, 0.2], [0.0, 1.0, 0.3]])
+    g, limit = np.array([0.1, 0.2, 0.0]), np.array([1.0, 2.0, 3.0])
+    with pytest.raises(pe.InputError, match=r"dyn\.J"):
+        pe.analyze(pe.Dynamics(J * 1e-305, np.eye(3), g * 1e-305), limit * 1e-305,
+                   capacity="force")  # fmt: skip
+    # J B^-1 L of 1e-200 * 1e-200 is 0: not a point, an underflow
+    with pytest.raises(pe.InputError, match="underflow"):
+        pe.analyze(pe.Dynamics(J * 1e-200, np.eye(3), g * 1e-200), limit * 1e-200)

@@ -127,6 +127,14 @@ class AccelerationAnalysis(ZonotopeAnalysis):
         with np.errstate(over="ignore", invalid="ignore", under="ignore"):
             M = J_Binv * self.half_range
             xg = dynamics.xdd_bias - J_Binv @ self._gravity_bias
+        if not M.any() and dynamics.J.any() and self.half_range.any():
+            raise InputError(  # J B^-1 L is 0 only for J = 0: its entries underflowed
+                "dyn or tau_max",
+                "a Jacobian, inertia and torque limits whose accelerations M = J B^-1 L "
+                "are representable",
+                "M = 0 from a non-zero J and torque range (below 1e-308: underflow)",
+                "give J, B and the torque limits in units of moderate size (m, kg m^2, N m).",
+            )
         self._set_generators(M, xg, rank_rtol)
         self.affine_rtol = check_fraction("affine_rtol", affine_rtol)
         self._inverse_maps: dict[str, InverseMaps] = {}

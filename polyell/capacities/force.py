@@ -61,6 +61,12 @@ from polyell.validation import (
 __all__ = ["ForceAnalysis", "force_terms"]
 
 
+#: The smallest largest entry of a Jacobian the force set is computed from: below, its
+#: pseudo-inverse (the classic force ellipsoid) overflows.  The set itself depends on J, g
+#: and the limits together, so it is refused, not rescaled.
+SMALLEST_JACOBIAN = 1e-290
+
+
 def force_terms(
     J: NDArray[np.float64],
     g: NDArray[np.float64],
@@ -72,6 +78,14 @@ def force_terms(
     One configuration or a batch (the sweep's).  Raises :class:`InputError` where the
     forces or gravity's share of the limits are not representable.
     """
+    size = np.max(np.abs(J), axis=(-2, -1)) if J.size else np.zeros(J.shape[:-2])
+    if np.any((size > 0) & (size < SMALLEST_JACOBIAN)):  # its pseudo-inverse overflows
+        raise InputError(
+            "dyn.J",
+            f"a Jacobian with entries of at least {SMALLEST_JACOBIAN:.0e} (or zero)",
+            f"largest entries down to {np.min(np.where(size > 0, size, np.inf)):.3g}",
+            "give J, g and the torque limits in units of moderate size (m, N m).",
+        )
     with np.errstate(over="ignore", invalid="ignore", under="ignore"):
         M = J / half_range  # J L^-1 = A^T
         c = (g - tau_center) / half_range

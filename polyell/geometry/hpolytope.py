@@ -25,6 +25,7 @@ from polyell.geometry.subspace import (
     AffineSubspace,
     _whole_space,
     rank_revealing_svd,
+    scaled_norm,
 )
 from polyell.geometry.zonotope import order_polygon
 from polyell.validation import check_array, magnitude_limit
@@ -75,7 +76,7 @@ class HPolytope(ConvexSet):
         if A.shape[1] == 0:
             raise InputError("A", "at least one column (the task dimension m)", "shape (k, 0)")
         b = check_array("b", b, (A.shape[0],))
-        norms = np.linalg.norm(A, axis=1)
+        norms = scaled_norm(A, axis=1)  # rows of 1e-200 (units of forces) are no zero rows
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             kept = norms > RANK_RTOL * norms.max(initial=0.0)
             offsets = np.abs(b[kept] / norms[kept])

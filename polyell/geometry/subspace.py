@@ -26,6 +26,7 @@ __all__ = [
     "LineMeeting",
     "RankRevealingSVD",
     "rank_revealing_svd",
+    "scaled_norm",
 ]
 
 #: Singular values at or below ``RANK_RTOL * sigma_max`` count as zero (eq. 35).
@@ -75,6 +76,19 @@ class RankRevealingSVD(NamedTuple):
     def pinv(self) -> NDArray[np.float64]:
         """The generalized inverse ``V_1 Sigma^-1 U_1^T`` of eq. (37), shape (n, m)."""
         return (self.V1 / self.sigma) @ self.U1.T
+
+
+def scaled_norm(x: NDArray[np.float64], axis: int = -1) -> NDArray[np.float64]:
+    """Euclidean norms along ``axis`` without underflow or overflow of the squares.
+
+    ``numpy.linalg.norm`` squares the entries: vectors of entries below about 1e-154 get
+    norm 0 (and above 1e154, inf). Here each vector is divided by its largest entry first.
+    """
+    size = np.max(np.abs(x), axis=axis, keepdims=True)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        unit = np.where(size > 0, x / np.where(size > 0, size, 1.0), 0.0)
+    norms: NDArray[np.float64] = np.squeeze(size, axis=axis) * np.linalg.norm(unit, axis=axis)
+    return norms
 
 
 def rank_revealing_svd(

@@ -52,7 +52,7 @@ from polyell.geometry.free_center import (
     free_center_mvee_batch,
     free_center_mvie_batch,
 )
-from polyell.geometry.subspace import RANK_RTOL
+from polyell.geometry.subspace import RANK_RTOL, scaled_norm
 from polyell.geometry.zonotope import subsets
 from polyell.models.dynamics import Dynamics
 from polyell.studies.batch import BLOCK_MEMORY, RANK_BAND, BatchOptions, score_columns
@@ -157,7 +157,7 @@ def _block_rows(
     norms = np.linalg.norm(M, axis=1)  # |a_i| (K, n)
     # HPolytope drops the rows negligible against the others (RANK_RTOL), in torques: a
     # joint whose column of J is negligible against the others' constrains no force
-    loads = np.linalg.norm(J, axis=1)
+    loads = scaled_norm(J, axis=1)
     used = loads > RANK_RTOL * loads.max(axis=-1, keepdims=True)
     vertices = _vertices(Vt, c_perp, used)
     ok &= vertices.general
