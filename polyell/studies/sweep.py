@@ -337,7 +337,7 @@ def sweep(
     tau_max: ArrayLike | None = None,
     tau_min: ArrayLike | None = None,
     *,
-    scores: Sequence[str] = DEFAULT_SCORES,
+    scores: Sequence[str] | None = None,
     directions: int | ArrayLike | None = None,
     out: str | os.PathLike[str] | None = None,
     scheduler: str | None = None,
@@ -372,9 +372,10 @@ def sweep(
     tau_max, tau_min : array-like, shape (n,), optional
         Torque limits; default the robot's own (always, for several robots).
     scores : sequence of str
-        Score names (:data:`polyell.SCORE_NAMES`); columns ``<kind>_<score>``.  Default:
-        all but ``mvie_ratio``, ``outer_ratio`` (they need ``mvie=True``, ``outer=True``)
-        and ``enclosing_scale`` (a vertex enumeration, about a fifth of the time).
+        Score names (:data:`polyell.SCORE_NAMES`); columns ``<kind>_<score>``.  Default
+        (None): :data:`DEFAULT_SCORES`, all but ``enclosing_scale`` (a vertex enumeration,
+        about a fifth of the time) and the ratios to the optimal ellipsoids not computed:
+        ``mvie_ratio`` with ``mvie=True``, ``outer_ratio`` with ``outer=True``.
     directions : int, array-like (k, m) or None
         The directional-statistics set, exactly as :func:`polyell.compare` takes it: a count
         of the default near-uniform set (at a singular configuration, drawn in its affine
@@ -434,10 +435,13 @@ def sweep(
         _named("source", source, "robots") if isinstance(source, Mapping | list | tuple) else None
     )
     chunk = check_integer("chunk", chunk, 1, 10_000_000)
-    scores = _check_scores(scores)
     for name, flag in (("mvie", mvie), ("outer", outer), ("progress", progress)):
         if not isinstance(flag, bool | np.bool_):
             raise InputError(name, "True or False", repr(flag))
+    if scores is None:  # the ratios to the optima computed
+        optima = {"mvie_ratio": mvie, "outer_ratio": outer}
+        scores = tuple(name for name in SCORE_NAMES if optima.get(name, name in DEFAULT_SCORES))
+    scores = _check_scores(scores)
     rank_rtol = check_fraction("rank_rtol", rank_rtol)
     if out is not None and not isinstance(out, str | os.PathLike):
         raise InputError("out", "a folder path (str or pathlib.Path) or None", repr(out))

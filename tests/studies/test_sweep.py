@@ -360,3 +360,14 @@ def test_a_candidate_crossing_the_zonotope_is_estimated_in_the_batch_as_compare_
                 column = f"{kind}_{name}"
                 assert frame[column][k] == pytest.approx(row[column], rel=1e-12, abs=1e-15)
     assert estimated > 0
+
+
+def test_the_default_scores_follow_the_optima_computed():
+    # Found by the independent check: mvie=True, outer=True gave no ratio columns unless
+    # scores named them (the README says mvie=True adds every mvie_ratio).
+    q = np.random.default_rng(0).uniform(-3.0, 3.0, (3, 3))
+    both = pe.sweep(ARM, q, mvie=True, outer=True, directions=8)
+    assert {"chiacchio_mvie_ratio", "yoshikawa_outer_ratio", "mvie_outer_ratio"} <= set(both)
+    neither = pe.sweep(ARM, q, directions=8)
+    assert not [c for c in neither.columns if c.endswith(("_mvie_ratio", "_outer_ratio"))]
+    assert "chiacchio_enclosing_scale" not in both  # a vertex enumeration: asked for by name
