@@ -323,7 +323,6 @@ E2 = AN.ellipsoid("chiacchio")
 
 # Issue 20: raw exceptions, NaN, inf and warnings at the edges of the API.
 EDGES = [
-    ("sweep scores None", lambda t: pe.sweep(ARM, Q3, scores=None), "scores: expected"),
     ("sweep scores 5", lambda t: pe.sweep(ARM, Q3, scores=5), "scores: expected"),
     ("sweep scores empty", lambda t: pe.sweep(ARM, Q3, scores=[]), "at least one score"),
     ("sweep scores not str", lambda t: pe.sweep(ARM, Q3, scores=[1]), "score names"),
