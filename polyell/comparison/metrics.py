@@ -20,6 +20,7 @@ from polyell.geometry.polytope import Polytope
 from polyell.inverse import AffineMap
 
 __all__ = [
+    "ANTIPARALLEL",
     "CAP_GAP",
     "CAP_SAMPLES_RATIO",
     "INSIDE_RTOL",
@@ -181,6 +182,9 @@ class Overlap(NamedTuple):
     overreach_stderr: float
 
 
+#: Two unit normals with ``1 + cos`` at most this are opposite (the two sides of one row,
+#: rounded): a few eps, an angle below 1e-7.
+ANTIPARALLEL = 8.0 * float(np.finfo(float).eps)
 #: Two caps of E (its parts beyond two facets) count as disjoint when the nearest point
 #: beyond both facets lies this far beyond E's boundary, relatively: well above the
 #: rounding of the normalized offsets, so an exact share never rests on a near-touching pair.
@@ -335,9 +339,6 @@ def _cap_geometry(
     return result, _Caps(unit, np.where(cut, tc, 1.0), cut, caps, pairs, lost, nan)
 
 
-#: Two unit normals with ``1 + cos`` at most this are opposite (the two sides of one row,
-#: rounded): a few eps, an angle below 1e-7.
-ANTIPARALLEL = 8.0 * float(np.finfo(float).eps)
 #: Heights per pair of meeting caps and replicate of :func:`cap_union_share`: ``samples //
 #: CAP_SAMPLES_RATIO`` (a power of two; 16 at the default 2^13).  Chosen so that the
 #: standard error stays well below the uniform 8 x 2^13-point estimate's on a Panda arm's
