@@ -1,14 +1,17 @@
 r"""Every score of every ellipsoid against the exact set, for K configurations at once.
 
-One implementation for every capacity: a capacity's batched set builder describes its sets
-as :class:`SetBatch` (slabs ``|n . x - mu| <= w``, the one-sided rows that are facets, the
-vertices, the volume) and its ellipsoids as ``(centre, axes, semi-axes, witness)``; this
-module turns them into the columns of ``Comparison.to_row`` -- inscribed and enclosing
-scales, coverage and overreach (exact inside or around the set, else the union of the
-caps beyond the facets, :func:`~polyell.comparison.metrics.cap_union_share`, as
-:func:`~polyell.comparison.metrics.overlap` computes them),
-volume ratios to the MVIE and the outer ellipsoid, directional statistics
-(:func:`~polyell.comparison.directional.direction_scores`) and witnesses.
+One implementation for every capacity's sweep: a capacity's batched set builder describes
+its sets as :class:`SetBatch` (slabs ``|n . x - mu| <= w``, the one-sided rows that are
+facets, the vertices, the volume) and its ellipsoids as ``(centre, axes, semi-axes,
+witness)``; this module turns them into the columns of ``Comparison.to_row`` -- inscribed
+and enclosing scales, coverage and overreach (exact inside or around the set, else the
+union of the caps beyond the facets, :func:`~polyell.comparison.metrics.cap_union_share`,
+as :func:`~polyell.comparison.metrics.overlap` computes them), volume ratios to the MVIE
+and the outer ellipsoid, directional statistics
+(:func:`~polyell.comparison.directional.direction_scores`) and witnesses.  ``compare``
+still scores one set at a time with the functions of :mod:`~polyell.comparison.metrics`
+(the same closed forms and estimate; the tests hold the two equal to 1e-12): making it
+this module's batch of one is the open part of issue 31.
 """
 
 from __future__ import annotations
