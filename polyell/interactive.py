@@ -676,6 +676,8 @@ def write_report(path: str | Path, title: str, sections: Sequence[tuple[str, Any
     """
     import pandas as pd
 
+    if not isinstance(title, str):
+        raise InputError("title", "a str (the page's heading)", f"{type(title).__name__}")
     go = _plotly()
     parts: list[str] = []
     first = True

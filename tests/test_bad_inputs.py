@@ -440,3 +440,24 @@ def test_bad_command_line_is_one_line_and_exit_2(capsys, argv, fragment):
 
 def test_the_matrix_has_at_least_forty_rows():
     assert len(API) + len(FILES) + len(CLI) >= 40
+
+
+def test_rank_n_and_title_of_the_wrong_type_are_refused(tmp_path):
+    # Found by the third attack (issue 33): raw TypeError / AttributeError, and a negative
+    # rank that silently made a square unbounded.
+    from polyell.interactive import write_report
+    from polyell.studies import load_trajectory
+
+    square = (np.vstack([np.eye(2), -np.eye(2)]), np.ones(4))
+    for rank in (-1, 3, 1.5, "a", True):
+        with pytest.raises(pe.InputError, match="rank"):
+            pe.HPolytope(*square, rank=rank)
+    assert pe.HPolytope(*square, rank=2).volume == pytest.approx(4.0)
+    path = tmp_path / "a.csv"
+    path.write_text("q1,q2,q3\n0,0,0\n0.1,0.1,0.1\n")
+    for n in (3.0, True, 0):
+        with pytest.raises(pe.InputError, match="n:"):
+            load_trajectory(path, n)
+    for title in (None, 5):
+        with pytest.raises(pe.InputError, match="title"):
+            write_report(tmp_path / "r.html", title, [])

@@ -28,7 +28,7 @@ from polyell.geometry.subspace import (
     scaled_norm,
 )
 from polyell.geometry.zonotope import order_polygon
-from polyell.validation import check_array, magnitude_limit
+from polyell.validation import check_array, check_integer, magnitude_limit
 
 __all__ = ["HPolytope", "require_drawable"]
 
@@ -97,7 +97,7 @@ class HPolytope(ConvexSet):
         keep = ~zero
         self._A_in, self._b_in = A[keep] / norms[keep, None], b[keep] / norms[keep]
         m = A.shape[1]
-        self._rank = rank
+        self._rank = None if rank is None else check_integer("rank", rank, 0, A.shape[1])
         self._volume_y: float | None = None
         if center is None:
             self.center = self._chebyshev_center()

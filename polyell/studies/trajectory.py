@@ -49,6 +49,7 @@ from polyell.capacities import capacity_class, joint_limits_of
 from polyell.errors import InputError
 from polyell.studies.along import limits_along
 from polyell.studies.configurations import ConfigurationSet
+from polyell.validation import check_integer
 
 __all__ = [
     "MAX_JOINT_VALUE",
@@ -635,6 +636,7 @@ def load_trajectory(path: str | Path, n: int) -> Trajectory:
         not increase; more samples than fit (each naming the file, the row or line, and
         the column).
     """
+    n = check_integer("n", n, 1, 10_000)  # the robot's joint count
     file = Path(path)
     source = file.name
     try:
