@@ -13,7 +13,14 @@ import unicodedata
 
 from polyell.errors import InputError
 
-__all__ = ["check_latex_label", "check_text", "escape_latex", "escape_markdown", "latex_unit"]
+__all__ = [
+    "check_latex_label",
+    "check_text",
+    "escape_latex",
+    "escape_markdown",
+    "latex_unit",
+    "markdown_text",
+]
 
 
 #: Characters with a meaning in LaTeX text, and how each is written to print as itself
@@ -102,6 +109,11 @@ def escape_markdown(text: object, argument: str = "text") -> str:
     r"""Plain text as one Markdown table cell: ``|`` and ``\`` escaped, one line."""
     clean = check_text(argument, text)
     return clean.replace("\\", "\\\\").replace("|", r"\|")
+
+
+def markdown_text(text: str) -> str:
+    """Plain text in Markdown without live HTML: ``&``, ``<``, ``>`` as entities."""
+    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
 
 
 _LABEL = re.compile(r"[A-Za-z0-9:._/+-]{1,200}")

@@ -7,7 +7,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from polyell.comparison.latex_text import check_text
+from polyell.comparison.latex_text import check_text, markdown_text
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.limits import Directions, limits_table, posture_comparisons
 from polyell.comparison.tables import Style, format_comparison_table, format_limits_table
@@ -102,12 +102,15 @@ def write_point_tables(
             caption=comparison_caption,
             label=f"tab:comparison{suffix}",
         )
-        if extension == "md":
+        if extension == "md":  # (the text without live HTML)
+            head, intro = markdown_text(prefix), markdown_text(about)
             limits_text = (
-                f"# {prefix}directional limits\n\n{about}{limits_caption}\n\n{limits_text}"
+                f"# {head}directional limits\n\n{intro}"
+                f"{markdown_text(limits_caption)}\n\n{limits_text}"
             )
             comparison_text = (
-                f"# {prefix}comparison\n\n{about}{comparison_caption}\n\n{comparison_text}"
+                f"# {head}comparison\n\n{intro}"
+                f"{markdown_text(comparison_caption)}\n\n{comparison_text}"
             )
         texts[f"limits{suffix}.{extension}"] = limits_text
         texts[f"comparison{suffix}.{extension}"] = comparison_text

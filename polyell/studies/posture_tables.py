@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from polyell.comparison.labels import set_label
+from polyell.comparison.latex_text import markdown_text
 from polyell.comparison.printable import Cell, Label, PrintTable, text_label
 from polyell.comparison.tables import escape_latex, escape_markdown, render_tables
 from polyell.errors import InputError
@@ -110,7 +111,7 @@ def format_posture_table(
         raise InputError("style", "'latex', 'markdown' or 'csv'", repr(style))
     printable = _print_table(table)
     if style == "markdown":
-        heading = f"# {escape_markdown(title, 'title')}\n\n" if title else ""
+        heading = f"# {markdown_text(escape_markdown(title, 'title'))}\n\n" if title else ""
         return heading + render_tables([printable], "markdown", DIGITS)
     return render_tables([printable], style, DIGITS, title or None, label)  # type: ignore[arg-type]
 

@@ -14,6 +14,7 @@ import numpy as np
 
 from polyell.capacities import analyze, capacity_class
 from polyell.comparison.comparison import SCORE_NAMES, Comparison, compare, compared_kinds
+from polyell.comparison.latex_text import markdown_text
 from polyell.comparison.limits import limits_table
 from polyell.comparison.point_tables import write_point_tables
 from polyell.comparison.summary import (
@@ -167,7 +168,7 @@ def _run_points_capacity(
             qd_text = ", ".join(f"{v:.6g}" for v in point.qd)
             motion = [f"qd = ({qd_text}) rad/s; torque limits at qd [N m]: {limits}", ""]
         numbers += [
-            f"## {point.label}{': ' + point.title if point.title else ''}",
+            markdown_text(f"## {point.label}{': ' + point.title if point.title else ''}"),
             "",
             f"q = ({q_text}) rad",
             "",
@@ -831,7 +832,8 @@ def _csv(name: str, frame: pd.DataFrame) -> None:
 
 def _heading(spec: StudySpec, heading: str) -> str:
     """A Markdown file's title, with the study's description below it (if it has one)."""
-    return f"# {heading}\n\n" + (f"{spec.description}\n\n" if spec.description else "")
+    description = f"{markdown_text(spec.description)}\n\n" if spec.description else ""
+    return f"# {markdown_text(heading)}\n\n{description}"
 
 
 def _about(spec: StudySpec) -> list[tuple[str, Any]]:

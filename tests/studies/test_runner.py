@@ -470,3 +470,25 @@ def test_a_random_study_of_two_robots_runs_one_sweep_each(tmp_path):
     ).exists()
     assert "## ur5" in (out / "summary.md").read_text()
     assert (out / "summary.tex").read_text().count("\\begin{table}") == 2
+
+
+def test_markdown_outputs_carry_no_live_html(tmp_path):
+    # The third attack (issue 33): titles and descriptions went into .md files as HTML.
+    path = tmp_path / "s.toml"
+    path.write_text(
+        'title = "<script>alert(1)</script> & co"\n'
+        'description = "<img src=x onerror=alert(2)>"\n'
+        '[robot]\nlibrary = "chiacchio2000"\n'
+        '[[points]]\nname = "p"\ntitle = "<b>bold</b>"\nq = [1.5707963, -1.5707963, -1.5707963]\n'
+        "[compare]\ndirections = 8\nmvie = false\nouter = false\n"
+        '[output]\nformats = ["svg"]\n'
+    )
+    out = tmp_path / "out"
+    run_study(load_study(path), out)
+    written = sorted(out.glob("*.md"))
+    assert written
+    for markdown in written:
+        text = markdown.read_text()
+        assert "<script" not in text and "<img" not in text and "<b>" not in text, markdown.name
+    numbers = (out / "numbers.md").read_text()
+    assert "&lt;script&gt;alert(1)&lt;/script&gt; &amp; co" in numbers
