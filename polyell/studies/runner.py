@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import logging
 import os
 import re
 import time
@@ -68,6 +69,8 @@ STUDY_FILES = re.compile(
 )
 #: The lock a running study holds on its folder (hidden: not one of its outputs).
 STUDY_LOCK = ".polyell-study.lock"
+#: Notes on standard error (``polyell study`` shows INFO).
+_log = logging.getLogger("polyell")
 
 
 def _prepare(out: str | os.PathLike[str]) -> Path:
@@ -513,16 +516,42 @@ def _many_outputs(
     return written, sections
 
 
-def _per_row_notes(folder: Path) -> list[str]:
+def _previous_outputs(folder: Path) -> list[str]:
+    """The files a previous run into ``folder`` wrote (its manifest's), or none.
+
+    Only plain file names in the folder: the outputs of a study, never a dataset (a sweep's
+    ``results*/`` stays, to resume).
+    """
+    try:
+        files = json.loads((folder / "manifest.json").read_text(encoding="utf-8"))["files"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return []
+    if not isinstance(files, list):
+        return []
+    return [
+        name
+        for name in files
+        if isinstance(name, str)
+        and name == Path(name).name
+        and STUDY_FILES.fullmatch(name) is not None
+        and (folder / name).is_file()
+    ]
+
+
+def _per_row_notes(spec: StudySpec, folder: Path) -> list[str]:
     """How many rows of each sweep dataset of a study left the batch (:func:`per_row_note`).
 
-    One note per dataset (``results*/``, a robot's ``robot=<name>/``), from its
-    ``_sweep.json`` (the capacity) and its ``per_row`` column.
+    One note per dataset of the study's capacities (``results<suffix>/``, a robot's
+    ``robot=<name>/``), from its ``_sweep.json`` (the capacity) and its ``per_row`` column.
     """
     import pandas as pd
 
+    if not spec.is_batch or spec.posture is not None:
+        return []
     notes = []
-    for meta in sorted(folder.glob("results*/**/_sweep.json")):
+    datasets = [f"results{capacity_class(c).output_suffix}" for c in spec.capacities]
+    found = (meta for name in datasets for meta in (folder / name).glob("**/_sweep.json"))
+    for meta in sorted(found):
         capacity = json.loads(meta.read_text(encoding="utf-8")).get("capacity", "acceleration")
         note = per_row_note(pd.read_parquet(meta.parent, columns=[PER_ROW]), capacity)
         robot = meta.parent.name.removeprefix("robot=")
@@ -891,7 +920,10 @@ def run_study(
     ``summary.md``, at the top of ``report.html`` and into ``manifest.json``.  The manifest
     also records the study's wall-clock ``seconds``: ``total`` (this call, without the
     interpreter's start-up and imports) and, for many configurations, ``sweep`` (the
-    scores, dynamics included).
+    scores, dynamics included), and ``per_row``: each dataset's rows computed one
+    configuration at a time.  A run into a folder of an earlier run replaces its outputs as
+    a whole: the files its manifest lists that this run does not write are removed (listed
+    under ``removed``); the sweep datasets stay, to resume.
     """
     if not isinstance(spec, StudySpec):
         raise InputError(
@@ -910,6 +942,7 @@ def run_study(
     seconds: dict[str, float] = {}
     with folder_lock(folder, STUDY_LOCK, "study"):
         remove_stale_temporaries(folder, STUDY_FILES)  # what a killed run left
+        previous = _previous_outputs(folder)
         if spec.posture is not None:
             written = _run_posture(spec, folder)
         elif spec.is_batch:
@@ -923,8 +956,14 @@ def run_study(
             "spec": spec.path.name,
             "files": sorted(p.name for p in written),
             "seconds": {name: round(value, 3) for name, value in seconds.items()},
-            "per_row": _per_row_notes(folder),
+            "per_row": _per_row_notes(spec, folder),
         }
+        stale = sorted(set(previous) - {p.name for p in written} - {"manifest.json"})
+        for name in stale:  # the previous run's outputs this run does not write
+            (folder / name).unlink(missing_ok=True)
+        if stale:
+            manifest["removed"] = stale
+            _log.info("note: removed %d outputs of the previous run: %s", len(stale), stale)
         written.append(
             write_text_atomically(folder / "manifest.json", json.dumps(manifest, indent=2) + "\n")
         )

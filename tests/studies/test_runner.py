@@ -492,3 +492,30 @@ def test_markdown_outputs_carry_no_live_html(tmp_path):
         assert "<script" not in text and "<img" not in text and "<b>" not in text, markdown.name
     numbers = (out / "numbers.md").read_text()
     assert "&lt;script&gt;alert(1)&lt;/script&gt; &amp; co" in numbers
+
+
+def test_a_rerun_of_an_edited_study_replaces_the_previous_outputs(tmp_path):
+    # The third attack (issue 33): re-running an edited study into the same folder left the
+    # old run's tables (here: a force capacity dropped, its tables stale).
+    path = tmp_path / "s.toml"
+    study = (
+        '[robot]\nlibrary = "chiacchio2000"\n[random]\ncount = 3\nseed = 5\n'
+        "[compare]\ndirections = 8\nmvie = false\nouter = false\ncapacities = {}\n"
+        '[output]\nformats = ["svg"]\nhistograms = []\n'
+    )
+    out = tmp_path / "out"
+    path.write_text(study.format('["acceleration", "force"]'))
+    run_study(load_study(path), out)
+    assert (out / "summary_force.md").exists() and (out / "results_force.csv").exists()
+    (out / "notes.txt").write_text("mine")  # not a study's output: kept
+    path.write_text(study.format('["acceleration"]'))
+    run_study(load_study(path), out)
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert not (out / "summary_force.md").exists() and not (out / "results_force.csv").exists()
+    assert {"summary_force.md", "results_force.csv"} <= set(manifest["removed"])
+    assert (out / "notes.txt").read_text() == "mine"
+    assert (out / "results_force").is_dir()  # the dataset stays, to resume
+    assert manifest["per_row"] == ["acceleration: 0 of 3 rows per row (0.00 %)"]
+    assert sorted(p.name for p in out.iterdir() if p.is_file()) == sorted(
+        [*manifest["files"], "manifest.json", "notes.txt"]
+    )
