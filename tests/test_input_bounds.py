@@ -51,9 +51,12 @@ def test_a_plain_point_name_writes_inside(tmp_path):
     assert (tmp_path / "out" / "sets_run-1.a.png").exists()
 
 
-def test_duplicate_point_names_are_refused(tmp_path):
-    text = POINTS + '[[points]]\nname = "p"\nq = [0, 0, 0]\n'
-    with pytest.raises(pe.InputError, match="distinct point names"):
+@pytest.mark.parametrize("name", ["p", "P", "p_force", "P_Velocity"])
+def test_point_names_whose_files_collide_are_refused(tmp_path, name):
+    # The same name, equal up to case (one file on macOS and Windows), or another's with a
+    # capacity suffix ("p" and "p_force" wrote different figures to sets_p_force.png).
+    text = POINTS + f'[[points]]\nname = "{name}"\nq = [0, 0, 0]\n'
+    with pytest.raises(pe.InputError, match="output files differ"):
         load_study(write(tmp_path, text))
 
 

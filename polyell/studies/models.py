@@ -1157,6 +1157,31 @@ percent = false"""
     percent: bool = key(True, what="Fractions as percentages (true) or fractions.", example="false")
 
 
+def _check_file_names(argument: str, names: list[Any]) -> None:
+    """Refuse names whose output files would collide.
+
+    Equal up to case (one file on macOS and Windows), or one another's with a capacity's
+    suffix (``p`` and ``p_force``).
+    """
+    from polyell.capacities import capacity_class
+
+    suffixes = list(dict.fromkeys(["", *(capacity_class(c).output_suffix for c in CAPACITIES)]))
+    keys: dict[str, tuple[int, str]] = {}
+    for index, name in enumerate(names):
+        for suffix in suffixes:
+            key = f"{name}{suffix}".casefold()
+            if key in keys and keys[key][0] != index:
+                other = names[keys[key][0]]
+                raise InputError(
+                    argument,
+                    "names whose output files differ: distinct up to case, none another's "
+                    "with a capacity suffix (they name files)",
+                    f"{other!r} and {name!r} (both {key!r})",
+                    "rename one of them.",
+                )
+            keys[key] = (index, suffix)
+
+
 class StudyFile(Table):
     """A study file.
 
@@ -1240,9 +1265,7 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
                         "no such key",
                         'add name = "panda".',
                     )
-            names = [robot.name for robot in self.robots]
-            if len(set(names)) != len(names):
-                raise InputError("robots", "distinct robot names", f"{names}")
+            _check_file_names("robots", [robot.name for robot in self.robots])
         kinds = [
             k
             for k in ("points", "grid", "random", "trajectory", "posture")
@@ -1272,9 +1295,7 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
         if self.points is not None:
             if not self.points:
                 raise InputError("points", "at least one [[points]] table", "none")
-            names = [point.name for point in self.points]
-            if len(set(names)) != len(names):
-                raise InputError("points", "distinct point names (they name files)", f"{names}")
+            _check_file_names("points", [point.name for point in self.points])
         self._check_capacities()
         self._check_output()
         return self

@@ -205,7 +205,10 @@ def test_random_configurations_of_each_robot_lie_within_its_own_limits(tmp_path)
             TWO.replace('name = "ur5"\n', "") + "[random]\ncount = 1\n",
             "robots[1]: expected a 'name'",
         ),
-        (TWO.replace('"ur5"', '"panda"', 1) + "[random]\ncount = 1\n", "robots: expected distinct"),
+        (
+            TWO.replace('"ur5"', '"panda"', 1) + "[random]\ncount = 1\n",
+            "robots: expected names whose output files differ",
+        ),
         (TWO.replace('"ur5"', '"ur.5"', 1) + "[random]\ncount = 1\n", "robots[1].name: expected"),
         (
             TWO.replace("libary", "x").replace('library = "ur5"', 'libary = "ur5"'),
