@@ -112,8 +112,8 @@ def escape_markdown(text: object, argument: str = "text") -> str:
 
 
 def markdown_text(text: str) -> str:
-    """Plain text in Markdown without live HTML: ``&``, ``<``, ``>`` as entities."""
-    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    """Plain text in Markdown without live HTML: ``<`` and ``>`` as entities (no tag opens)."""
+    return text.replace("<", "&lt;").replace(">", "&gt;")
 
 
 _LABEL = re.compile(r"[A-Za-z0-9:._/+-]{1,200}")

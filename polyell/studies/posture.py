@@ -76,9 +76,10 @@ class PostureChoice:
         ``configurations`` the index maximises; <NA> if it is undefined everywhere),
         ``true_at_pick`` (the polytope's value of the criterion there), ``true_best``
         (its maximum over the postures), ``regret`` (``1 - true_at_pick / true_best``,
-        in [0, 1]; 0 when the truth is 0 everywhere), ``spearman`` and ``kendall`` (rank
-        correlations of the index with the truth over the postures where both are
-        defined; NaN when either is constant).
+        in [0, 1]; 0 when the truth is 0 everywhere or the pick is the best, an unbounded
+        force set's infinite volume included; 1 for a finite pick beside it),
+        ``spearman`` and ``kendall`` (rank correlations of the index with the truth over
+        the postures where both are defined; NaN when either is constant).
     values : DataFrame
         One row per posture; columns (kind, quantity), quantity in :data:`QUANTITIES`:
         ``lo``, ``hi`` (the interval along d, NaN if empty or undefined), ``limit``,
@@ -388,7 +389,8 @@ def choice_table(values: pd.DataFrame) -> pd.DataFrame:
             else:
                 picked = int(np.nanargmax(index))
                 at_pick = float(truth[picked])
-                regret = 1.0 - at_pick / best if best > 0 else 0.0
+                # at the best (an unbounded set's inf too): 0; beside an inf best: 1
+                regret = 0.0 if at_pick == best or not best > 0 else 1.0 - at_pick / best
             both = ~np.isnan(index) & ~np.isnan(truth)
             with warnings.catch_warnings():  # a constant index or truth: NaN, said in the doc
                 warnings.simplefilter("ignore", stats.ConstantInputWarning)

@@ -492,3 +492,23 @@ def test_a_set_undefined_at_every_posture_is_written_as_such(tmp_path, paper_pos
     assert choice.table.loc[("w", "limit"), "picked"] is pd.NA
     files = pe.write_posture_tables(choice.table, tmp_path)
     assert "| w " in files["markdown"].read_text()
+
+
+def test_the_regret_beside_an_unbounded_force_set():
+    # The third attack (issue 33): at a singular posture the force set is unbounded (volume
+    # inf): the truth's own pick had regret 1 - inf / inf = NaN. It is 0 at the best, and a
+    # finite pick beside an infinite best loses all of it: 1.
+    arm = pe.robots.load("chiacchio2000")
+    postures = np.array(
+        [[np.pi / 2, -np.pi / 2, -np.pi / 2], [np.pi / 2, 0.0, 0.0], [np.pi / 2, -1.0, -0.5]]
+    )
+    choice = pe.posture_choice(arm, postures, direction=[1.0, 0.0], capacity="force")
+    volume = choice.values[("polytope", "volume")]
+    assert np.isinf(volume[1]) and np.isfinite(volume[[0, 2]]).all()
+    table = choice.table
+    assert table.loc[("polytope", "volume"), "regret"] == 0.0
+    for kind in ("static", "mvie"):
+        picked = table.loc[(kind, "volume"), "picked"]
+        expected = 0.0 if picked == 1 else 1.0
+        assert table.loc[(kind, "volume"), "regret"] == expected
+    assert not table["regret"].isna().any()
