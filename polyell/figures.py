@@ -28,6 +28,7 @@ from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import require_drawable
 from polyell.models.task import row_label
 from polyell.storage import write_atomically
+from polyell.validation import check_array, check_instance
 
 __all__ = [
     "STYLES",
@@ -43,6 +44,11 @@ __all__ = [
     "plot_tangent_limits",
     "save_figure",
 ]
+
+#: How to mend a wrong first argument (the messages of check_instance).
+_FIX_ANALYSIS = "pass an analysis (pe.analyze(...)); of a comparison, its .analysis."
+_FIX_RESULTS = "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv))."
+_FIX_FIGURE = "pass a matplotlib Figure (the plot_* functions return one)."
 
 #: Line styles per set: distinct in greyscale (dash pattern, width and grey level).
 STYLES = {
@@ -210,6 +216,12 @@ def plot_sets(
     -------
     Figure
     """
+    check_instance(
+        "analysis",
+        analysis,
+        Analysis,
+        "pass an analysis (pe.analyze(...)); of a comparison, its .analysis.",
+    )
     if analysis.m != 2:
         raise InputError("analysis", "a 2-D task space", f"m = {analysis.m}", "use plot_sets_3d.")
     _check_texts(unit=unit, title=title)
@@ -308,6 +320,7 @@ def ellipsoid_outline(
         The principal sections of a full-rank ellipsoid (the ellipses through two of its
         axes), none otherwise.
     """
+    check_instance("E", E, Ellipsoid, "pass an ellipsoid, e.g. analysis.ellipsoid('chiacchio').")
     if E.rank < 3:
         curve = E.boundary_curve(180, closed=True) if E.rank > 0 else E.center[None]
         return curve, []
@@ -338,6 +351,12 @@ def plot_sets_3d(
 
     Arguments as for :func:`plot_sets`; the view is ``(elevation, azimuth)`` in degrees.
     """
+    check_instance(
+        "analysis",
+        analysis,
+        Analysis,
+        "pass an analysis (pe.analyze(...)); of a comparison, its .analysis.",
+    )
     from matplotlib.patches import Patch
     from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
@@ -447,6 +466,12 @@ def plot_directional_limits(
     Only directions with a positive upper limit are drawn (the radius of a polar plot
     cannot be negative); the others are gaps.
     """
+    check_instance(
+        "analysis",
+        analysis,
+        Analysis,
+        "pass an analysis (pe.analyze(...)); of a comparison, its .analysis.",
+    )
     if analysis.m != 2:
         raise InputError("analysis", "a 2-D task space", f"m = {analysis.m}")
     _check_texts(unit=unit, title=title)
@@ -493,6 +518,17 @@ def plot_score_map(
         colours compare.
     """
     _check_texts(xlabel=xlabel, ylabel=ylabel, label=label, title=title)
+    x, y = check_array("x", x, ("nx",)), check_array("y", y, ("ny",))
+    try:
+        values = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(
+            "values", "an array of numbers (NaN: undefined)", type(values).__name__
+        ) from None
+    if values.shape != (len(y), len(x)):
+        raise InputError(
+            "values", f"shape (len(y), len(x)) = {(len(y), len(x))}", f"shape {values.shape}"
+        )
     figure = Figure(figsize=(5.0, 4.0), layout="constrained")
     ax = figure.add_subplot()
     vmin, vmax = limits if limits is not None else (None, None)
@@ -547,6 +583,12 @@ def plot_score_histogram(
         Whose ellipsoids they are: their names in the legend (a force ``"chiacchio"`` is
         "with gravity").
     """
+    check_instance(
+        "results",
+        results,
+        pd.DataFrame,
+        "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
+    )
     capacity = check_capacity(capacity)
     _check_texts(title=title)
     present = [kind for kind in kinds if f"{kind}_{score}" in results]
@@ -601,6 +643,12 @@ def plot_score_series(
     capacity : {"acceleration", "velocity", "force"}, optional
         Whose ellipsoids they are: their names in the legend.
     """
+    check_instance(
+        "results",
+        results,
+        pd.DataFrame,
+        "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
+    )
     capacity = check_capacity(capacity)
     _check_texts(title=title)
     present = [kind for kind in kinds if f"{kind}_{score}" in results]
@@ -638,6 +686,12 @@ def plot_tangent_limits(
     ``capacity`` names the sets (accelerations by default; velocities, forces) and
     ``unit`` is its task unit.
     """
+    check_instance(
+        "results",
+        results,
+        pd.DataFrame,
+        "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
+    )
     capacity = check_capacity(capacity)
     _check_texts(unit=unit)
     x = results["t"] if "t" in results else results["configuration"]
@@ -703,6 +757,7 @@ def plot_posture_indices(
     -------
     Figure
     """
+    check_instance("values", values, pd.DataFrame, "pass choice.values of pe.posture_choice.")
     _check_texts(xlabel=xlabel, title=title)
     if not isinstance(values, pd.DataFrame) or values.columns.nlevels != 2:
         raise InputError(
@@ -804,6 +859,7 @@ def save_figure(
     StorageError
         If a file cannot be written.
     """
+    check_instance("figure", figure, Figure, _FIX_FIGURE)
     if not isinstance(stem, str | Path):
         raise InputError("stem", "a file name without extension (str or Path)", repr(stem))
     supported = sorted(figure.canvas.get_supported_filetypes())

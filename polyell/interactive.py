@@ -27,6 +27,7 @@ from polyell.comparison.tables import ellipsoid_label, score_display
 from polyell.errors import InputError
 from polyell.export import mesh, polytope_edges
 from polyell.storage import write_text_atomically
+from polyell.validation import check_instance
 
 if TYPE_CHECKING:  # plotly and pandas are imported where they are used (start-up time)
     import pandas as pd
@@ -48,6 +49,9 @@ __all__ = [
     "interactive_sets",
     "write_report",
 ]
+
+#: How to mend a wrong results argument (the message of check_instance).
+_FIX_RESULTS = "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv))."
 
 #: One colour per set (the static figures are greyscale; here colour separates the sets).
 COLORS = {
@@ -131,6 +135,7 @@ def interactive_sets(
     InputError
         For a task space other than 2-D or 3-D.
     """
+    check_instance("comparison", comparison, Comparison, "pass pe.compare(analysis).")
     go = _plotly()
     analysis = comparison.analysis
     m = analysis.m
@@ -318,6 +323,14 @@ def interactive_map(
         Hovering over a cell shows its configuration, the polytope's numbers and every
         score of the mapped ellipsoid.
     """
+    import pandas as pd
+
+    check_instance(
+        "results",
+        results,
+        pd.DataFrame,
+        "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
+    )
     capacity = check_capacity(capacity)
     go = _plotly()
     mapped = [columns] if isinstance(columns, str) else list(columns)
@@ -432,6 +445,14 @@ def interactive_histogram(
     number of configurations.  ``capacity`` names the ellipsoids, as in
     :func:`interactive_map`.
     """
+    import pandas as pd
+
+    check_instance(
+        "results",
+        results,
+        pd.DataFrame,
+        "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
+    )
     capacity = check_capacity(capacity)
     go = _plotly()
     chosen = _kinds_with(results, score, kinds)
@@ -549,6 +570,14 @@ def decimate_series(
     frame: pd.DataFrame, traces: Sequence[str], buckets: int = DECIMATION_BUCKETS
 ) -> pd.DataFrame:
     """The rows of ``frame`` a plot of the columns ``traces`` needs (:class:`SeriesDecimator`)."""
+    import pandas as pd
+
+    check_instance(
+        "frame",
+        frame,
+        pd.DataFrame,
+        "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
+    )
     decimator = SeriesDecimator(len(frame), traces, buckets)
     decimator.add(frame.reset_index(drop=True))
     return decimator.result()
@@ -598,6 +627,14 @@ def interactive_series(
         (:class:`SeriesDecimator`: every bucket's extremes kept), and the figure says so
         under its title: "N samples, shown decimated to K".
     """
+    import pandas as pd
+
+    check_instance(
+        "results",
+        results,
+        pd.DataFrame,
+        "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
+    )
     capacity = check_capacity(capacity)
     go = _plotly()
     chosen = _kinds_with(results, score, kinds)
@@ -678,6 +715,16 @@ def write_report(path: str | Path, title: str, sections: Sequence[tuple[str, Any
 
     if not isinstance(title, str):
         raise InputError("title", "a str (the page's heading)", f"{type(title).__name__}")
+    if isinstance(sections, str | bytes) or not all(
+        isinstance(item, tuple | list) and len(item) == 2 and isinstance(item[0], str)
+        for item in sections
+    ):
+        raise InputError(
+            "sections",
+            "a sequence of (heading, content) pairs, the heading a str",
+            repr(sections)[:120],
+            'e.g. [("sets", interactive_sets(comparison))].',
+        )
     go = _plotly()
     parts: list[str] = []
     first = True

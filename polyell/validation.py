@@ -23,6 +23,7 @@ __all__ = [
     "check_array",
     "check_directions",
     "check_fraction",
+    "check_instance",
     "check_integer",
     "check_magnitudes",
     "check_points",
@@ -351,6 +352,14 @@ def array_ndim(value: ArrayLike) -> int:
         return int(np.ndim(value))
     except ValueError:
         return -1
+
+
+def check_instance(name: str, value: object, kind: type | tuple[type, ...], fix: str = "") -> None:
+    """Refuse a value that is not an instance of ``kind``, naming the argument and the fix."""
+    if not isinstance(value, kind):
+        kinds = kind if isinstance(kind, tuple) else (kind,)
+        expected = " or ".join(k.__name__ for k in kinds)
+        raise InputError(name, f"a {expected}", _describe(value)[:120], fix)
 
 
 def check_integer(name: str, value: object, low: int, high: int) -> int:

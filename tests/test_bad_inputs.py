@@ -461,3 +461,35 @@ def test_rank_n_and_title_of_the_wrong_type_are_refused(tmp_path):
     for title in (None, 5):
         with pytest.raises(pe.InputError, match="title"):
             write_report(tmp_path / "r.html", title, [])
+
+
+@pytest.mark.parametrize("module", ["polyell.figures", "polyell.interactive"])
+def test_every_figure_function_refuses_a_wrong_first_argument(module):
+    # The third attack (issue 33): figure functions given a Comparison for an Analysis (and
+    # the like) raised raw AttributeError / TypeError / IndexError.
+    import importlib
+    import inspect
+
+    functions = importlib.import_module(module)
+    analysis = pe.analyze(ARM.dynamics([np.pi / 2, -np.pi / 2, -np.pi / 2]), ARM.tau_max)
+    comparison = pe.compare(analysis, 8, mvie=False, outer=False)
+    wrong = [None, 5, "x", comparison, analysis, np.zeros(3), []]
+    checked = 0
+    for name in functions.__all__:
+        function = getattr(functions, name)
+        if not inspect.isfunction(function) or name in ("check_title", "decimation_note"):
+            continue
+        parameters = list(inspect.signature(function).parameters.values())
+        required = [p for p in parameters if p.default is p.empty]
+        positional = [p for p in required if p.kind is p.POSITIONAL_OR_KEYWORD]
+        keywords = {p.name: "x" for p in required if p.kind is p.KEYWORD_ONLY}
+        for value in wrong:
+            arguments = [value, *["x"] * (len(positional) - 1)]
+            try:
+                function(*arguments, **keywords)
+            except pe.PolyellError:
+                checked += 1
+                continue
+            except Exception as exn:
+                pytest.fail(f"{name}({type(value).__name__}, ...): {type(exn).__name__}: {exn}")
+    assert checked > 0
