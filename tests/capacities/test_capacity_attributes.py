@@ -108,11 +108,12 @@ def test_a_unique_inverse_is_the_same_for_every_kind(capacity):
         assert not same
 
 
-@pytest.mark.parametrize("capacity", CAPACITIES)
+ZONOTOPES = [c for c in CAPACITIES if issubclass(capacity_class(c), ZonotopeAnalysis)]
+
+
+@pytest.mark.parametrize("capacity", ZONOTOPES)
 def test_zonotope_capacities_name_the_block_paths_sets(capacity):
     cls = capacity_class(capacity)
-    if not issubclass(cls, ZonotopeAnalysis):
-        pytest.skip("not a zonotope: no acceleration block path")
     names = cls.acceleration_names
     assert set(names) <= {"polytope", *ELLIPSOID_KINDS}
     assert sorted(names.values()) == sorted(["polytope", *cls.ellipsoid_kinds])
