@@ -23,6 +23,7 @@ __all__ = [
     "check_array",
     "check_directions",
     "check_fraction",
+    "check_frame",
     "check_instance",
     "check_integer",
     "check_magnitudes",
@@ -360,6 +361,13 @@ def check_instance(name: str, value: object, kind: type | tuple[type, ...], fix:
         kinds = kind if isinstance(kind, tuple) else (kind,)
         expected = " or ".join(k.__name__ for k in kinds)
         raise InputError(name, f"a {expected}", _describe(value)[:120], fix)
+
+
+def check_frame(name: str, value: object, fix: str = "") -> None:
+    """Refuse a value that is not a pandas DataFrame (pandas imported only here, lazily)."""
+    import pandas as pd
+
+    check_instance(name, value, pd.DataFrame, fix)
 
 
 def check_integer(name: str, value: object, low: int, high: int) -> int:

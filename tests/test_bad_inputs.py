@@ -463,7 +463,19 @@ def test_rank_n_and_title_of_the_wrong_type_are_refused(tmp_path):
             write_report(tmp_path / "r.html", title, [])
 
 
-@pytest.mark.parametrize("module", ["polyell.figures", "polyell.interactive"])
+@pytest.mark.parametrize(
+    "module",
+    [
+        "polyell.figures",
+        "polyell.interactive",
+        "polyell.comparison.labels",
+        "polyell.comparison.limits",
+        "polyell.comparison.summary",
+        "polyell.studies.posture",
+        "polyell.comparison.tables",
+        "polyell.comparison.metrics",
+    ],
+)
 def test_every_figure_function_refuses_a_wrong_first_argument(module):
     # The third attack (issue 33): figure functions given a Comparison for an Analysis (and
     # the like) raised raw AttributeError / TypeError / IndexError.

@@ -10,6 +10,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Literal
 
+from polyell.errors import InputError
+from polyell.validation import check_instance
+
 __all__ = [
     "CAPACITY_SET_LABELS",
     "ELLIPSOID_LABELS",
@@ -41,11 +44,13 @@ CAPACITY_SET_LABELS = {
 
 def set_label(kind: str, capacity: str = "acceleration") -> str:
     """The label of a set of a capacity (plain text); a candidate's is its name."""
+    check_instance("kind", kind, str, "pass a set name, e.g. 'polytope'.")
     return CAPACITY_SET_LABELS.get(capacity, {}).get(kind) or SET_LABELS.get(kind, kind)
 
 
 def ellipsoid_label(kind: str, capacity: str = "acceleration") -> str:
     """The label of an ellipsoid of a capacity (plain text); a candidate's is its name."""
+    check_instance("kind", kind, str, "pass a kind name, e.g. 'chiacchio'.")
     return set_label(kind, capacity) if kind != "polytope" else kind
 
 
@@ -131,4 +136,6 @@ CAPACITY_QUANTITIES = {
 
 def quantity(name: str, capacity: str = "acceleration") -> Quantity:
     """The quantity ``name`` (a key of :data:`QUANTITIES`) as a capacity labels it."""
+    if not isinstance(name, str) or name not in QUANTITIES:
+        raise InputError("name", f"a quantity among {sorted(QUANTITIES)}", repr(name)[:80])
     return CAPACITY_QUANTITIES.get(capacity, {}).get(name) or QUANTITIES[name]

@@ -15,6 +15,7 @@ import numpy as np
 from polyell.comparison.directions import DirectionSpec, resolve_directions
 from polyell.comparison.metrics import relative_error
 from polyell.errors import InputError
+from polyell.validation import check_instance
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
@@ -45,6 +46,9 @@ def table_sets(comparison: Comparison, sets: Sequence[str] | None, argument: str
     None gives the polytope and every kind the comparison computed (an MVIE or outer
     ellipsoid turned off with ``mvie=False`` / ``outer=False`` is left out).
     """
+    from polyell.comparison.comparison import Comparison  # (a circle at import time)
+
+    check_instance("comparison", comparison, Comparison, "pass pe.compare(analysis).")
     available = ["polytope", *comparison.kinds]
     if sets is None:
         return [
@@ -66,6 +70,9 @@ def limits_frame(
     argument: str = "directions",
 ) -> pd.DataFrame:
     """:meth:`Comparison.limits_table <polyell.Comparison.limits_table>` (see there)."""
+    from polyell.comparison.comparison import Comparison  # (a circle at import time)
+
+    check_instance("comparison", comparison, Comparison, "pass pe.compare(analysis).")
     import pandas as pd
 
     task = comparison.analysis.task

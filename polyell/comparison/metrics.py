@@ -18,6 +18,7 @@ from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.limits import DirectionalLimits, line_interval_in_halfspaces
 from polyell.geometry.polytope import Polytope
 from polyell.inverse import AffineMap
+from polyell.validation import check_instance, check_integer
 
 __all__ = [
     "ANTIPARALLEL",
@@ -53,6 +54,24 @@ INSIDE_RTOL = 1e-9
 ROUNDING_FACTOR = 16.0
 
 
+def _floats(name: str, value: object) -> NDArray[np.float64]:
+    """``value`` as an array of floats (NaN allowed), or an InputError naming it."""
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(name, "an array of real numbers", repr(value)[:80]) from None
+
+
+#: How to mend a wrong DirectionalLimits argument.
+_LIMITS = "pass the limits of an ellipsoid and of the polytope (E.limits(T), P.limits(T))."
+
+
+def _check_sets(E: object, P: object) -> None:
+    """Refuse an ellipsoid or a set of the wrong type, naming the argument."""
+    check_instance("E", E, Ellipsoid, "pass an ellipsoid, e.g. analysis.ellipsoid('chiacchio').")
+    check_instance("P", P, (Polytope, HPolytope), "pass the exact set, analysis.polytope.")
+
+
 def scale_rtol(
     extent: float | NDArray[np.float64],
     smallest_axis: float | NDArray[np.float64],
@@ -80,7 +99,9 @@ def scale_rtol(
         Task rows and joints.
     """
     eps = float(np.finfo(float).eps)
-    return ROUNDING_FACTOR * (m + n) * eps * np.asarray(extent) / np.asarray(smallest_axis)
+    m, n = check_integer("m", m, 0, 2**31), check_integer("n", n, 0, 2**31)
+    extent, smallest = _floats("extent", extent), _floats("smallest_axis", smallest_axis)
+    return ROUNDING_FACTOR * (m + n) * eps * extent / smallest
 
 
 def inside_rtol(E: Ellipsoid, P: Polytope | HPolytope) -> float:
@@ -91,6 +112,7 @@ def inside_rtol(E: Ellipsoid, P: Polytope | HPolytope) -> float:
     the new ellipsoid of a parallelotope, the MVIE and the outer ellipsoid do) is never sent
     to a Monte Carlo estimate by rounding errors.
     """
+    _check_sets(E, P)
     if E.rank == 0:
         return INSIDE_RTOL
     if isinstance(P, HPolytope):  # facets are its data: (m + 2) terms, its vertices' reach
@@ -103,6 +125,7 @@ def inside_rtol(E: Ellipsoid, P: Polytope | HPolytope) -> float:
 
 def check_same_affine_set(E: Ellipsoid, P: Polytope | HPolytope) -> None:
     """Raise unless ``E`` spans exactly the affine set of ``P``."""
+    _check_sets(E, P)
     off = P.affine_set.distance(E.center + (E.axes * E.semi_axes).T)
     if E.rank != P.dim or P.affine_set.distance(E.center) > P.atol or np.any(off > P.atol):
         raise InputError(
@@ -139,6 +162,7 @@ def inscribed_scale(E: Ellipsoid, P: Polytope | HPolytope) -> float:
     ``inf`` (if its centre is in P) or ``-inf``.  The slacks are taken about P's centre
     (``h_i - a_i . (c - xg)``), so the scale keeps its digits however far P is from 0.
     """
+    _check_sets(E, P)
     reach = np.linalg.norm((P.A @ E.axes) * E.semi_axes, axis=1)
     slack = _slacks(E, P)
     if E.rank == 0:
@@ -153,6 +177,7 @@ def enclosing_scale(E: Ellipsoid, P: Polytope | HPolytope) -> float:
     ``E`` contains ``P`` (the outer ellipsoid touches: exactly 1), the counterpart of
     :func:`inscribed_scale`.  A point ellipsoid gives 0 (if P is that point) or ``inf``.
     """
+    _check_sets(E, P)
     if isinstance(P, HPolytope) and not P.is_bounded:
         return float("inf")
     offsets = (P.vertices - P.center) + (P.center - E.center)
@@ -288,8 +313,7 @@ def _cap_geometry(
     reach_vectors: NDArray[np.float64], slack: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], _Caps]:
     """:func:`cap_share` and the caps it found (for :func:`cap_union_share`)."""
-    W = np.asarray(reach_vectors, dtype=float)
-    slack = np.asarray(slack, dtype=float)
+    W, slack = _floats("reach_vectors", reach_vectors), _floats("slack", slack)
     if W.ndim < 2 or slack.shape != W.shape[:-1]:
         raise InputError(
             "reach_vectors",
@@ -354,6 +378,7 @@ _CAP_BLOCK_MEMORY = 1 << 22
 
 def cap_points(samples: int) -> int:
     """Heights per pair of caps and replicate of :func:`cap_union_share` for ``samples``."""
+    samples = check_integer("samples", samples, 1, 2**62)
     wanted = max(2, int(samples) // CAP_SAMPLES_RATIO)
     return 1 << (wanted - 1).bit_length()  # the power of two at or above
 
@@ -732,12 +757,16 @@ def estimate(counts: NDArray[np.int64], samples: int) -> tuple[float, float]:
     half a point added, ``sqrt(p (1 - p) / N)``, ``p = (k + 1/2) / (N + 1)``: an estimate
     never reads as exact (standard error 0).
     """
-    shares = counts / samples
-    replicates = len(counts)
+    values = _floats("counts", counts)
+    samples = check_integer("samples", samples, 1, 2**62)
+    if values.ndim != 1 or len(values) < 2:
+        raise InputError("counts", "one count per replicate, at least 2", f"shape {values.shape}")
+    shares = values / samples
+    replicates = len(values)
     stderr = float(shares.std(ddof=1) / np.sqrt(replicates))
     if stderr == 0.0:
         total = samples * replicates
-        p = (float(counts.sum()) + 0.5) / (total + 1.0)
+        p = (float(values.sum()) + 0.5) / (total + 1.0)
         stderr = float(np.sqrt(p * (1.0 - p) / total))
     return float(shares.mean()), stderr
 
@@ -781,6 +810,7 @@ def overlap(
         Seed of the scramblings: the estimate is reproducible, and a row of the batched
         sweep (the same :func:`cap_union_share`) gets the same numbers.
     """
+    _check_sets(E, P)
     if E.rank == 0:
         inside = float(P.contains(E.center))
         return Overlap(inside, 1.0 - inside, 0.0, 0.0)
@@ -851,7 +881,7 @@ def relative_error(
         Dimensionless.  For upper limits > 0 means the ellipsoid promises too much; for
         lower limits < 0 does (it reaches further down).
     """
-    e, p = np.asarray(ellipsoid, dtype=float), np.asarray(polytope, dtype=float)
+    e, p = _floats("ellipsoid", ellipsoid), _floats("polytope", polytope)
     used = ~np.isnan(e) & ~np.isnan(p) & (p != 0)
     error = np.full(np.broadcast_shapes(e.shape, p.shape), np.nan)
     infinite = used & np.isinf(p) & np.isfinite(e)
@@ -863,6 +893,8 @@ def relative_error(
 
 def direction_errors(ellipsoid: DirectionalLimits, polytope: DirectionalLimits) -> DirectionErrors:
     """Statistics of the upper directional limits of an ellipsoid against the polytope's."""
+    check_instance("ellipsoid", ellipsoid, DirectionalLimits, _LIMITS)
+    check_instance("polytope", polytope, DirectionalLimits, _LIMITS)
     feasible_e, feasible_p = ellipsoid.feasible, polytope.feasible
     mismatch = int(np.count_nonzero(feasible_e != feasible_p))
     errors = relative_error(ellipsoid.hi, polytope.hi)
@@ -887,6 +919,7 @@ def witness_torque_max(E: Ellipsoid, torques: AffineMap) -> float:
     maximum of ``|tau_n,i|`` is ``|W c + w|_i + |(W U diag(s))_i|`` (Cauchy-Schwarz, attained),
     so the value is exact, not sampled.
     """
+    check_instance("E", E, Ellipsoid, "pass an ellipsoid.")
     centre = torques(E.center)
     spread = np.linalg.norm(torques.matrix @ (E.axes * E.semi_axes), axis=1)
     return float(np.max(np.abs(centre) + spread))

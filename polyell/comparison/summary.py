@@ -11,6 +11,8 @@ from polyell.comparison.labels import QUANTITIES, quantity, set_label
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.printable import Cell, Label, PrintTable, quantity_label, text_label
 from polyell.comparison.tables import Style, render_tables
+from polyell.errors import InputError
+from polyell.validation import check_frame, check_instance
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
@@ -44,6 +46,7 @@ def split_column(column: str) -> tuple[str, str] | None:
 
     None for other columns (``configuration``, ``q1``, ``polytope_volume``, ...).
     """
+    check_instance("column", column, str, "pass a column name, e.g. 'chiacchio_coverage'.")
     for score in sorted(SCORE_NAMES, key=len, reverse=True):  # coverage_stderr first
         if column.endswith(f"_{score}") and column[: -len(score) - 1] not in ("", "polytope"):
             return column[: -len(score) - 1], score
@@ -52,6 +55,8 @@ def split_column(column: str) -> tuple[str, str] | None:
 
 def result_kinds(columns: Iterable[str]) -> list[str]:
     """The ellipsoids with ``<kind>_<score>`` columns, in column order (candidates too)."""
+    if isinstance(columns, str) or not hasattr(columns, "__iter__"):
+        raise InputError("columns", "column names (e.g. frame.columns)", repr(columns)[:80])
     found: list[str] = []
     for column in columns:
         split = split_column(column)
@@ -77,6 +82,7 @@ def summarize(results: pd.DataFrame, scores: tuple[str, ...] = SUMMARY_SCORES) -
         configurations have a finite value), ``mean``, ``std``, ``min``, ``median``,
         ``max``; NaN values (undefined ellipsoids) are left out of the statistics.
     """
+    check_frame("results", results, "pass a pandas DataFrame (e.g. the results of pe.sweep).")
     rows = {}
     for kind in result_kinds(results.columns):
         for score in scores:
@@ -131,6 +137,7 @@ def format_summary_table(
         Whose ellipsoids they are: the sets' labels (a force ``"chiacchio"`` is "with
         gravity", ``"static"`` "no gravity").
     """
+    check_frame("summary", summary, "pass summarize(results).")
     capacity = check_capacity(capacity)
     layout = TableLayout() if layout is None else layout
     kinds = list(dict.fromkeys(kind for kind, _ in summary.index))

@@ -32,6 +32,7 @@ from polyell.comparison.layout import TableLayout
 from polyell.comparison.printable import PrintTable
 from polyell.comparison.write_markdown import markdown_grid
 from polyell.errors import InputError
+from polyell.validation import check_frame, check_instance
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
@@ -73,6 +74,7 @@ def score_display(score: str, capacity: str = "acceleration") -> tuple[str, floa
     The label is the tables' (:func:`~polyell.comparison.labels.quantity` of the
     capacity), without the volume's unit; a score without one is its name with spaces.
     """
+    check_instance("score", score, str, "pass a score name, e.g. 'coverage'.")
     name = quantity(score, capacity).plain if score in QUANTITIES else score.replace("_", " ")
     return (f"{name} [%]", 100.0) if score in PERCENT_SCORES else (name, 1.0)
 
@@ -149,6 +151,7 @@ def format_scores_table(
     layout : TableLayout, optional
         Sets, scores, orientation and rounding (default ``TableLayout()``).
     """
+    check_frame("frame", frame, "pass comparison.to_frame().")
     from polyell.comparison.print_scores import scores_print_tables
 
     layout = _layout(layout)

@@ -44,7 +44,7 @@ from polyell.geometry.subspace import RANK_RTOL
 from polyell.models.self_motion import SelfMotion
 from polyell.studies.along import analysis_within, limits_along
 from polyell.studies.batch import BatchOptions, block_sets, block_size
-from polyell.validation import check_array, check_fraction, check_points
+from polyell.validation import check_array, check_fraction, check_frame, check_points
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
@@ -374,6 +374,7 @@ def choice_table(values: pd.DataFrame) -> pd.DataFrame:
     DataFrame
         Indexed by (kind, criterion), the columns of :attr:`PostureChoice.table`.
     """
+    check_frame("values", values, "pass choice.values of pe.posture_choice.")
     import pandas as pd
     from scipy import stats
 
