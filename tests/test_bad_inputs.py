@@ -474,6 +474,7 @@ def test_rank_n_and_title_of_the_wrong_type_are_refused(tmp_path):
         "polyell.studies.posture",
         "polyell.comparison.tables",
         "polyell.comparison.metrics",
+        "polyell.geometry.subspace",
     ],
 )
 def test_every_figure_function_refuses_a_wrong_first_argument(module):

@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 from scipy.linalg import lapack
 
 from polyell.errors import SolverError
-from polyell.validation import ROUNDED_INPUT_RTOL, check_fraction
+from polyell.validation import ROUNDED_INPUT_RTOL, check_array, check_fraction
 
 __all__ = [
     "AFFINE_RTOL",
@@ -84,7 +84,9 @@ def scaled_norm(x: NDArray[np.float64], axis: int = -1) -> NDArray[np.float64]:
     ``numpy.linalg.norm`` squares the entries: vectors of entries below about 1e-154 get
     norm 0 (and above 1e154, inf). Here each vector is divided by its largest entry first.
     """
-    size = np.max(np.abs(x), axis=axis, keepdims=True)
+    if not isinstance(x, np.ndarray) or x.dtype != np.float64:
+        x = check_array("x", x, (None,) * max(1, np.ndim(x)))
+    size = np.max(np.abs(x), axis=axis, keepdims=True, initial=0.0)
     with np.errstate(invalid="ignore", divide="ignore"):
         unit = np.where(size > 0, x / np.where(size > 0, size, 1.0), 0.0)
     norms: NDArray[np.float64] = np.squeeze(size, axis=axis) * np.linalg.norm(unit, axis=axis)
@@ -118,6 +120,8 @@ def rank_revealing_svd(
         If ``rtol`` is not in ``[0, 1)``.
     """
     rtol = check_fraction("rank_rtol", rtol)
+    if not isinstance(M, np.ndarray) or M.ndim != 2 or M.dtype != np.float64:
+        M = check_array("M", M, ("m", "n"))
     m, n = M.shape
     # (an int flag: f2py converts a bool far more slowly)
     U, s, Vt, info = lapack.dgesdd(M, full_matrices=int(m > n))  # U is square either way
