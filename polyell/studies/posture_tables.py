@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 
 from polyell.comparison.labels import set_label
 from polyell.comparison.latex_text import markdown_text
+from polyell.comparison.layout import TableLayout
 from polyell.comparison.printable import Cell, Label, PrintTable, text_label
 from polyell.comparison.tables import escape_latex, escape_markdown, render_tables
 from polyell.errors import InputError
@@ -90,7 +91,11 @@ def _print_table(table: pd.DataFrame) -> PrintTable:
 
 
 def format_posture_table(
-    table: pd.DataFrame, style: str, title: str = "", label: str | None = None
+    table: pd.DataFrame,
+    style: str,
+    title: str = "",
+    label: str | None = None,
+    layout: TableLayout | None = None,
 ) -> str:
     """A choice table as ``"latex"`` (booktabs, a ``table`` float), ``"markdown"`` or ``"csv"``.
 
@@ -106,14 +111,33 @@ def format_posture_table(
         The LaTeX caption, or a Markdown heading line (plain text, escaped).
     label : str, optional
         A LaTeX label (letters, digits and ``:-_.``).
+    layout : TableLayout, optional
+        Its ``sets`` (the rows shown, in that order) and ``digits``, as in a study's
+        ``[output]``; default every set at :data:`DIGITS` digits.
     """
+    table, digits = _laid_out(table, layout)
     if style not in ("latex", "markdown", "csv"):
         raise InputError("style", "'latex', 'markdown' or 'csv'", repr(style))
     printable = _print_table(table)
     if style == "markdown":
         heading = f"# {markdown_text(escape_markdown(title, 'title'))}\n\n" if title else ""
-        return heading + render_tables([printable], "markdown", DIGITS)
-    return render_tables([printable], style, DIGITS, title or None, label)  # type: ignore[arg-type]
+        return heading + render_tables([printable], "markdown", digits)
+    return render_tables([printable], style, digits, title or None, label)  # type: ignore[arg-type]
+
+
+def _laid_out(table: pd.DataFrame, layout: TableLayout | None) -> tuple[pd.DataFrame, int]:
+    """The rows of the sets ``layout`` shows (in its order), and its digits."""
+    if layout is None:
+        return table, DIGITS
+    if not isinstance(layout, TableLayout):
+        raise InputError("layout", "a pe.TableLayout", type(layout).__name__)
+    if layout.sets is not None and table.index.nlevels == 2:
+        present = list(dict.fromkeys(table.index.get_level_values(0)))
+        shown = [name for name in layout.sets if name in present]
+        if not shown:
+            raise InputError("layout.sets", f"some of {present}", repr(layout.sets))
+        table = table.loc[shown]
+    return table, layout.digits
 
 
 def write_posture_tables(
@@ -123,6 +147,7 @@ def write_posture_tables(
     *,
     label: str | None = None,
     stem: str = POSTURE_TABLE_STEM,
+    layout: TableLayout | None = None,
 ) -> dict[str, Path]:
     """Write a choice table as ``<stem>.tex``, ``<stem>.md`` and ``<stem>.csv`` in ``folder``.
 
@@ -138,6 +163,9 @@ def write_posture_tables(
         The LaTeX label.
     stem : str, optional
         The file names' stem.
+    layout : TableLayout, optional
+        The sets and digits of the LaTeX and Markdown tables (:func:`format_posture_table`);
+        the CSV holds every set.
 
     Returns
     -------
@@ -156,8 +184,8 @@ def write_posture_tables(
     if not isinstance(stem, str) or not stem or "/" in stem or "\\" in stem or stem[0] == ".":
         raise InputError("stem", "a file name without a path", repr(stem))
     texts = {
-        "latex": format_posture_table(table, "latex", title, label),
-        "markdown": format_posture_table(table, "markdown", title),
+        "latex": format_posture_table(table, "latex", title, label, layout),
+        "markdown": format_posture_table(table, "markdown", title, layout=layout),
         "csv": table.to_csv(),
     }
     paths = {}

@@ -306,6 +306,7 @@ def _posture_outputs(
             f"{len(configurations)} postures)",
             label=f"tab:posture-choice{suffix.replace('_', '-')}",
             stem=f"posture_choice{suffix}",
+            layout=_for_capacity(spec, capacity).layout,
         ).values()
     )
     import pandas as pd
@@ -351,6 +352,7 @@ def _posture_outputs(
             title,
             label=f"tab:posture-targets{suffix.replace('_', '-')}",
             stem=f"posture_targets{suffix}",
+            layout=_for_capacity(spec, capacity).layout,
         ).values()
         sections.append((f"{named}Over {posture.targets} random targets", over.summary))
     return written, sections

@@ -365,3 +365,21 @@ def test_a_component_elsewhere_is_refused(tmp_path):
     error = _refused(tmp_path, text)
     assert error.argument == "posture.components[0]"
     assert "q0's task coordinates" in str(error)
+
+
+def test_the_posture_tables_follow_output_sets_and_digits(tmp_path):
+    # The third attack (issue 33): [posture] ignored [output] sets and digits.
+    text = PAPER.replace("dpi = 20\n", 'dpi = 20\nsets = ["chiacchio", "polytope"]\ndigits = 6\n')
+    out = tmp_path / "out"
+    run_study(load_study(_write(tmp_path, text)), out)
+    markdown = (out / "posture_choice.md").read_text()
+    rows = [
+        line.split("|")[1].strip() for line in markdown.splitlines()[4:] if line.startswith("|")
+    ]
+    assert rows == ["new (eq. 32/38)"] * 3 + ["polytope"] * 3, rows  # in the order asked
+    assert "heavy_wrist" not in markdown and "classic" not in markdown
+    first = next(line for line in markdown.splitlines() if line.startswith("| new"))
+    truth = [cell.strip() for cell in first.split("|")][4]  # the truth at the pick
+    assert len(truth.replace(".", "").replace("-", "").lstrip("0")) == 6, truth
+    full = pd.read_csv(out / "posture_choice.csv")  # every set, full precision
+    assert "heavy_wrist" in set(full.iloc[:, 0])
