@@ -34,7 +34,6 @@ from polyell.comparison.scores import (
     polytope_columns,
     score_ellipsoids,
 )
-from polyell.geometry.limits import facet_slack
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.geometry.zonotope import cross, subsets
 from polyell.inverse import classic_terms
@@ -116,17 +115,6 @@ def _zonotope_volume(s: Array, V1t: Array) -> Array:
     else:
         dets = np.linalg.det(blocks)
     return 2.0**m * np.prod(s, axis=-1) * np.abs(dets).sum(axis=-1)
-
-
-def _origin_radius(normals: Array, h: Array, xg: Array, slack: Array) -> Array:
-    """Largest ball about the origin inside each P: ``min (h - |a . xg|)``.
-
-    NaN where the origin is outside P grown by ``slack`` (K, C), as in
-    ``Polytope.contains``.
-    """
-    distance = h - np.abs(np.einsum("kcm,km->kc", normals, xg))
-    inside = (distance >= -slack).all(axis=-1)
-    return np.where(inside, np.maximum(distance.min(axis=-1), 0.0), np.nan)
 
 
 #: Rows with ``sigma_min / sigma_max`` within this relative band above ``rank_rtol`` take
@@ -224,9 +212,6 @@ class BlockSets(NamedTuple):
         The sum of the generator lengths (the polytope's extent about xg).
     volume : ndarray, shape (k,)
         The polytope's volume [(task unit)^m].
-    origin_radius : ndarray, shape (k,)
-        The largest ball about the origin inside the polytope; NaN where the origin is
-        outside it (as ``Polytope.origin_radius``).
     ellipsoids : dict of str to (axes, semi_axes, witness, center or None)
         ``chiacchio``, ``yoshikawa`` and the optional ones: axes (k, m, m), semi-axes
         (k, m) (NaN: not certified), the torque witness (k,) and the centre (k, m), None
@@ -249,8 +234,30 @@ class BlockSets(NamedTuple):
     signs: Array | None
     size: Array
     volume: Array
-    origin_radius: Array
     ellipsoids: dict[str, tuple[Array, Array, Array, Array | None]]
+
+    def as_set_batch(self) -> SetBatch:
+        """The zonotopes as the scorer takes them: facet pairs about ``xg``, the vertices."""
+        k, m, n = self.M.shape
+        h = self.offsets
+        vertices = None
+        if self.signs is not None:  # about xg, one of each +-pair
+            half = self.signs @ np.swapaxes(self.M, 1, 2)
+            vertices = np.concatenate([self.xg[:, None] + half, self.xg[:, None] - half], 1)
+        return SetBatch(
+            center=self.xg,
+            normals=self.normals,
+            widths=h,
+            midpoints=np.einsum("kcm,km->kc", self.normals, self.xg),
+            offsets=np.concatenate([h, h], axis=1),
+            facet=np.ones((k, 2 * h.shape[1]), dtype=bool),
+            vertices=vertices,
+            is_vertex=None if vertices is None else np.ones(vertices.shape[:2], dtype=bool),
+            volume=self.volume,
+            size=self.size,
+            terms=m + n + 2,  # Polytope's facet terms
+            rtol_terms=n,
+        )
 
 
 def block_sets(
@@ -317,8 +324,6 @@ def block_sets(
     normals, h = block.normals[ok], block.offsets[ok]
     V1t = Vt[:, :m, :]
     size_p = np.linalg.norm(M, axis=1).sum(axis=-1)  # sum of the generator lengths
-    reach = np.linalg.norm(xg, axis=-1) + size_p
-    terms = m + n + 2
 
     # Every scored set as (axes, semi-axes, witness, centre or None for xg).
     ellipsoids: dict[str, tuple[Array, Array, Array, Array | None]] = {
@@ -358,7 +363,6 @@ def block_sets(
         signs=None if signs is None else signs[ok],
         size=size_p,
         volume=_zonotope_volume(s, V1t),
-        origin_radius=_origin_radius(normals, h, xg, facet_slack(h, reach[:, None], terms)),
         ellipsoids=ellipsoids,
     )
     return sets, scalar
@@ -375,7 +379,7 @@ def _block_rows(
     options: BatchOptions,
 ) -> tuple[dict[str, Array], NDArray[np.bool_]]:
     """:func:`batch_rows` for one block of configurations, on validated arrays."""
-    K, m, n = J.shape
+    K = len(J)
     columns = {name: np.full(K, np.nan) for name in score_columns(options.candidates)}
     for kind in (*COMPARED_KINDS, *(c.name for c in options.candidates)):
         columns[f"{kind}_feasibility_mismatch"][:] = 0.0
@@ -383,27 +387,9 @@ def _block_rows(
     sets, scalar = block_sets(J, B, g, xdd_bias, tau_max, tau_min, options)
     if sets is None:
         return columns, scalar
-    M, xg, normals, h = sets.M, sets.xg, sets.normals, sets.offsets
-    vertices = None
-    if sets.signs is not None:  # about xg, one of each +-pair
-        half = sets.signs @ np.swapaxes(M, 1, 2)
-        vertices = np.concatenate([xg[:, None, :] + half, xg[:, None, :] - half], axis=1)
-    zonotopes = SetBatch(
-        center=xg,
-        normals=normals,
-        widths=h,
-        midpoints=np.einsum("kcm,km->kc", normals, xg),
-        offsets=np.concatenate([h, h], axis=1),
-        facet=np.ones((len(M), 2 * h.shape[1]), dtype=bool),
-        vertices=vertices,
-        is_vertex=None if vertices is None else np.ones(vertices.shape[:2], dtype=bool),
-        volume=sets.volume,
-        size=sets.size,
-        terms=m + n + 2,  # Polytope's facet terms
-        rtol_terms=n,
-    )
+    zonotopes = sets.as_set_batch()
     ellipsoids = {
-        kind: EllipsoidBatch(xg if center is None else center, axes, semi, witness)
+        kind: EllipsoidBatch(sets.xg if center is None else center, axes, semi, witness)
         for kind, (axes, semi, witness, center) in sets.ellipsoids.items()
     }
     scores, undecided = score_ellipsoids(

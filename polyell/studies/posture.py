@@ -34,6 +34,7 @@ from numpy.typing import ArrayLike, NDArray
 from polyell.capacities import capacity_class, check_capacity, joint_limits_of
 from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.comparison.candidates import Candidate, check_candidates
+from polyell.comparison.scores import polytope_columns
 from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.ellipsoid import Ellipsoid, unit_ball_volume
 from polyell.geometry.inradius import ellipsoid_origin_radius
@@ -300,7 +301,8 @@ def _block_values(
         if sets is None:
             continue
         rows = sets.rows + start
-        values["polytope"]["radius"][rows] = np.nan_to_num(sets.origin_radius, nan=0.0)
+        radius = polytope_columns(sets.as_set_batch())["polytope_origin_radius"]
+        values["polytope"]["radius"][rows] = np.nan_to_num(radius, nan=0.0)
         values["polytope"]["volume"][rows] = sets.volume
         for kind, (axes, semi, _, center) in sets.ellipsoids.items():
             if kind in ("chiacchio", "yoshikawa") and kind not in names:
