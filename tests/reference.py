@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 import polyell as pe
-from polyell.comparison.metrics import ROUNDING_FACTOR
+from polyell.comparison.scores import ROUNDING_FACTOR, ellipsoid_of, fit, set_of
 
 RTOL_EXACT = 1e-9
 RTOL_LP = 1e-8
@@ -250,3 +250,8 @@ def qmc_count_inside(
         tail |= offsets[firsts[i] - start :] @ A[i] > slack[i]
     missed = np.bincount(replicate[start:][outside], minlength=replicates)
     return samples - missed
+
+
+def slacks(E, P):
+    """``b_i - a_i . c`` of P's facets about E's centre (the scorer's own)."""
+    return fit(set_of(P), ellipsoid_of(E)).slacks[0]

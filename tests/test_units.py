@@ -99,7 +99,7 @@ def scaled_problem(seed: int, torque_unit: float, task_unit: float):
 
 
 def rounding_bound(analysis: pe.Analysis) -> float:
-    """The stated rounding bound of a score: metrics.scale_rtol of the worst ellipsoid.
+    """The stated rounding bound of a score: scores.scale_rtol of the worst ellipsoid.
 
     Multiplying the inputs by a power of ten rounds each of them (relative error eps): the
     scores move by at most the condition of the computation times eps, which scale_rtol
@@ -107,7 +107,7 @@ def rounding_bound(analysis: pe.Analysis) -> float:
     of M) is the smallest of the ellipsoids here, the classic one's at most a factor
     |F| |F^-1| below it, so the bound is taken with s_min(M) / cond(F).
     """
-    from polyell.comparison.metrics import scale_rtol
+    from polyell.comparison.scores import scale_rtol
 
     m, n = analysis.M.shape
     extent = max(np.linalg.norm(analysis.xg), np.linalg.norm(analysis.M, axis=0).sum())

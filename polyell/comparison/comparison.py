@@ -17,16 +17,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from polyell.capacities import Analysis, capacity_class
 from polyell.comparison.candidates import BUILT_IN_KINDS, Candidate, check_candidates
+from polyell.comparison.directional import statistics
 from polyell.comparison.directions import DirectionSpec
 from polyell.comparison.layout import TableLayout
-from polyell.comparison.metrics import (
-    check_same_affine_set,
-    direction_errors,
-    enclosing_scale,
-    inscribed_scale,
-    overlap,
-    witness_torque_max,
-)
+from polyell.comparison.metrics import check_same_affine_set
+from polyell.comparison.scores import ellipsoid_of, set_of, shape_scores
 from polyell.comparison.tables import format_comparison_table
 from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.directions import directions_in
@@ -134,6 +129,9 @@ class Scores:
         return dataclasses.asdict(self)
 
 
+#: The scores that count directions (integers).
+_COUNTS = ("feasibility_mismatch", "directions_used")
+
 #: The score attributes, in table order.
 SCORE_NAMES = tuple(
     f.name for f in dataclasses.fields(Scores) if f.name not in ("kind", "defined", "reason")
@@ -172,7 +170,7 @@ class Comparison:
         self._computed = {"mvie": mvie, "outer": outer}
         self._candidates = {c.name: c for c in candidates}
         self.kinds: tuple[str, ...] = (*compared_kinds(analysis.capacity), *self._candidates)
-        self.records: dict[str, Scores] = {kind: self._score(kind) for kind in self.kinds}
+        self.records: dict[str, Scores] = self._score()
 
     def __getitem__(self, kind: str) -> Scores:
         if kind not in self.records:
@@ -207,63 +205,58 @@ class Comparison:
             return self._candidates[kind].ellipsoid(self.analysis)
         return self.analysis.ellipsoid(kind)
 
-    def _optimum_volume(self, kind: str) -> float:
-        """Volume of the MVIE or of the outer ellipsoid, NaN where not computed or failed."""
-        if not self._computed[kind]:
-            return np.nan
-        try:
-            return self.ellipsoid(kind).volume
-        except (SolverError, UndefinedEllipsoidError):  # none here: no ratio to it
-            return np.nan
-
-    def _score(self, kind: str) -> Scores:
+    def _undefined(self, kind: str) -> Ellipsoid | str:
+        """The ellipsoid scored under ``kind``, or why it has no scores here."""
         if not self._computed.get(kind, True):
-            return Scores(kind=kind, defined=False, reason=f"not computed ({kind}=False)")
-        if getattr(self.analysis.polytope, "is_empty", False):
-            return Scores(
-                kind=kind,
-                defined=False,
-                reason=f"the exact {self.analysis.capacity} set is empty: the arm cannot hold "
-                "itself against gravity within its limits here.",
+            return f"not computed ({kind}=False)"
+        P = self.analysis.polytope
+        if getattr(P, "is_empty", False):
+            return (
+                f"the exact {self.analysis.capacity} set is empty: the arm cannot hold "
+                "itself against gravity within its limits here."
             )
         try:
             E = self.ellipsoid(kind)
         except (UndefinedEllipsoidError, SolverError) as exn:
             # A score that cannot be computed here is reported, never raised: a sweep's
             # other configurations must not depend on it.
-            return Scores(kind=kind, defined=False, reason=str(exn))
-        P = self.analysis.polytope
+            return str(exn)
         if E.rank > P.dim and isinstance(P, HPolytope):  # a zonotope has its ellipsoids' rank
-            return Scores(  # the exact set flat to rounding at the edge of emptiness
-                kind=kind,
-                defined=False,
-                reason=f"the exact {self.analysis.capacity} set is {P.dim}-dimensional here "
+            return (  # the exact set flat to rounding at the edge of emptiness
+                f"the exact {self.analysis.capacity} set is {P.dim}-dimensional here "
                 "(gravity alone nearly exhausts some torque range: the set is flat to "
-                f"rounding), the ellipsoid {E.rank}-dimensional: no section of it to score.",
+                f"rounding), the ellipsoid {E.rank}-dimensional: no section of it to score."
             )
         check_same_affine_set(E, P)
-        shares = overlap(E, P, samples=self._samples, seed=self._seed)
-        errors = direction_errors(E.limits(self.directions), self.polytope_limits)
-        return Scores(
-            kind=kind,
-            dimension=float(E.rank),
-            volume=E.volume,
-            inscribed_scale=inscribed_scale(E, P),
-            enclosing_scale=enclosing_scale(E, P),
-            coverage=shares.coverage,
-            coverage_stderr=shares.coverage_stderr,
-            overreach=shares.overreach,
-            overreach_stderr=shares.overreach_stderr,
-            mvie_ratio=E.volume / self._optimum_volume("mvie"),
-            outer_ratio=E.volume / self._optimum_volume("outer"),
-            direction_error_mean=errors.mean,
-            direction_error_max=errors.max,
-            direction_error_rms=errors.rms,
-            direction_bias=errors.bias,
-            feasibility_mismatch=errors.mismatch,
-            directions_used=errors.used,
-            witness_torque_max=witness_torque_max(E, self.analysis.witness_map(kind)),
-        )
+        return E
+
+    def _score(self) -> dict[str, Scores]:
+        """Every kind's scores: the array scorer's batch of one."""
+        found = {kind: self._undefined(kind) for kind in self.kinds}
+        ellipsoids = {kind: E for kind, E in found.items() if isinstance(E, Ellipsoid)}
+        batch = {}
+        for kind, E in ellipsoids.items():
+            torques = self.analysis.witness_map(kind)
+            batch[kind] = ellipsoid_of(E, torques.matrix, torques(E.center))
+        scores: dict[str, Scores] = {}
+        if batch:
+            P = self.analysis.polytope
+            records, _ = shape_scores(set_of(P), batch, self._samples, self._seed)
+            hi_p = self.polytope_limits
+            for kind, E in ellipsoids.items():
+                hi_e = E.limits(self.directions)
+                records[kind] |= statistics(
+                    hi_e.hi[None], hi_e.feasible[None], hi_p.hi[None], hi_p.feasible[None]
+                )
+                values: dict[str, Any] = {
+                    name: int(column[0]) if name in _COUNTS else float(column[0])
+                    for name, column in records[kind].items()
+                }
+                scores[kind] = Scores(kind=kind, **values)
+        return {
+            kind: Scores(kind=kind, defined=False, reason=E) if isinstance(E, str) else scores[kind]
+            for kind, E in found.items()
+        }
 
     def to_row(self) -> dict[str, float]:
         """One flat record of the polytope's numbers and every ``<kind>_<score>``.
@@ -403,7 +396,7 @@ def compare(
         Sampling budget where an ellipsoid leaves the polytope and two of its caps beyond
         the facets meet (else its coverage is exact): ``samples / 512`` heights per pair of
         caps and replicate, ``samples`` directions where three caps meet
-        (:func:`~polyell.comparison.metrics.cap_union_share`), from 2 to 2^22.
+        (:func:`~polyell.comparison.caps.cap_union_share`), from 2 to 2^22.
     seed : int, optional
         Seed of those estimates, a non-negative integer.
     mvie : bool, optional

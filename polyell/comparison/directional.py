@@ -2,7 +2,7 @@ r"""Directional statistics of many configurations: the part of a sweep that grow
 
 For every configuration of a block and every direction ``t`` of the set, the far end of the
 line ``{a t}`` in the polytope and in each scored ellipsoid (eq. 23-24), and the statistics
-of ``(hi_E - hi_P) / |hi_P|`` (:func:`polyell.comparison.metrics.direction_errors`).  This
+of ``(hi_E - hi_P) / |hi_P|`` (:func:`statistics`).  This
 is where a default sweep spends its time, so it is written for the cache:
 
 * rows are taken a few at a time (:data:`PASS_ELEMENTS`), so that every (rows, k) array of a
@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 
 from polyell.geometry.limits import snap_to_zero
 
-__all__ = ["PASS_ELEMENTS", "STATISTICS", "direction_scores", "polytope_far_ends"]
+__all__ = ["PASS_ELEMENTS", "STATISTICS", "direction_scores", "polytope_far_ends", "statistics"]
 
 Array = NDArray[np.float64]
 
@@ -99,7 +99,7 @@ def direction_scores(
             scale = 1.0 / np.abs(hi_p)  # shared by every ellipsoid (inf where hi_P = 0)
         for result, (c, axes, semi) in zip(results, ellipsoids, strict=True):
             hi_e, feasible_e = _ellipsoid_far_ends(c[rows], axes[rows], semi[rows], Tt)
-            for name, values in _statistics(hi_e, feasible_e, hi_p, feasible_p, scale).items():
+            for name, values in statistics(hi_e, feasible_e, hi_p, feasible_p, scale).items():
                 result[name][rows] = values
     return results
 
@@ -204,18 +204,44 @@ def _ellipsoid_far_ends(
     return far, meets
 
 
-def _statistics(
+def statistics(
     hi_e: Array,
     feasible_e: NDArray[np.bool_],
     hi_p: Array,
     feasible_p: NDArray[np.bool_],
-    scale: Array,
+    scale: Array | None = None,
 ) -> dict[str, Array]:
-    """:func:`~polyell.comparison.metrics.direction_errors` for every row (``scale = 1/|hi_P|``)."""
+    """The direction statistics of K rows of far ends (:data:`STATISTICS`).
+
+    The relative errors ``(hi_E - hi_P) / |hi_P|`` (along a ray of an unbounded set, where
+    ``hi_P = inf``, their limit -1: the ellipsoid states none of it) over the directions
+    where both lines meet their sets and ``hi_P != 0``: mean, maximum and root mean square
+    of their magnitudes and their mean (> 0: the ellipsoid promises too much); the
+    directions where exactly one line meets its set; the directions used.
+
+    Parameters
+    ----------
+    hi_e, hi_p : ndarray, shape (K, k)
+        Far ends of the lines in the ellipsoid and in the polytope [task units].
+    feasible_e, feasible_p : ndarray of bool, shape (K, k)
+        Whether each line meets its set.
+    scale : ndarray, shape (K, k), optional
+        ``1 / |hi_P|`` if already at hand (shared by every ellipsoid of a sweep).
+
+    Returns
+    -------
+    dict of str to ndarray (K,)
+    """
+    if scale is None:
+        with np.errstate(divide="ignore"):
+            scale = 1.0 / np.abs(hi_p)
     used = feasible_e & feasible_p & (hi_p != 0)
     error = np.subtract(hi_e, hi_p)
     with np.errstate(invalid="ignore"):  # 0 * inf where hi_P = 0: not used
         np.multiply(error, scale, out=error)
+    ray = np.isinf(hi_p) & used
+    if ray.any():
+        error[ray] = -np.sign(hi_p[ray])
     everywhere = bool(used.all())
     if not everywhere:
         error[~used] = 0.0

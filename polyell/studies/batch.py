@@ -31,6 +31,7 @@ from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES, compared_
 from polyell.comparison.scores import (
     EllipsoidBatch,
     SetBatch,
+    Slabs,
     polytope_columns,
     score_ellipsoids,
 )
@@ -89,7 +90,7 @@ class BatchOptions:
         :func:`polyell.studies.force_batch.force_rows`.
     samples, seed : int
         The sampling budget and seed of a share estimate, as in :func:`polyell.compare`
-        (:func:`~polyell.comparison.metrics.cap_union_share`).
+        (:func:`~polyell.comparison.caps.cap_union_share`).
     """
 
     mvie: bool = False
@@ -246,9 +247,7 @@ class BlockSets(NamedTuple):
             vertices = np.concatenate([self.xg[:, None] + half, self.xg[:, None] - half], 1)
         return SetBatch(
             center=self.xg,
-            normals=self.normals,
-            widths=h,
-            midpoints=np.einsum("kcm,km->kc", self.normals, self.xg),
+            normals=np.concatenate([self.normals, -self.normals], axis=1),
             offsets=np.concatenate([h, h], axis=1),
             facet=np.ones((k, 2 * h.shape[1]), dtype=bool),
             vertices=vertices,
@@ -257,6 +256,7 @@ class BlockSets(NamedTuple):
             size=self.size,
             terms=m + n + 2,  # Polytope's facet terms
             rtol_terms=n,
+            slabs=Slabs(self.normals, h, np.einsum("kcm,km->kc", self.normals, self.xg)),
         )
 
 

@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polyell.comparison.candidates import Candidate
+from polyell.comparison.scores import witness
 from polyell.geometry.ellipsoid import canonical_axes
 from polyell.geometry.logdet import centred_mvee_batch
 from polyell.geometry.mvie import MVIE_GAP
@@ -348,6 +349,4 @@ def candidate_ellipsoid(
     # M^+ = V1 Sigma^-1 U^T: at the centre, and the reach along the axes.
     pinv_t = np.swapaxes(V1t, 1, 2) / s[:, None, :] @ np.swapaxes(U, 1, 2)  # (K, n, m)
     at_center = np.einsum("knm,km->kn", pinv_t, center - xg)
-    spread = np.linalg.norm(pinv_t @ (axes * semi[:, None, :]), axis=-1)
-    witness = np.max(np.abs(at_center) + spread, axis=-1)
-    return np.array(axes), np.array(semi), witness, np.array(center)
+    return np.array(axes), np.array(semi), witness(pinv_t, at_center, axes, semi), np.array(center)

@@ -43,8 +43,10 @@ from polyell.comparison.comparison import compared_kinds
 from polyell.comparison.scores import (
     EllipsoidBatch,
     SetBatch,
+    Slabs,
     polytope_columns,
     score_ellipsoids,
+    witness,
 )
 from polyell.geometry.ellipsoid import canonical_axes
 from polyell.geometry.free_center import (
@@ -177,11 +179,10 @@ def _block_rows(
     with np.errstate(divide="ignore"):
         width = np.where(used, 1.0 / norms, np.inf)
     points = h0[:, None, :] + (z / s[:, None, :]) @ np.swapaxes(U, 1, 2)  # (k, V, m)
+    normals = np.where(used[..., None], A * np.where(used, width, 0.0)[..., None], 0.0)
     sets = SetBatch(
         center=h0,
-        normals=np.where(used[..., None], A * np.where(used, width, 0.0)[..., None], 0.0),
-        widths=width,
-        midpoints=np.where(used, -c * np.where(used, width, 0.0), 0.0),
+        normals=np.concatenate([normals, -normals], axis=1),
         offsets=np.concatenate([(1.0 - c_perp) * width, (1.0 + c_perp) * width], axis=1),
         facet=facet,
         vertices=points,
@@ -192,6 +193,7 @@ def _block_rows(
         ),
         terms=m + 2,  # HPolytope's facet terms
         rtol_terms=2,
+        slabs=Slabs(normals, width, np.where(used, -c * np.where(used, width, 0.0), 0.0)),
     )
     ellipsoids = _ellipsoids(J, g, tau_center, half, U, s, h0, margin, A, c_perp)
     # The optimal ellipsoids, solved in the whitened coordinates z = S U^T (h - h0)
@@ -439,8 +441,7 @@ def _with_witness(
     At the centre, plus its spread over the boundary.
     """
     at_center = np.einsum("knm,km->kn", A, center - h0) + c_perp
-    spread = np.linalg.norm((A @ axes) * semi[:, None, :], axis=-1)
-    return EllipsoidBatch(center, axes, semi, np.max(np.abs(at_center) + spread, axis=-1))
+    return EllipsoidBatch(center, axes, semi, witness(A, at_center, axes, semi))
 
 
 def _mapped(

@@ -214,14 +214,9 @@ def sweep_rates(repeats: int) -> list[str]:
     quasi-Monte-Carlo coverage of the ellipsoids that leave the set (``overlap``'s counts
     alone, on the same ellipsoids) and the rest of the batch path.
     """
-    from polyell.comparison.metrics import (
-        _slacks,
-        cap_share,
-        enclosing_scale,
-        inscribed_scale,
-        inside_rtol,
-    )
-    from reference import qmc_count_inside
+    from polyell.comparison.caps import cap_share
+    from polyell.comparison.metrics import enclosing_scale, inscribed_scale, inside_rtol
+    from reference import qmc_count_inside, slacks
 
     rng = np.random.default_rng(3)
     K = 2000
@@ -280,7 +275,7 @@ def sweep_rates(repeats: int) -> list[str]:
             E = an.ellipsoid(kind)
             tolerance = inside_rtol(E, P)
             if inscribed_scale(E, P) < 1 - tolerance and enclosing_scale(E, P) > 1 + tolerance:
-                crossing.append((E, P.A, _slacks(E, P)))
+                crossing.append((E, P.A, slacks(E, P)))
     shares = [cap_share((A @ E.axes) * E.semi_axes, slack) for E, A, slack in crossing]
     estimated = int(np.isnan(shares).sum())
 

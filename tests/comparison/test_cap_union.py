@@ -18,14 +18,9 @@ import numpy as np
 import pytest
 
 import polyell as pe
-from polyell.comparison.metrics import (
-    _slacks,
-    cap_share,
-    cap_union_share,
-    estimate,
-    overlap,
-)
-from reference import qmc_count_inside
+from polyell.comparison.caps import cap_share, cap_union_share, estimate
+from polyell.comparison.metrics import overlap
+from reference import qmc_count_inside, slacks
 
 
 def old_stderr(W: np.ndarray, t: np.ndarray) -> float:
@@ -351,9 +346,7 @@ def panda_configurations(count: int) -> list[tuple[np.ndarray, str]]:
         P = an.polytope
         for kind in ("static", "yoshikawa"):
             E = an.ellipsoid(kind)
-            if kinds_left[kind] and np.isnan(
-                cap_share((P.A @ E.axes) * E.semi_axes, _slacks(E, P))
-            ):
+            if kinds_left[kind] and np.isnan(cap_share((P.A @ E.axes) * E.semi_axes, slacks(E, P))):
                 found.append((q, kind))
                 kinds_left[kind] -= 1
         if not any(kinds_left.values()):
@@ -383,7 +376,7 @@ def test_panda_force_ellipsoids_against_plain_monte_carlo(q, kind):
         scores.coverage_stderr, coverage_error
     )
     # no larger a standard error than the uniform estimate's
-    counts = qmc_count_inside(E.axes, E.semi_axes, P.A, _slacks(E, P), 2**13, 8, 0)
+    counts = qmc_count_inside(E.axes, E.semi_axes, P.A, slacks(E, P), 2**13, 8, 0)
     assert scores.overreach_stderr <= estimate(counts, 2**13)[1]
     # the same numbers as overlap itself, in a batch of one
     assert overlap(E, P).overreach == scores.overreach

@@ -12,13 +12,9 @@ import numpy as np
 import pytest
 
 import polyell as pe
-from polyell.comparison.metrics import (
-    _slacks,
-    cap_share,
-    cap_union_share,
-    overlap,
-)
-from reference import ball_points, qmc_count_inside
+from polyell.comparison.caps import cap_share, cap_union_share
+from polyell.comparison.metrics import overlap
+from reference import ball_points, qmc_count_inside, slacks
 
 
 def all_tested(E: pe.Ellipsoid, A: np.ndarray, slack: np.ndarray, samples: int) -> np.ndarray:
@@ -59,7 +55,7 @@ def test_pruned_counts_equal_testing_every_point(samples):
             except pe.UndefinedEllipsoidError:
                 continue
             for scaled in (E, pe.Ellipsoid(E.center, E.axes, 1.7 * E.semi_axes)):
-                slack = _slacks(scaled, P)
+                slack = slacks(scaled, P)
                 counts = qmc_count_inside(scaled.axes, scaled.semi_axes, P.A, slack, samples, 8, 0)
                 expected = all_tested(scaled, P.A, slack, samples)
                 assert np.array_equal(counts, expected), (an.capacity, kind)
@@ -73,7 +69,7 @@ def test_touching_ellipsoid_counts_every_point():
     P = pe.HPolytope([[1, 0], [-1, 0], [0, 1], [0, -1]], [1, 1, 1, 1])
     E = pe.Ellipsoid([0.0, 0.0], np.eye(2), [1.0, 1.0])
     assert np.array_equal(
-        qmc_count_inside(E.axes, E.semi_axes, P.A, _slacks(E, P), 256, 8, 0), [256] * 8
+        qmc_count_inside(E.axes, E.semi_axes, P.A, slacks(E, P), 256, 8, 0), [256] * 8
     )
     # The circle of radius 1.2 crosses the sides (four caps outside) and not the corners:
     # the caps are disjoint, so the share is exact; the counts agree with it.
@@ -83,7 +79,7 @@ def test_touching_ellipsoid_counts_every_point():
     shares = overlap(big, P, samples=2**13)
     assert shares.overreach_stderr == 0.0
     assert shares.overreach == pytest.approx(caps / (np.pi * R**2), rel=1e-13)
-    counts = qmc_count_inside(big.axes, big.semi_axes, P.A, _slacks(big, P), 2**13, 8, 0) / 2**13
+    counts = qmc_count_inside(big.axes, big.semi_axes, P.A, slacks(big, P), 2**13, 8, 0) / 2**13
     stderr = counts.std(ddof=1) / np.sqrt(8)
     assert abs((1.0 - counts.mean()) - caps / (np.pi * R**2)) <= 5.0 * stderr
 
@@ -168,7 +164,7 @@ def test_cap_share_against_sampling(r):
 
 def test_an_estimate_is_never_reported_as_exact():
     """Replicates that all count the same (no point outside) still give a standard error."""
-    from polyell.comparison.metrics import estimate
+    from polyell.comparison.caps import estimate
 
     share, stderr = estimate(np.full(8, 2**13), 2**13)
     assert share == 1.0 and 0.0 < stderr < 1e-4

@@ -265,7 +265,7 @@ def test_sweep_rows_equal_compare_on_thin_arms(m, n):
     routes, so they differ by at most about ``C eps cond`` with ``C = 10 m n`` (the bound of
     tests/geometry/test_thin_zonotopes.py), relative to ``max(1, |value|)`` (direction
     errors and coverages are fractions).  Square arms touch: both ellipsoids have an
-    inscribed scale of exactly 1, within the rounding bound metrics.scale_rtol (up to
+    inscribed scale of exactly 1, within the rounding bound scores.scale_rtol (up to
     2e-5 at cond 1e9, far above INSIDE_RTOL = 1e-9), so the batch keeps them (no
     fallback to the scalar path) with coverage exact, as compare does.
     """
