@@ -41,8 +41,7 @@ from polyell.geometry.limits import (
 )
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.models.dynamics import Dynamics
-from polyell.studies.batch import RANK_BAND, block_size
-from polyell.studies.block_sets import facets
+from polyell.studies.batch import BatchOptions, block_sets, block_size
 from polyell.validation import (
     check_array,
     check_directions,
@@ -199,30 +198,21 @@ def _block(
 ) -> NDArray[np.bool_]:
     """Fill the full-rank rows of one block (K,); return the rows left to the exact path.
 
-    ``capacity`` names what the zonotope holds in its messages: accelerations, or the
-    velocities of ``B = I``, ``g = 0`` and the joint velocity limits.
+    The sets are the sweep's (:func:`~polyell.studies.batch.block_sets`: accelerations, or
+    the velocities of ``B = I``, ``g = 0`` and the joint velocity limits).
     """
-    J, B = dyn.J, dyn.B
-    K, m, n = J.shape
-    half = 0.5 * (upper - lower)
-    Binv_Jt = np.linalg.solve(B, np.swapaxes(J, -1, -2))  # (K, n, m)
-    M = np.swapaxes(Binv_Jt, -1, -2) * half
-    xg = dyn.xdd_bias - np.einsum("knm,kn->km", Binv_Jt, dyn.g - 0.5 * (upper + lower))
-    capacity.check_generators(M, xg)
-    U, s, Vt = np.linalg.svd(M, full_matrices=False)
-    scalar = ~(s[:, -1] > rank_rtol * (1.0 + RANK_BAND) * s[:, 0]) if m <= n else np.ones(K, bool)
-    ok = np.flatnonzero(~scalar)
-    if ok.size == 0:
+    options = BatchOptions(rank_rtol=rank_rtol, capacity=capacity.capacity)
+    sets, scalar = block_sets(dyn.J, dyn.B, dyn.g, dyn.xdd_bias, upper, lower, options)
+    if sets is None:
         return scalar
-    J, B, M, U, s, Vt, xg, T = J[ok], B[ok], M[ok], U[ok], s[ok], Vt[ok], xg[ok], T[ok]
-    rows = ok
+    rows, T, xg = sets.rows, T[sets.rows], sets.xg
+    m, n = sets.M.shape[1:]
     # The polytope: each facet pair +-a bounds a.(lambda t) to [a.xg - h, a.xg + h]; a line
     # that misses P but meets it grown by the slack of Polytope.limits touches it.
-    block = facets(U, s, Vt)
-    normals, h = block.normals, block.offsets
-    reach = np.linalg.norm(xg, axis=-1) + np.linalg.norm(M, axis=1).sum(axis=-1)
-    slope = np.einsum("kcm,km->kc", normals, T)
-    centre = np.einsum("kcm,km->kc", normals, xg)
+    h = sets.offsets
+    reach = np.linalg.norm(xg, axis=-1) + sets.size
+    slope = np.einsum("kcm,km->kc", sets.normals, T)
+    centre = np.einsum("kcm,km->kc", sets.normals, xg)
     floor = rounding_floor(2.0 * reach[:, None], m + n + 2)  # the origin on a facet: 0
     a, b = _line_in_pairs(slope, centre, h, floor)
     missed = a > b
@@ -236,15 +226,12 @@ def _block(
         np.where(empty, np.nan, a),
         np.where(empty, np.nan, b),
     )
-    # The new ellipsoid: M^+ = V S^-1 U^T, so |M^+ y| = |S^-1 U^T y|.
-    pair = np.stack([T, xg], axis=-1)  # (K, m, 2): the direction and the centre
-    p, w = np.moveaxis((np.swapaxes(U, -1, -2) @ pair) / s[:, :, None], -1, 0)
-    lo["chiacchio"][rows], hi["chiacchio"][rows] = unit_ball_interval(p, w)
-    # The classic one: |F (x - xg)| <= 1, F = L^-1 B J^+ and J^+ = Q_J R_J^-T.
-    Q_J, R_J = np.linalg.qr(np.swapaxes(J, -1, -2))
-    F_pair = ((B @ Q_J) / half[:, None]) @ np.linalg.solve(np.swapaxes(R_J, -1, -2), pair)
-    p, w = np.moveaxis(F_pair, -1, 0)
-    lo["yoshikawa"][rows], hi["yoshikawa"][rows] = unit_ball_interval(p, w)
+    # The ellipsoids {xg + U diag(s) u}: the line in the unit ball of u (eq. 23-24).
+    for kind in SETS[1:]:
+        axes, semi, _, _ = sets.ellipsoids[kind]
+        p = np.einsum("kmr,km->kr", axes, T) / semi
+        w = np.einsum("kmr,km->kr", axes, xg) / semi
+        lo[kind][rows], hi[kind][rows] = unit_ball_interval(p, w)
     return scalar
 
 

@@ -20,12 +20,13 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
-from polyell.capacities import check_capacity
+from polyell.capacities import capacity_class, check_capacity
+from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.comparison.candidates import Candidate
 from polyell.comparison.comparison import COMPARED_KINDS, SCORE_NAMES, compared_kinds
 from polyell.comparison.scores import (
@@ -34,6 +35,7 @@ from polyell.comparison.scores import (
     Slabs,
     polytope_columns,
     score_ellipsoids,
+    witness,
 )
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.geometry.zonotope import cross, subsets
@@ -46,7 +48,6 @@ from polyell.studies.block_sets import (
     vertex_count,
     vertex_signs,
 )
-from polyell.validation import check_magnitudes
 
 __all__ = ["BatchOptions", "BlockSets", "batch_rows", "block_sets", "score_columns"]
 
@@ -299,10 +300,8 @@ def block_sets(
         Binv_Jt = np.linalg.solve(B, np.swapaxes(J, -1, -2))  # (K, n, m); B is symmetric
         M = np.swapaxes(Binv_Jt, -1, -2) * half
         xg = xdd_bias - np.einsum("knm,kn->km", Binv_Jt, bias)
-    if options.capacity == "velocity":  # the zonotope of an arm with B = I, no gravity
-        check_magnitudes(M, xg, quantity=("velocities", "J L_v", "J qd_c"), limits="qd_max")
-    else:
-        check_magnitudes(M, xg)
+    zonotope = cast(type[ZonotopeAnalysis], capacity_class(options.capacity))
+    zonotope.check_generators(M, xg)  # (velocities: B = I, g = 0)
     if m > n:
         return None, np.ones(K, dtype=bool)
     U, s, Vt = np.linalg.svd(M, full_matrices=False)
@@ -420,5 +419,4 @@ def _classic(J: Array, B: Array, half: Array, bias: Array) -> tuple[Array, Array
     F = (B @ J_pinv) / half[..., None]
     _, s_f, Vt_f = np.linalg.svd(F, full_matrices=False)
     axes, semi = np.swapaxes(Vt_f, -1, -2)[:, :, ::-1], (1.0 / s_f)[:, ::-1]
-    spread = np.linalg.norm(F @ (axes * semi[:, None, :]), axis=-1)
-    return axes, semi, np.max(np.abs(at_center) + spread, axis=-1), None
+    return axes, semi, witness(F, at_center, axes, semi), None

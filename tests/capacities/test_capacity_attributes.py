@@ -22,7 +22,7 @@ from polyell.capacities.zonotope import ZonotopeAnalysis
 
 PACKAGE = Path(pe.__file__).resolve().parent
 #: Capacity-name comparisons allowed outside polyell/capacities/ and the places below.
-ALLOWED = 3
+ALLOWED = 2
 #: Where comparisons stay: the batch paths' dispatch (``file``, or ``(file, function)``)
 #: and the command line's parser.
 EXEMPT = {
