@@ -17,7 +17,9 @@ An arm with n joints and an m-dimensional task (m < n) reaches the task point
   corrected, one sample every :data:`WALK_STEPS` steps.
 
 Every returned configuration is checked: its task coordinates differ from ``x(q0)`` by at
-most :data:`RESIDUAL_TOL`; the largest difference is reported.
+most :data:`RESIDUAL_RTOL` times the arm's length scale (the larger of ``|x(q0)|`` and
+``|J(q0)|``, so that the check holds in any unit of length); the largest difference is
+reported.
 """
 
 from __future__ import annotations
@@ -35,7 +37,7 @@ from polyell.validation import check_array, check_integer
 
 __all__ = [
     "MAX_COUNT",
-    "RESIDUAL_TOL",
+    "RESIDUAL_RTOL",
     "SINGULAR_RTOL",
     "WALK_STEPS",
     "SelfMotion",
@@ -44,8 +46,9 @@ __all__ = [
 
 Array = NDArray[np.float64]
 
-#: Largest difference of task coordinates [m or rad] a returned configuration may have.
-RESIDUAL_TOL = 1e-9
+#: Largest difference of task coordinates a returned configuration may have, relative to
+#: the arm's length scale (the larger of ``|x(q0)|`` and ``|J(q0)|``, in task units).
+RESIDUAL_RTOL = 1e-9
 #: A configuration with ``sigma_min(J) <= SINGULAR_RTOL sigma_max(J)`` is singular: its
 #: self-motion is not a manifold of dimension n - m there.
 SINGULAR_RTOL = 1e-8
@@ -59,7 +62,7 @@ TRACE_STEP, WALK_STEP = 0.01, 0.05
 #: meets a limit within 10^5 steps is reported as such, ``stops``).
 MAX_TRACE_STEPS = 100_000
 #: Newton iterations of one correction, and the tolerance it aims for (relative to the
-#: size of the task point, at least 1).
+#: arm's length scale, as :data:`RESIDUAL_RTOL`).
 NEWTON_ITERATIONS, NEWTON_RTOL = 30, 1e-13
 #: A trace closes when it comes back within this many steps of q0 after leaving by more
 #: than CLOSE_AFTER steps.
@@ -86,7 +89,8 @@ class SelfMotion:
         rotation vector of the tip's orientation [rad].
     residual : float
         Largest difference between the task coordinates of a configuration and
-        ``target`` (max norm, task units); at most :data:`RESIDUAL_TOL`.
+        ``target`` (max norm, task units); at most :data:`RESIDUAL_RTOL` times the arm's
+        length scale.
     dimension : int
         Dimension n - m of the manifold.
     method : {"trace", "random walk"}
@@ -240,7 +244,7 @@ def self_motion(
     SolverError
         If the Newton correction cannot bring a configuration back to the task point
         (a random walk that is stuck), or a configuration misses it by more than
-        :data:`RESIDUAL_TOL` (never expected).
+        :data:`RESIDUAL_RTOL` relative (never expected).
 
     Examples
     --------
@@ -300,7 +304,8 @@ def self_motion(
             f"leave it out (default {default:g}).",
         )
     target = (position, rotation)
-    scale = max(1.0, float(np.linalg.norm(position)))
+    # The arm's length scale: lengths in any unit (J's entries are lengths per radian).
+    scale = max(float(np.linalg.norm(position)), float(np.linalg.norm(J, 2)))
     tracer = _Tracer(task, target, NEWTON_RTOL * scale)
     if dimension == 1:
         result = _trace(tracer, q, count, float(step))
@@ -309,10 +314,11 @@ def self_motion(
     configurations = result[0]
     residuals = np.array([np.max(np.abs(task.error(c, target)[0])) for c in configurations])
     worst = float(residuals.max())
-    if not worst <= RESIDUAL_TOL:
+    if not worst <= RESIDUAL_RTOL * scale:
         raise SolverError(
             f"self_motion: a configuration misses the task point by {worst:.3g} "
-            f"(more than {RESIDUAL_TOL:g}); try a smaller step."
+            f"(more than {RESIDUAL_RTOL:g} of the arm's length scale {scale:.3g}); try a "
+            "smaller step."
         )
     target_vector = np.empty(m)
     target_vector[task.linear] = position

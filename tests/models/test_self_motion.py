@@ -205,3 +205,17 @@ def test_bad_q0_is_refused(q0):
     with pytest.raises(pe.InputError) as info:
         pe.self_motion(ARM, q0)
     assert info.value.argument == "q0"
+
+
+@pytest.mark.parametrize("unit", [1e-9, 1e-3, 1e3, 1e6])
+def test_the_self_motion_does_not_depend_on_the_unit_of_length(unit):
+    """Lengths in any unit trace the same joint angles (issue 33: an absolute residual
+    refused kilometres given in millimetres and accepted anything at nanometres)."""
+    q0 = [np.pi / 2, -np.pi / 2, -np.pi / 2]
+    lengths = np.array([1.0, 0.8, 0.5])
+    reference = pe.self_motion(pe.PlanarArm(lengths=lengths, masses=[4.0, 2.0, 0.6]), q0, count=20)
+    scaled = pe.self_motion(
+        pe.PlanarArm(lengths=lengths * unit, masses=[4.0, 2.0, 0.6]), q0, count=20
+    )
+    np.testing.assert_allclose(scaled.configurations, reference.configurations, atol=1e-12)
+    assert scaled.residual <= 1e-12 * unit
