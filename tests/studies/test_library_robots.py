@@ -11,6 +11,8 @@ volume columns to ten times ``VOLUME_RTOL`` (Lawrence's formula against cddlib's
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
@@ -21,7 +23,9 @@ pytest.importorskip("pinocchio")
 
 ROBOTS = ("panda", "ur5", "kinova", "xarm7", "z1")
 CAPACITIES = ("acceleration", "velocity", "force")
-COUNT = 40
+#: Configurations per robot and capacity; ``POLYELL_LIBRARY_COUNT=1000`` runs the issue's
+#: full battery (about 15 minutes on one core).
+COUNT = int(os.environ.get("POLYELL_LIBRARY_COUNT", "40"))
 VOLUME_COLUMNS = ("polytope_volume", "_coverage", "_coverage_stderr", "_overreach")
 
 
