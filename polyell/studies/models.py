@@ -6,8 +6,9 @@ defaults, their error messages (the key's path, what was expected, what arrived 
 (:func:`reference_page`) and the JSON Schemas ``docs/study.schema.json`` and
 ``docs/robot.schema.json`` (:func:`json_schema`).
 
-The models check everything a file says on its own; what needs the robot (joint counts, task
-rows, joint limits) is checked when :mod:`polyell.studies.spec` builds the study, before any
+The models check everything a file says on its own, and are what a study reads its keys
+from (``spec.file.compare.samples``); what needs the robot (joint counts, task rows, joint
+limits) is derived and checked when :mod:`polyell.studies.spec` loads the study, before any
 output is written.  This module imports pydantic: only the study loader imports it
 (``import polyell`` does not).
 """
@@ -36,7 +37,7 @@ from polyell.comparison.comparison import (
     SCORE_NAMES,
     compared_kinds,
 )
-from polyell.comparison.layout import LAYOUT_SETS, LIMIT_QUANTITIES, MAX_DIGITS
+from polyell.comparison.layout import LAYOUT_SETS, LIMIT_QUANTITIES, MAX_DIGITS, TableLayout
 from polyell.errors import InputError
 from polyell.expressions import evaluate, evaluate_list
 from polyell.models.self_motion import MAX_COUNT
@@ -1156,6 +1157,23 @@ percent = false"""
     )
     percent: bool = key(True, what="Fractions as percentages (true) or fractions.", example="false")
 
+    @property
+    def layout(self) -> TableLayout:
+        """The tables' layout of ``sets`` to ``percent``."""
+        return TableLayout(
+            sets=self.sets,
+            scores=self.scores,
+            transpose=self.transpose,
+            split=self.split,
+            digits=self.digits,
+            percent=self.percent,
+        )
+
+    @property
+    def figure_formats(self) -> tuple[str, ...]:
+        """The static figure formats (all but ``"html"``)."""
+        return tuple(f for f in self.formats if f != "html")
+
 
 def _check_file_names(argument: str, names: list[Any]) -> None:
     """Refuse names whose output files would collide.
@@ -1244,6 +1262,13 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
     output: OutputTable = key(
         factory=OutputTable, what="Formats, figures, table layout: `[output]`.", default_text="—"
     )
+
+    @property
+    def series(self) -> tuple[str, ...]:
+        """The scores drawn over time: ``[output] series``, for a trajectory by default two."""
+        if self.output.series is not None:
+            return self.output.series
+        return ("coverage", "inscribed_scale") if self.trajectory is not None else ()
 
     @model_validator(mode="after")
     def _consistent(self) -> StudyFile:

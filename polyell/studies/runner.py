@@ -52,6 +52,7 @@ if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
 
     from polyell.capacities import Analysis
+    from polyell.comparison.layout import TableLayout
     from polyell.studies.spec import GridAxis
 
 __all__ = ["STUDY_FILES", "run_study"]
@@ -89,18 +90,18 @@ def _prepare(out: str | os.PathLike[str]) -> Path:
     return folder
 
 
-def _for_capacity(spec: StudySpec, capacity: str) -> StudySpec:
-    """The study with its tables' ``[output] sets`` kept to this capacity's sets.
+def _layout(spec: StudySpec, capacity: str) -> TableLayout:
+    """The tables' layout of a capacity: ``[output] sets`` kept to this capacity's sets.
 
     A set of another compared capacity (``static`` beside accelerations) is left out of
     this capacity's tables; that every set exists in some capacity is checked at load.
     """
-    sets = spec.layout.sets
-    if sets is None:
-        return spec
+    layout = spec.file.output.layout
+    if layout.sets is None:
+        return layout
     own = {"polytope", *compared_kinds(capacity), *(c.name for c in spec.candidates)}
-    kept = tuple(name for name in sets if name in own)
-    return replace(spec, layout=replace(spec.layout, sets=kept or ("polytope",)))
+    kept = tuple(name for name in layout.sets if name in own)
+    return replace(layout, sets=kept or ("polytope",))
 
 
 def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
@@ -108,14 +109,14 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
     written: list[Path] = []
     numbers = [_heading(spec, f"{spec.title}: the numbers").rstrip("\n"), ""]
     report: list[tuple[str, Any]] = _about(spec)
-    for capacity in spec.capacities:
+    for capacity in spec.file.compare.capacities:
         # The acceleration outputs keep their names; another capacity's carry its name.
         suffix = capacity_class(capacity).output_suffix
-        if len(spec.capacities) > 1:
+        if len(spec.file.compare.capacities) > 1:
             numbers += [f"# {capacity.capitalize()} capacity", ""]
         written += _run_points_capacity(spec, folder, capacity, suffix, numbers, report)
     written.append(write_text_atomically(folder / "numbers.md", "\n".join(numbers)))
-    if "html" in spec.formats:
+    if "html" in spec.file.output.formats:
         from polyell.interactive import write_report
 
         written.append(write_report(folder / "report.html", spec.title, report))
@@ -143,24 +144,16 @@ def _run_points_capacity(
     numbers: list[str],
     report: list[tuple[str, Any]],
 ) -> list[Path]:
-    from polyell.figures import plot_directional_limits, plot_sets, plot_sets_3d, save_figure
+    from polyell.figures import plot_directional_limits, plot_sets, plot_sets_3d
 
-    spec = _for_capacity(spec, capacity)
+    layout = _layout(spec, capacity)
     written: list[Path] = []
     frames = []
     comparisons: dict[str, Comparison] = {}
     directions: dict[str, list[Any]] = {}
     for point in spec.points:
         analysis = _analyze_point(spec, point, capacity)
-        cmp = compare(
-            analysis,
-            spec.directions,
-            samples=spec.samples,
-            seed=spec.seed,
-            mvie=spec.mvie,
-            outer=spec.outer,
-            candidates=spec.candidates,
-        )
+        cmp = compare(analysis, **_compared(spec))
         q_text = ", ".join(f"{v:.6g}" for v in point.q)
         motion = []
         if point.qd is not None:
@@ -171,7 +164,9 @@ def _run_points_capacity(
             qd_text = ", ".join(f"{v:.6g}" for v in point.qd)
             motion = [f"qd = ({qd_text}) rad/s; torque limits at qd [N m]: {limits}", ""]
         numbers += [
-            markdown_text(f"## {point.label}{': ' + point.title if point.title else ''}"),
+            markdown_text(
+                f"## {point.label}{': ' + point.table.title if point.table.title else ''}"
+            ),
             "",
             f"q = ({q_text}) rad",
             "",
@@ -189,10 +184,10 @@ def _run_points_capacity(
         frames.append(frame)
         comparisons[point.label] = cmp
         directions[point.label] = _named_or_vectors(point)
-        heading = f"{point.label}{': ' + point.title if point.title else ''}"
+        heading = f"{point.label}{': ' + point.table.title if point.table.title else ''}"
         if suffix:
             heading = f"{heading} ({capacity})"
-        if "html" in spec.formats:
+        if "html" in spec.file.output.formats:
             from polyell.interactive import HtmlTable, interactive_sets
 
             drawable = analysis.m in (2, 3) and getattr(analysis.polytope, "is_bounded", True)
@@ -200,16 +195,16 @@ def _run_points_capacity(
                 report.append((heading, interactive_sets(cmp)))
             limits = limits_table(cmp, directions[point.label])
             for name, text in (
-                ("scores", format_comparison_table(cmp, "html", layout=spec.layout)),
-                ("directional limits", format_limits_table(limits, "html", layout=spec.layout)),
+                ("scores", format_comparison_table(cmp, "html", layout=layout)),
+                ("directional limits", format_limits_table(limits, "html", layout=layout)),
             ):
                 report.append((f"{heading}: {name}", HtmlTable(text)))
         P = analysis.polytope
         if not getattr(P, "is_bounded", True) or getattr(P, "is_empty", False):
             continue  # an unbounded or empty force polytope has no figure (said in numbers.md)
         stem = folder / f"sets_{point.stem}{suffix}"
-        title = point.title or point.label
-        mvie = cmp.mvie if spec.mvie and cmp["mvie"].defined else None
+        title = point.table.title or point.label
+        mvie = cmp.mvie if spec.file.compare.mvie and cmp["mvie"].defined else None
         kinds = (*analysis.ellipsoid_kinds, *(("mvie",) if mvie is not None else ()))
         first_extra = len(analysis.ellipsoid_kinds) + 1  # after the kinds and the MVIE
         extra = {
@@ -219,15 +214,13 @@ def _run_points_capacity(
         }
         if analysis.m == 2:
             figure = plot_sets(analysis, kinds=kinds, mvie=mvie, extra=extra, title=title)
-            written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
+            written += _save(spec, figure, stem)
             if P.dim == 2:
                 figure = plot_directional_limits(analysis, kinds=kinds, mvie=mvie, extra=extra)
-                written += save_figure(
-                    figure, folder / f"limits_{point.stem}{suffix}", spec.figure_formats, spec.dpi
-                )
+                written += _save(spec, figure, folder / f"limits_{point.stem}{suffix}")
         elif analysis.m == 3:
             figure = plot_sets_3d(analysis, kinds=kinds, mvie=mvie, extra=extra, title=title)
-            written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
+            written += _save(spec, figure, stem)
     import pandas as pd
 
     # The printed tables (LaTeX, Markdown, CSV: the same labels, units and percentages) and
@@ -236,9 +229,9 @@ def _run_points_capacity(
         comparisons,
         directions,
         folder,
-        spec.layout,
+        layout,
         spec.title,
-        description=spec.description,
+        description=spec.file.description,
         suffix=suffix,
     )
     scores = pd.concat(frames).to_csv(index_label="ellipsoid")
@@ -262,7 +255,8 @@ def _run_posture(spec: StudySpec, folder: Path) -> list[Path]:
     assert posture is not None
     robot = spec.robots[0]  # a posture study has one robot (checked when it loads)
     motions = [
-        self_motion(robot.model, q, posture.count, seed=posture.seed) for q in posture.starts
+        self_motion(robot.model, q, posture.table.count, seed=posture.table.seed)
+        for q in posture.starts
     ]
 
     def one(spec: StudySpec, folder: Path, capacity: str, *_: Any) -> Any:
@@ -275,7 +269,7 @@ def _posture_outputs(
     spec: StudySpec, folder: Path, capacity: str, motions: list[Any]
 ) -> tuple[list[Path], list[tuple[str, Any]]]:
     """One capacity's choice over the sampled postures: tables, values, figure, sections."""
-    from polyell.figures import plot_posture_indices, save_figure
+    from polyell.figures import plot_posture_indices
     from polyell.studies.posture import posture_choice
     from polyell.studies.posture_tables import write_posture_tables
     from polyell.studies.posture_targets import posture_choice_over_targets
@@ -285,12 +279,12 @@ def _posture_outputs(
     robot = spec.robots[0]
     cls = capacity_class(capacity)
     suffix = cls.output_suffix
-    named = "" if len(spec.capacities) == 1 else f"{capacity}: "
+    named = "" if len(spec.file.compare.capacities) == 1 else f"{capacity}: "
     configurations = np.vstack([motion.configurations for motion in motions])
     options: dict[str, Any] = {
         "direction": posture.direction,
-        "mvie": spec.mvie,
-        "outer": spec.outer,
+        "mvie": spec.file.compare.mvie,
+        "outer": spec.file.compare.outer,
         "candidates": spec.candidates,
         "capacity": capacity,
     }
@@ -306,7 +300,7 @@ def _posture_outputs(
             f"{len(configurations)} postures)",
             label=f"tab:posture-choice{suffix.replace('_', '-')}",
             stem=f"posture_choice{suffix}",
-            layout=_for_capacity(spec, capacity).layout,
+            layout=_layout(spec, capacity),
         ).values()
     )
     import pandas as pd
@@ -331,18 +325,18 @@ def _posture_outputs(
         title=f"{spec.title} ({named}{along})",
     )
     stem = folder / f"posture_indices{suffix}"
-    written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
+    written += _save(spec, figure, stem)
     sections: list[tuple[str, Any]] = [
         (f"{named}The posture each index picks ({along}; regret as a fraction)", choice.table)
     ]
-    if posture.targets is not None:
+    if posture.table.targets is not None:
         over = posture_choice_over_targets(
             robot.model,
             None,
             **limits,
-            count=posture.targets,
-            seed=posture.seed,
-            postures=posture.count,
+            count=posture.table.targets,
+            seed=posture.table.seed,
+            postures=posture.table.count,
             **options,
         )
         title = f"{spec.title}: {named}regret over {len(over.targets)} random targets ({along})"
@@ -352,9 +346,9 @@ def _posture_outputs(
             title,
             label=f"tab:posture-targets{suffix.replace('_', '-')}",
             stem=f"posture_targets{suffix}",
-            layout=_for_capacity(spec, capacity).layout,
+            layout=_layout(spec, capacity),
         ).values()
-        sections.append((f"{named}Over {posture.targets} random targets", over.summary))
+        sections.append((f"{named}Over {posture.table.targets} random targets", over.summary))
     return written, sections
 
 
@@ -384,11 +378,11 @@ def _each_capacity(
     """``run_one`` for each capacity of ``[compare] capacities``, then the HTML report."""
     written: list[Path] = []
     sections = _about(spec)
-    for capacity in spec.capacities:
+    for capacity in spec.file.compare.capacities:
         files, capacity_sections = run_one(spec, folder, capacity, progress, scheduler, seconds)
         written += files
         sections += capacity_sections
-    if "html" in spec.formats:
+    if "html" in spec.file.output.formats:
         from polyell.interactive import write_report
 
         written.append(write_report(folder / "report.html", spec.title, sections))
@@ -411,7 +405,6 @@ def _run_many_capacity(
     """
     import pandas as pd
 
-    spec = _for_capacity(spec, capacity)
     suffix = capacity_class(capacity).output_suffix
     runs: dict[str, pd.DataFrame] = {}
     for index, robot in enumerate(spec.robots):
@@ -432,7 +425,7 @@ def _run_many_capacity(
     written += _write_summary(spec, folder, summaries, len(table), capacity)
     # Maps of one score share one colour scale, so that colours compare across candidates
     # (and robots).  A map of a kind this capacity does not have is not drawn for it.
-    maps = [name for name in spec.maps if name in table.columns]
+    maps = [name for name in spec.file.output.maps if name in table.columns]
     scales: dict[str, tuple[float, float]] = {}
     for name in maps:
         _, score = _split(name)
@@ -467,13 +460,8 @@ def _many_outputs(
     maps this capacity has columns for.
     """
     suffix = capacity_class(capacity).output_suffix
-    if maps or spec.series or spec.histograms:  # matplotlib: a second of start-up
-        from polyell.figures import (
-            plot_score_histogram,
-            plot_score_map,
-            plot_score_series,
-            save_figure,
-        )
+    if maps or spec.file.series or spec.file.output.histograms:  # matplotlib: a second of start-up
+        from polyell.figures import plot_score_histogram, plot_score_map, plot_score_series
 
     prefix, by = (f"{robot}.", f"{robot}: ") if robot else ("", "")
     if suffix:
@@ -499,21 +487,21 @@ def _many_outputs(
             limits=scales.get(score),
         )
         stem = folder / f"map_{prefix}{name}{suffix}"
-        written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
+        written += _save(spec, figure, stem)
     title = f"{by}{spec.title}"
-    for score in spec.series:
+    for score in spec.file.series:
         figure = plot_score_series(results, score, kinds=kinds, title=title, capacity=capacity)
         stem = folder / f"series_{prefix}{score}{suffix}"
-        written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
+        written += _save(spec, figure, stem)
     measured = [kind for kind in kinds if kind not in ("mvie", "outer")]  # not the optima
-    for score in spec.histograms:
+    for score in spec.file.output.histograms:
         figure = plot_score_histogram(
             results, score, kinds=measured, title=title, capacity=capacity
         )
         stem = folder / f"histogram_{prefix}{score}{suffix}"
-        written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
+        written += _save(spec, figure, stem)
     sections: list[tuple[str, Any]] = []
-    if "html" in spec.formats:
+    if "html" in spec.file.output.formats:
         sections = _many_report(spec, by, results, summary, varying, measured, capacity, maps)
     return written, sections
 
@@ -551,7 +539,7 @@ def _per_row_notes(spec: StudySpec, folder: Path) -> list[str]:
     if not spec.is_batch or spec.posture is not None:
         return []
     notes = []
-    datasets = [f"results{capacity_class(c).output_suffix}" for c in spec.capacities]
+    datasets = [f"results{capacity_class(c).output_suffix}" for c in spec.file.compare.capacities]
     found = (meta for name in datasets for meta in (folder / name).glob("**/_sweep.json"))
     for meta in sorted(found):
         capacity = json.loads(meta.read_text(encoding="utf-8")).get("capacity", "acceleration")
@@ -585,14 +573,9 @@ def _sweep(
         **limits,
         capacity=capacity,
         scores=_scores(spec),
-        directions=spec.directions,  # None: compare's default, by each configuration's rank
-        mvie=spec.mvie,
-        outer=spec.outer,
-        candidates=spec.candidates,
-        samples=spec.samples,
-        seed=spec.seed,
+        **_compared(spec),
         scheduler=scheduler,
-        chunk=spec.chunk,
+        chunk=spec.file.compare.chunk,
         progress=progress,
         out=out,
     )
@@ -617,11 +600,10 @@ def _write_summary(
     """
     import pandas as pd
 
-    spec = _for_capacity(spec, capacity)
     suffix = capacity_class(capacity).output_suffix
     scores = "scores" if not suffix else f"{capacity} scores"
     tag = suffix.replace("_", "-")  # LaTeX labels: tab:summary-force
-    options: dict[str, Any] = {"layout": spec.layout, "capacity": capacity}
+    options: dict[str, Any] = {"layout": _layout(spec, capacity), "capacity": capacity}
     what = "summary" if not suffix else f"{capacity} summary"
     markdown = _heading(spec, f"{spec.title}: {what} over {count} configurations")
     if list(summaries) == [""]:
@@ -684,15 +666,9 @@ def _run_trajectory_capacity(
     velocities, what the capacity allows along the path's tangent is added to its results
     (``tangent_<set>_lo``, ``_hi``) and drawn (``tangent_limits_force.png``).
     """
-    from polyell.figures import (
-        plot_score_histogram,
-        plot_score_series,
-        plot_tangent_limits,
-        save_figure,
-    )
+    from polyell.figures import plot_score_histogram, plot_score_series, plot_tangent_limits
     from polyell.interactive import SeriesDecimator
 
-    spec = _for_capacity(spec, capacity)
     suffix = capacity_class(capacity).output_suffix
     by = "" if not suffix else f"{capacity}: "
     trajectory = spec.trajectory
@@ -716,7 +692,7 @@ def _run_trajectory_capacity(
     limits = cls.limit_arguments(*cls.robot_limits(robot)) if tangent else {}
     series = {
         score: SeriesDecimator(count, [f"{k}_{score}" for k in kinds if f"{k}_{score}" in columns])
-        for score in spec.series
+        for score in spec.file.series
     }
     sets = ("polytope", *cls.ellipsoid_kinds)
     tangents = [f"tangent_{name}_{end}" for name in sets for end in ("lo", "hi")]
@@ -756,27 +732,27 @@ def _run_trajectory_capacity(
             frame, score, kinds=kinds, title=f"{by}{spec.title}", capacity=capacity
         )
         stem = folder / f"series_{score}{suffix}"
-        written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
+        written += _save(spec, figure, stem)
     if along is not None:
         unit = task_unit(first.task, tex=True, capacity=capacity)
         figure = plot_tangent_limits(along.result(), unit=unit, capacity=capacity)
         stem = folder / f"tangent_limits{suffix}"
-        written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
+        written += _save(spec, figure, stem)
     measured = [kind for kind in kinds if kind not in ("mvie", "outer")]  # not the optima
     histograms = {
         score: pd.read_parquet(
             dataset, columns=[f"{k}_{score}" for k in measured if f"{k}_{score}" in columns]
         )
-        for score in spec.histograms
+        for score in spec.file.output.histograms
     }
     for score, frame in histograms.items():
         figure = plot_score_histogram(
             frame, score, kinds=measured, title=f"{by}{spec.title}", capacity=capacity
         )
         stem = folder / f"histogram_{score}{suffix}"
-        written += save_figure(figure, stem, spec.figure_formats, spec.dpi)
+        written += _save(spec, figure, stem)
     sections: list[tuple[str, Any]] = []
-    if "html" in spec.formats:
+    if "html" in spec.file.output.formats:
         from polyell.interactive import interactive_histogram, interactive_series
 
         for score, frame in shown.items():
@@ -814,13 +790,14 @@ def _many_report(
     if len(varying) == 2 and maps:  # one figure, a menu over the maps
         figure = interactive_map(results, maps, varying[1].name, varying[0].name, capacity=capacity)
         sections.append((f"{by}Heat maps (choose the score in the menu)", figure))
-    for score in spec.series:
+    for score in spec.file.series:
         figure = interactive_series(results, score, capacity=capacity)
         sections.append((by + score_display(score, capacity)[0], figure))
-    for score in spec.histograms:
+    for score in spec.file.output.histograms:
         figure = interactive_histogram(results, score, measured, capacity=capacity)
         sections.append((by + score_display(score, capacity)[0], figure))
-    text = format_summary_table(summary, "html", layout=spec.layout, capacity=capacity)
+    layout = _layout(spec, capacity)
+    text = format_summary_table(summary, "html", layout=layout, capacity=capacity)
     sections.append((f"{by}Summary over {len(results)} configurations", HtmlTable(text)))
     return sections
 
@@ -841,7 +818,7 @@ def _along_directions(analysis: Analysis, point: Point) -> str:
     """
     texts = [
         format_analysis(
-            analysis, direction, "t" if label.startswith("(") else label, point.inverse_at
+            analysis, direction, "t" if label.startswith("(") else label, point.table.inverse_at
         )
         for direction, label in zip(point.directions, point.labels, strict=True)
     ]
@@ -856,6 +833,14 @@ def _robot_of(spec: StudySpec, name: str) -> Robot:
     return next(robot for robot in spec.robots if robot.name == name)
 
 
+def _save(spec: StudySpec, figure: Any, stem: Path) -> list[Path]:
+    """A figure saved in the study's static formats (``[output] formats``) and ``dpi``."""
+    from polyell.figures import save_figure
+
+    output = spec.file.output
+    return save_figure(figure, stem, output.figure_formats, output.dpi)
+
+
 def _csv(name: str, frame: pd.DataFrame) -> None:
     with open(name, "wb") as handle:
         write_csv(frame, handle)
@@ -863,13 +848,13 @@ def _csv(name: str, frame: pd.DataFrame) -> None:
 
 def _heading(spec: StudySpec, heading: str) -> str:
     """A Markdown file's title, with the study's description below it (if it has one)."""
-    description = f"{markdown_text(spec.description)}\n\n" if spec.description else ""
+    description = f"{markdown_text(spec.file.description)}\n\n" if spec.file.description else ""
     return f"# {markdown_text(heading)}\n\n{description}"
 
 
 def _about(spec: StudySpec) -> list[tuple[str, Any]]:
     """The first section of a report: the study's description (if it has one)."""
-    return [("About this study", spec.description)] if spec.description else []
+    return [("About this study", spec.file.description)] if spec.file.description else []
 
 
 def _split(column: str) -> tuple[str, str]:
@@ -879,9 +864,18 @@ def _split(column: str) -> tuple[str, str]:
     return split
 
 
+def _compared(spec: StudySpec) -> dict[str, Any]:
+    """What every comparison of the study takes: ``[compare]``'s options, the candidates.
+
+    ``directions`` None is compare's default, by each configuration's rank.
+    """
+    keys = {"directions", "samples", "seed", "mvie", "outer"}
+    return {**spec.file.compare.model_dump(include=keys), "candidates": spec.candidates}
+
+
 def _scores(spec: StudySpec) -> tuple[str, ...]:
     """Every score the study's options allow (the ratios need their optimum computed)."""
-    skipped = {"mvie_ratio": not spec.mvie, "outer_ratio": not spec.outer}
+    skipped = {"mvie_ratio": not spec.file.compare.mvie, "outer_ratio": not spec.file.compare.outer}
     return tuple(name for name in SCORE_NAMES if not skipped.get(name, False))
 
 
@@ -954,7 +948,7 @@ def run_study(
         seconds["total"] = time.perf_counter() - started
         manifest = {
             "study": spec.title,
-            "description": spec.description,
+            "description": spec.file.description,
             "spec": spec.path.name,
             "files": sorted(p.name for p in written),
             "seconds": {name: round(value, 3) for name, value in seconds.items()},

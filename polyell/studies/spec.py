@@ -1,9 +1,12 @@
-"""Study and robot files: read, validated by the typed models, built into a :class:`StudySpec`.
+"""Study and robot files: read, validated by the typed models, loaded into a :class:`StudySpec`.
 
 The format itself (keys, types, defaults, messages, the reference page and the JSON
-Schemas) is :mod:`polyell.studies.models`; this module reads the TOML file, has the models
-validate it, and checks what needs the robots (joint counts, task rows, joint limits,
-candidate sizes) before anything is written.  ``docs/study_format.md`` describes the format.
+Schemas) is :mod:`polyell.studies.models`, and the validated :class:`StudyFile
+<polyell.studies.models.StudyFile>` is what a study reads its keys from.  This module reads
+the TOML file, has the models validate it, and derives what needs the robots or other files
+(the robot models, the points' joint vectors and directions, the grid's axes, the random
+configurations, the trajectory, the posture's direction, the candidates), checking it before
+anything is written.  ``docs/study_format.md`` describes the format.
 """
 
 from __future__ import annotations
@@ -14,7 +17,7 @@ import re
 import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -25,7 +28,6 @@ from polyell import robots
 from polyell.capacities import capacity_class
 from polyell.comparison.candidates import Candidate, check_candidates
 from polyell.comparison.directions import named_direction
-from polyell.comparison.layout import TableLayout
 from polyell.errors import InputError
 from polyell.models.planar_arm import PlanarArm
 from polyell.models.task import task_unit
@@ -43,7 +45,6 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 __all__ = [
-    "MAX_STUDY_CONFIGURATIONS",
     "GridAxis",
     "Point",
     "Posture",
@@ -53,10 +54,6 @@ __all__ = [
     "load_study",
     "robot_from_table",
 ]
-
-#: Most configurations of a grid or random study (all held in memory for its tables;
-#: larger sweeps go through pe.sweep(..., out=...)).  The same as the models' bound.
-MAX_STUDY_CONFIGURATIONS = 10_000_000
 
 
 @contextmanager
@@ -245,35 +242,29 @@ def load_robot_file(path: str | os.PathLike[str]) -> Robot:
 
 @dataclass(frozen=True)
 class Point:
-    """A named configuration of one robot, with the directions its limits are reported along.
+    """A ``[[points]]`` table on one robot, its joint vectors and directions resolved there.
 
     Attributes
     ----------
-    name : str
-        The point's name (it names files).
+    table : PointTable
+        The point as the file gives it (its ``name``, ``inverse_at`` and ``title``).
+    robot : str
+        The robot's name in a study of several robots, ``""`` in a study of one.
     q : ndarray, shape (n,)
-        Joint angles [rad].
+        Joint angles [rad] on that robot.
     directions : ndarray, shape (k, m)
         Unit directions of the task space, one per row.
     labels : tuple of str, length k
         Their names: a task-row name (``"x"``, ``"-xz"``) or the vector, rounded.
-    inverse_at : {"lo", "hi"}
-        The end of the new ellipsoid's interval the inverse maps are applied to.
-    title : str
-        Figure title.
-    robot : str
-        The robot's name in a study of several robots, ``""`` in a study of one.
     qd : ndarray, shape (n,), or None
         Joint velocities [rad/s] of a robot in motion (a URDF robot); None: at rest.
     """
 
-    name: str
+    table: models.PointTable
+    robot: str
     q: NDArray[np.float64]
     directions: NDArray[np.float64]
     labels: tuple[str, ...]
-    inverse_at: Literal["lo", "hi"] = "hi"
-    title: str = ""
-    robot: str = ""
     qd: NDArray[np.float64] | None = None
 
     @property
@@ -284,48 +275,45 @@ class Point:
     @property
     def label(self) -> str:
         """``robot/name`` in a study of several robots, else ``name``."""
-        return f"{self.robot}/{self.name}" if self.robot else self.name
+        return f"{self.robot}/{self.table.name}" if self.robot else self.table.name
 
     @property
     def stem(self) -> str:
         """The point's part of file names: ``robot.name`` (robot names hold no ``.``)."""
-        return f"{self.robot}.{self.name}" if self.robot else self.name
+        return f"{self.robot}.{self.table.name}" if self.robot else self.table.name
 
 
 @dataclass(frozen=True)
 class Posture:
-    """A posture study's settings (``[posture]``), checked against the robot.
+    """The ``[posture]`` table, with its direction resolved on the robot's task rows.
+
+    Its keys are those of ``table`` (also read through the posture: ``posture.count``).
 
     Attributes
     ----------
-    q0 : ndarray, shape (n,)
-        The configuration whose self-motion is sampled [rad or m].
+    table : PostureTable
+        The table as the file gives it.
     direction : ndarray, shape (m,)
         The unit task direction of the ``"limit"`` criterion.
     label : str
         Its name (``"x"``) or the vector, rounded.
-    count : int
-        Postures sampled in each component.
-    seed : int
-        Seed of the sampling and of the targets.
-    targets : int or None
-        Random targets the choice is aggregated over (None: q0's only).
-    components : tuple of ndarray, shape (n,)
-        Starts of further components of the self-motion (the same task coordinates).
     """
 
-    q0: NDArray[np.float64]
+    table: models.PostureTable
     direction: NDArray[np.float64]
     label: str
-    count: int
-    seed: int = 0
-    targets: int | None = None
-    components: tuple[NDArray[np.float64], ...] = ()
 
     @property
     def starts(self) -> tuple[NDArray[np.float64], ...]:
-        """q0, then the start of every further component."""
-        return (self.q0, *self.components)
+        """q0, then the start of every further component, as arrays."""
+        starts = (self.table.q0, *(self.table.components or ()))
+        return tuple(np.array(q, dtype=float) for q in starts)
+
+    def __getattr__(self, name: str) -> Any:
+        """A key of the table (``q0``, ``count``, ``seed``, ``targets``, ``components``)."""
+        if name.startswith("_") or name == "table":  # (copy and pickle look before table)
+            raise AttributeError(name)
+        return getattr(self.table, name)
 
 
 @dataclass(frozen=True)
@@ -338,40 +326,57 @@ class GridAxis:
 
 @dataclass(frozen=True)
 class StudySpec:
-    """A parsed study: robots, configurations, options and outputs.
+    """A loaded study: the validated file, and what was derived from it with the robots.
 
-    The configurations are points, a grid, random ones, a trajectory, or the self-motion
-    of a posture study (``posture``).
+    Every key of the study is read on ``file`` (``spec.file.compare.samples``,
+    ``spec.file.output.layout``); the other fields hold what needs the robots or other files.
 
-    ``points`` holds every point on every robot (point by point, robots in file order);
-    ``random_q`` one array of configurations per robot; ``layout`` the tables' layout;
-    ``by_robot`` is True for a study of ``[[robots]]`` (its outputs are labelled by robot).
+    Attributes
+    ----------
+    file : StudyFile
+        The study file, validated (:class:`polyell.studies.models.StudyFile`).
+    path : Path
+        The file's path.
+    robots : tuple of Robot
+        The robots built from ``[robot]`` or ``[[robots]]``, in file order.
+    candidates : tuple of Candidate
+        The ``[[candidates]]``, built and checked against every robot.
+    points : tuple of Point
+        Every point on every robot (point by point, robots in file order).
+    grid : tuple of GridAxis
+        A grid study's axes, one per joint.
+    random_q : tuple of ndarray
+        A random study's configurations, one array per robot.
+    trajectory : Trajectory or None
+        A trajectory study's path, loaded.
+    posture : Posture or None
+        A posture study's settings, checked against the robot.
     """
 
+    file: models.StudyFile
     path: Path
-    title: str
-    description: str
     robots: tuple[Robot, ...]
+    candidates: tuple[Candidate, ...] = ()
     points: tuple[Point, ...] = ()
     grid: tuple[GridAxis, ...] = ()
     random_q: tuple[NDArray[np.float64], ...] = ()
     trajectory: Trajectory | None = None
     posture: Posture | None = None
-    directions: int | None = None
-    mvie: bool = True
-    outer: bool = True
-    candidates: tuple[Candidate, ...] = ()
-    samples: int = 2**13
-    seed: int = 0
-    chunk: int = 20_000
-    formats: tuple[str, ...] = ("pdf", "png")
-    dpi: int = 300
-    maps: tuple[str, ...] = field(default_factory=tuple)
-    histograms: tuple[str, ...] = field(default_factory=tuple)
-    series: tuple[str, ...] = field(default_factory=tuple)
-    layout: TableLayout = field(default_factory=TableLayout)
-    by_robot: bool = False
-    capacities: tuple[str, ...] = ("acceleration",)
+
+    @property
+    def title(self) -> str:
+        """The study's title: its ``title`` key, else the file's name without suffix."""
+        return self.file.title if self.file.title is not None else self.path.stem
+
+    @property
+    def capacities(self) -> tuple[str, ...]:
+        """The compared capacities (``[compare] capacities``)."""
+        return self.file.compare.capacities
+
+    @property
+    def by_robot(self) -> bool:
+        """True for a study of ``[[robots]]`` (its outputs are labelled by robot)."""
+        return self.file.robots is not None
 
     @property
     def robot(self) -> Robot:
@@ -384,16 +389,6 @@ class StudySpec:
                 "use spec.robots.",
             )
         return self.robots[0]
-
-    @property
-    def figure_formats(self) -> tuple[str, ...]:
-        """The static figure formats (all but ``"html"``)."""
-        return tuple(f for f in self.formats if f != "html")
-
-    @property
-    def is_grid(self) -> bool:
-        """True for a grid study."""
-        return bool(self.grid)
 
     @property
     def is_batch(self) -> bool:
@@ -508,18 +503,7 @@ def _points(
                 rows = tuple(robot.model.dynamics(q).task)
             directions, labels = _directions(table, rows, where)
             qd = None if table.qd is None else _point_qd(table, where, robot, names)
-            points.append(
-                Point(
-                    table.name,
-                    q,
-                    directions,
-                    labels,
-                    table.inverse_at,
-                    table.title,
-                    robot.name if several else "",
-                    qd,
-                )
-            )
+            points.append(Point(table, robot.name if several else "", q, directions, labels, qd))
     return tuple(points)
 
 
@@ -556,12 +540,12 @@ def _same_joint_count(robots_: tuple[Robot, ...], where: str, what: str) -> int:
 
 
 def _grid(table: dict[str, Any], robots_: tuple[Robot, ...]) -> tuple[GridAxis, ...]:
+    from polyell.studies.models import MAX_STUDY_CONFIGURATIONS, did_you_mean
+
     n = _same_joint_count(robots_, "grid", "a grid's q1..qn are shared")
     names = tuple(f"q{i + 1}" for i in range(n))
     unknown = sorted(set(table) - set(names))
     if unknown:
-        from polyell.studies.models import did_you_mean
-
         raise InputError(
             "grid",
             f"keys among {list(names)}",
@@ -648,8 +632,7 @@ def _posture(table: models.PostureTable, robot: Robot) -> Posture:
     with _within("posture.q0"):
         rows = tuple(model.dynamics(q0).task)
     direction, label = named_direction(table.direction, rows, argument="posture.direction")
-    components = tuple(np.array(q, dtype=float) for q in table.components or ())
-    return Posture(q0, direction, label, table.count, table.seed, table.targets, components)
+    return Posture(table, direction, label)
 
 
 def _candidates(
@@ -731,18 +714,8 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
         raise InputError(
             "output.maps", "a grid with exactly two varying joints", f"{len(grid)} grid axes"
         )
-    series = output.series
-    if series is None:
-        series = ("coverage", "inscribed_scale") if trajectory is not None else ()
-    with _within("output"):
-        layout = TableLayout(
-            sets=output.sets,
-            scores=output.scores,
-            transpose=output.transpose,
-            split=output.split,
-            digits=output.digits,
-            percent=output.percent,
-        )
+    with _within("output"):  # the layout's own checks, before anything is written
+        output.layout  # noqa: B018
     compare = study.compare
     moving = [point.label for point in points if point.qd is not None]
     still = [c for c in compare.capacities if not capacity_class(c).in_motion]
@@ -798,28 +771,5 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
                     "when every joint has one).",
                 )
     return StudySpec(
-        path=Path(path),
-        title=study.title if study.title is not None else Path(path).stem,
-        description=study.description,
-        robots=robots_,
-        points=points,
-        grid=grid,
-        random_q=random_q,
-        trajectory=trajectory,
-        posture=posture,
-        directions=compare.directions,
-        mvie=compare.mvie,
-        outer=compare.outer,
-        candidates=candidates,
-        samples=compare.samples,
-        seed=compare.seed,
-        chunk=compare.chunk,
-        formats=output.formats,
-        dpi=output.dpi,
-        maps=tuple(output.maps),
-        histograms=output.histograms,
-        series=series,
-        layout=layout,
-        by_robot=several,
-        capacities=compare.capacities,
+        study, Path(path), robots_, candidates, points, grid, random_q, trajectory, posture
     )

@@ -345,13 +345,13 @@ LAYOUT = (
 
 
 def test_the_output_layout_keys_reach_the_spec(tmp_path):
-    assert load(tmp_path, LAYOUT).layout == TableLayout()
+    assert load(tmp_path, LAYOUT).file.output.layout == TableLayout()
     spec = load(
         tmp_path,
         LAYOUT + 'sets = ["polytope", "disc", "chiacchio"]\nscores = ["coverage"]\n'
         'transpose = true\nsplit = "posture"\ndigits = 17\npercent = false\n',
     )
-    assert spec.layout == TableLayout(
+    assert spec.file.output.layout == TableLayout(
         sets=("polytope", "disc", "chiacchio"),
         scores=("coverage",),
         transpose=True,
@@ -386,7 +386,7 @@ def test_bad_layout_keys_are_refused(tmp_path, extra, start):
 
 def test_every_shipped_study_loads_with_the_default_layout():
     for path in sorted((ROOT / "studies").glob("*.toml")):
-        assert load_study(path).layout == TableLayout(), path.name
+        assert load_study(path).file.output.layout == TableLayout(), path.name
 
 
 @pytest.mark.parametrize(

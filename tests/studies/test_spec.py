@@ -32,15 +32,15 @@ POINTS = """
 
 def test_the_shipped_studies_parse():
     paper = load_study(REPO / "studies" / "chiacchio2000.toml")
-    assert [p.name for p in paper.points] == ["redundant", "singular"]
+    assert [p.table.name for p in paper.points] == ["redundant", "singular"]
     np.testing.assert_allclose(paper.points[1].direction, [-0.5, np.sqrt(3) / 2])
     np.testing.assert_allclose(paper.robot.tau_max, [100, 30, 4])
     sweep = load_study(REPO / "studies" / "planar3r_sweep.toml")
-    assert sweep.is_grid and sweep.configurations().shape == (61 * 61, 3)
-    assert sweep.mvie and "chiacchio_mvie_ratio" in sweep.maps  # batched MVIE: cheap now
+    assert sweep.grid and sweep.configurations().shape == (61 * 61, 3)
+    assert sweep.file.compare.mvie and "chiacchio_mvie_ratio" in sweep.file.output.maps
     path = load_study(REPO / "studies" / "planar3r_path.toml")
     assert path.trajectory is not None and path.trajectory.qd is not None
-    assert len(path.trajectory) == 81 and path.series
+    assert len(path.trajectory) == 81 and path.file.series
 
 
 def test_planar_robot_table_and_expressions(tmp_path):
@@ -216,3 +216,28 @@ def test_titles_with_math_matplotlib_cannot_typeset_are_refused_at_load(tmp_path
         pe.InputError, match=rf"^{re.escape(where)}: expected text whose \$\.\.\.\$ parts are valid"
     ):
         load_study(write(tmp_path, text.format(**bad)))
+
+
+def test_the_spec_reads_the_validated_file_and_adds_only_what_needs_the_robots():
+    """Issue 31, item 6: one model of a study; nothing of the file is copied into the spec."""
+    import copy
+    import pickle
+    from dataclasses import fields
+
+    from polyell.studies.models import CompareTable, OutputTable, StudyFile
+    from polyell.studies.spec import Point, Posture, StudySpec
+
+    keys = {*CompareTable.model_fields, *OutputTable.model_fields, "title", "description"}
+    assert {field.name for field in fields(StudySpec)}.isdisjoint(keys)
+    assert {field.name for field in fields(Point)}.isdisjoint({"name", "inverse_at", "title"})
+    assert [field.name for field in fields(Posture)] == ["table", "direction", "label"]
+    spec = load_study(REPO / "studies" / "posture_paper.toml")
+    assert isinstance(spec.file, StudyFile) and spec.posture is not None
+    assert spec.posture.table is spec.file.posture
+    assert (spec.posture.count, spec.posture.seed) == (spec.file.posture.count, 0)  # read through
+    np.testing.assert_array_equal(spec.posture.starts[0], spec.file.posture.q0)
+    for copied in (copy.deepcopy(spec.posture), pickle.loads(pickle.dumps(spec.posture))):
+        np.testing.assert_array_equal(copied.direction, spec.posture.direction)
+        assert copied.count == spec.posture.count
+    with pytest.raises(AttributeError, match="cuont"):
+        spec.posture.cuont  # noqa: B018
