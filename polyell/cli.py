@@ -12,6 +12,7 @@ import errno
 import json
 import logging
 import os
+import re
 import sys
 import warnings
 from collections.abc import Iterator, Sequence
@@ -24,6 +25,7 @@ from numpy.typing import NDArray
 from polyell import __version__, robots
 from polyell.capacities import Analysis, analyze, capacity_class, check_capacity
 from polyell.comparison import compare
+from polyell.comparison.directions import named_direction
 from polyell.errors import InputError, PolyellError, ProjectedInputWarning
 from polyell.expressions import evaluate_list
 from polyell.models import UrdfRobot
@@ -145,9 +147,9 @@ def _parser() -> argparse.ArgumentParser:
     aim = run.add_mutually_exclusive_group()
     aim.add_argument(
         "--direction",
-        type=_floats,
         default=None,
-        help="unit task direction, default the first task axis (x)",
+        help="the task direction of the limits: a name of the task rows (x, -z, xy, wz) "
+        "or a unit vector (0,0,1); default the first task row",
     )
     aim.add_argument(
         "--angle",
@@ -225,22 +227,46 @@ def _configuration(args: argparse.Namespace, robot: Robot) -> NDArray[np.float64
     return np.deg2rad(q) if args.deg else q
 
 
-def _direction(args: argparse.Namespace, m: int) -> tuple[NDArray[np.float64], str, list[str]]:
+def _named_or_numbers(
+    text: str, task: tuple[str, ...]
+) -> tuple[NDArray[np.float64], str] | list[float]:
+    """``--direction`` as a name of the task rows ``(unit vector, label)``, or its numbers.
+
+    Numbers when every comma-separated item evaluates (``0,0,1``, ``-0.5,sqrt(3)/2``);
+    else a name (:func:`~polyell.comparison.directions.named_direction`: ``z``, ``-z``,
+    ``xy``).  A text that is neither gets the numbers' error if it has a comma or starts
+    like a number, the name's (which lists the task rows) otherwise.
+    """
+    try:
+        return evaluate_list("--direction", text)
+    except InputError:
+        if "," in text or re.match(r"\s*[-+]?\s*[\d.]", text):
+            raise
+    return named_direction(text, task, "--direction")
+
+
+def _direction(
+    args: argparse.Namespace, task: tuple[str, ...]
+) -> tuple[NDArray[np.float64], str, list[str]]:
     """The direction of the limits, its label, and notes on what was done to it."""
+    m = len(task)
     if args.angle is not None:
         if m != 2 or len(args.angle) != 1:
             raise InputError("--angle", "one angle [deg] for a 2-D task", f"{args.angle}, m = {m}")
         angle = np.deg2rad(args.angle[0])
         return np.array([np.cos(angle), np.sin(angle)]), "t", []
-    if args.direction is None:
-        return np.eye(m)[0], "x", []
-    direction = check_points("--direction", args.direction, m)
+    if args.direction is None:  # the first task row
+        return np.eye(m)[0], task[0], []
+    values = _named_or_numbers(args.direction, task)
+    if isinstance(values, tuple):  # a name: a unit vector already
+        return values[0], values[1], []
+    direction = check_points("--direction", values, m)
     norm = float(np.linalg.norm(direction))
     if not args.normalize and abs(norm - 1.0) > DIRECTION_NORM_RTOL:
         raise InputError(
             "--direction",
             "a unit vector",
-            f"{args.direction} of norm {norm:.6g}",
+            f"{values} of norm {norm:.6g}",
             "add --normalize to scale it to unit length, or give --angle DEG (2-D tasks).",
         )
     if norm == 0 or abs(norm - 1.0) <= 1e-12:
@@ -337,7 +363,7 @@ def _analyze(args: argparse.Namespace) -> list[str]:
         model = robot.model
         dynamics = model.dynamics(q, qd) if isinstance(model, UrdfRobot) else model.dynamics(q)
         analysis = analyze(dynamics, tau_max, tau_min, capacity=capacity)
-    direction, label, notes = _direction(args, analysis.m)
+    direction, label, notes = _direction(args, analysis.task)
     comparison = compare(analysis, mvie=not args.no_mvie, outer=not args.no_outer)
     if args.mesh is not None:
         from polyell.export import export_comparison

@@ -10,9 +10,12 @@ nested message) never gives a doubled one.
 from __future__ import annotations
 
 __all__ = [
+    "DeratingWarning",
     "InputError",
+    "JointLimitWarning",
     "MissingDependencyError",
     "PolyellError",
+    "PolyellWarning",
     "ProjectedInputWarning",
     "SolverError",
     "StorageError",
@@ -129,9 +132,73 @@ class MissingDependencyError(PolyellError, ImportError):
     """An optional dependency is not installed; the message names the extra to install."""
 
 
-class ProjectedInputWarning(UserWarning):
+class PolyellWarning(UserWarning):
+    """Base class of every warning polyell issues on purpose.
+
+    A computation that goes on with input that is probably a slip (joint angles in
+    degrees, rated torque limits for a moving robot) says so with a subclass of this
+    warning.  Python's warning filters select them: ``warnings.simplefilter("error",
+    pe.PolyellWarning)`` makes them errors, ``"ignore"`` silences them.
+    """
+
+
+class ProjectedInputWarning(PolyellWarning):
     """Input taken as rounded and projected onto the affine set of a singular configuration.
 
     A direction or an acceleration within :data:`~polyell.AFFINE_RTOL` of the set
     ``xg + Im(M)`` (eq. 35) is treated as lying in it; polyell says so with this warning.
     """
+
+
+class TableWidthWarning(PolyellWarning):
+    """A LaTeX table estimated wider than the text width, written anyway.
+
+    The message names the table, its estimated width and the text width (set by
+    ``pe.TableLayout(text_width=...)``); the fixes are fewer sets or scores, the
+    transposed layout, or a wider page.
+    """
+
+
+class JointLimitWarning(PolyellWarning):
+    """Joint positions outside a robot's position limits (its URDF's ``lower``, ``upper``).
+
+    Issued once per call of :meth:`~polyell.UrdfRobot.dynamics` or
+    :meth:`~polyell.UrdfRobot.tip_kinematics` (a batch of K configurations gives one
+    warning), naming the joints, by how much they are beyond their limits and, where
+    revolute joints are beyond a full turn (``|q| > 2 pi``), that the angles look like
+    degrees.  Continuous joints have no limits and never warn.  The values are computed
+    anyway: a robot is allowed to be evaluated anywhere.
+
+    Attributes
+    ----------
+    joints : tuple of str
+        Names of the joints outside their limits.
+    degrees : bool
+        True where the values look like degrees.
+    """
+
+    def __init__(self, message: str, joints: tuple[str, ...] = (), degrees: bool = False) -> None:
+        super().__init__(message)
+        self.joints = tuple(joints)
+        self.degrees = bool(degrees)
+
+
+class DeratingWarning(PolyellWarning):
+    """Torque limits beyond what a moving robot's drives give at its joint velocities.
+
+    A robot with a torque-speed model (:class:`~polyell.TorqueSpeed`) moving at
+    ``qd != 0`` can give less torque in the direction of motion than its rated limits;
+    an analysis given the rated limits (or any limits beyond the derated ones) gets a set
+    that is too large.  The message names the joints and both limits; the fix is the
+    robot's limits at ``qd``, ``robot.torque_limits(qd)``, or
+    :meth:`~polyell.UrdfRobot.analyze`, which uses them.
+
+    Attributes
+    ----------
+    joints : tuple of str
+        Names of the joints whose limits exceed the derated ones.
+    """
+
+    def __init__(self, message: str, joints: tuple[str, ...] = ()) -> None:
+        super().__init__(message)
+        self.joints = tuple(joints)

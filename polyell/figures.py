@@ -1,7 +1,7 @@
 """Figures with matplotlib: sets, directional limits, and score maps, readable in greyscale.
 
-The style follows Figures 1 and 2 of the paper: the polytope dashed, the new ellipsoid
-solid, the classic one dotted; the centre ``xdd_g`` and the origin are marked.  Every
+The style follows Figures 1 and 2 of the paper: the polytope dashed, Chiacchio's ellipsoid
+solid, Yoshikawa's dotted; the centre ``xdd_g`` and the origin are marked.  Every
 function draws on a :class:`matplotlib.figure.Figure` built without pyplot, so it works on
 machines without a display.
 """
@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 from scipy.spatial import ConvexHull
 
 from polyell.capacities import Analysis, capacity_class, check_capacity
-from polyell.comparison.labels import ellipsoid_label
+from polyell.comparison.labels import Labels, ellipsoid_label, resolve_labels
 from polyell.comparison.tables import score_display
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.directions import sphere_directions
@@ -52,7 +52,7 @@ _FIX_FIGURE = "pass a matplotlib Figure (the plot_* functions return one)."
 
 #: Line styles per set: distinct in greyscale (dash pattern, width and grey level).
 STYLES = {
-    "polytope": {"color": "0.35", "linestyle": "--", "linewidth": 2.2, "label": "polytope (15)"},
+    "polytope": {"color": "0.35", "linestyle": "--", "linewidth": 2.2},
     "chiacchio": {"color": "black", "linestyle": "-", "linewidth": 1.4},
     "yoshikawa": {"color": "black", "linestyle": ":", "linewidth": 1.6},
     "mvie": {"color": "0.55", "linestyle": "-.", "linewidth": 1.2},
@@ -125,19 +125,28 @@ def _check_texts(**texts: object) -> None:
 
 
 def _style(
-    kind: str, kinds: Sequence[str] = (), capacity: str = "acceleration"
+    kind: str, kinds: Sequence[str] = (), capacity: str = "acceleration", labels: Labels = None
 ) -> dict[str, object]:
-    """The line style of a set; a candidate's by its place among the others in ``kinds``."""
+    """The line style of a set; a candidate's by its place among the others in ``kinds``.
+
+    Its legend is the set's label (:func:`~polyell.comparison.labels.set_label`: one name
+    per kind, or ``labels``), as in the tables.
+    """
     if kind in STYLES:
         style = dict(STYLES[kind])
     else:
         others = [k for k in kinds if k not in STYLES]
         index = others.index(kind) if kind in others else 0
         style = dict(CANDIDATE_STYLES[index % len(CANDIDATE_STYLES)])
-    style.setdefault("label", ellipsoid_label(kind, capacity))
-    if kind == "polytope":  # eq. 15 is the acceleration polytope
-        style["label"] = capacity_class(capacity).polytope_label
+    style["label"] = ellipsoid_label(kind, capacity, labels)
     return style
+
+
+def _check_labels(labels: object) -> Labels:
+    """The labels of sets and scores a figure draws (a layout's), checked as drawn text."""
+    for name, text in resolve_labels(labels).items():  # type: ignore[arg-type]
+        check_title(text.plain, f"labels[{name!r}]")
+    return labels  # type: ignore[return-value]
 
 
 def _centre_label(analysis: Analysis) -> str:
@@ -189,6 +198,7 @@ def plot_sets(
     extra: Mapping[str, Ellipsoid] | None = None,
     unit: str | None = None,
     title: str | None = None,
+    labels: Labels = None,
 ) -> Figure:
     """The polytope and the ellipsoids of a 2-D task space (paper Figures 1 and 2).
 
@@ -211,6 +221,11 @@ def plot_sets(
     unit : str, optional
         Axis unit; default the task's (m/s^2 for linear rows, rad/s^2 for angular ones).
     title : str, optional
+    labels : str or mapping, optional
+        The sets' names in the legend, as a table layout's ``labels``
+        (:class:`polyell.TableLayout`): a mapping of set names to labels (their plain
+        text), or a preset (``"chiacchio2000"``, the paper's equation numbers).  Default:
+        one name per set (``"polytope"``, ``"Chiacchio"``, ``"Yoshikawa"``, ``"MVIE"``).
 
     Returns
     -------
@@ -225,6 +240,7 @@ def plot_sets(
     if analysis.m != 2:
         raise InputError("analysis", "a 2-D task space", f"m = {analysis.m}", "use plot_sets_3d.")
     _check_texts(unit=unit, title=title)
+    labels = _check_labels(labels)
     if ax is None:
         ax = Figure(figsize=(4.8, 5.2), layout="constrained").add_subplot()
     P = analysis.polytope
@@ -238,7 +254,8 @@ def plot_sets(
     if P.dim < 2:
         segment = {"color": "0.8", "linewidth": 9.0, "linestyle": "-"}
         segment |= {"solid_capstyle": "butt", "marker": "s", "markersize": 9}
-    ax.plot(*vertices.T, **(_style("polytope", (), analysis.capacity) | segment))  # type: ignore[arg-type]
+    polytope = _style("polytope", (), analysis.capacity, labels)
+    ax.plot(*vertices.T, **(polytope | segment))  # type: ignore[arg-type]
     widths = {"chiacchio": 3.2, "yoshikawa": 2.0, "mvie": 1.3}
     drawn = _ellipsoids(analysis, kinds, mvie, extra)
     for kind, E in drawn.items():
@@ -246,7 +263,7 @@ def plot_sets(
         if E.rank < 2:
             ends = {"marker": "|", "markersize": 16, "markeredgewidth": 1.6}
             ends |= {"linewidth": widths.get(kind, 1.3), "solid_capstyle": "butt"}
-        style = _style(kind, list(drawn), analysis.capacity)
+        style = _style(kind, list(drawn), analysis.capacity, labels)
         ax.plot(*E.boundary_curve(720, closed=True).T, **(style | ends))  # type: ignore[arg-type]
     ax.plot(
         *analysis.center,
@@ -340,6 +357,7 @@ def plot_sets_3d(
     unit: str | None = None,
     title: str | None = None,
     view: tuple[float, float] = (25.0, -60.0),
+    labels: Labels = None,
 ) -> Figure:
     """The polytope and the ellipsoids of a 3-D task space, legible in print.
 
@@ -365,6 +383,7 @@ def plot_sets_3d(
     if analysis.m != 3:
         raise InputError("analysis", "a 3-D task space", f"m = {analysis.m}", "use plot_sets.")
     _check_texts(unit=unit, title=title)
+    labels = _check_labels(labels)
     if (
         not isinstance(view, tuple | list)
         or len(view) != 2
@@ -376,7 +395,7 @@ def plot_sets_3d(
     figure = Figure(figsize=(5.5, 5.0), layout="constrained")
     ax = figure.add_subplot(projection="3d", proj_type="ortho")
     P = analysis.polytope
-    polytope_style = STYLES["polytope"]
+    polytope_style = _style("polytope", (), analysis.capacity, labels)
     edge_color = "0.25"
     handles: list[object] = []
     if P.dim == 3:
@@ -400,7 +419,7 @@ def plot_sets_3d(
     )
     drawn = _ellipsoids(analysis, kinds, mvie, extra)
     for kind, E in drawn.items():
-        style = _style(kind, list(drawn), analysis.capacity)
+        style = _style(kind, list(drawn), analysis.capacity, labels)
         outline, sections = ellipsoid_outline(E, view)
         line_style = {"color": style["color"], "linestyle": style["linestyle"]}
         (line,) = ax.plot(*outline.T, linewidth=1.5, label=str(style["label"]), **line_style)
@@ -460,11 +479,12 @@ def plot_directional_limits(
     directions: int = 720,
     unit: str | None = None,
     title: str | None = None,
+    labels: Labels = None,
 ) -> Figure:
     """Polar plot of the upper directional limit ``hi(t)`` of P and of each ellipsoid (2-D).
 
     Only directions with a positive upper limit are drawn (the radius of a polar plot
-    cannot be negative); the others are gaps.
+    cannot be negative); the others are gaps.  Arguments as for :func:`plot_sets`.
     """
     check_instance(
         "analysis",
@@ -475,6 +495,7 @@ def plot_directional_limits(
     if analysis.m != 2:
         raise InputError("analysis", "a 2-D task space", f"m = {analysis.m}")
     _check_texts(unit=unit, title=title)
+    labels = _check_labels(labels)
     T = sphere_directions(directions, 2)
     angles = np.arctan2(T[:, 1], T[:, 0])
     order = np.argsort(angles)
@@ -483,7 +504,7 @@ def plot_directional_limits(
     sets = {"polytope": analysis.polytope, **_ellipsoids(analysis, kinds, mvie, extra)}
     for name, S in sets.items():
         hi = S.limits(T).hi[order]
-        style = _style(name, list(sets))
+        style = _style(name, list(sets), analysis.capacity, labels)
         ax.plot(angles[order], np.where(hi > 0, hi, np.nan), **style)  # type: ignore[arg-type]
     unit = unit or analysis.unit(tex=True)
     ax.set_title(title or f"upper limit along each direction [{unit}]", fontsize="medium")
@@ -567,6 +588,7 @@ def plot_score_histogram(
     bins: int = 30,
     title: str | None = None,
     capacity: str = "acceleration",
+    labels: Labels = None,
 ) -> Figure:
     """Histograms of one score over the configurations of a study, one per ellipsoid.
 
@@ -580,8 +602,9 @@ def plot_score_histogram(
         Ellipsoids to overlay (step outlines in the line styles of :data:`STYLES`);
         configurations where one is undefined are left out of its histogram.
     capacity : {"acceleration", "velocity", "force"}, optional
-        Whose ellipsoids they are: their names in the legend (a force ``"chiacchio"`` is
-        "with gravity").
+        Whose ellipsoids they are (the witness's label: a torque or a joint velocity).
+    labels : str or mapping, optional
+        Names of the sets and of the score, as a table layout's ``labels``.
     """
     check_instance(
         "results",
@@ -591,19 +614,20 @@ def plot_score_histogram(
     )
     capacity = check_capacity(capacity)
     _check_texts(title=title)
+    labels = _check_labels(labels)
     present = [kind for kind in kinds if f"{kind}_{score}" in results]
     if not present:
         raise InputError(
             "score", f"a score with columns in the results, e.g. {list(results)[:4]}", repr(score)
         )
-    name, factor = score_display(score, capacity)
+    name, factor = score_display(score, capacity, labels)
     values = [factor * results[f"{kind}_{score}"].to_numpy(dtype=float) for kind in present]
     finite = [v[np.isfinite(v)] for v in values]
     edges = _bin_edges(np.concatenate(finite), bins)
     figure = Figure(figsize=(5.0, 3.6), layout="constrained")
     ax = figure.add_subplot()
     for kind, data in zip(present, finite, strict=True):
-        style = _style(kind, present, capacity)
+        style = _style(kind, present, capacity, labels)
         ax.hist(
             data,
             bins=edges,
@@ -628,6 +652,7 @@ def plot_score_series(
     kinds: Sequence[str] = ("chiacchio", "yoshikawa", "mvie"),
     title: str | None = None,
     capacity: str = "acceleration",
+    labels: Labels = None,
 ) -> Figure:
     """One score of each candidate along a trajectory (against ``t``, or the sample index).
 
@@ -641,7 +666,9 @@ def plot_score_series(
     kinds : sequence of str
         Candidates to draw, those with columns in ``results``.
     capacity : {"acceleration", "velocity", "force"}, optional
-        Whose ellipsoids they are: their names in the legend.
+        Whose ellipsoids they are (the witness's label: a torque or a joint velocity).
+    labels : str or mapping, optional
+        Names of the sets and of the score, as a table layout's ``labels``.
     """
     check_instance(
         "results",
@@ -651,17 +678,18 @@ def plot_score_series(
     )
     capacity = check_capacity(capacity)
     _check_texts(title=title)
+    labels = _check_labels(labels)
     present = [kind for kind in kinds if f"{kind}_{score}" in results]
     if not present:
         raise InputError(
             "score", f"a score with columns in the results, e.g. {list(results)[:4]}", repr(score)
         )
     x = results["t"] if "t" in results else results["configuration"]
-    name, factor = score_display(score, capacity)
+    name, factor = score_display(score, capacity, labels)
     figure = Figure(figsize=(6.0, 3.2), layout="constrained")
     ax = figure.add_subplot()
     for kind in present:
-        style = _style(kind, present, capacity)
+        style = _style(kind, present, capacity, labels)
         ax.plot(
             x,
             factor * results[f"{kind}_{score}"],
@@ -679,12 +707,16 @@ def plot_score_series(
 
 
 def plot_tangent_limits(
-    results: pd.DataFrame, *, unit: str = "m/s$^2$", capacity: str = "acceleration"
+    results: pd.DataFrame,
+    *,
+    unit: str = "m/s$^2$",
+    capacity: str = "acceleration",
+    labels: Labels = None,
 ) -> Figure:
     """What each set allows along the path's tangent: its interval over time.
 
-    ``capacity`` names the sets (accelerations by default; velocities, forces) and
-    ``unit`` is its task unit.
+    ``capacity`` chooses the sets (accelerations by default; velocities, forces), ``unit``
+    is its task unit and ``labels`` (a table layout's) name the sets.
     """
     check_instance(
         "results",
@@ -694,13 +726,14 @@ def plot_tangent_limits(
     )
     capacity = check_capacity(capacity)
     _check_texts(unit=unit)
+    labels = _check_labels(labels)
     x = results["t"] if "t" in results else results["configuration"]
     figure = Figure(figsize=(6.0, 3.4), layout="constrained")
     ax = figure.add_subplot()
     for name in ("polytope", *capacity_class(capacity).ellipsoid_kinds):
         if f"tangent_{name}_hi" not in results:
             continue
-        style = _style(name, (), capacity)
+        style = _style(name, (), capacity, labels)
         for end in ("lo", "hi"):
             ax.plot(
                 x,
@@ -731,6 +764,7 @@ def plot_posture_indices(
     position: Sequence[float] | NDArray[np.float64] | None = None,
     xlabel: str | None = None,
     title: str | None = None,
+    labels: Labels = None,
 ) -> Figure:
     """Each index of a posture choice along the postures, normalised to its own best.
 
@@ -752,6 +786,8 @@ def plot_posture_indices(
         Default ``"position along the self-motion [rad]"`` with ``position``, else
         ``"posture"``.
     title : str, optional
+    labels : str or mapping, optional
+        Names of the sets, as a table layout's ``labels``.
 
     Returns
     -------
@@ -759,6 +795,7 @@ def plot_posture_indices(
     """
     check_instance("values", values, pd.DataFrame, "pass choice.values of pe.posture_choice.")
     _check_texts(xlabel=xlabel, title=title)
+    labels = _check_labels(labels)
     if not isinstance(values, pd.DataFrame) or values.columns.nlevels != 2:
         raise InputError(
             "values", "PostureChoice.values (columns (kind, quantity))", type(values).__name__
@@ -787,8 +824,8 @@ def plot_posture_indices(
             best = np.nanmax(index) if np.any(index > 0) else np.nan
             if not best > 0:
                 continue  # undefined or zero everywhere: nothing to normalise
-            style = _style(kind, kinds, values.attrs.get("capacity", "acceleration"))
-            label = "polytope (truth)" if kind == "polytope" else str(style["label"])
+            style = _style(kind, kinds, values.attrs.get("capacity", "acceleration"), labels)
+            label = f"{style['label']} (truth)" if kind == "polytope" else str(style["label"])
             ax.plot(
                 x[order],
                 index[order] / best,

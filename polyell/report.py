@@ -10,7 +10,7 @@ from numpy.typing import NDArray
 
 from polyell.capacities import Analysis, InverseSolution
 from polyell.comparison import Comparison
-from polyell.errors import UndefinedEllipsoidError
+from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.hpolytope import HPolytope
 
 __all__ = ["analysis_to_json", "format_analysis"]
@@ -64,6 +64,8 @@ def format_analysis(
     direction: NDArray[np.float64],
     label: str,
     inverse_at: Literal["lo", "hi"] = "hi",
+    *,
+    equations: bool | None = None,
 ) -> str:
     """Every quantity of the paper's section 6 at one configuration, as text.
 
@@ -80,6 +82,11 @@ def format_analysis(
         Name of the direction (e.g. ``"x"``).
     inverse_at : {"lo", "hi"}
         Which end of the new ellipsoid's interval the inverse maps are applied to.
+    equations : bool, optional
+        Whether the labels carry the paper's names and equation numbers (``xdd_g (eq. 8)``,
+        ``Polytope (eq. 15)``): for the paper's own study (a table layout's
+        ``labels="chiacchio2000"``).  False: the names that fit any robot.  None (the
+        default): the capacity's (``analysis.paper``: accelerations), as before.
 
     Returns
     -------
@@ -87,7 +94,10 @@ def format_analysis(
     """
     P, svd = analysis.polytope, analysis.svd  # type: ignore[attr-defined]
     unit = analysis.unit()
-    paper = analysis.paper  # the paper's names and equation numbers
+    if equations is not None and not isinstance(equations, bool):
+        raise InputError("equations", "True, False or None", repr(equations)[:60])
+    # the paper's names and equation numbers (an acceleration analysis has the matrices)
+    paper = analysis.paper and (equations is None or equations)
     lines = [
         f"{analysis.capacity} capacity: task rows {', '.join(analysis.task)} [{unit}]"
         if not paper
@@ -156,13 +166,13 @@ def format_analysis(
         f"Inverse maps at {analysis.point_symbol} = {np.round(xdd, 5).tolist()} "
         f"({inverse_at} end, {first}):",
     ]
-    equations = {"chiacchio": " (eq. 33/40)", "yoshikawa": " (eq. 26)"} if paper else {}
+    numbers = {"chiacchio": " (eq. 33/40)", "yoshikawa": " (eq. 26)"} if paper else {}
     joint, normalized = analysis.inverse_names
     if analysis.unique_inverse:  # a force needs one torque, whatever the definition
         solutions = dict(list(solutions.items())[:1])
     for name, solution in solutions.items():
         lines += [
-            f"  {name}{equations.get(name, '')}: {joint} = {np.round(solution.joint, 5).tolist()}",
+            f"  {name}{numbers.get(name, '')}: {joint} = {np.round(solution.joint, 5).tolist()}",
             f"    {normalized} = {np.round(solution.normalized, 5).tolist()}, "
             f"|{normalized}| = {float(solution.torque_norm):.5g}, "
             f"max |{normalized}_i| = {float(np.max(np.abs(solution.normalized))):.5g}",

@@ -294,15 +294,19 @@ def check_velocity_limits(
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Check joint velocity limits and return ``(qd_max, qd_min)`` as float64 arrays.
 
-    The limits bracket rest, ``qd_min <= 0 < qd_max``: a joint can stand still and move
-    forward (``qd_min = 0``: a joint that only turns one way).
+    The limits are a box of joint velocities, ``qd_min < qd_max`` for every joint: the
+    rule of ``pe.analyze(..., capacity="velocity", qd_max=, qd_min=)``, so that a robot (a
+    robot or study file) takes every box the analysis takes.  Joint limits usually
+    bracket rest (``qd_min <= 0 < qd_max``; ``qd_min = 0``: a joint that only turns one
+    way); a ``qd_min`` above 0 is a joint that must move forward, and its velocity set lies
+    away from rest.
 
     Parameters
     ----------
     qd_max : array-like, shape (n,)
-        Upper joint velocities [rad/s or m/s], strictly positive.
+        Upper joint velocities [rad/s or m/s]; strictly positive without ``qd_min``.
     qd_min : array-like, shape (n,), optional
-        Lower joint velocities [rad/s or m/s], at most 0; default ``-qd_max``.
+        Lower joint velocities [rad/s or m/s], below ``qd_max``; default ``-qd_max``.
     n : int
         Number of joints.
 
@@ -310,7 +314,7 @@ def check_velocity_limits(
     ------
     InputError
         If a shape is wrong, a value is not finite or beyond :data:`MAX_SPEED`, a
-        ``qd_max`` is not positive or a ``qd_min`` is positive.
+        ``qd_max`` is not positive without ``qd_min``, or ``qd_min >= qd_max`` for a joint.
     """
     upper = check_array("qd_max", qd_max, (n,), what="joint velocities [rad/s or m/s]")
     lower = (
@@ -327,22 +331,25 @@ def check_velocity_limits(
                 f"{name}[{i}] = {values[i]:.3g}",
                 "give the joints' real velocity limits; a limit beyond it is no limit.",
             )
-    bad = np.flatnonzero(~(upper > 0))
+    if qd_min is None:
+        bad = np.flatnonzero(~(upper > 0))
+        if bad.size:
+            raise InputError(
+                "qd_max",
+                "strictly positive upper joint velocities [rad/s or m/s]",
+                f"qd_max[{bad[0]}] = {upper[bad[0]]:g}",
+                "without qd_min (it defaults to -qd_max) the limits bracket rest: give "
+                "positive limits, or qd_min explicitly for a box that does not hold rest.",
+            )
+    bad = np.flatnonzero(~(lower < upper))
     if bad.size:
-        raise InputError(
-            "qd_max",
-            "strictly positive upper joint velocities [rad/s or m/s]",
-            f"qd_max[{bad[0]}] = {upper[bad[0]]:g}",
-            "a joint's velocity limits bracket rest: qd_min <= 0 < qd_max.",
-        )
-    bad = np.flatnonzero(~(lower <= 0))
-    if bad.size:
+        i = bad[0]
         raise InputError(
             "qd_min",
-            "lower joint velocities of at most 0 [rad/s or m/s] (default -qd_max)",
-            f"qd_min[{bad[0]}] = {lower[bad[0]]:g}",
-            "a joint's velocity limits bracket rest: qd_min <= 0 < qd_max; a negative "
-            "qd_min is a speed backwards.",
+            "qd_min < qd_max for every joint [rad/s or m/s]",
+            f"qd_min[{i}] = {lower[i]:g} >= qd_max[{i}] = {upper[i]:g}",
+            "each joint needs a range of positive width; a lower limit is usually at most 0 "
+            "(a negative qd_min is a speed backwards).",
         )
     return upper, lower + 0.0  # + 0.0: no negative zero from -qd_max
 

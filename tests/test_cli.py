@@ -204,3 +204,15 @@ def test_joint_velocity_options_take_a_leading_minus_and_are_bounded(capsys):
     q = ["--robot", "panda", "--q", "0,0,0,-1.5,0,1.5,0"]
     assert main(["analyze", *q, "--qd", "1e20,0,0,0,0,0,0"]) == 2
     assert "--qd: expected joint velocities of at most 1e+06 rad/s" in capsys.readouterr().err
+
+
+def test_direction_by_name_takes_a_leading_minus(capsys):
+    # issue 32: "--direction -y" reads as --direction=-y, the same numbers as 0,-1
+    assert main(["analyze", "--json", "--no-mvie", "--no-outer", "--direction", "-y"]) == 0
+    by_name = json.loads(capsys.readouterr().out)
+    assert main(["analyze", "--json", "--no-mvie", "--no-outer", "--direction=0,-1"]) == 0
+    assert by_name == json.loads(capsys.readouterr().out)
+    assert by_name["direction"] == [0.0, -1.0]
+    assert main(["analyze", "--direction", "z"]) == 2
+    err = only_line(capsys)
+    assert err.startswith("polyell: error: --direction: ") and "task rows (x, y)" in err

@@ -26,9 +26,9 @@ def drawn_lines(figure: Figure) -> dict[str, np.ndarray]:
 def test_sets_figure_draws_the_polytope_and_both_ellipsoids():
     analysis = paper_analysis(PAPER_Q_REDUNDANT)
     lines = drawn_lines(plot_sets(analysis))
-    polygon = lines["polytope (15)"]
+    polygon = lines["polytope"]
     np.testing.assert_allclose(polygon[:-1], analysis.polytope.vertices)
-    new = lines["new (eq. 32/38)"]
+    new = lines["Chiacchio"]
     assert np.all(analysis.ellipsoid("chiacchio").contains(new))
     np.testing.assert_allclose(lines[r"centre $\ddot x_g$"][0], analysis.xg)
 
@@ -36,8 +36,8 @@ def test_sets_figure_draws_the_polytope_and_both_ellipsoids():
 def test_singular_sets_are_segments_and_skip_the_undefined_classic():
     analysis = paper_analysis(PAPER_Q_SINGULAR)
     lines = drawn_lines(plot_sets(analysis))
-    assert "classic (eq. 27)" not in lines
-    assert lines["polytope (15)"].shape == (2, 2) == lines["new (eq. 32/38)"].shape
+    assert "Yoshikawa" not in lines
+    assert lines["polytope"].shape == (2, 2) == lines["Chiacchio"].shape
 
 
 def test_other_figures_and_saving(tmp_path):
@@ -69,16 +69,14 @@ def test_singular_figure_legend_shows_each_stroke_as_drawn():
     handles = dict(
         zip([t.get_text() for t in legend.get_texts()], legend.legend_handles, strict=True)
     )
-    for label in ("polytope (15)", "new (eq. 32/38)", "MVIE"):
+    for label in ("polytope", "Chiacchio", "MVIE"):
         line, handle = drawn[label], handles[label]
         assert handle.get_linestyle() == line.get_linestyle(), label
         assert handle.get_linewidth() == line.get_linewidth(), label
         assert handle.get_color() == line.get_color(), label
-    widths = [
-        drawn[label].get_linewidth() for label in ("polytope (15)", "new (eq. 32/38)", "MVIE")
-    ]
+    widths = [drawn[label].get_linewidth() for label in ("polytope", "Chiacchio", "MVIE")]
     assert widths == sorted(widths, reverse=True)  # layered: each visible above the one below
-    assert drawn["polytope (15)"].get_linestyle() == "-"  # a solid band, not long dashes
+    assert drawn["polytope"].get_linestyle() == "-"  # a solid band, not long dashes
 
 
 def test_percent_scores_are_percent_in_every_display():
@@ -98,7 +96,7 @@ def test_percent_scores_are_percent_in_every_display():
     assert series.get_lines()[0].get_ydata().max() == pytest.approx(60.0)
     table = format_summary_table(summarize(results), "markdown")
     row = next(
-        line for line in table.splitlines() if "new (eq. 32/38)" in line and "coverage [%]" in line
+        line for line in table.splitlines() if "Chiacchio" in line and "coverage [%]" in line
     )
     assert [cell.strip() for cell in row.split("|")][4] == "42.5"  # the mean 0.425, in percent
 
@@ -222,7 +220,7 @@ def test_3d_figure_keeps_every_label_inside_the_canvas(case, tmp_path):
         if t.get_visible() and t.get_text().strip() and id(t) not in ticks
     ]
     labels = {t.get_text() for t in texts}
-    assert {"Panda, " + case + " posture", "polytope (15)"} <= labels
+    assert {"Panda, " + case + " posture", "polytope"} <= labels
     assert any("ddot z" in label for label in labels)  # the z label is drawn
     boxes = {t.get_text(): t.get_window_extent(renderer) for t in texts}
     # each axis with the tick labels it draws (those within its limits) and its label
@@ -244,14 +242,14 @@ def test_3d_figure_names_every_set_in_the_legend_with_distinct_strokes():
     legend = figure.legends[0]
     texts = [t.get_text() for t in legend.get_texts()]
     assert texts[:5] == [
-        "polytope (15)",
-        "new (eq. 32/38)",
-        "classic (eq. 27)",
+        "polytope",
+        "Chiacchio",
+        "Yoshikawa",
         "MVIE",
         "outer (min. volume)",
     ]
     handles = dict(zip(texts, legend.legend_handles, strict=True))
-    assert handles["polytope (15)"].get_facecolor()[3] > 0  # a filled patch: the faces
+    assert handles["polytope"].get_facecolor()[3] > 0  # a filled patch: the faces
     ax = figure.axes[0]
     outlines = {line.get_label(): line for line in ax.get_lines() if line.get_label() in texts}
     strokes = {
@@ -306,4 +304,4 @@ def test_every_force_ellipsoid_has_its_own_line():
         for k in kinds
     ]
     assert len(set(drawn)) == len(kinds)
-    assert _style("static", kinds, "force")["label"] == "no gravity"
+    assert _style("static", kinds, "force")["label"] == "static (no gravity)"

@@ -60,7 +60,7 @@ def test_singular_sets_are_segments():
     cmp = pe.compare(pe.analyze(PAPER_ARM.dynamics([np.pi / 6, 0, 0]), PAPER_TAU_MAX), 16)
     figure = interactive_sets(cmp)
     assert all(len(trace.x) == 2 for trace in figure.data[:-1])  # the classic one is absent
-    assert "classic" not in " ".join(trace.name for trace in figure.data)
+    assert "Yoshikawa" not in " ".join(trace.name for trace in figure.data)
 
 
 def test_map_and_histogram_hover_every_score():
@@ -75,15 +75,15 @@ def test_map_and_histogram_hover_every_score():
     both = interactive_map(results, ["chiacchio_coverage", "yoshikawa_coverage"], "q3", "q2")
     menu = both.layout.updatemenus[0].buttons
     assert [b.label for b in menu] == [
-        "new (eq. 32/38): coverage [%]",
-        "classic (eq. 27): coverage [%]",
+        "Chiacchio: coverage [%]",
+        "Yoshikawa: coverage [%]",
     ]
     assert "yoshikawa_inscribed_scale" in menu[1].args[0]["hovertemplate"][0]
     assert "chiacchio_inscribed_scale" not in menu[1].args[0]["hovertemplate"][0]
     shared = np.nanmax(100 * results[["chiacchio_coverage", "yoshikawa_coverage"]].to_numpy())
     assert menu[0].args[0]["zmax"][0] == menu[1].args[0]["zmax"][0] == pytest.approx(shared)
     histogram = interactive_histogram(results, "coverage")
-    assert [t.name for t in histogram.data][:2] == ["new (eq. 32/38)", "classic (eq. 27)"]
+    assert [t.name for t in histogram.data][:2] == ["Chiacchio", "Yoshikawa"]
     with pytest.raises(pe.InputError, match="full grid"):
         interactive_map(results.iloc[:-1], "chiacchio_coverage", "q3", "q2")
 
@@ -280,7 +280,7 @@ def wide_table(columns: int = 24) -> pd.DataFrame:
     return pd.DataFrame(
         rng.uniform(-1e6, 1e6, (4, columns)),
         columns=names,
-        index=[f"posture {i}: new (eq. 32/38)" for i in range(4)],
+        index=[f"posture {i}: Chiacchio" for i in range(4)],
     )
 
 

@@ -486,6 +486,7 @@ def test_the_suite_covers_the_public_api():
         "self_motion", "SelfMotion", "posture_choice", "PostureChoice",  # tests/models, studies
         "posture_choice_over_targets", "PostureChoiceOverTargets", "write_posture_tables",
         "Kinematics", "HPolytope",  # tests/capacities/test_capacity_properties.py
+        "to_long", "to_wide",  # tests/comparison/test_long_form.py
     }  # fmt: skip
     for name in pe.__all__:
         item = getattr(pe, name)

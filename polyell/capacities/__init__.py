@@ -17,6 +17,7 @@ from polyell.capacities.force import ForceAnalysis
 from polyell.capacities.velocity import VelocityAnalysis
 from polyell.errors import InputError
 from polyell.geometry.subspace import AFFINE_RTOL, RANK_RTOL
+from polyell.models.dynamics import warn_rated_limits_in_motion
 
 __all__ = [
     "CAPACITIES",
@@ -129,7 +130,8 @@ def analyze(
             "none",
             cls.limit_hint,
         )
-    return cls(dyn, upper, lower, rank_rtol=rank_rtol, affine_rtol=affine_rtol)
+    analysis = cls(dyn, upper, lower, rank_rtol=rank_rtol, affine_rtol=affine_rtol)
+    return warn_rated_limits_in_motion(analysis)  # a moving robot given its rated limits
 
 
 def joint_limits_of(

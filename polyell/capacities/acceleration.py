@@ -94,7 +94,7 @@ class AccelerationAnalysis(ZonotopeAnalysis):
     inverse_names = ("qdd", "tau_n")
     paper = True
     output_suffix = ""
-    polytope_label = "polytope (15)"
+    polytope_label = "polytope"
     point_symbol = "xdd"
     centre_label = "centre xg"
     centre_label_tex = r"centre $\ddot x_g$"

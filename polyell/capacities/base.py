@@ -300,6 +300,7 @@ class Analysis(ABC):
                     "apart, or express the task in other units.",
                 ) from None
             ellipsoid.affine_rtol = self.affine_rtol
+            ellipsoid.task = self.task
             self._ellipsoids[kind] = ellipsoid
         return self._ellipsoids[kind]
 

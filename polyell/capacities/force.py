@@ -32,22 +32,31 @@ Its ellipsoids, from the SVD :math:`J L^{-1} = U_1 S V_1^T` (so :math:`A = V_1 S
 The torque a force needs is unique, so every ellipsoid has the same witness,
 :math:`\tilde\tau = A h + c`: more than 1 in the infinity norm means the ellipsoid promises
 a force the arm cannot exert.
+
+The set of a batch of configurations (:func:`force_vertices`: every m rows and bounds
+solved, the vertices certified complete by their edges) is the force sweep's
+(:mod:`polyell.studies.force_batch`), and an analysis' polytope is its batch of one;
+cddlib (:class:`~polyell.HPolytope`) decides where the batch cannot certify the set
+(singular, empty, not in general position).
 """
 
 from __future__ import annotations
 
-from functools import cached_property
-from typing import ClassVar
+import math
+from functools import cached_property, lru_cache
+from typing import ClassVar, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.linalg import lapack
 
 from polyell.capacities.acceleration import check_dynamics
 from polyell.capacities.base import Analysis, InverseSolution, centre_and_half_range
-from polyell.errors import InputError, UndefinedEllipsoidError
+from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope
-from polyell.geometry.subspace import AFFINE_RTOL, RANK_RTOL, rank_revealing_svd
+from polyell.geometry.subspace import AFFINE_RTOL, RANK_RTOL, rank_revealing_svd, scaled_norm
+from polyell.geometry.zonotope import order_polygon, subsets
 from polyell.inverse import AffineMap
 from polyell.models.dynamics import Dynamics
 from polyell.models.kinematics import Kinematics
@@ -58,7 +67,15 @@ from polyell.validation import (
     magnitude_limit,
 )
 
-__all__ = ["ForceAnalysis", "force_terms"]
+__all__ = [
+    "DEPENDENT",
+    "GENERAL_POSITION",
+    "MAX_CANDIDATES",
+    "ForceAnalysis",
+    "ForceVertices",
+    "force_terms",
+    "force_vertices",
+]
 
 
 #: The smallest largest entry of a Jacobian the force set is computed from: below, its
@@ -78,8 +95,8 @@ def force_terms(
     One configuration or a batch (the sweep's).  Raises :class:`InputError` where the
     forces or gravity's share of the limits are not representable.
     """
-    size = np.max(np.abs(J), axis=(-2, -1)) if J.size else np.zeros(J.shape[:-2])
-    if np.any((size > 0) & (size < SMALLEST_JACOBIAN)):  # its pseudo-inverse overflows
+    size = _MAX(np.abs(J), (-2, -1)) if J.size else np.zeros(J.shape[:-2])
+    if _ANY((size > 0) & (size < SMALLEST_JACOBIAN), None):  # its pseudo-inverse overflows
         raise InputError(
             "dyn.J",
             f"a Jacobian with entries of at least {SMALLEST_JACOBIAN:.0e} (or zero)",
@@ -91,7 +108,7 @@ def force_terms(
         c = (g - tau_center) / half_range
     # forces are about 1 / |J L^-1| and gravity's share c is a number: no relative test
     check_magnitudes(M, np.zeros(M.shape[:-1]), quantity=("forces", "J L^-1", "(none)"))
-    if not np.all(np.isfinite(c)) or np.abs(c).max() > 10.0 ** magnitude_limit(1):
+    if not _MAX(np.abs(c), None, initial=0.0) <= 10.0 ** magnitude_limit(1):  # NaN: refused
         raise InputError(
             "dyn.g",
             "gravity torques of the size of the torque limits (within 1e140 of them)",
@@ -160,7 +177,9 @@ class ForceAnalysis(Analysis):
         # The rank is J's: the set is unbounded only along Ker J^T.  M = J L^-1 is
         # ill-conditioned where the torque ranges differ by orders of magnitude, but that
         # makes the set thin across the narrow range's rows, not infinite along the others.
-        kinematic = np.linalg.svd(dynamics.J, compute_uv=False)
+        _, kinematic, _, info = lapack.dgesdd(dynamics.J, compute_uv=0)
+        if info != 0:  # pragma: no cover - Dynamics has checked J (finite)
+            raise SolverError(f"The SVD of J did not converge: LAPACK dgesdd info={info}.")
         rank_rtol = check_fraction("rank_rtol", rank_rtol)
         rank = int(np.count_nonzero(kinematic > rank_rtol * kinematic[0])) if kinematic[0] else 0
         self.svd = rank_revealing_svd(M, rank_rtol, rank=rank)
@@ -188,15 +207,60 @@ class ForceAnalysis(Analysis):
 
     @cached_property
     def polytope(self) -> HPolytope:
-        """The exact force polytope ``{h : |A h + c|_inf <= 1}`` (unbounded or empty, said)."""
+        """The exact force polytope ``{h : |A h + c|_inf <= 1}`` (unbounded or empty, said).
+
+        Enumerated as a batch of one (:func:`force_vertices`) where that certifies it
+        (bounded, full-dimensional, in general position), else by cddlib
+        (:class:`~polyell.HPolytope`).
+        """
         # In torques, tau_min <= J^T h + g <= tau_max: a row is negligible when its joint's
         # column of J is (no force loads it), not when its torque range is wide.
         J, g = self.dynamics.J, self.dynamics.g
-        A = np.vstack([J.T, -J.T])
+        A = np.concatenate([J.T, -J.T])
         b = np.concatenate([self.tau_max - g, g - self.tau_min])
-        polytope = HPolytope(A, b, center=self.center, rank=self.rank)  # lines: Ker J^T
+        polytope = self._enumerated(A, b)
+        if polytope is None:
+            polytope = HPolytope(A, b, center=self.center, rank=self.rank)  # lines: Ker J^T
         polytope.affine_rtol = self.affine_rtol
+        polytope.task = self.task
         return polytope
+
+    def _enumerated(self, A: NDArray[np.float64], b: NDArray[np.float64]) -> HPolytope | None:
+        """The set ``{h : A h <= b}`` (the 2n rows) from :func:`force_vertices`, or None.
+
+        None where the batch does not certify it, and where :class:`~polyell.HPolytope`
+        would refuse its offsets (it says why).
+        """
+        m, n = self.m, self.n
+        if not (2 <= m <= n and self.rank == m and math.comb(n, m) * 2**m <= MAX_CANDIDATES):
+            return None
+        J = self.dynamics.J
+        norms = np.sqrt(_ADD(J * J, 0))  # |J_i|, as HPolytope normalizes its rows
+        if not 1e-140 < _MAX(norms) < 1e140:  # squares that may underflow or overflow
+            norms = scaled_norm(J, axis=0)
+        used = norms > RANK_RTOL * _MAX(norms)
+        svd = self.svd
+        found = force_vertices(svd.V1.T[None], self.c_perp[None], used[None])
+        if not found.general[0]:
+            return None
+        norms, used = np.concatenate((norms, norms)), np.concatenate((used, used))
+        offsets = b.compress(used) / norms.compress(used)
+        limit = 10.0 ** magnitude_limit(m)
+        if not 1.0 / limit <= _MAX(np.abs(offsets)) <= limit:
+            return None  # HPolytope refuses them
+        z = found.z[0].compress(found.vertex[0], axis=0)
+        vertices = self.center + (z / svd.sigma) @ svd.U1.T
+        if m == 2:  # counter-clockwise, as a zonotope's
+            vertices = order_polygon(vertices)
+        facet = found.facet[0]  # (rows tight at a vertex: used ones)
+        norms = norms.compress(facet)
+        return HPolytope.from_enumeration(
+            A.compress(facet, axis=0) / norms[:, None],
+            b.compress(facet) / norms,
+            vertices,
+            self.center,
+            (z, svd.U1, 1.0 / svd.sigma),
+        )
 
     def matrices(self) -> dict[str, NDArray[np.float64]]:
         """``A = L^-1 J^T``, ``c = L^-1 (g - tau_c)``, the centre ``h0`` and ``c_perp``."""
@@ -268,3 +332,253 @@ class ForceAnalysis(Analysis):
         h = self._points(x, "h")
         tau_n = self.witness_map("chiacchio")(h)
         return InverseSolution(self.tau_center + tau_n * self.half_range, tau_n)
+
+
+# --- The force sets of a batch of configurations ------------------------------------------
+# Leading axis K: a sweep's block (polyell.studies.force_batch), or a batch of one
+# (ForceAnalysis.polytope).
+
+#: Vertex candidates ``C(n, m) 2^m`` of a configuration above which cddlib enumerates
+#: instead (:class:`~polyell.HPolytope`).
+MAX_CANDIDATES = 4096
+#: A row counts as tight at a vertex within this of its bound (whitened rows have norm at
+#: most 1 and the bounds are 1): a vertex with more than m rows that close is left to
+#: cddlib.
+GENERAL_POSITION = 1e-9
+#: m unit normals spanning less than this volume (``|det|``) are taken as dependent: their
+#: candidate is skipped, and the edges of the vertices found certify that it was no vertex.
+DEPENDENT = 1e-6
+#: Reductions without the array methods' Python wrappers (several microseconds apiece on
+#: the small arrays of one set).
+_ADD, _MAX, _ANY, _ALL = (
+    np.add.reduce,
+    np.maximum.reduce,
+    np.logical_or.reduce,
+    np.logical_and.reduce,
+)
+
+
+class ForceVertices(NamedTuple):
+    """The vertex candidates of a batch of force sets in whitened coordinates, and facets.
+
+    The sets are ``{z : |V z + c_perp|_inf <= 1}`` (:func:`force_vertices`); the
+    candidates are every m rows S and bounds sigma, in the order of :func:`_layout`
+    (candidate ``p``: the rows ``chosen[p // 2^m]``, the bounds ``signs[p % 2^m]``).
+
+    Attributes
+    ----------
+    z : ndarray, shape (K, P, m)
+        Each candidate's point (NaN where its rows are nearly dependent).
+    vertex : ndarray of bool, shape (K, P)
+        The candidates that are vertices.
+    facet : ndarray of bool, shape (K, 2n)
+        The one-sided rows (``+row`` then ``-row``) tight at some vertex: the facets.
+    general : ndarray of bool, shape (K,)
+        Vertices certainly all of them, in general position (the others: cddlib).
+    adjugate : ndarray, shape (K, C, m, m)
+        The transposed adjugates of the m rows S, ``det(V_S) V_S^-T`` (row t: the
+        cofactors of column t).
+    det : ndarray, shape (K, C)
+        ``det V_S``.
+    """
+
+    z: NDArray[np.float64]
+    vertex: NDArray[np.bool_]
+    facet: NDArray[np.bool_]
+    general: NDArray[np.bool_]
+    adjugate: NDArray[np.float64]
+    det: NDArray[np.float64]
+
+
+def force_vertices(
+    Vt: NDArray[np.float64], c_perp: NDArray[np.float64], used: NDArray[np.bool_]
+) -> ForceVertices:
+    r"""Vertices of ``{z : |V z + c_perp|_inf <= 1}`` for a batch, by every m rows and signs.
+
+    In the whitened coordinates ``z = S U^T (h - h0)`` of :class:`ForceAnalysis` (``A =
+    V S U^T``), rows not ``used`` (negligible, as :class:`~polyell.HPolytope` decides)
+    constrain nothing.  Rows ``S`` and bounds ``sigma`` give ``V_S z = sigma - c_perp,S``;
+    the point is a vertex when every row holds.  A row is certified (``general``) where no
+    vertex has more than m rows within :data:`GENERAL_POSITION` of tight, every edge of a
+    vertex found ends at another one (:func:`_closed`: the candidates of nearly dependent
+    rows, skipped, hid no vertex) and there are more than m vertices (bounded and
+    full-dimensional).
+
+    Parameters
+    ----------
+    Vt : ndarray, shape (K, m, n)
+        The rows of the sets, transposed (``V^T``, orthonormal rows).
+    c_perp : ndarray, shape (K, n)
+        The part of the gravity torques no force balances, normalized.
+    used : ndarray of bool, shape (K, n)
+        The rows that constrain forces.
+
+    Returns
+    -------
+    ForceVertices
+    """
+    K, m, n = Vt.shape
+    chosen, signs, incidence, edges = _layout(n, m)
+    others = _other_rows(n, m)
+    V = Vt.swapaxes(1, 2)  # (K, n, m)
+    if not _ALL(used, None):
+        V = np.where(used[..., None], V, 0.0)
+    adjugate, det = _adjugates(V, chosen)
+    # m rows spanning less than DEPENDENT (as unit normals) are skipped: a NaN point
+    lengths = np.sqrt(_ADD(V * V, -1)).take(chosen, axis=1)  # (K, C, m)
+    solvable = np.abs(det) > DEPENDENT * np.multiply.reduce(lengths, -1)
+    scale = np.reciprocal(np.where(solvable, det, np.nan))
+    # z = V_S^-1 (sigma - c_S) for every sigma: (K, C, m, 2^m), then (K, m, P)
+    z = adjugate.swapaxes(-1, -2) @ (signs.T - c_perp.take(chosen, axis=1)[..., None])
+    z *= scale[..., None, None]
+    z = z.swapaxes(1, 2).reshape(K, m, -1)
+    magnitude = V @ z
+    magnitude += c_perp[..., None]
+    magnitude = np.abs(magnitude, out=magnitude)  # (K, n, P)
+    # The candidate's own rows are tight (to rounding); the largest of the others decides:
+    # below 1 - GENERAL_POSITION a vertex, up to 1 + GENERAL_POSITION one with more than
+    # m rows tight (not in general position), above it no point of the set (NaN: skipped).
+    magnitude *= others
+    other = _MAX(magnitude, 1)
+    vertex = other < 1.0 - GENERAL_POSITION
+    crowded = (other <= 1.0 + GENERAL_POSITION) ^ vertex
+    # m nearly dependent rows (skipped above) could hide a vertex: the edges certify that
+    # none is missing (and closed, a vertex has m neighbours: there are more than m)
+    general = _ANY(vertex, 1) & ~_ANY(crowded, 1)
+    general &= _closed(vertex, edges)
+    facet = (vertex @ incidence) > 0  # no other row is tight: those would be crowded
+    return ForceVertices(z.swapaxes(1, 2), vertex, facet, general, adjugate, det)
+
+
+@lru_cache(maxsize=16)
+def _other_rows(n: int, m: int) -> NDArray[np.float64]:
+    """(n, C 2^m): 0 at each candidate's own m rows (:func:`_layout`), 1 at the others."""
+    others = np.ones((n, math.comb(n, m) << m))
+    chosen = np.repeat(subsets(n, m), 1 << m, axis=0)  # (P, m): each candidate's rows
+    others[chosen.T, np.arange(len(chosen))] = 0.0
+    others.flags.writeable = False
+    return others
+
+
+@lru_cache(maxsize=16)
+def _layout(
+    n: int, m: int
+) -> tuple[NDArray[np.int_], NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
+    """The candidates of :func:`force_vertices`: rows, signs, tight one-sided rows, edges.
+
+    Returns
+    -------
+    chosen : ndarray of int, shape (C, m)
+        Every m of the n rows.
+    signs : ndarray, shape (2^m, m)
+        Every choice of bounds (+1: ``1 - c``, -1: ``-1 - c``).
+    incidence : ndarray, shape (C 2^m, 2n)
+        1 where candidate ``(S, sigma)`` (in that order) is tight at the one-sided row
+        (``+row i``: column i, ``-row i``: column n + i).
+    edges : ndarray of int64, shape (C 2^m, m)
+        The m edges of each candidate as a vertex: its tight one-sided rows but one, as
+        bits (bit i: ``+row i``, bit n + i: ``-row i``).
+    """
+    chosen = subsets(n, m)
+    signs = np.array(np.meshgrid(*[[1.0, -1.0]] * m, indexing="ij")).reshape(m, -1).T
+    tight = (chosen[:, None, :] + n * (signs[None] < 0)).reshape(-1, m)  # (C 2^m, m)
+    incidence = np.zeros((len(tight), 2 * n))
+    np.put_along_axis(incidence, tight, 1.0, axis=1)
+    bits = np.int64(1) << tight.astype(np.int64)
+    edges = bits.sum(axis=1, keepdims=True) - bits
+    for array in (signs, incidence, edges):
+        array.flags.writeable = False
+    return chosen, signs, incidence, edges
+
+
+def _closed(candidates: NDArray[np.bool_], edges: NDArray[np.int64]) -> NDArray[np.bool_]:
+    """Rows whose vertices are all found: every edge of a vertex ends at another one.
+
+    The vertices of a simple bounded polytope and their edges (m - 1 tight rows) form a
+    connected graph in which every edge joins exactly two vertices; vertices of which each
+    edge is shared by exactly one other found vertex are therefore all of them.  This
+    certifies the enumeration where candidates of nearly dependent rows were skipped (a
+    spherical shoulder, parallel joint axes: rows with coplanar normals).
+
+    Parameters
+    ----------
+    candidates : ndarray of bool, shape (K, P)
+        The vertices found among the candidates of :func:`_layout`.
+    edges : ndarray of int64, shape (P, m)
+        Each candidate's edges, :func:`_layout`.
+
+    Returns
+    -------
+    ndarray of bool, shape (K,)
+    """
+    K = len(candidates)
+    width = int(_MAX(edges, None, initial=1)).bit_length() if K > 1 else 0
+    if width + int(K).bit_length() > 62:  # the keys would not fit one int64
+        return np.zeros(K, dtype=bool)
+    row, candidate = np.nonzero(candidates)
+    if not row.size:  # no vertex in any row: nothing to close (the callers refuse them)
+        return np.ones(K, dtype=bool)
+    keys = edges.take(candidate, axis=0)  # (a new array)
+    if K > 1:  # each row's keys apart
+        keys += (row.astype(np.int64) << width)[:, None]
+    keys = keys.ravel()
+    keys.sort()
+    # every key exactly twice (the usual case): equal in pairs, pairs distinct
+    if len(keys) % 2 == 0 and bool(
+        _ALL(keys[0::2] == keys[1::2], None) and _ALL(keys[1:-1:2] != keys[2::2], None)
+    ):
+        return np.ones(K, dtype=bool)
+    new = np.ones(len(keys) + 1, dtype=bool)
+    new[1:-1] = keys[1:] != keys[:-1]
+    starts = np.flatnonzero(new)
+    twice = np.diff(starts) == 2
+    closed = np.ones(K, dtype=bool)
+    closed[keys[starts[:-1][~twice]] >> width if K > 1 else 0] = False
+    return closed
+
+
+def _adjugates(
+    V: NDArray[np.float64], chosen: NDArray[np.int_]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Transposed adjugates and determinants of the m x m matrices of rows ``V[:, S]``.
+
+    ``V`` (K, n, m), ``chosen`` (C, m): returns (K, C, m, m) (row t: the cofactors of
+    column t, so that ``V_S^-1 = adj^T / det``) and (K, C).  For m = 3 the rows of the
+    rows a, b, c are ``b x c``, ``c x a``, ``a x b`` and the determinant ``a . (b x c)``,
+    gathered at once from the flattened rows; for m = 2 ``[[b1, -b0], [-a1, a0]]``;
+    above, from LAPACK's inverses.
+    """
+    K, n, m = V.shape
+    if m == 3:
+        factors, first = _adjugate_indices(n)
+        flat = V.reshape(K, 3 * n)
+        t = flat.take(factors, axis=-1)  # (K, 4, 9 C)
+        adjugate = (t[:, 0] * t[:, 1] - t[:, 2] * t[:, 3]).reshape(K, -1, 3, 3)
+        det = _ADD(flat.take(first, axis=-1).reshape(K, -1, 3) * adjugate[:, :, 0], -1)
+        return adjugate, det
+    blocks = V[:, chosen]  # (K, C, m, m)
+    if m == 2:
+        det = blocks[..., 0, 0] * blocks[..., 1, 1] - blocks[..., 0, 1] * blocks[..., 1, 0]
+        return blocks[..., ::-1, ::-1] * np.array([[1.0, -1.0], [-1.0, 1.0]]), det
+    det = np.linalg.det(blocks)
+    regular = (det != 0)[..., None, None]
+    inverse = np.linalg.inv(np.where(regular, blocks, np.eye(m)))
+    return np.where(regular, np.swapaxes(inverse, -1, -2) * det[..., None, None], 0.0), det
+
+
+@lru_cache(maxsize=16)
+def _adjugate_indices(n: int) -> tuple[NDArray[np.int_], NDArray[np.int_]]:
+    """Flat indices into rows (n, 3) for the adjugates of every 3 rows.
+
+    Returns ``factors`` (4, 9 C): ``adj[S, t, k] = f0 f1 - f2 f3``, row t the cofactors of
+    column t of the rows S = (a, b, c), the cross products ``b x c``, ``c x a``, ``a x b``;
+    and ``first`` (3 C), the entries of each a: the determinant is ``a . (b x c)``.
+    """
+    S = subsets(n, 3)
+    p = S[:, [1, 2, 0]][:, :, None] * 3  # (C, t, 1): the rows of each cross product
+    q = S[:, [2, 0, 1]][:, :, None] * 3
+    k1, k2 = (np.arange(3) + 1) % 3, (np.arange(3) + 2) % 3  # (b x c)_k = b_k1 c_k2 - b_k2 c_k1
+    factors = np.stack([p + k1, q + k2, p + k2, q + k1]).reshape(4, -1)
+    first = (S[:, :1] * 3 + np.arange(3)).ravel()
+    factors.flags.writeable = first.flags.writeable = False
+    return factors, first

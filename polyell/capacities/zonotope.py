@@ -105,6 +105,7 @@ class ZonotopeAnalysis(Analysis):
             svd = self.svd._replace(V1=self.svd.V1[keep])
             polytope = Polytope(self.M[:, keep], self.xg, svd=svd)
         polytope.affine_rtol = self.affine_rtol
+        polytope.task = self.task
         return polytope
 
     def _image_ellipsoid(self, kind: str) -> Ellipsoid:

@@ -184,7 +184,9 @@ class Candidate:
                     f"{analysis.capacity} capacity; give a core (and a centre) instead."
                 )
             U, s, _ = np.linalg.svd(analysis.M @ self.root_inverse, full_matrices=False)
-            return Ellipsoid(xg, U[:, :r], s[:r], kind=self.name)
+            E = Ellipsoid(xg, U[:, :r], s[:r], kind=self.name)
+            E.task = analysis.task
+            return E
         assert self.core is not None
         # The section with {xg + U1 y}: (y - y0)^T A (y - y0) <= rho^2.
         center = xg if self.center is None else self.center
@@ -208,12 +210,9 @@ class Candidate:
                 f"candidate {self.name!r} misses the polytope's {r}-dimensional affine set "
                 "at this (singular) configuration."
             )
-        return Ellipsoid(
-            xg + U1 @ y0,
-            U1 @ eigenvectors,
-            np.sqrt(rho2 / eigenvalues),
-            kind=self.name,
-        )
+        E = Ellipsoid(xg + U1 @ y0, U1 @ eigenvectors, np.sqrt(rho2 / eigenvalues), kind=self.name)
+        E.task = analysis.task
+        return E
 
 
 def check_candidates(candidates: Any) -> tuple[Candidate, ...]:

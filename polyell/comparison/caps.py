@@ -22,6 +22,7 @@ __all__ = [
     "CAP_GAP",
     "CAP_SAMPLES_RATIO",
     "PAIR_TIE",
+    "ROUNDING_STDERR",
     "cap_points",
     "cap_share",
     "cap_union_share",
@@ -207,6 +208,10 @@ CAP_SAMPLES_RATIO = 512
 #: Two caps whose distances t from E's centre differ by at most this are a tie in
 #: :func:`cap_union_share`: their overlap is integrated along both normals, not one.
 PAIR_TIE = 1e-9
+#: The least standard error of an estimated share: the rounding of its sums of cap shares
+#: and replicate means (a few hundred eps), found by an independent check where the
+#: replicates agreed to 5e-18 and the exact share differed by 4e-14.
+ROUNDING_STDERR = 256 * float(np.finfo(float).eps)
 #: Memory of one block of pairs sampled together in :func:`cap_union_share` [bytes].
 _CAP_BLOCK_MEMORY = 1 << 22
 
@@ -398,7 +403,9 @@ def cap_union_share(
     share : ndarray, shape (...)
         The share of E outside P in [0, 1]; NaN where an input is NaN.
     stderr : ndarray, shape (...)
-        Its standard error: 0 where exact, NaN with NaN input.
+        Its standard error: 0 where exact, NaN with NaN input; a positive one at least
+        :data:`ROUNDING_STDERR` (the sums' rounding: an estimate never claims more digits
+        than double precision keeps).
     """
     if int(replicates) < 2 or int(samples) < 1:
         raise InputError(
@@ -424,6 +431,8 @@ def cap_union_share(
             int(replicates),
             int(seed),
         )
+        positive = stderr[rows] > 0  # (0: every sample gave the exact share)
+        stderr[rows] = np.where(positive, np.maximum(stderr[rows], ROUNDING_STDERR), 0.0)
     return share.reshape(shape), stderr.reshape(shape)
 
 

@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 from polyell.capacities import Analysis, capacity_class
 from polyell.comparison.candidates import BUILT_IN_KINDS, Candidate, check_candidates
 from polyell.comparison.directional import statistics
-from polyell.comparison.directions import DirectionSpec
+from polyell.comparison.directions import DirectionSpec, direction_vectors
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.metrics import check_same_affine_set
 from polyell.comparison.scores import ellipsoid_of, set_of, shape_scores
@@ -30,7 +30,7 @@ from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
 from polyell.geometry.outer import min_volume_enclosing_ellipsoid
 from polyell.storage import write_text_atomically
-from polyell.validation import check_directions, check_integer
+from polyell.validation import check_integer
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
@@ -90,7 +90,9 @@ class Scores:
         ``vol(E) / vol(E_outer)`` with E_outer the minimum-volume enclosing ellipsoid (the
         outer optimum).
     direction_error_mean, direction_error_max, direction_error_rms : float
-        Mean, max and RMS of ``|hi_E - hi_P| / |hi_P|`` over the directions.
+        Mean, max and RMS of ``|hi_E - hi_P| / |hi_P|`` over the directions.  Along a ray
+        of an unbounded force set (``hi_P = inf``) the error is its limit, -1: the
+        ellipsoid states none of the unbounded reach (such directions are counted).
     direction_bias : float
         Mean of ``(hi_E - hi_P) / |hi_P|`` (> 0: E promises too much).
     feasibility_mismatch : int
@@ -283,6 +285,12 @@ class Comparison:
         frame.attrs["capacity"] = self.analysis.capacity  # for the labels of its tables
         return frame
 
+    def to_long(self) -> pd.DataFrame:
+        """The scores in long form, one row per kind (:func:`polyell.to_long`)."""
+        from polyell.comparison.long_form import to_long
+
+        return to_long(self.to_row(), capacity=self.analysis.capacity, kinds=self.kinds)
+
     def to_markdown(self, layout: TableLayout | None = None) -> str:
         """The comparison table in Markdown (rounded, units in the headers).
 
@@ -386,8 +394,9 @@ def compare(
     ----------
     analysis : Analysis
         From :func:`analyze`.
-    directions : array-like of shape (k, m), int, or None
-        Unit directions for the directional statistics, or how many of the default
+    directions : array-like of shape (k, m), list of names, int, or None
+        Unit directions for the directional statistics (vectors, or names of the task's
+        rows such as ``"x"``, ``"-z"``, ``"xy"``), or how many of the default
         deterministic near-uniform set to use.  The default set lies in the polytope's
         affine set (at a singular configuration every other line meets it in one point);
         its default size is 360 in 2-D, 256 in 3-D, 2,000 above
@@ -431,7 +440,7 @@ def compare(
     if directions is None or isinstance(directions, int | np.integer):
         T = directions_in(affine_set, None if directions is None else int(directions))
     else:
-        T = np.atleast_2d(check_directions("directions", directions, affine_set.ambient_dim))
+        T = np.atleast_2d(direction_vectors(directions, analysis.task, "directions"))
     found = check_candidates(candidates)
     for candidate in found:
         candidate.check_sizes(analysis.m, analysis.n)

@@ -8,14 +8,22 @@ from __future__ import annotations
 
 import re
 from collections.abc import Sequence
+from typing import cast
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from polyell.errors import InputError
 from polyell.validation import check_directions
 
-__all__ = ["DirectionSpec", "axis_directions", "named_direction", "resolve_directions"]
+__all__ = [
+    "DirectionSpec",
+    "axis_directions",
+    "direction_vectors",
+    "has_names",
+    "named_direction",
+    "resolve_directions",
+]
 
 #: A direction as given: a name made of task rows (``"x"``, ``"-z"``, ``"xy"``,
 #: ``"x-y"``) or a unit vector of the task's size.
@@ -123,6 +131,82 @@ def named_direction(
     if vector.ndim != 1:
         raise InputError(argument, _name_expected(task), f"shape {vector.shape}")
     return vector, _vector_label(vector)
+
+
+def _plain(directions: object) -> object:
+    """A 0-d array of a string (``np.array("z")``) as that string; anything else as is."""
+    if isinstance(directions, np.ndarray) and directions.ndim == 0 and directions.dtype.kind == "U":
+        return str(directions)
+    return directions
+
+
+def _entries(directions: object) -> list[object] | None:
+    """The top-level entries of a list of directions (an array of strings too), else None."""
+    if isinstance(directions, np.ndarray):
+        return directions.tolist() if directions.dtype.kind in "UO" and directions.ndim else None
+    if isinstance(directions, list | tuple):
+        return list(directions)
+    return None
+
+
+def has_names(directions: object) -> bool:
+    """Whether ``directions`` is a name (``"z"``) or a list holding at least one name.
+
+    The entry points that take unit vectors (``S.limits``, :func:`polyell.limits_along`,
+    :func:`polyell.posture_choice`, ``polyell analyze --direction``) read a direction by
+    :func:`named_direction` when this is true, and as plain vectors otherwise.
+    """
+    directions = _plain(directions)
+    if isinstance(directions, str):
+        return True
+    entries = _entries(directions)
+    return entries is not None and any(isinstance(entry, str) for entry in entries)
+
+
+def direction_vectors(
+    directions: ArrayLike | Sequence[DirectionSpec], task: Sequence[str], argument: str
+) -> NDArray[np.float64]:
+    """Unit directions of shape (m,) or (k, m), each given by name or as a vector.
+
+    Parameters
+    ----------
+    directions : str, array-like of shape (m,) or (k, m), or sequence of both
+        One direction (a name such as ``"z"``, or a unit vector), or a list of them in
+        which names and vectors may mix (``["x", [0.6, 0.8]]``).
+    task : sequence of str
+        The task's row names the names are read against.
+    argument : str
+        The name errors give the directions (``argument[k]`` for the k-th of a list).
+
+    Returns
+    -------
+    ndarray, shape (m,) or (k, m)
+        Unit vectors, as :func:`polyell.validation.check_directions` returns them.
+
+    Raises
+    ------
+    InputError
+        Naming ``argument`` (or ``argument[k]``) for a name with a row the task does not
+        have, a vector of the wrong size or not of unit length.
+
+    Examples
+    --------
+    >>> direction_vectors(["-z", [0.6, 0.8, 0.0]], ("x", "y", "z"), "directions")
+    array([[ 0. ,  0. , -1. ],
+           [ 0.6,  0.8,  0. ]])
+    """
+    task = tuple(task)
+    directions = cast("ArrayLike | Sequence[DirectionSpec]", _plain(directions))
+    if isinstance(directions, str):
+        return named_direction(directions, task, argument)[0]
+    entries = _entries(directions)
+    if entries is None or not any(isinstance(entry, str) for entry in entries):
+        return check_directions(argument, cast(ArrayLike, directions), len(task))
+    vectors = [
+        named_direction(cast(DirectionSpec, entry), task, f"{argument}[{k}]")[0]
+        for k, entry in enumerate(entries)
+    ]
+    return np.array(vectors, dtype=float)
 
 
 def axis_directions(task: Sequence[str]) -> list[tuple[NDArray[np.float64], str]]:

@@ -7,7 +7,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from polyell.comparison.latex_text import check_text, markdown_text
+from polyell.comparison.latex_text import check_text, escape_latex, markdown_text
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.limits import Directions, limits_table, posture_comparisons
 from polyell.comparison.tables import Style, format_comparison_table, format_limits_table
@@ -17,10 +17,38 @@ from polyell.storage import write_text_atomically
 if TYPE_CHECKING:
     from polyell.comparison.comparison import Comparison
 
-__all__ = ["TABLE_FORMATS", "write_point_tables"]
+__all__ = ["TABLE_FORMATS", "default_captions", "write_point_tables"]
 
 #: File formats of the tables and the style each is written in.
 TABLE_FORMATS: dict[str, Style] = {"tex": "latex", "md": "markdown", "csv": "csv"}
+
+
+def default_captions(
+    comparisons: Mapping[str, Comparison],
+) -> tuple[tuple[str, str], tuple[str, str]]:
+    """The default captions of the limits and the comparison table: ``(plain, latex)`` each.
+
+    They name the capacity (but for the paper's, accelerations) and define the relative
+    error in mathematics, ``$(e - p)/|p|$``; they do not start with a study's title.
+
+    Examples
+    --------
+    >>> limits, comparison = default_captions({})
+    >>> comparison[0]
+    'Scores of each ellipsoid against the exact polytope.'
+    """
+    capacities = {c.analysis.capacity for c in comparisons.values()}
+    paper = bool(comparisons) and all(c.analysis.paper for c in comparisons.values())
+    what = "" if paper or not capacities else f"{' and '.join(sorted(capacities))} "
+    head = f"Directional {what}limits of the exact polytope and of each ellipsoid, and "
+    limits = (
+        head + "each limit's error relative to the polytope's, (e - p)/|p| for an "
+        "ellipsoid's limit e and the polytope's p.",
+        escape_latex(head + "each limit's error relative to the polytope's, ")
+        + r"$(e - p)/|p|$ for an ellipsoid's limit $e$ and the polytope's $p$.",
+    )
+    plain = f"Scores of each {what}ellipsoid against the exact polytope."
+    return limits, (plain, escape_latex(plain))
 
 
 def write_point_tables(
@@ -45,9 +73,12 @@ def write_point_tables(
     folder : str or Path
         An existing folder.
     layout : TableLayout, optional
-        Default ``TableLayout()`` (fits a one-column page for up to three postures).
+        Default ``TableLayout()`` (fits a one-column page for up to three postures).  Its
+        ``captions["limits"]`` and ``captions["comparison"]`` replace the default
+        captions (:func:`default_captions`); its ``labels`` name sets and scores.
     title : str, optional
-        Heads the Markdown files and starts the LaTeX captions.
+        Heads the Markdown files (the captions do not repeat it: a paper's table has its
+        own context).
     formats : sequence of {"tex", "md", "csv"}
         The files written, each atomically.
     description : str, optional
@@ -78,17 +109,16 @@ def write_point_tables(
         raise InputError("folder", "an existing folder", repr(folder)[:120])
     title = check_text("title", title)
     about = f"{check_text('description', description)}\n\n" if description else ""
+    layout = TableLayout() if layout is None else layout
     named = posture_comparisons(comparisons)
     limits = limits_table(named, directions_per_point)
     prefix = f"{title}: " if title else ""
-    capacities = {c.analysis.capacity for c in named.values()}
-    paper = bool(named) and all(c.analysis.paper for c in named.values())  # names none
-    what = "" if paper else f"{' and '.join(sorted(capacities))} "
-    limits_caption = (  # (the units are in the headers, typeset)
-        f"{prefix}directional {what}limits of the exact polytope and of each ellipsoid, "
-        "and each limit's error relative to the polytope's, (e - p)/|p|."
-    )
-    comparison_caption = f"{prefix}scores of each {what}ellipsoid against the exact polytope."
+    defaults = dict(zip(("limits", "comparison"), default_captions(named), strict=True))
+    captions: dict[str, tuple[str, str | None]] = {}
+    for table, default in defaults.items():
+        own = layout.caption(table)
+        captions[table] = default if own is None else (own.plain, own.latex)
+    limits_caption, comparison_caption = captions["limits"], captions["comparison"]
     texts: dict[str, str] = {}
     for extension in wanted:
         style = TABLE_FORMATS[extension]
@@ -106,11 +136,11 @@ def write_point_tables(
             head, intro = markdown_text(prefix), markdown_text(about)
             limits_text = (
                 f"# {head}directional limits\n\n{intro}"
-                f"{markdown_text(limits_caption)}\n\n{limits_text}"
+                f"{markdown_text(limits_caption[0])}\n\n{limits_text}"
             )
             comparison_text = (
                 f"# {head}comparison\n\n{intro}"
-                f"{markdown_text(comparison_caption)}\n\n{comparison_text}"
+                f"{markdown_text(comparison_caption[0])}\n\n{comparison_text}"
             )
         texts[f"limits{suffix}.{extension}"] = limits_text
         texts[f"comparison{suffix}.{extension}"] = comparison_text

@@ -4,16 +4,17 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from polyell.comparison.labels import Quantity, set_label
+from polyell.comparison.labels import Quantity
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.limits import LIMIT_COLUMNS, LIMIT_QUANTITIES
-from polyell.comparison.print_scores import check_scores, single_unit
+from polyell.comparison.print_scores import check_scores, single_unit, zero_everywhere
 from polyell.comparison.printable import (
     EMPTY,
     MISSING,
     Cell,
     Label,
     PrintTable,
+    given_label,
     quantity_label,
     text_label,
 )
@@ -66,7 +67,9 @@ def limits_print_tables(frame: pd.DataFrame, layout: TableLayout) -> list[PrintT
 
     Default orientation: one row per (posture,) direction and set, the limits and their
     errors as columns; transposed: one row per (posture and) direction, each set a group
-    of columns.
+    of columns -- the polytope's without its errors (zero: it is the reference).  With
+    the default quantities (``layout.scores`` None) a column that is zero in every row
+    is left out.
 
     Parameters
     ----------
@@ -74,7 +77,7 @@ def limits_print_tables(frame: pd.DataFrame, layout: TableLayout) -> list[PrintT
         From :func:`~polyell.limits_table` or ``Comparison.limits_table``.
     layout : TableLayout
         ``scores`` among ``lower``, ``upper``, ``lower_error``, ``upper_error`` choose
-        the columns (default: all four).
+        the columns (default: all four); ``labels`` name the sets and the quantities.
 
     Returns
     -------
@@ -83,7 +86,8 @@ def limits_print_tables(frame: pd.DataFrame, layout: TableLayout) -> list[PrintT
     """
     _check_frame(frame)
     kinds = _sets(frame, layout)
-    quantities = check_scores(layout, LIMIT_QUANTITIES)
+    capacity = frame.attrs.get("capacity", "acceleration")
+    quantities = [layout.quantity(q.name, capacity) for q in check_scores(layout, LIMIT_QUANTITIES)]
     has_posture = "posture" in frame.columns
     postures = list(dict.fromkeys(frame["posture"])) if has_posture else [""]
     units = {
@@ -93,15 +97,34 @@ def limits_print_tables(frame: pd.DataFrame, layout: TableLayout) -> list[PrintT
     unit = single_unit(units, layout)
     split = layout.split == "posture"
     named = has_posture and not split
-    capacity = frame.attrs.get("capacity", "acceleration")
-    set_labels = {kind: text_label(set_label(kind, capacity), "sets") for kind in kinds}
-    columns = tuple(quantity_label(q, layout.percent, unit) for q in quantities)
+    set_labels = {kind: given_label(layout.set_text(kind, capacity), "sets") for kind in kinds}
+    shown = frame[frame["set"].isin(kinds)]
+    drop = layout.scores is None  # the defaults: no error column that is zero everywhere
+    if layout.transpose:  # a group of columns per set: (set, quantity) columns
+        columns_of = {
+            kind: [
+                q
+                for q in quantities
+                if not (kind == "polytope" and q.kind == "share")  # its errors: zero
+                and not (drop and _zero(shown, q, kind))
+            ]
+            for kind in kinds
+        }
+        kinds = [kind for kind in kinds if columns_of[kind]] or kinds[:1]
+        columns_of = {kind: columns_of[kind] or quantities[:1] for kind in kinds}
+        column_quantities = [(kind, q) for kind in kinds for q in columns_of[kind]]
+        groups = tuple((set_labels[kind], len(columns_of[kind])) for kind in kinds)
+    else:
+        if drop:
+            quantities = [q for q in quantities if not _zero(shown, q)]
+        column_quantities = [("", q) for q in quantities]
+        groups = ()
+    columns = tuple(quantity_label(q, layout.percent, unit) for _, q in column_quantities)
     stub = (
         *((Label("posture", "posture"),) if named else ()),
         Label("direction", "direction"),
         *(() if layout.transpose else (Label("set", "set"),)),
     )
-    groups = tuple((set_labels[kind], len(columns)) for kind in kinds) if layout.transpose else ()
     tables = []
     for chosen in [[p] for p in postures] if split else [postures]:
         rows = []
@@ -113,22 +136,26 @@ def limits_print_tables(frame: pd.DataFrame, layout: TableLayout) -> list[PrintT
                 label = text_label(str(direction), "directions")
                 if layout.transpose:
                     cells = tuple(
-                        _cell(at.loc[kind], q, layout.percent) for kind in kinds for q in quantities
+                        _cell(at.loc[kind], q, layout.percent) for kind, q in column_quantities
                     )
                     rows.append(((*first, label), cells))
                     continue
                 for kind in kinds:
-                    cells = tuple(_cell(at.loc[kind], q, layout.percent) for q in quantities)
+                    cells = tuple(
+                        _cell(at.loc[kind], q, layout.percent) for _, q in column_quantities
+                    )
                     rows.append(((*first, label, set_labels[kind]), cells))
         title = str(chosen[0]) if split else ""
-        tables.append(
-            PrintTable(
-                stub,
-                columns * (len(kinds) if layout.transpose else 1),
-                tuple(rows),
-                groups,
-                title,
-                grouped=named,
-            )
-        )
+        tables.append(PrintTable(stub, columns, tuple(rows), groups, title, grouped=named))
     return tables
+
+
+def _zero(frame: pd.DataFrame, quantity: Quantity, kind: str | None = None) -> bool:
+    """Whether the errors ``quantity`` are zero in every row of ``frame`` (of ``kind``).
+
+    Only errors are left out so: a limit of 0 is a result.
+    """
+    if quantity.kind != "share":
+        return False
+    rows = frame if kind is None else frame[frame["set"] == kind]
+    return zero_everywhere([float(value) for value in rows[quantity.name]])

@@ -6,16 +6,29 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
-from polyell.comparison.labels import QUANTITIES, Quantity, quantity, set_label
+from polyell.comparison.labels import QUANTITIES, Quantity
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.limits import LIMIT_QUANTITIES
-from polyell.comparison.printable import Cell, Label, PrintTable, quantity_label, text_label
+from polyell.comparison.printable import (
+    Cell,
+    Label,
+    PrintTable,
+    given_label,
+    quantity_label,
+    text_label,
+)
 from polyell.errors import InputError
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
 
-__all__ = ["DEFAULT_SCORES", "check_scores", "scores_print_tables", "single_unit"]
+__all__ = [
+    "DEFAULT_SCORES",
+    "check_scores",
+    "scores_print_tables",
+    "single_unit",
+    "zero_everywhere",
+]
 
 #: The comparison table's rows by default: every score with a label.
 DEFAULT_SCORES = tuple(name for name in QUANTITIES if name not in LIMIT_QUANTITIES)
@@ -97,12 +110,35 @@ def _sets(frames: Mapping[str, pd.DataFrame], layout: TableLayout) -> list[str]:
     return [kind for kind in layout.sets if kind != "polytope"]
 
 
+def zero_everywhere(values: Sequence[float]) -> bool:
+    """True for a column that is 0 in every row where it has a number (and has one).
+
+    Such a column says nothing a table needs (``feasibility mismatches`` of every set,
+    the errors of the polytope against itself): a layout without chosen ``scores``
+    leaves it out.
+    """
+    numbers = [value for value in values if not math.isnan(value)]
+    return bool(numbers) and all(value == 0 for value in numbers)
+
+
 def _anywhere(frames: Mapping[str, pd.DataFrame], kinds: Sequence[str], name: str) -> bool:
     """True if some set at some posture has a number for the score ``name``."""
     return any(
         name in frame.columns and frame.loc[list(kinds), name].notna().any()
         for frame in frames.values()
     )
+
+
+def _zero_column(frames: Mapping[str, pd.DataFrame], kinds: Sequence[str], q: Quantity) -> bool:
+    """Whether the count or share ``q`` is 0 for every set shown at every posture.
+
+    Only counts (mismatches) and shares (errors, overreach) are left out so: a volume or
+    a scale of 0 is a result.
+    """
+    if q.kind not in ("count", "share"):
+        return False
+    values = [_cell(frame.loc[kind], q, False).value for frame in frames.values() for kind in kinds]
+    return zero_everywhere(values)
 
 
 def scores_print_tables(
@@ -132,13 +168,15 @@ def scores_print_tables(
     kinds = _sets(frames, layout)
     capacity = next(iter(frames.values())).attrs.get("capacity", "acceleration") if frames else ""
     capacity = capacity or "acceleration"
-    quantities = [quantity(q.name, capacity) for q in check_scores(layout, DEFAULT_SCORES)]
+    quantities = [layout.quantity(q.name, capacity) for q in check_scores(layout, DEFAULT_SCORES)]
     if layout.scores is None:  # the defaults: not a ratio to an optimum no one computed
         quantities = [q for q in quantities if _anywhere(frames, kinds, q.name)]
+        if layout.transpose:  # scores as columns: not one that is zero in every row
+            quantities = [q for q in quantities if not _zero_column(frames, kinds, q)]
     unit = single_unit(units, layout)
     split = layout.split == "posture"
     named = not split and any(frames)
-    sets = tuple(text_label(set_label(kind, capacity), "sets") for kind in kinds)
+    sets = tuple(given_label(layout.set_text(kind, capacity), "sets") for kind in kinds)
     posture_stub = (Label("posture", "posture"),) if named else ()
     tables = []
     groups = [{name: frame} for name, frame in frames.items()] if split else [dict(frames)]
@@ -168,5 +206,8 @@ def scores_print_tables(
             stub_head = (*posture_stub, Label("score", "score"))
             columns = sets
         title = next(iter(group)) if split else ""
-        tables.append(PrintTable(stub_head, columns, tuple(rows), title=title, grouped=named))
+        mixed = not layout.transpose  # a row per score: a column mixes quantities
+        tables.append(
+            PrintTable(stub_head, columns, tuple(rows), title=title, grouped=named, mixed=mixed)
+        )
     return tables

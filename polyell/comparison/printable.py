@@ -1,6 +1,6 @@
 r"""A table ready to print, whatever the format: labels, cells and how numbers are written.
 
-The builders (:mod:`~polyell.comparison.scores_table`, :mod:`~polyell.comparison.limits_print`)
+The builders (:mod:`~polyell.comparison.print_scores`, :mod:`~polyell.comparison.print_limits`)
 fill a :class:`PrintTable`; the writers (LaTeX, Markdown, CSV, HTML) only lay it out, so
 that every format shows the same labels, units and numbers.
 
@@ -15,7 +15,7 @@ import math
 from dataclasses import dataclass, field
 from decimal import ROUND_HALF_EVEN, Decimal, localcontext
 
-from polyell.comparison.labels import Quantity
+from polyell.comparison.labels import LabelText, Quantity
 from polyell.comparison.latex_text import escape_latex, latex_unit
 
 __all__ = [
@@ -25,6 +25,7 @@ __all__ = [
     "Label",
     "PrintTable",
     "decimal_text",
+    "given_label",
     "quantity_label",
     "rounded_text",
     "text_label",
@@ -59,11 +60,22 @@ class Label:
 def text_label(plain: str, argument: str = "label") -> Label:
     """A label of plain text (a posture's or a candidate's name): escaped for LaTeX.
 
-    A set's label with a parenthesis (``new (eq. 32/38)``) may break before it.
+    A set's label with a parenthesis (``outer (min. volume)``) may break before it.
     """
     head, sep, tail = plain.partition(" (")
     lines = (escape_latex(head, argument), escape_latex("(" + tail, argument)) if sep else ()
     return Label(plain, escape_latex(plain, argument), lines)
+
+
+def given_label(text: LabelText, argument: str = "label") -> Label:
+    """A label as a user or the defaults give it: escaped plain text, or the user's LaTeX.
+
+    Plain text may break before a parenthesis (:func:`text_label`); the user's LaTeX is
+    written on one line, as given.
+    """
+    if text.latex is not None:
+        return Label(text.plain, text.latex)
+    return text_label(text.plain, argument)
 
 
 def quantity_label(quantity: Quantity, percent: bool, unit: str, power: str = "1") -> Label:
@@ -231,6 +243,10 @@ class PrintTable:
     grouped : bool
         Whether LaTeX prints the first stub column (the posture) as a row spanning the
         table above its rows rather than as a column (a narrower table).
+    mixed : bool
+        Whether each number column holds several quantities (a row per score): siunitx
+        then formats its numbers without aligning them on the decimal marker, which would
+        reserve the widest integer part and the longest fraction of any row.
     """
 
     stub: tuple[Label, ...]
@@ -239,6 +255,7 @@ class PrintTable:
     groups: tuple[tuple[Label, int], ...] = field(default=())
     title: str = ""
     grouped: bool = False
+    mixed: bool = False
 
     def group_of(self) -> list[str]:
         """The plain label of each number column's group ('' without groups)."""

@@ -2,14 +2,22 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable
-from typing import TYPE_CHECKING
+from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING, cast
 
 from polyell.capacities import check_capacity
 from polyell.comparison.comparison import SCORE_NAMES
-from polyell.comparison.labels import QUANTITIES, quantity, set_label
+from polyell.comparison.labels import QUANTITIES, quantity
 from polyell.comparison.layout import TableLayout
-from polyell.comparison.printable import Cell, Label, PrintTable, quantity_label, text_label
+from polyell.comparison.long_form import BUILT_IN_SCORED_KINDS, score_columns
+from polyell.comparison.printable import (
+    Cell,
+    Label,
+    PrintTable,
+    given_label,
+    quantity_label,
+    text_label,
+)
 from polyell.comparison.tables import Style, render_tables
 from polyell.errors import InputError
 from polyell.validation import check_frame, check_instance
@@ -41,39 +49,129 @@ SUMMARY_SCORES = (
 _STATISTICS = ("defined", "mean", "std", "min", "median", "max")
 
 
-def split_column(column: str) -> tuple[str, str] | None:
-    """``(kind, score)`` of a ``<kind>_<score>`` column (a candidate's name may hold '_').
+def split_column(column: str, kinds: Sequence[str] | None = None) -> tuple[str, str] | None:
+    """``(kind, score)`` of a ``<kind>_<score>`` column, matched exactly, never split.
 
-    None for other columns (``configuration``, ``q1``, ``polytope_volume``, ...).
+    The column is ``(kind, score)`` where it equals ``f"{kind}_{score}"`` for one of
+    ``kinds`` and a score of :data:`~polyell.comparison.comparison.SCORE_NAMES` (a
+    candidate's name may hold ``'_'``).  None for other columns (``configuration``, ``q1``,
+    ``polytope_volume``, ...).
+
+    Parameters
+    ----------
+    column : str
+        A column name, e.g. ``"heavy_wrist_coverage"``.
+    kinds : sequence of str, optional
+        The frame's ellipsoids: :func:`result_kinds` of the frame, or its
+        ``attrs["kinds"]`` (:func:`polyell.sweep` records them).  Default: the built-in
+        kinds of every capacity; a name that none of them matches is then, for callers
+        that hold only names (files written before kinds were recorded), cut before its
+        longest score name (:func:`_compatible_split`).
     """
     check_instance("column", column, str, "pass a column name, e.g. 'chiacchio_coverage'.")
+    known = BUILT_IN_SCORED_KINDS if kinds is None else _kind_names(kinds)
+    exact = {f"{kind}_{score}": (kind, score) for kind in known for score in SCORE_NAMES}
+    if column in exact:
+        return exact[column]
+    return _compatible_split(column) if kinds is None else None
+
+
+def _compatible_split(column: str) -> tuple[str, str] | None:
+    """The rule for names whose kinds are unknown: the prefix before the longest score name.
+
+    Kept for callers that hold only column names without their kinds (a Parquet schema, a
+    study's map names); :func:`result_kinds` of a frame whose ``attrs`` record its kinds,
+    or ``kinds=``, never uses it.
+    """
     for score in sorted(SCORE_NAMES, key=len, reverse=True):  # coverage_stderr first
         if column.endswith(f"_{score}") and column[: -len(score) - 1] not in ("", "polytope"):
             return column[: -len(score) - 1], score
     return None
 
 
-def result_kinds(columns: Iterable[str]) -> list[str]:
-    """The ellipsoids with ``<kind>_<score>`` columns, in column order (candidates too)."""
-    if isinstance(columns, str) or not hasattr(columns, "__iter__"):
+def _kind_names(kinds: object) -> tuple[str, ...]:
+    if isinstance(kinds, str) or not isinstance(kinds, Iterable):
+        raise InputError(
+            "kinds",
+            "a sequence of ellipsoid names (str)",
+            repr(kinds)[:80],
+            "pass e.g. result_kinds(frame).",
+        )
+    names = tuple(kinds)
+    wrong = [name for name in names if not isinstance(name, str)]
+    if wrong:
+        raise InputError("kinds", "ellipsoid names (str)", f"an item {wrong[0]!r}"[:80])
+    return names
+
+
+def result_kinds(
+    columns: pd.DataFrame | Iterable[str], kinds: Sequence[str] | None = None
+) -> list[str]:
+    """The ellipsoids with ``<kind>_<score>`` columns, in column order (candidates too).
+
+    Parameters
+    ----------
+    columns : DataFrame or iterable of str
+        A wide results frame -- the kinds its ``attrs`` record (:func:`polyell.sweep`;
+        Parquet keeps them) -- or its column names.
+    kinds : sequence of str, optional
+        Ellipsoids beyond the built-in ones (the candidates' names), where the frame does
+        not record them.
+
+    Returns
+    -------
+    list of str
+        Resolved by :func:`~polyell.comparison.long_form.score_columns`: exact
+        ``<kind>_<score>`` names of the recorded kinds, of ``kinds`` and of the built-in
+        kinds.  Where neither ``attrs`` nor ``kinds`` name them, the remaining names that
+        end in a score (candidates of a frame read back without its kinds) are resolved by
+        the rule of :func:`split_column` for bare names.
+    """
+    if (isinstance(columns, str) or not hasattr(columns, "__iter__")) and not _is_frame(columns):
         raise InputError("columns", "column names (e.g. frame.columns)", repr(columns)[:80])
-    found: list[str] = []
-    for column in columns:
-        split = split_column(column)
-        if split is not None and split[0] not in found:
-            found.append(split[0])
-    return found
+    found = score_columns(
+        columns if _is_frame(columns) else [str(column) for column in columns],
+        kinds=None if kinds is None else list(_kind_names(kinds)),
+    )
+    held = found.kinds
+    if found.recorded or not found.unresolved:
+        return held
+    names = list(cast("pd.DataFrame", columns).columns if _is_frame(columns) else columns)
+    extra: dict[str, int] = {}
+    for column in found.unresolved:
+        split = _compatible_split(column)
+        if split is not None:
+            extra.setdefault(split[0], names.index(column))
+    first = {kind: min(names.index(c) for c in found.columns[kind].values()) for kind in held}
+    first.update(extra)
+    return sorted(first, key=first.__getitem__)
 
 
-def summarize(results: pd.DataFrame, scores: tuple[str, ...] = SUMMARY_SCORES) -> pd.DataFrame:
+def _is_frame(value: object) -> bool:
+    import pandas as pd
+
+    return isinstance(value, pd.DataFrame)
+
+
+def summarize(
+    results: pd.DataFrame,
+    scores: tuple[str, ...] = SUMMARY_SCORES,
+    *,
+    kinds: Sequence[str] | None = None,
+) -> pd.DataFrame:
     """Statistics per ellipsoid and score over the rows (configurations) of ``results``.
 
     Parameters
     ----------
     results : DataFrame
-        One row per configuration with ``<kind>_<score>`` columns (``Comparison.to_row``).
+        One row per configuration with ``<kind>_<score>`` columns (:func:`polyell.sweep`,
+        ``Comparison.to_row``).  Its ellipsoids: :func:`result_kinds` (the kinds its
+        ``attrs`` record, else the built-in ones matched exactly).
     scores : tuple of str
         Scores to summarise; those without a column are skipped.
+    kinds : sequence of str, optional
+        Ellipsoids beyond the built-in ones (candidates) of a frame that does not record
+        its kinds.
 
     Returns
     -------
@@ -84,7 +182,7 @@ def summarize(results: pd.DataFrame, scores: tuple[str, ...] = SUMMARY_SCORES) -
     """
     check_frame("results", results, "pass a pandas DataFrame (e.g. the results of pe.sweep).")
     rows = {}
-    for kind in result_kinds(results.columns):
+    for kind in result_kinds(results, kinds):
         for score in scores:
             column = f"{kind}_{score}"
             if column not in results:
@@ -112,14 +210,14 @@ def format_summary_table(
     summary: pd.DataFrame,
     style: Style,
     *,
-    caption: str | None = None,
+    caption: str | tuple[str, str | None] | None = None,
     label: str | None = None,
     layout: TableLayout | None = None,
     capacity: str = "acceleration",
 ) -> str:
     """Render :func:`summarize` output for print, as every table of polyell is written.
 
-    One row per score under a line per set (the sets' labels, ``new (eq. 32/38)``), the
+    One row per score under a line per set (the sets' labels: ``layout.labels``), the
     statistics as columns; shares in percent (``layout.percent``), ``layout.digits``
     significant digits.  A table taller than a page is one LaTeX float per set.
 
@@ -128,14 +226,18 @@ def format_summary_table(
     summary : DataFrame
         From :func:`summarize`.
     style : {"latex", "markdown", "csv", "html"}
-    caption, label : str, optional
-        LaTeX caption and label.
+    caption : str or (str, str), optional
+        LaTeX caption: plain text, or ``(plain, latex)``; default the layout's
+        ``captions["summary"]``, else none.
+    label : str, optional
+        LaTeX label.
     layout : TableLayout, optional
         Its ``sets`` and ``scores`` (which rows, in that order; the others, e.g. a limit
-        quantity, do not apply), ``digits`` and ``percent``; default ``TableLayout()``.
+        quantity, do not apply), ``digits``, ``percent``, ``labels``, ``siunitx`` and
+        ``text_width``; default ``TableLayout()``.
     capacity : {"acceleration", "velocity", "force"}, optional
-        Whose ellipsoids they are: the sets' labels (a force ``"chiacchio"`` is "with
-        gravity", ``"static"`` "no gravity").
+        Whose ellipsoids they are: the witness's label (a normalized torque, or a joint
+        velocity for velocities).
     """
     check_frame("summary", summary, "pass summarize(results).")
     capacity = check_capacity(capacity)
@@ -149,7 +251,7 @@ def format_summary_table(
     chosen = [(k, s) for k in kinds for s in scores if (k, s) in summary.index]
     rows = []
     for (kind, score), record in summary.loc[chosen].iterrows():
-        known = quantity(str(score), capacity) if str(score) in QUANTITIES else None
+        known = quantity(str(score), capacity, layout.labels) if str(score) in QUANTITIES else None
         name = (
             quantity_label(known, layout.percent, "")
             if known is not None
@@ -162,11 +264,14 @@ def format_summary_table(
             else Cell(float(record[column]), shift)
             for column in _STATISTICS
         )
-        rows.append(((text_label(set_label(str(kind), capacity), "sets"), name), cells))
+        rows.append(((given_label(layout.set_text(str(kind), capacity), "sets"), name), cells))
     table = PrintTable(
         (Label("set", "set"), Label("score", "score")),
         tuple(Label(column, column) for column in _STATISTICS),
         tuple(rows),
         grouped=True,
+        mixed=True,  # a row per score
     )
-    return render_tables([table], style, layout.digits, caption, label)
+    own = layout.caption("summary") if caption is None else None
+    caption = caption if own is None else (own.plain, own.latex)
+    return render_tables([table], style, layout.digits, caption, label, layout=layout)

@@ -3,20 +3,25 @@ r"""Paper-ready tables: the comparison table and the directional-limits table, i
 The tables are laid out by a :class:`~polyell.comparison.layout.TableLayout` (sets, scores,
 orientation, one table or one per posture, significant digits, percent or fractions) and
 written by one writer per format from the same :class:`~polyell.comparison.printable.PrintTable`,
-so LaTeX, Markdown, CSV and HTML show the same labels (:mod:`~polyell.comparison.labels`),
-units and numbers.  Every string that reaches a table is plain text, escaped where it is
-written (:mod:`~polyell.comparison.latex_text`).  A LaTeX table needs
-``\usepackage{booktabs}``.
+so LaTeX, Markdown, CSV and HTML show the same labels (:mod:`~polyell.comparison.labels`:
+one name per set that fits any robot, or the layout's ``labels``), units and numbers.
+Every string that reaches a table is plain text, escaped where it is written
+(:mod:`~polyell.comparison.latex_text`), but the LaTeX a user gives with a label or a
+caption, ``(plain, latex)``, checked to stay within its cell.  A LaTeX table needs
+``\usepackage{booktabs}`` (and ``siunitx`` with ``TableLayout(siunitx=True)``); one wider
+than the layout's ``text_width`` is written with a warning that names its width
+(:mod:`~polyell.comparison.write_latex`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Literal, TypeAlias
 
 from polyell.comparison.labels import (
     ELLIPSOID_LABELS,
     QUANTITIES,
+    Labels,
     ellipsoid_label,
     quantity,
     set_label,
@@ -43,6 +48,7 @@ __all__ = [
     "ELLIPSOID_LABELS",
     "PERCENT_SCORES",
     "STYLES",
+    "Caption",
     "check_latex_label",
     "check_text",
     "ellipsoid_label",
@@ -61,6 +67,8 @@ __all__ = [
 #: The formats a table is written in.
 STYLES = ("latex", "markdown", "csv", "html")
 Style = Literal["latex", "markdown", "csv", "html"]
+#: A caption: plain text (escaped in LaTeX), or ``(plain, latex)`` with the LaTeX as is.
+Caption: TypeAlias = str | tuple[str, str | None]
 
 #: Scores shown in percent wherever they are shown (tables, summaries, figures) when a
 #: layout asks for percent (the default); the data (Scores, CSV of the data, Parquet,
@@ -68,14 +76,18 @@ Style = Literal["latex", "markdown", "csv", "html"]
 PERCENT_SCORES = frozenset(name for name, q in QUANTITIES.items() if q.kind == "share")
 
 
-def score_display(score: str, capacity: str = "acceleration") -> tuple[str, float]:
+def score_display(
+    score: str, capacity: str = "acceleration", labels: Labels = None
+) -> tuple[str, float]:
     """The label and the factor a score is displayed with: ``("coverage [%]", 100.0)``.
 
     The label is the tables' (:func:`~polyell.comparison.labels.quantity` of the
-    capacity), without the volume's unit; a score without one is its name with spaces.
+    capacity and ``labels``: a layout's), without the volume's unit; a score without one
+    is its name with spaces.
     """
     check_instance("score", score, str, "pass a score name, e.g. 'coverage'.")
-    name = quantity(score, capacity).plain if score in QUANTITIES else score.replace("_", " ")
+    known = score in QUANTITIES
+    name = quantity(score, capacity, labels).plain if known else score.replace("_", " ")
     return (f"{name} [%]", 100.0) if score in PERCENT_SCORES else (name, 1.0)
 
 
@@ -93,20 +105,44 @@ def render_tables(
     tables: Sequence[PrintTable],
     style: Style,
     digits: int,
-    caption: str | None = None,
+    caption: Caption | None = None,
     label: str | None = None,
+    *,
+    layout: TableLayout | None = None,
 ) -> str:
-    """Write laid-out tables in one format (LaTeX floats, Markdown, CSV or HTML).
+    r"""Write laid-out tables in one format (LaTeX floats, Markdown, CSV or HTML).
+
+    Parameters
+    ----------
+    tables : sequence of PrintTable
+    style : {"latex", "markdown", "csv", "html"}
+    digits : int
+        Significant digits.
+    caption : str or (str, str), optional
+        Plain text, or ``(plain, latex)``: LaTeX's caption (its own markup) and HTML's.
+    label : str, optional
+        LaTeX ``\label`` key.
+    layout : TableLayout, optional
+        Its ``siunitx`` (``S`` columns) and ``text_width`` (the width a LaTeX table is
+        checked against); default ``TableLayout()``.
 
     Raises
     ------
     InputError
         For a style other than :data:`STYLES`, a caption or label that cannot be written.
     """
+    layout = _layout(layout)
     if style == "latex":
         from polyell.comparison.write_latex import latex_tables
 
-        return latex_tables(tables, digits, caption, label)
+        return latex_tables(
+            tables,
+            digits,
+            caption,
+            label,
+            siunitx=layout.siunitx,
+            text_width=layout.text_width,
+        )
     if style == "markdown":
         from polyell.comparison.write_markdown import markdown_tables
 
@@ -118,10 +154,17 @@ def render_tables(
     if style == "html":
         from polyell.comparison.write_html import html_tables
 
-        return html_tables(
-            tables, digits, None if caption is None else check_text("caption", caption)
-        )
+        plain = caption[0] if isinstance(caption, tuple) else caption
+        return html_tables(tables, digits, None if plain is None else check_text("caption", plain))
     raise InputError("style", f"one of {list(STYLES)}", repr(style)[:80])
+
+
+def _caption(caption: Caption | None, layout: TableLayout, table: str) -> Caption | None:
+    """The caption given, else the layout's caption of ``table`` (None: no caption)."""
+    if caption is not None:
+        return caption
+    own = layout.caption(table)
+    return None if own is None else (own.plain, own.latex)
 
 
 def format_scores_table(
@@ -130,7 +173,7 @@ def format_scores_table(
     style: Style,
     *,
     unit: str = "m/s^2",
-    caption: str | None = None,
+    caption: Caption | None = None,
     label: str | None = None,
     layout: TableLayout | None = None,
 ) -> str:
@@ -146,10 +189,13 @@ def format_scores_table(
     style : {"latex", "markdown", "csv", "html"}
     unit : str, optional
         The task's unit.
-    caption, label : str, optional
-        LaTeX caption and label (HTML: the caption).
+    caption : str or (str, str), optional
+        LaTeX and HTML caption: plain text, or ``(plain, latex)``; default the layout's
+        ``captions["comparison"]``, else none.
+    label : str, optional
+        LaTeX label.
     layout : TableLayout, optional
-        Sets, scores, orientation and rounding (default ``TableLayout()``).
+        Sets, scores, orientation, rounding and labels (default ``TableLayout()``).
     """
     check_frame("frame", frame, "pass comparison.to_frame().")
     from polyell.comparison.print_scores import scores_print_tables
@@ -157,7 +203,8 @@ def format_scores_table(
     layout = _layout(layout)
     unit = check_text("unit", unit)
     tables = scores_print_tables({"": frame}, layout, {"": unit}, {"": dimension})
-    return render_tables(tables, style, layout.digits, caption, label)
+    caption = _caption(caption, layout, "comparison")
+    return render_tables(tables, style, layout.digits, caption, label, layout=layout)
 
 
 def format_comparison_table(
@@ -165,7 +212,7 @@ def format_comparison_table(
     style: Style,
     *,
     layout: TableLayout | None = None,
-    caption: str | None = None,
+    caption: Caption | None = None,
     label: str | None = None,
 ) -> str:
     r"""The comparison table of one or several postures, laid out for print.
@@ -179,8 +226,12 @@ def format_comparison_table(
         Default ``TableLayout()``: one table, a column per ellipsoid, a row per score
         under each posture (the row groups keep the table one column wide for any
         number of postures).
-    caption, label : str, optional
-        LaTeX caption and ``\label`` key (a table per posture adds the posture's name).
+    caption : str or (str, str), optional
+        Caption: plain text (escaped), or ``(plain, latex)`` with the LaTeX written as is
+        (a table per posture adds the posture's name); default the layout's
+        ``captions["comparison"]``, else none.
+    label : str, optional
+        LaTeX ``\label`` key (a table per posture adds the posture's name).
 
     Returns
     -------
@@ -202,7 +253,8 @@ def format_comparison_table(
         {name: c.analysis.unit() for name, c in named.items()},
         {name: c.analysis.polytope.dim for name, c in named.items()},
     )
-    return render_tables(tables, style, layout.digits, caption, label)
+    caption = _caption(caption, layout, "comparison")
+    return render_tables(tables, style, layout.digits, caption, label, layout=layout)
 
 
 def format_limits_table(
@@ -210,7 +262,7 @@ def format_limits_table(
     style: Style,
     *,
     layout: TableLayout | None = None,
-    caption: str | None = None,
+    caption: Caption | None = None,
     label: str | None = None,
 ) -> str:
     r"""The directional-limits table (:func:`polyell.limits_table`) laid out for print.
@@ -225,13 +277,18 @@ def format_limits_table(
         lower and upper limits [task unit] and their errors against the polytope [%] as
         columns; ``transpose=True``: a row per posture and direction, each set a group of
         columns.
-    caption, label : str, optional
-        LaTeX caption and ``\label`` key.
+    caption : str or (str, str), optional
+        Caption: plain text (escaped), or ``(plain, latex)`` with the LaTeX written as is;
+        default the layout's ``captions["limits"]``, else none.
+    label : str, optional
+        LaTeX ``\label`` key.
     """
     from polyell.comparison.print_limits import limits_print_tables
 
     layout = _layout(layout)
-    return render_tables(limits_print_tables(frame, layout), style, layout.digits, caption, label)
+    tables = limits_print_tables(frame, layout)
+    caption = _caption(caption, layout, "limits")
+    return render_tables(tables, style, layout.digits, caption, label, layout=layout)
 
 
 def render_table(

@@ -1,23 +1,52 @@
-r"""LaTeX of printed tables: booktabs rules, siunitx-friendly cells, units in the headers.
+r"""LaTeX of printed tables: booktabs rules, numbers typeset as mathematics, units in headers.
 
-Every number column is ``r``; a cell is a bare number (``-1.23``, ``4.5e-07``) that an
-``S`` column of siunitx parses as well, and any other cell (``n/a``, ``empty``,
-``12.3 $\pm$ 0.05``, infinities) is braced, which both column types print as text:
-replace ``r`` by ``S`` in the column specification to align on the decimal marker.
+Two kinds of number columns (:attr:`TableLayout.siunitx <polyell.TableLayout>`):
+
+* ``r`` columns (the default, no package beyond booktabs): a number is written with a
+  math minus and a power of ten, ``$-$112``, ``6.80$\times 10^{5}$`` (never the hyphen of
+  ``-112`` or the ``6.80e+05`` of a program's output);
+* siunitx ``S`` columns (``\usepackage{siunitx}``): a number is bare (``-112``,
+  ``6.80e5``) and siunitx typesets its minus and its power of ten; every header and every
+  text cell (``n/a``, ``empty``, ``12.3 $\pm$ 0.05``, infinities) is braced, as siunitx
+  requires of what it must not parse.  A column of one quantity gets a ``table-format``
+  computed from its numbers, so that they align on the decimal marker; a column of unlike
+  quantities (a row per score, :attr:`PrintTable.mixed`) is set flush right without
+  alignment (siunitx 3: ``table-alignment-mode=none``).
+
 Headers that may break are stacked in a nested ``tabular`` (no package needed).  The
 document needs ``\usepackage{booktabs}``.
+
+Each table's width is estimated from the metrics of Computer Modern (the default fonts)
+at its size; a table wider than the layout's text width is written all the same, with a
+warning that names both widths (:func:`table_width`).
 """
 
 from __future__ import annotations
 
+import os
 import re
+import sys
+import warnings
 from collections.abc import Sequence
 from dataclasses import replace
 
+from polyell.comparison.labels import LabelText, check_markup
 from polyell.comparison.latex_text import check_latex_label, check_text, escape_latex
 from polyell.comparison.printable import Cell, Label, PrintTable
+from polyell.errors import TableWidthWarning
 
-__all__ = ["latex_cell", "latex_tables"]
+__all__ = [
+    "PAGE_LINES",
+    "SMALL_ROWS",
+    "latex_cell",
+    "latex_number",
+    "latex_tables",
+    "table_width",
+    "text_width",
+]
+
+#: The category of the warning that a table is wider than the page.
+_WIDTH_WARNING: type[Warning] = TableWidthWarning
 
 
 def _stacked(label: Label, align: str) -> str:
@@ -29,19 +58,47 @@ def _stacked(label: Label, align: str) -> str:
     return rf"\begin{{tabular}}[b]{{@{{}}{align}@{{}}}}{inner}\end{{tabular}}"
 
 
-def latex_cell(cell: Cell, digits: int) -> str:
-    """A number as is; anything else braced (text to siunitx's ``S`` columns)."""
+#: A number as :func:`~polyell.comparison.printable.rounded_text` writes it: sign,
+#: mantissa, exponent.
+_NUMBER = re.compile(r"(-?)([0-9]+(?:\.([0-9]+))?)(?:e([+-]?[0-9]+))?")
+
+
+def latex_number(text: str, siunitx: bool = False) -> str:
+    r"""A number as LaTeX: ``-6.80e+05`` -> ``$-$6.80$\times 10^{5}$``; siunitx: ``-6.80e5``.
+
+    ``text`` is a number as the tables round it (``-112``, ``0.500``, ``1.00e-07``);
+    anything else is returned unchanged.
+
+    Examples
+    --------
+    >>> latex_number("-112"), latex_number("6.80e+05"), latex_number("-1.0e-07", True)
+    ('$-$112', '6.80$\\times 10^{5}$', '-1.0e-7')
+    """
+    match = _NUMBER.fullmatch(text)
+    if match is None:
+        return text
+    sign, mantissa, _, exponent = match.groups()
+    if siunitx:
+        return f"{sign}{mantissa}" + (f"e{int(exponent)}" if exponent else "")
+    power = rf"$\times 10^{{{int(exponent)}}}$" if exponent else ""
+    return ("$-$" if sign else "") + mantissa + power
+
+
+def latex_cell(cell: Cell, digits: int, siunitx: bool = False) -> str:
+    r"""A cell: a number as :func:`latex_number` writes it; anything else braced.
+
+    A braced cell is text to an ``S`` column of siunitx and prints as it is in an ``r``
+    column: an estimate with its standard error (``{12.3 $\pm$ 0.05}``), the infinities,
+    ``n/a`` and ``empty``.
+    """
     number = cell.number(digits)
     if cell.has_error():
-        return f"{{{number} $\\pm$ {cell.error(digits)}}}"
+        return f"{{{latex_number(number)} $\\pm$ {latex_number(cell.error(digits))}}}"
     if number in ("inf", "-inf"):
         return r"{$\infty$}" if number == "inf" else r"{$-\infty$}"
     if _NUMBER.fullmatch(number):
-        return number
+        return latex_number(number, siunitx)
     return "{" + escape_latex(number, "cell") + "}"
-
-
-_NUMBER = re.compile(r"-?[0-9]+(\.[0-9]+)?(e[+-][0-9]+)?")
 
 
 def _row(cells: list[str]) -> str:
@@ -60,6 +117,11 @@ SMALL_ROWS = 40
 #: Body lines beyond which a table of several postures is set as one float per posture:
 #: a float cannot break across pages, and ``\footnotesize`` fits about 50 lines on one.
 PAGE_LINES = 48
+#: The gap on each side of a column [pt] (``\tabcolsep``).
+TABCOLSEP = 4.0
+#: The options of an ``S`` column whose rows are unlike quantities (a row per score):
+#: siunitx formats each number (its minus, its power of ten) and sets it flush right.
+UNALIGNED = "table-alignment-mode=none,table-number-alignment=right"
 
 
 def _page_parts(table: PrintTable) -> list[PrintTable]:
@@ -81,22 +143,268 @@ def _page_parts(table: PrintTable) -> list[PrintTable]:
     ]
 
 
-def _preamble(body_lines: int) -> list[str]:
-    size = r"\small" if body_lines <= SMALL_ROWS else r"\footnotesize"
-    return [size, r"\setlength{\tabcolsep}{4pt}"]
+def _size(body_lines: int) -> str:
+    return r"\small" if body_lines <= SMALL_ROWS else r"\footnotesize"
 
 
-def _table(table: PrintTable, digits: int, caption: str | None, label: str | None) -> list[str]:
+# ---- widths ------------------------------------------------------------------------------
+
+#: Widths of Computer Modern Roman characters [em] (cmr10.tfm); others count 0.5 em.
+_EM = {
+    **dict.fromkeys("!',.:;[]`il", 0.2778),
+    **dict.fromkeys("fj", 0.3056),
+    "-": 0.3333,
+    " ": 0.3333,
+    "I": 0.3611,
+    **dict.fromkeys("()t", 0.3889),
+    "r": 0.3917,
+    "s": 0.3944,
+    **dict.fromkeys("cez", 0.4444),
+    **dict.fromkeys("?", 0.4722),
+    "J": 0.5139,
+    **dict.fromkeys("kqvxy", 0.5278),
+    **dict.fromkeys("Sbdhnpu", 0.5556),
+    "Z": 0.6111,
+    "L": 0.625,
+    "F": 0.6528,
+    **dict.fromkeys("EP", 0.6806),
+    "B": 0.7083,
+    **dict.fromkeys("CTw", 0.7222),
+    "R": 0.7361,
+    **dict.fromkeys("AHNUVXY", 0.75),
+    "D": 0.7639,
+    **dict.fromkeys("&+=@KOQ<>", 0.7778),
+    "G": 0.7847,
+    **dict.fromkeys("#%m", 0.8333),
+    "M": 0.9167,
+    "W": 1.0278,
+    "|": 0.2778,
+}
+#: Widths [em] of the commands a table writes (the glyph each prints).
+_COMMAND_EM = {
+    "times": 0.7778,
+    "pm": 0.7778,
+    "infty": 1.0,
+    "textless": 0.7778,
+    "textgreater": 0.7778,
+    "textbar": 0.2778,
+    "textbackslash": 0.5,
+    "textdegree": 0.4,
+    "itshape": 0.0,
+    "tilde": 0.0,
+    "max": 1.5,
+    "min": 1.3,
+}
+#: Points per em of each size of the article class at 10 pt (cmr10, cmr9, cmr8: the
+#: smaller designs are relatively wider).
+SIZE_EM = {r"\normalsize": 10.0, r"\small": 9.25, r"\footnotesize": 8.5}
+_TOKEN = re.compile(r"\$[^$]*\$|\\[A-Za-z]+\*?(?:\{\})?|\\.|[{}]|.", re.S)
+_MATH_TOKEN = re.compile(r"\^\{[^{}]*\}|\^.|_\{[^{}]*\}|_.|\\[A-Za-z]+|\\.|[{} ]|.", re.S)
+
+
+def _math_em(tex: str) -> float:
+    width = 0.0
+    for token in _MATH_TOKEN.findall(tex):
+        if token[0] in "^_":
+            width += 0.7 * _math_em(token[1:].strip("{}"))
+        elif token.startswith("\\"):
+            width += _COMMAND_EM.get(token[1:], 0.5 if token[1:].isalpha() else 0.3)
+        elif token in "+-=":
+            width += 0.7778
+        elif token not in "{} ":
+            width += _EM.get(token, 0.5)
+    return width
+
+
+def text_width(tex: str) -> float:
+    """The estimated width [em] of one line of LaTeX text (as a table cell holds).
+
+    From the widths of Computer Modern; mathematics counted symbol by symbol, super- and
+    subscripts at 70 %.  An estimate, within a few percent for the tables polyell writes.
+    """
+    width = 0.0
+    for token in _TOKEN.findall(tex):
+        if token.startswith("$"):
+            width += _math_em(token[1:-1])
+        elif token.startswith("\\"):
+            name = token[1:].removesuffix("{}")
+            if name.isalpha():
+                width += _COMMAND_EM.get(name, 0.5)
+            elif name == " ":
+                width += 0.3333
+            elif name == ",":
+                width += 0.1667
+            else:
+                width += _EM.get(name, 0.5)
+        elif token not in "{}":
+            width += _EM.get(token, 0.5)
+    return width
+
+
+def _label_em(label: Label) -> float:
+    lines = label.lines if len(label.lines) >= 2 else (label.latex,)
+    return max(text_width(line) for line in lines)
+
+
+def table_width(lines: Sequence[str]) -> float:
+    r"""The estimated width [pt] of a table float as :func:`latex_tables` writes it.
+
+    Parameters
+    ----------
+    lines : sequence of str
+        The float's lines (``\begin{table}`` to ``\end{table}``).
+
+    Returns
+    -------
+    float
+        The tabular's natural width: each column's widest cell plus ``\tabcolsep`` on
+        either side, widened where a spanning header or a posture line is wider.
+    """
+    size = next((line for line in lines if line in SIZE_EM), r"\normalsize")
+    em = SIZE_EM[size]
+    start = next(k for k, line in enumerate(lines) if line.startswith(r"\begin{tabular}{"))
+    spec = re.findall(r"S\[[^\]]*\]|[lrcS]", lines[start][len(r"\begin{tabular}{") : -1])
+    aligned = [column.startswith("S[table-format=") for column in spec]
+    widths = [0.0] * len(spec)
+    spans: list[tuple[int, int, float]] = []
+    for line in lines[start + 1 :]:
+        if line.startswith((r"\toprule", r"\midrule", r"\bottomrule", r"\cmidrule", r"\end")):
+            continue
+        cells = re.split(r"(?<!\\)&", line.removesuffix(r" \\").removeprefix("{}"))
+        column = 0
+        for cell in cells:
+            cell = cell.strip()
+            multi = _MULTICOLUMN.fullmatch(cell)
+            if multi is not None:
+                span = int(multi.group(1))
+                spans.append((column, span, _cell_em(multi.group(2))))
+                column += span
+                continue
+            if column < len(widths) and not (aligned[column] and _bare(cell)):
+                widths[column] = max(widths[column], _cell_em(cell))
+            column += 1
+    for j, column in enumerate(spec):  # siunitx reserves its table-format's width
+        widths[j] = max(widths[j], _format_em(column))
+    total = [w * em * ESTIMATE_MARGIN + 2 * TABCOLSEP for w in widths]
+    for first, span, content in spans:  # a spanning cell wider than its columns widens them
+        inner = content * em + (0.0 if span == len(spec) else 2 * TABCOLSEP)
+        covered = sum(total[first : first + span])
+        if inner > covered:
+            total[first + span - 1] += inner - covered
+    return sum(total)
+
+
+#: The estimates run about 1 % short of pdfLaTeX's widths (kerning, rounding): scaled up.
+#: Measured against pdfLaTeX for the default and transposed tables of the Panda and the
+#: paper's arm, ``r`` and ``S`` columns: within 2 % (tests/comparison/test_paper_tables.py).
+ESTIMATE_MARGIN = 1.01
+_FORMAT = re.compile(r"S\[table-format=(-?)([0-9]+)\.([0-9]+)(?:e(-?)([0-9]+))?\]")
+
+
+def _bare(cell: str) -> bool:
+    """A bare number of an ``S`` column (its width is the column format's)."""
+    return _NUMBER.fullmatch(cell.strip()) is not None
+
+
+def _format_em(column: str) -> float:
+    """The width [em] siunitx reserves for an ``S`` column's ``table-format`` (0 for others)."""
+    match = _FORMAT.fullmatch(column)
+    if match is None:
+        return 0.0
+    sign, integer, decimals, exponent_sign, exponent = match.groups()
+    width = 0.7778 * bool(sign) + 0.5 * int(integer)
+    width += 0.2778 + 0.5 * int(decimals) if int(decimals) else 0.0
+    if exponent:  # "\times 10^{-ee}" between medium spaces
+        width += 0.4444 + 0.7778 + 1.0 + 0.7 * (0.7778 * bool(exponent_sign) + 0.5 * int(exponent))
+    return width
+
+
+_MULTICOLUMN = re.compile(r"\\multicolumn\{(\d+)\}\{(?:[^{}]|\{\})*\}\{(.*)\}")
+_STACK = re.compile(r"\{?\\begin\{tabular\}\[b\]\{@\{\}[lcr]@\{\}\}(.*)\\end\{tabular\}\}?")
+
+
+def _cell_em(cell: str) -> float:
+    if _bare(cell) and "e" in cell:  # a number siunitx typesets: "\times" between spaces
+        return text_width(latex_number(cell.strip())) + 0.4444
+    if _bare(cell):
+        return text_width(latex_number(cell.strip()))
+    stack = _STACK.fullmatch(cell)
+    if stack is not None:
+        return max(text_width(line) for line in stack.group(1).split(r"\\{}"))
+    if cell.startswith("{") and cell.endswith("}"):
+        cell = cell[1:-1]
+    return text_width(cell)
+
+
+# ---- siunitx -----------------------------------------------------------------------------
+
+
+def _table_format(cells: Sequence[str]) -> str:
+    """The ``table-format`` of siunitx for a column's bare numbers: ``-3.2e-1`` (sign, digits)."""
+    sign = integer = decimals = exponent = 0
+    negative_exponent = False
+    for cell in cells:
+        match = _NUMBER.fullmatch(cell)
+        if match is None:
+            continue
+        minus, mantissa, fraction, power = match.groups()
+        sign = max(sign, len(minus))
+        integer = max(integer, len(mantissa.partition(".")[0]))
+        decimals = max(decimals, len(fraction or ""))
+        if power is not None:
+            negative_exponent |= power.startswith("-")
+            exponent = max(exponent, len(str(abs(int(power)))))
+    text = f"{'-' if sign else ''}{max(integer, 1)}.{decimals}"
+    if exponent:
+        text += f"e{'-' if negative_exponent else ''}{exponent}"
+    return text
+
+
+# ---- tables ------------------------------------------------------------------------------
+
+
+def _caption_tex(caption: LabelText, title: str) -> str:
+    latex = caption.latex if caption.latex is not None else escape_latex(caption.plain, "caption")
+    if title:
+        latex += " (" + escape_latex(title, "posture") + ")"
+    return latex
+
+
+def _table(
+    table: PrintTable,
+    digits: int,
+    caption: LabelText | None,
+    label: str | None,
+    siunitx: bool,
+    size: str | None = None,
+) -> list[str]:
     grouped = table.grouped and len(table.stub) > 1
     postures = len({labels[0].plain for labels, _ in table.rows}) if grouped else 0
-    lines = [r"\begin{table}", r"\centering", *_preamble(len(table.rows) + postures)]
+    lines = [
+        r"\begin{table}",
+        r"\centering",
+        size or _size(len(table.rows) + postures),
+        rf"\setlength{{\tabcolsep}}{{{TABCOLSEP:g}pt}}",
+    ]
     if caption is not None:
-        lines.append(rf"\caption{{{escape_latex(caption, 'caption')}}}")
+        lines.append(rf"\caption{{{_caption_tex(caption, table.title)}}}")
     if label is not None:
         lines.append(rf"\label{{{check_latex_label(label)}}}")
     stub = table.stub[1:] if grouped else table.stub
     s, c = len(stub), len(table.columns)
-    lines += [rf"\begin{{tabular}}{{{'l' * s}{'r' * c}}}", r"\toprule"]
+    body = [[latex_cell(cell, digits, siunitx) for cell in cells] for _, cells in table.rows]
+    if siunitx and table.mixed:  # formatted, not aligned: rows of unlike quantities
+        number_spec = f"S[{UNALIGNED}]" * c
+    elif siunitx:
+        formats = [_table_format([row[j] for row in body]) for j in range(c)]
+        number_spec = "".join(f"S[table-format={f}]" for f in formats)
+    else:
+        number_spec = "r" * c
+    lines += [rf"\begin{{tabular}}{{{'l' * s}{number_spec}}}", r"\toprule"]
+
+    def head(text: str) -> str:  # siunitx must not parse a header
+        return "{" + text + "}" if siunitx else text
+
     if table.groups:
         spans, rules, start = [], [], s + 1
         for group, span in table.groups:
@@ -105,10 +413,10 @@ def _table(table: PrintTable, digits: int, caption: str | None, label: str | Non
             start += span
         lines.append(_row([""] * s + spans))
         lines.append(" ".join(rules))
-    header = [_stacked(h, "l") for h in stub] + [_stacked(h, "r") for h in table.columns]
+    header = [_stacked(h, "l") for h in stub] + [head(_stacked(h, "r")) for h in table.columns]
     lines += [_row(header), r"\midrule"]
     previous: tuple[str, ...] = ()
-    for labels, cells in table.rows:
+    for (labels, _), cells in zip(table.rows, body, strict=True):
         plain = tuple(label.plain for label in labels)
         if grouped and plain[:1] != previous[:1]:
             if previous:
@@ -125,7 +433,7 @@ def _table(table: PrintTable, digits: int, caption: str | None, label: str | Non
             for k, label in enumerate(own)
         ]
         previous = plain
-        lines.append(_row(shown + [latex_cell(cell, digits) for cell in cells]))
+        lines.append(_row(shown + cells))
     lines += [r"\bottomrule", r"\end{tabular}", r"\end{table}"]
     return lines
 
@@ -133,11 +441,24 @@ def _table(table: PrintTable, digits: int, caption: str | None, label: str | Non
 _KEY = re.compile(r"[^A-Za-z0-9:._/+-]")
 
 
+def _check_caption(caption: object) -> LabelText | None:
+    if caption is None:
+        return None
+    if isinstance(caption, tuple):
+        plain, latex = caption
+        latex = None if latex is None else check_markup("caption", latex)
+        return LabelText(check_text("caption", plain), latex)
+    return LabelText(check_text("caption", caption))
+
+
 def latex_tables(
     tables: Sequence[PrintTable],
     digits: int,
-    caption: str | None = None,
+    caption: str | tuple[str, str | None] | None = None,
     label: str | None = None,
+    *,
+    siunitx: bool = False,
+    text_width: float | None = None,
 ) -> str:
     r"""The tables as LaTeX ``table`` floats, one after the other.
 
@@ -146,11 +467,18 @@ def latex_tables(
     tables : sequence of PrintTable
     digits : int
         Significant digits.
-    caption : str, optional
-        Plain text (escaped); a table of one posture adds ``(<posture>)``.
+    caption : str or (str, str), optional
+        Plain text (escaped), or ``(plain, latex)`` with the LaTeX written as is; a table
+        of one posture adds ``(<posture>)``.
     label : str, optional
         A ``\label`` key; a table of one posture among several adds ``-<posture>``
         (characters a key cannot hold become ``-``).
+    siunitx : bool, optional
+        ``S`` columns (bare numbers, braced headers and text), or ``r`` columns.
+    text_width : float, optional
+        The page's text width [pt]: a table estimated wider in ``\small`` is set in
+        ``\footnotesize``, and one wider still is written with a ``UserWarning`` naming
+        both widths.  None: no check (the size follows the number of rows alone).
 
     A combined table of several postures longer than :data:`PAGE_LINES` body lines
     (three postures of five directions in the directional-limits table) is written as
@@ -159,15 +487,52 @@ def latex_tables(
     """
     if label is not None:
         check_latex_label(label)
-    if caption is not None:
-        caption = check_text("caption", caption)
+    checked = _check_caption(caption)
     tables = [part for table in tables for part in _page_parts(table)]
     parts = []
     for table in tables:
-        title = f" ({table.title})" if table.title else ""
-        own_caption = None if caption is None else caption + title
         own_label = label
         if label is not None and len(tables) > 1:
             own_label = f"{label}-{_KEY.sub('-', table.title)}"[:200]
-        parts.append("\n".join(_table(table, digits, own_caption, own_label)) + "\n")
+        lines = _table(table, digits, checked, own_label, siunitx)
+        if text_width is not None:
+            if r"\small" in lines[:3] and table_width(lines) > text_width:  # a size smaller
+                lines = _table(table, digits, checked, own_label, siunitx, r"\footnotesize")
+            _check_width(lines, text_width, own_label, checked, table.title)
+        parts.append("\n".join(lines) + "\n")
     return "\n".join(parts)
+
+
+def _check_width(
+    lines: list[str], width: float, label: str | None, caption: LabelText | None, title: str
+) -> None:
+    """Warn where a table is estimated wider than the text width (it would overflow)."""
+    found = table_width(lines)
+    if found <= width:
+        return
+    if label:
+        name = f"'{label}'"
+    elif caption is not None:
+        name = f"captioned {caption.plain[:40]!r}" + ("..." if len(caption.plain) > 40 else "")
+    else:
+        name = f"of {title!r}" if title else "without a label or caption"
+    warnings.warn(
+        f"The LaTeX table {name} is about {found:.0f} pt wide, {found - width:.0f} pt wider "
+        f"than the text width {width:g} pt: it will overflow the page. Fix: leave out sets "
+        "or scores (TableLayout(sets=..., scores=...)), shorten labels (labels=...), keep the "
+        "default orientation (transpose=False), or set text_width to your page's (None: no "
+        "check).",
+        _WIDTH_WARNING,
+        stacklevel=_outside_polyell(),
+    )
+
+
+def _outside_polyell() -> int:
+    """The ``stacklevel`` of the first caller outside polyell (where a warning points)."""
+    package = os.path.dirname(os.path.dirname(os.path.abspath(__file__))) + os.sep
+    frame, level = sys._getframe(1), 1  # the warning's caller (level 1), then its callers
+    while frame.f_back is not None and os.path.abspath(frame.f_code.co_filename).startswith(
+        package
+    ):
+        frame, level = frame.f_back, level + 1
+    return level

@@ -7,15 +7,35 @@ the forces each of them can exert alone form the intersection :math:`P_1 \cap P_
 two sets of half-spaces together).  Both are :class:`~polyell.HPolytope` objects that
 :func:`~polyell.comparison.metrics.inscribed_scale` and the other metrics score like any
 set.
+
+The sum is computed at the speed of its vertex count, never from the hull of all pairwise
+sums of vertices.  Two zonotopes add to the zonotope of both sets of generators, whose
+facets and vertices are closed forms (:class:`~polyell.Polytope`).  Otherwise the sum's
+vertex graph is walked: a vertex of the sum is ``v1 + v2`` with ``v1`` and ``v2`` the
+vertices of each set maximising one direction, its tangent cone is the cone of both sets'
+edges at ``v1`` and ``v2`` (Fukuda, "From the zonotope construction to the Minkowski
+addition of convex polytopes", J. Symb. Comput. 38, 2004), the extreme rays among them are
+its edges (to ``w1 + v2`` or ``v1 + w2``, both for parallel edges) and the extreme rays of
+its normal cone ``{c : c . e <= 0}`` are its facet normals, each with the offset
+``h1(a) + h2(a)`` (support functions add).
 """
 
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import NDArray
 
 from polyell.errors import InputError
-from polyell.geometry.hpolytope import HPolytope
+from polyell.geometry.hpolytope import (
+    WALK_ON_PLANE,
+    HPolytope,
+    _Ambiguous,
+    _cone_rays,
+    _unique_directions,
+    vertex_edges,
+)
 from polyell.geometry.polytope import Polytope
+from polyell.geometry.subspace import RANK_RTOL
 
 __all__ = ["intersection", "minkowski_sum"]
 
@@ -58,7 +78,8 @@ def minkowski_sum(P1: Set, P2: Set) -> HPolytope:
     Returns
     -------
     HPolytope
-        Empty if either is empty.
+        Empty if either is empty.  Its vertices, facets, edges and volume come from the
+        sets' own (the module's description): no hull of the pairwise sums of vertices.
 
     Raises
     ------
@@ -77,18 +98,216 @@ def minkowski_sum(P1: Set, P2: Set) -> HPolytope:
             )
     if any(isinstance(P, HPolytope) and P.is_empty for P in (P1, P2)):
         return HPolytope(*_halfspaces(P1 if isinstance(P1, HPolytope) and P1.is_empty else P2))
-    sums = (P1.vertices[:, None, :] + P2.vertices[None, :, :]).reshape(-1, P1.ambient_dim)
-    centered = sums - sums.mean(axis=0)
-    rank = int(np.linalg.matrix_rank(centered, tol=1e-12 * max(1.0, np.abs(centered).max())))
-    if rank < P1.ambient_dim:
+    m = P1.ambient_dim
+    spans = np.hstack([P1.affine_set.basis, P2.affine_set.basis])  # (m, r1 + r2)
+    sigma = np.linalg.svd(spans, compute_uv=False)
+    rank = int(np.count_nonzero(sigma > RANK_RTOL * sigma[0])) if len(sigma) else 0
+    if rank < m:
         raise InputError(
             "P1",
-            f"sets whose sum spans the {P1.ambient_dim}-dimensional task space",
+            f"sets whose sum spans the {m}-dimensional task space",
             f"a sum of dimension {rank}",
             "add full-dimensional sets (nonsingular postures).",
         )
-    total = HPolytope.from_vertices(sums)
-    return HPolytope(total.A, total.b, center=P1.center + P2.center)
+    if isinstance(P1, Polytope) and isinstance(P2, Polytope):
+        # a zonotope: both sets of generators, about the sum of the centres
+        Z = Polytope(np.hstack([P1.generators, P2.generators]), P1.center + P2.center)
+        return HPolytope._with_vertices(Z.A, Z.b, Z.vertices, None, Z.center, Z.volume)
+    try:
+        points, edges, normals = _sum_graph(P1, P2)
+    except _Ambiguous:  # a tangent cone too close to call: the hull of all pairwise sums
+        sums = (P1.vertices[:, None, :] + P2.vertices[None, :, :]).reshape(-1, m)
+        total = HPolytope.from_vertices(sums)
+        return HPolytope(total.A, total.b, center=P1.center + P2.center)
+    offsets = (normals @ P1.vertices.T).max(axis=1) + (normals @ P2.vertices.T).max(axis=1)
+    volume = _sum_volume(P1.vertices, P2.vertices, normals, offsets, points)
+    center = P1.center + P2.center
+    return HPolytope._with_vertices(normals, offsets, points, edges, center, volume)
+
+
+def _sum_volume(
+    V1: NDArray[np.float64],
+    V2: NDArray[np.float64],
+    normals: NDArray[np.float64],
+    offsets: NDArray[np.float64],
+    points: NDArray[np.float64],
+) -> float | None:
+    """The volume of ``P1 + P2`` from its facets (F, m), each the sum of a face of each set.
+
+    ``sum_F h_F vol(F) / m`` about the vertices' mean.  A facet ``F1 + F2`` whose faces'
+    dimensions add up to m - 1 is affinely their product: ``vol(F1) vol(F2)`` times the
+    sine of the angle between their spans (``sqrt(det(B^T B))`` of their orthonormal bases
+    side by side), each face's volume by Qhull in its own span (few vertices, low
+    dimension); other facets by Qhull on the sum's vertices in the facet's plane.  None
+    where Qhull fails (the set's own volume then).
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
+    m = V1.shape[1]
+    scale = float(np.abs(V1).max() + np.abs(V2).max())
+    tol = 1e-9 * scale
+    faces: dict[tuple[int, bytes], tuple[float, NDArray[np.float64]]] = {}
+
+    def face(which: int, a: NDArray[np.float64]) -> tuple[float, NDArray[np.float64]]:
+        V = (V1, V2)[which]
+        values = V @ a
+        on = values >= values.max() - tol
+        key = (which, np.packbits(on).tobytes())
+        if key not in faces:
+            faces[key] = _span_volume(V[on], tol)
+        return faces[key]
+
+    centre = points.mean(axis=0)
+    heights = offsets - normals @ centre
+    total = 0.0
+    try:
+        for a, height in zip(normals, heights, strict=True):
+            (volume1, basis1), (volume2, basis2) = face(0, a), face(1, a)
+            if basis1.shape[1] + basis2.shape[1] == m - 1:
+                both = np.hstack([basis1, basis2])
+                sine = float(np.sqrt(max(0.0, np.linalg.det(both.T @ both))))
+                area = volume1 * volume2 * sine
+            else:  # not a product (parallel faces): the hull of its vertices in its plane
+                on = np.abs(points @ a - (points @ a).max()) <= tol
+                plane = np.linalg.svd(a[None, :], full_matrices=True)[2][1:].T
+                area = float(ConvexHull((points[on] - points[on].mean(axis=0)) @ plane).volume)
+            total += float(height) * area / m
+    except (QhullError, ValueError):
+        return None
+    return total
+
+
+def _span_volume(points: NDArray[np.float64], tol: float) -> tuple[float, NDArray[np.float64]]:
+    """The volume of the hull of points (n, m) in their affine span, and its orthonormal basis."""
+    from scipy.spatial import ConvexHull
+
+    local = points - points.mean(axis=0)
+    _, sigma, vt = np.linalg.svd(local, full_matrices=False)
+    k = int(np.count_nonzero(sigma > tol))
+    basis = vt[:k].T  # (m, k)
+    if k == 0:
+        return 1.0, basis
+    coordinates = local @ basis
+    if k == 1:
+        return float(coordinates.max() - coordinates.min()), basis
+    return float(ConvexHull(coordinates).volume), basis
+
+
+def _edges(P: Set) -> NDArray[np.int_]:
+    """The edges of a bounded set, pairs of indices into its vertices (E, 2)."""
+    if isinstance(P, HPolytope):
+        return P._vertex_edges()
+    return vertex_edges(P.vertices, P.A, P.b, P.affine_set.basis)
+
+
+def _neighbours(count: int, edges: NDArray[np.int_]) -> list[NDArray[np.int_]]:
+    """Each vertex's neighbours in the edge list (E, 2)."""
+    ends = np.concatenate([edges, edges[:, ::-1]])
+    ends = ends[np.argsort(ends[:, 0], kind="stable")]
+    return np.split(ends[:, 1], np.searchsorted(ends[:, 0], np.arange(1, count)))
+
+
+def _directions(V: NDArray[np.float64], i: int, near: NDArray[np.int_]) -> NDArray[np.float64]:
+    """Unit directions from vertex i to its neighbours, (len(near), m)."""
+    D = V[near] - V[i]
+    return D / np.sqrt((D * D).sum(axis=1))[:, None]
+
+
+def _start(V1: NDArray[np.float64], V2: NDArray[np.float64]) -> tuple[int, int]:
+    """The vertices of each set maximising one direction (a vertex of the sum)."""
+    rng = np.random.default_rng(20040)  # fixed: the same sum every time
+    scale = float(np.abs(V1).max() + np.abs(V2).max())
+    for _ in range(16):
+        c = rng.standard_normal(V1.shape[1])
+        tops = []
+        for V in (V1, V2):
+            values = V @ c
+            order = np.argsort(values)
+            if len(V) > 1 and values[order[-1]] - values[order[-2]] <= 1e-9 * scale:
+                break  # a tie: another direction
+            tops.append(int(order[-1]))
+        else:
+            return tops[0], tops[1]
+    raise _Ambiguous
+
+
+def _tangent(
+    V1: NDArray[np.float64],
+    V2: NDArray[np.float64],
+    near1: list[NDArray[np.int_]],
+    near2: list[NDArray[np.int_]],
+    i: int,
+    j: int,
+) -> tuple[NDArray[np.float64], list[tuple[int, int]]]:
+    """The edge directions of both sets at ``(v1, v2)`` (unit, (t, m)) and where each leads.
+
+    A direction of ``P1`` and a parallel one of ``P2`` are one direction along which both
+    move (to ``(w1, w2)``).
+    """
+    D1, D2 = _directions(V1, i, near1[i]), _directions(V2, j, near2[j])
+    moves = [(int(a), j) for a in near1[i]] + [(i, int(b)) for b in near2[j]]
+    if not (len(D1) and len(D2)):
+        return np.vstack([D1, D2]), moves
+    same = np.argwhere(D2 @ D1.T >= 1 - 1e-12)  # (index in D2, index in D1)
+    for b, a in same:
+        moves[a] = (int(near1[i][a]), int(near2[j][b]))
+    keep = np.ones(len(moves), dtype=bool)
+    keep[len(D1) + same[:, 0]] = False
+    return np.vstack([D1, D2])[keep], [move for move, k in zip(moves, keep, strict=True) if k]
+
+
+def _edges_by_rank(facets: NDArray[np.float64], D: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Which directions (t, m) are edges: the facets (p, m) through them have rank m - 1."""
+    m = D.shape[1]
+    through = np.abs(facets @ D.T) <= WALK_ON_PLANE  # (p, t)
+    sigma = np.linalg.svd(facets[None, :, :] * through.T[:, :, None], compute_uv=False)
+    return np.asarray(np.count_nonzero(sigma > WALK_ON_PLANE, axis=1) == m - 1)
+
+
+def _sum_graph(
+    P1: Set, P2: Set
+) -> tuple[NDArray[np.float64], NDArray[np.int_], NDArray[np.float64]]:
+    """The vertices (V, m), edges (E, 2) and unit facet normals (F, m) of ``P1 + P2``.
+
+    Breadth first over the sum's vertices ``(v1, v2)``: the edge directions ``D`` of both
+    sets there span the sum's tangent cone (:func:`_tangent`); its normal cone
+    ``{c : D c <= 0}`` has the sum's facet normals at the vertex as its extreme rays
+    (:func:`~polyell.geometry.hpolytope._cone_rays`, certified complete), and a direction
+    is an edge of the sum when the facets through it have rank m - 1 (in a simple normal
+    cone, each ray on m - 1 directions: when a facet passes through it).
+    """
+    V1, V2 = P1.vertices, P2.vertices
+    m = V1.shape[1]
+    near1, near2 = _neighbours(len(V1), _edges(P1)), _neighbours(len(V2), _edges(P2))
+    start = _start(V1, V2)
+    index = {start: 0}
+    pairs, normals = [start], []
+    edges: set[tuple[int, int]] = set()
+    frontier = [start]
+    while frontier:
+        following = []
+        for pair in frontier:
+            D, moves = _tangent(V1, V2, near1, near2, *pair)
+            facets = _cone_rays(D)  # (p, m): the sum's facet normals at the vertex
+            normals.append(facets)
+            through = np.abs(facets @ D.T) <= WALK_ON_PLANE  # (p, t)
+            if bool((through.sum(axis=1) == m - 1).all()):  # simple: rows through a ray
+                edge = through.any(axis=0)
+            else:
+                edge = _edges_by_rank(facets, D)
+            here = index[pair]
+            for move in (mv for mv, e in zip(moves, edge, strict=True) if e):
+                there = index.get(move)
+                if there is None:
+                    there = index[move] = len(pairs)
+                    pairs.append(move)
+                    following.append(move)
+                edges.add((min(here, there), max(here, there)))
+        frontier = following
+    chosen = np.array(pairs, dtype=int)
+    points = V1[chosen[:, 0]] + V2[chosen[:, 1]]
+    pairs_of_ends = np.array(sorted(edges), dtype=int).reshape(-1, 2)
+    return points, pairs_of_ends, _unique_directions(np.vstack(normals))
 
 
 def intersection(P1: Set, P2: Set) -> HPolytope:

@@ -4,19 +4,21 @@ from __future__ import annotations
 
 import warnings
 from abc import ABC, abstractmethod
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from functools import cached_property
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from polyell.errors import ProjectedInputWarning
+from polyell.errors import InputError, ProjectedInputWarning
 from polyell.geometry.limits import ATOL_RELATIVE, DirectionalLimits
 from polyell.geometry.subspace import AFFINE_RTOL, AffineSubspace
 from polyell.validation import check_directions, check_points
 
-__all__ = ["ATOL_RELATIVE", "ConvexSet"]
+__all__ = ["ATOL_RELATIVE", "BARE_ROWS", "ConvexSet"]
 
+#: The rows a named direction of a set built from arrays is read against (m <= 3).
+BARE_ROWS = ("x", "y", "z")
 #: A projected direction that moved by more than this is reported (rounding is not).
 PROJECTION_NOTICE = 1e-12
 
@@ -32,6 +34,42 @@ class ConvexSet(ABC):
     affine_set: AffineSubspace
     #: :data:`~polyell.AFFINE_RTOL` unless set: the tolerance of "on the affine set".
     affine_rtol: float = AFFINE_RTOL
+    _task: tuple[str, ...] | None = None
+
+    @property
+    def task(self) -> tuple[str, ...] | None:
+        """The names of the task rows (``("x", "z")``), or None (unset: a set built from arrays).
+
+        :meth:`limits` reads a named direction (``"z"``, ``"-x"``, ``"xy"``) against them;
+        a set without them reads names against ``x, y, z`` when ``m <= 3`` and refuses
+        them otherwise.  Set it to the analysis's rows (``S.task = analysis.task``): m
+        distinct names (:func:`~polyell.models.task.check_task`), or None.
+        """
+        return self._task
+
+    @task.setter
+    def task(self, rows: Sequence[str] | None) -> None:
+        from polyell.models.task import check_task  # (models import geometry)
+
+        self._task = None if rows is None else check_task(rows, self.ambient_dim)
+
+    def _direction_rows(self, directions: object) -> tuple[str, ...]:
+        """The row names a named direction is read against (:attr:`task`, or x, y, z)."""
+        if self._task is not None:
+            return self._task
+        m = self.ambient_dim
+        if m <= len(BARE_ROWS):
+            return BARE_ROWS[:m]
+        shown = repr(directions)
+        raise InputError(
+            "directions",
+            f"unit vectors of {m} entries: this {m}-dimensional set has no task row names "
+            "to read a named direction against (a set built from arrays knows x, y, z "
+            "only up to m = 3)",
+            shown if len(shown) <= 60 else f"{shown[:57]}...",
+            "give the unit vector, or set the set's row names first, e.g. "
+            "S.task = analysis.task (('x', 'y', 'z', 'wx', 'wy', 'wz') for a frame).",
+        )
 
     @abstractmethod
     def _size(self) -> float:
@@ -115,14 +153,25 @@ class ConvexSet(ABC):
 
         Parameters
         ----------
-        directions : array-like, shape (m,) or (k, m)
-            Unit directions ``t``.
+        directions : str, array-like of shape (m,) or (k, m), or list of both
+            Unit directions ``t``, or names of the task rows
+            (:func:`~polyell.comparison.directions.named_direction`): ``"z"``, ``"-x"``,
+            ``"xy"`` (the unit diagonal), ``["x", "wz"]``; read against :attr:`task`
+            (``x, y, z`` for a set built from arrays with ``m <= 3``).
 
         Returns
         -------
         DirectionalLimits
-            ``(lo, hi)`` with the leading shape of ``directions``; NaN where the line
+            ``(lo, hi)`` with the leading shape of ``directions`` (a name is one
+            direction, a list of k names or vectors has shape (k,)); NaN where the line
             misses the set.
+
+        Raises
+        ------
+        InputError
+            Naming ``directions``: a vector of the wrong size or not of unit length, a
+            name with a row the task does not have (the message lists the rows), or any
+            name for a set of more than 3 rows without :attr:`task`.
         """
         return self._limits(directions, self._interval_on_lines)
 
@@ -134,7 +183,14 @@ class ConvexSet(ABC):
         ],
     ) -> DirectionalLimits:
         """:meth:`limits`, with the interval on in-set lines computed by ``interval_on_lines``."""
-        directions = check_directions("directions", directions, self.ambient_dim)
+        # (directions come after geometry in the import order: read here, when called)
+        from polyell.comparison.directions import direction_vectors, has_names
+
+        if has_names(directions):
+            rows = self._direction_rows(directions)
+            directions = direction_vectors(directions, rows, "directions")
+        else:
+            directions = check_directions("directions", directions, self.ambient_dim)
         T = np.atleast_2d(directions)
         lo = np.full(T.shape[0], np.nan)
         hi = np.full(T.shape[0], np.nan)

@@ -253,8 +253,9 @@ class Ellipsoid(ConvexSet):
 
         Parameters
         ----------
-        directions : array-like, shape (m,) or (k, m)
-            Unit directions ``t``.
+        directions : str, array-like of shape (m,) or (k, m), or list of both
+            Unit directions ``t``, or names of the task rows (``"z"``, ``"-x"``, ``"xy"``)
+            read against :attr:`task`, as :meth:`ConvexSet.limits`.
 
         Returns
         -------

@@ -3,15 +3,19 @@ r"""A polyhedron given by half-spaces, :math:`\{x : A x \le b\}`: the force capa
 Unlike the zonotopes of accelerations and velocities it need not be bounded (a force
 polytope at a singular posture is unbounded along :math:`\operatorname{Ker} J^T`) nor
 non-empty (an arm that cannot hold itself against gravity), and it has no centre of
-symmetry.  Its vertices, rays and irredundant facets come from cddlib (pycddlib, the
-half-space to vertex direction), computed about an interior point so that the
-floating-point arithmetic works on numbers of the set's own size.
+symmetry.  Its vertices, rays and irredundant facets are computed about an interior point,
+in coordinates where the set is well scaled: by walking its edge graph from one vertex
+(every edge followed until no vertex is new: exact, at the speed of the vertex count), or
+for a few rows by cddlib (pycddlib) where its answer is certainly complete, and by cddlib's
+double description where the set has no interior point or a decision of the walk is too
+close to call.
 """
 
 from __future__ import annotations
 
 import math
-from functools import cached_property
+from functools import cached_property, lru_cache
+from typing import NamedTuple
 
 import cdd
 import numpy as np
@@ -154,6 +158,7 @@ class HPolytope(ConvexSet):
         self._facet_A, self._facet_b = empty, np.zeros(0)
         self._rows_y = np.zeros((0, m + 1))
         self._whitened = (empty, np.ones(m))
+        self._edges: NDArray[np.int_] | None = None  # vertex pairs, where the walk found them
         self.affine_set = AffineSubspace(self.center, *_whole_space(m))
         self._empty = self._infeasible_row
         if self._empty:
@@ -197,8 +202,26 @@ class HPolytope(ConvexSet):
             )
         array = np.empty((len(shifted), svd.rank + 1))  # cdd's rows [b | -a]
         array[:, 0], array[:, 1:] = shifted / unit, -V1
+        known = self.__dict__.pop("_known", None)  # vertices and edges a caller computed
+        if float(shifted.min()) > 0:  # the origin strictly inside (in the row space)
+            # Its vertices, rays and facets by walking the edge graph (exact; at the speed
+            # of the vertex count), or read from the caller's vertices where they fit.
+            walk = None if known is None else _known_walk(known, array, S, U1, unit, origin)
+            if walk is None and svd.rank == m and len(array) <= 52:
+                # a few rows: cddlib's vertices where they are certainly all (a simple
+                # polytope whose every vertex has its m neighbours among them), faster
+                bounded = _bounded_description(array.tolist(), array)
+                if bounded is not None and bounded[2]:
+                    self._bounded_from(bounded[0], bounded[1][:, 1:], S, U1, unit, origin)
+                    return
+            if walk is None:
+                walk = _walk_polyhedron(V1, array[:, 0])
+            if walk is not None:
+                self._from_walk(walk, array, S, U1, unit, origin, lines)
+                return
         listed = array.tolist()
-        # cddlib works in floating point: where the set is full-dimensional with the
+        # Where a decision of the walk is too close to call, or the set has no interior
+        # point: cddlib, in floating point.  Where the set is full-dimensional with the
         # origin strictly inside, its answer is checked (no vertex missed, not empty) and
         # replaced by an enumeration of every r rows where it fails (_complete).
         solid = svd.rank == m and float(shifted.min()) > 0
@@ -221,7 +244,7 @@ class HPolytope(ConvexSet):
             self._empty = True
             return
         rows, linear, points, paired_rows = description
-        is_vertex = points[:, 0] != 0
+        is_vertex = _is_point(points)
         self._whitened = (points[is_vertex, 1:] / points[is_vertex, :1], unit / S)
         self._vertices = origin + unit * (self._whitened[0] / S) @ U1.T
         if m == 2 and len(self._vertices) > 2:  # counter-clockwise, as a zonotope's
@@ -259,6 +282,71 @@ class HPolytope(ConvexSet):
         if self.ambient_dim == 2 and len(self._vertices) > 2:  # counter-clockwise
             self._vertices = order_polygon(self._vertices)
         self._facets_from_rows(rows, S, U1, unit, origin)
+
+    def _from_walk(
+        self,
+        walk: _Walk,
+        array: NDArray[np.float64],
+        S: NDArray[np.float64],
+        U1: NDArray[np.float64],
+        unit: float,
+        origin: NDArray[np.float64],
+        lines: NDArray[np.float64],
+    ) -> None:
+        """Vertices, rays, edges and facets from a walk of the whitened rows ``array``.
+
+        The rays are the walk's extreme rays and the lines (columns of ``lines``) both
+        ways; a facet is a row whose face has dimension r - 1 (:func:`_facet_rows`).
+        """
+        y, edges = walk.points, walk.edges
+        vertices = origin + unit * (y / S) @ U1.T
+        if self.ambient_dim == 2 and len(vertices) > 2:  # counter-clockwise, as a zonotope's
+            centre = vertices.mean(axis=0)
+            order = np.argsort(np.arctan2(*(vertices - centre).T[::-1]))
+            y, vertices = y[order], vertices[order]
+            edges = None if edges is None else np.argsort(order)[edges]
+        self._whitened, self._vertices, self._edges = (y, unit / S), vertices, edges
+        directions = (walk.rays / S) @ U1.T
+        directions /= np.sqrt((directions * directions).sum(axis=1))[:, None]
+        self._rays = np.vstack([directions, lines.T, -lines.T])
+        self._facets_from_rows(array[_facet_rows(walk)], S, U1, unit, origin)
+
+    @classmethod
+    def _with_vertices(
+        cls,
+        A: NDArray[np.float64],
+        b: NDArray[np.float64],
+        vertices: NDArray[np.float64],
+        edges: NDArray[np.int_] | None,
+        center: NDArray[np.float64],
+        volume: float | None = None,
+    ) -> HPolytope:
+        """``HPolytope(A, b, center=center)`` whose vertices (V, m) and edges are known.
+
+        For :func:`~polyell.geometry.combine.minkowski_sum`, which finds them exactly (edges:
+        None where unknown; ``volume`` where a closed form gives it, a zonotope's): they
+        are used where every vertex satisfies every row and lies on m rows or more (to
+        :data:`WALK_ON_PLANE`), and the set is then not enumerated again; the facets are
+        the rows whose faces have dimension m - 1.  Otherwise the usual walk.
+        """
+        polytope = cls.__new__(cls)
+        polytope.__dict__["_known"] = (vertices, edges)  # read once by _generators
+        polytope.__init__(A, b, center=center)  # type: ignore[misc]
+        if volume is not None:
+            polytope.__dict__["volume"] = float(volume)  # the cached property's value
+        return polytope
+
+    def _vertex_edges(self) -> NDArray[np.int_]:
+        """The edges of a bounded set, pairs of indices into :attr:`vertices` (E, 2).
+
+        The walk's, or where another path computed the vertices, the pairs whose common
+        facets have rank ``dim - 1`` (a face of dimension 1 holds exactly two vertices).
+        """
+        edges = getattr(self, "_edges", None)
+        if edges is None:
+            edges = vertex_edges(self.vertices, self.A, self.b, self.affine_set.basis)
+            self._edges = edges
+        return edges
 
     def _facets_from_rows(
         self,
@@ -349,19 +437,29 @@ class HPolytope(ConvexSet):
             return float((y.max() - y.min()) * stretch[0])
         from scipy.spatial import ConvexHull, QhullError
 
-        try:
-            return float(ConvexHull(y).volume * np.prod(stretch))
-        except QhullError:  # a dupridge in 6-D: sum cones over the faces instead
-            if r < len(stretch):
+        if r < len(stretch) or len(self._rows_y) == 0:
+            try:
+                return float(ConvexHull(y).volume * np.prod(stretch))
+            except QhullError:  # a dupridge in 6-D: sum cones over the faces instead
                 tight = self.facet_slacks(self.vertices) <= 1e-9 * max(1.0, self.extent)
                 return _face_volume(y, tight, r)
-            # in the whitened coordinates, with the facets there (a thin set is well
-            # shaped in them; in task coordinates its extent would swamp the tolerance)
+        # In the whitened coordinates, with the facets there (a thin set is well shaped in
+        # them; in task coordinates its extent would swamp the tolerance).  From 5-D on,
+        # and where Qhull's merging fails on many coplanar vertices (a "dupridge"), as a
+        # sum of cones over the facets, each facet's volume one dimension down.
+        cones = _facet_cone_volume(y, self._rows_y) if r > 4 else None
+        if cones is None:
+            try:
+                return float(ConvexHull(y).volume * np.prod(stretch))
+            except QhullError:
+                cones = _facet_cone_volume(y, self._rows_y)
+        if cones is None:  # rows and vertices that disagree: the faces' incidence as is
             normals, offsets = -self._rows_y[:, 1:], self._rows_y[:, 0]
             lengths = np.sqrt((normals * normals).sum(axis=1))
             slack = (offsets - y @ normals.T) / lengths
             tight = slack <= 1e-9 * max(1.0, float(np.abs(y).max()))  # (V, F)
-            return _face_volume(y, tight, r) * float(np.prod(stretch))
+            cones = _face_volume(y, tight, r)
+        return cones * float(np.prod(stretch))
 
     @cached_property
     def ball_radius(self) -> float:
@@ -403,6 +501,51 @@ class HPolytope(ConvexSet):
     def halfspaces(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The irredundant facets ``(A, b)`` (unit normals)."""
         return self.A, self.b
+
+    @classmethod
+    def from_enumeration(
+        cls,
+        A: NDArray[np.float64],
+        b: NDArray[np.float64],
+        vertices: NDArray[np.float64],
+        center: NDArray[np.float64],
+        whitened: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
+    ) -> HPolytope:
+        """A bounded, full-dimensional polytope whose facets and vertices are known: no cddlib.
+
+        For a caller that enumerated them exactly and certified them complete (the force
+        capacity's batch of one, :func:`polyell.capacities.force.force_vertices`); nothing
+        is checked here.
+
+        Parameters
+        ----------
+        A : ndarray, shape (F, m)
+            Unit outward normals of the irredundant facets.
+        b : ndarray, shape (F,)
+            Their offsets.
+        vertices : ndarray, shape (V, m)
+            The extreme points (counter-clockwise when m = 2).
+        center : ndarray, shape (m,)
+            A point strictly inside.
+        whitened : (ndarray (V, m), ndarray (m, m), ndarray (m,))
+            The vertices ``y`` in coordinates where the set is well scaled, the orthonormal
+            frame ``U`` and the stretch ``t`` of ``x = center + U diag(t) y``: the volume
+            is that of the hull of ``y`` times ``prod(t)``.
+        """
+        polytope = cls.__new__(cls)
+        m = A.shape[1]
+        y, frame, stretch = whitened
+        polytope._A_in, polytope._b_in = A, b
+        polytope._infeasible_row = polytope._empty = False
+        polytope._rank, polytope._volume_y, polytope._line_slope = m, None, 0.0
+        polytope.center = center
+        polytope._rays = polytope._lines = np.zeros((0, m))
+        polytope._vertices, polytope._facet_A, polytope._facet_b = vertices, A, b
+        polytope._whitened, polytope._edges = (y, stretch), None
+        # the facets in the whitened coordinates, [b_y | -a_y] (a volume's fallback)
+        polytope._rows_y = np.concatenate(((b - A @ center)[:, None], -(A @ frame) * stretch), 1)
+        polytope.affine_set = AffineSubspace(center, *_whole_space(m))
+        return polytope
 
     @classmethod
     def from_vertices(cls, vertices: ArrayLike) -> HPolytope:
@@ -661,6 +804,47 @@ def _description_of(
     return rows, [], np.hstack([np.ones((len(vertices), 1)), vertices]), []
 
 
+def _facet_cone_volume(points: NDArray[np.float64], rows: NDArray[np.float64]) -> float | None:
+    """Volume of a full-dimensional polytope from its vertices (V, r) and facet rows (F, r + 1).
+
+    ``sum_F h_F vol_(r-1)(F) / r``: cones from the vertices' mean ``c`` over the facets
+    (rows ``[b | -a]``, ``h_F`` the distance of ``c`` to the facet's plane), each facet's
+    volume by Qhull in its own plane (r - 1 coordinates, its vertices only), or where Qhull
+    fails there by :func:`_face_volume`; a row through fewer than r affinely independent
+    vertices is no facet and adds nothing.  Positive terms: no cancellation.  None where a
+    vertex is outside a row by more than the tolerance (rows from another computation).
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
+    r = points.shape[1]
+    normals, offsets = -rows[:, 1:], rows[:, 0]
+    lengths = np.sqrt((normals * normals).sum(axis=1))
+    normals, offsets = normals / lengths[:, None], offsets / lengths
+    centre = points.mean(axis=0)
+    heights = offsets - normals @ centre
+    slack = offsets[None, :] - points @ normals.T
+    tol = 1e-9 * max(1.0, float(np.abs(points).max()))
+    if float(slack.min()) < -tol:
+        return None
+    tight = slack <= tol  # (V, F)
+    total = 0.0
+    for i in range(len(offsets)):
+        face = points[tight[:, i]]
+        plane = np.linalg.svd(normals[i][None, :], full_matrices=True)[2][1:].T  # (r, r - 1)
+        local = (face - face.mean(axis=0)) @ plane
+        if len(face) < r or np.linalg.matrix_rank(local, tol=tol) < r - 1:
+            continue  # a lower face: no facet
+        if r == 2:
+            area = float(local.max() - local.min())
+        else:
+            try:
+                area = float(ConvexHull(local).volume)
+            except QhullError:
+                area = _face_volume(local, tight[tight[:, i]], r - 1)
+        total += float(heights[i]) * area / r
+    return total
+
+
 def _face_volume(points: NDArray[np.float64], tight: NDArray[np.bool_], k: int) -> float:
     """k-volume of the convex hull of ``points`` (V, k) from its facet incidence ``tight``.
 
@@ -797,7 +981,7 @@ def _checked(
     if description is None:
         return False, None
     _, linear, points, _ = description
-    if linear or np.any(points[:, 0] == 0):  # unbounded: rays (not checked here)
+    if linear or not _is_point(points).all():  # unbounded: rays (not checked here)
         return True, None
     volume = _hull_if_complete(points[:, 1:] / points[:, :1], normals, offsets)
     return volume is not None, volume
@@ -826,3 +1010,555 @@ def _complete(
             "it with fewer half-spaces or report it."
         )
     return rows, points[:, 1:], volume
+
+
+# --- vertex enumeration by walking the edges ---------------------------------------------
+#
+# A pointed polyhedron {y : N y <= o} with the origin strictly inside (o > 0) has a connected
+# graph of vertices and bounded edges, and each extreme ray is the direction of an unbounded
+# edge at some vertex.  From one vertex, every edge of every vertex reached is followed (a
+# ratio test along it) until no new vertex appears; then all of them are found, whatever a
+# floating-point double description would have rounded away.  The edges of a vertex are the
+# extreme rays of its tangent cone {d : N_T d <= 0} (T: the rows through it): the columns of
+# -N_T^-1 at a simple vertex (r rows), and at a degenerate one every r - 1 of its rows tried,
+# or cddlib's rays checked (each facet of their cone on the plane of a row through the
+# vertex), or the same walk one dimension down, on a slice of the cone.
+
+#: A row passes through a point y when its slack is at most this times (the largest offset
+#: + |y|): relative to the set's size, so that scaling A or b changes nothing but the scale.
+WALK_ON_PLANE = 1e-9
+#: A step (or a generator of cddlib) reaching farther than this times the set's scale (its
+#: farthest row from the interior point, plus the point's own size) is a direction: the
+#: rank rule for rays, as a line is a direction along which the rows' slopes are at most
+#: ``RANK_RTOL`` of the largest.
+FAR_RATIO = 1.0 / RANK_RTOL
+#: Subsets of r - 1 rows (or rays) that the exact enumeration (or the check) of one
+#: tangent cone may try; beyond, cddlib or the walk on a slice of the cone.
+MAX_CONE_SUBSETS = 20_000
+#: Up to this many subsets, every r - 1 rows are tried first (cheaper than cddlib then).
+FEW_CONE_SUBSETS = 64
+
+
+class _Walk(NamedTuple):
+    """The generators of a pointed polyhedron found by :func:`_walk_polyhedron`.
+
+    Attributes
+    ----------
+    points : ndarray, shape (V, r)
+        The vertices, each solved again on the rows through it.
+    rays : ndarray, shape (R, r)
+        The extreme rays, unit vectors.
+    tight : ndarray of bool, shape (V, k)
+        The rows through each vertex.
+    ray_tight : ndarray of bool, shape (R, k)
+        The rows whose planes hold each ray.
+    edges : ndarray of int, shape (E, 2), or None
+        The bounded edges, as pairs of vertex indices (None: not known).
+    """
+
+    points: NDArray[np.float64]
+    rays: NDArray[np.float64]
+    tight: NDArray[np.bool_]
+    ray_tight: NDArray[np.bool_]
+    edges: NDArray[np.int_] | None
+
+
+class _Ambiguous(Exception):
+    """A decision the walk's tolerances cannot make (the caller falls back to cddlib)."""
+
+
+def _walk_polyhedron(normals: NDArray[np.float64], offsets: NDArray[np.float64]) -> _Walk | None:
+    """Vertices, extreme rays and edges of ``{y : normals y <= offsets}`` by its edge graph.
+
+    Parameters
+    ----------
+    normals : ndarray, shape (k, r)
+        Rows of rank r (the set holds no line), none zero.
+    offsets : ndarray, shape (k,)
+        Positive offsets: the origin is strictly inside.
+
+    Returns
+    -------
+    _Walk or None
+        None where a decision is too close to call: a point on nearly dependent rows, a
+        step of length zero, a tangent cone that is not pointed to rounding.
+    """
+    try:
+        return _walk(normals, offsets)
+    except _Ambiguous:
+        return None
+
+
+def _unit_rows(
+    normals: NDArray[np.float64], offsets: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Rows scaled to unit normals (offsets: distances from the origin)."""
+    lengths = np.sqrt((normals * normals).sum(axis=1))
+    return normals / lengths[:, None], offsets / lengths
+
+
+def _on_plane(scale: float, points: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The slack under which a row passes through each point (V, r): (V,)."""
+    return WALK_ON_PLANE * (scale + np.abs(points).max(axis=1, initial=0.0))
+
+
+def _keys(tight: NDArray[np.bool_]) -> list[bytes]:
+    """Each point's rows as a dictionary key."""
+    return [row.tobytes() for row in np.packbits(tight, axis=1)]
+
+
+def _walk(normals: NDArray[np.float64], offsets: NDArray[np.float64]) -> _Walk:
+    n, o = _unit_rows(normals, offsets)
+    r = n.shape[1]
+    scale = float(o.max())
+    if r == 1:
+        return _walk_line(n[:, 0], o, scale)
+    first, first_tight = _polish(n, o, _some_vertex(n, o, scale)[None, :], scale)
+    points, tights = [first[0]], [first_tight[0]]
+    index = {_keys(first_tight)[0]: 0}
+    edges: set[tuple[int, int]] = set()
+    rays: list[NDArray[np.float64]] = []
+    frontier = np.zeros(1, dtype=int)
+    while len(frontier):  # breadth first, one frontier of vertices at a time
+        here = np.array([points[i] for i in frontier])
+        through = np.array([tights[i] for i in frontier])
+        owners, directions = _edges_at(n, here, through)
+        origin = here[owners]
+        rate = directions @ n.T
+        blocking = (rate > 0) & ~through[owners]  # the rows through a vertex stay behind
+        slack = o[None, :] - origin @ n.T
+        with np.errstate(divide="ignore", invalid="ignore"):
+            steps = np.where(blocking, slack / np.where(blocking, rate, 1.0), np.inf)
+        step = steps.min(axis=1)
+        bounded = step <= FAR_RATIO * (scale + np.abs(origin).max(axis=1))
+        rays.extend(directions[~bounded])
+        ends = origin[bounded] + step[bounded, None] * directions[bounded]
+        ids = np.array(
+            [index.get(key, -1) for key in _keys(_slack_tight(n, o, ends, scale))], dtype=int
+        )
+        before = len(points)
+        unknown = np.flatnonzero(ids < 0)
+        if len(unknown):  # solved again on their rows, known by those rows
+            found, found_tight = _polish(n, o, ends[unknown], scale)
+            for j, y, row, key in zip(unknown, found, found_tight, _keys(found_tight), strict=True):
+                if key not in index:
+                    index[key] = len(points)
+                    points.append(y)
+                    tights.append(row)
+                ids[j] = index[key]
+        for a, b in zip(frontier[owners[bounded]], ids, strict=True):
+            if a == b:
+                raise _Ambiguous  # a step of length zero: a row both through and off
+            edges.add((int(min(a, b)), int(max(a, b))))
+        frontier = np.arange(before, len(points))
+    R = _unique_directions(np.array(rays).reshape(-1, r))
+    return _Walk(
+        np.array(points),
+        R,
+        np.array(tights),
+        np.abs(R @ n.T) <= WALK_ON_PLANE,
+        np.array(sorted(edges), dtype=int).reshape(-1, 2),
+    )
+
+
+def _slack_tight(
+    n: NDArray[np.float64], o: NDArray[np.float64], points: NDArray[np.float64], scale: float
+) -> NDArray[np.bool_]:
+    """The rows through each point (V, r), by :data:`WALK_ON_PLANE`: (V, k)."""
+    return (o[None, :] - points @ n.T) <= _on_plane(scale, points)[:, None]
+
+
+def _walk_line(n: NDArray[np.float64], o: NDArray[np.float64], scale: float) -> _Walk:
+    """The one-dimensional case: an interval, a half-line (its ray) or nothing pointed."""
+    up, down = n > 0, n < 0
+    ends, rays = [], []
+    if up.any():
+        ends.append(float(np.min(o[up] / n[up])))
+    else:
+        rays.append(1.0)
+    if down.any():
+        ends.append(float(np.max(o[down] / n[down])))
+    else:
+        rays.append(-1.0)
+    if not ends:
+        raise _Ambiguous  # a line: not pointed
+    points = np.array(ends).reshape(-1, 1)
+    R = np.array(rays).reshape(-1, 1)
+    edges = np.array([[0, 1]]) if len(points) == 2 else np.zeros((0, 2), dtype=int)
+    tight = _slack_tight(n[:, None], o, points, scale)
+    return _Walk(points, R, tight, np.zeros((len(R), len(n)), dtype=bool), edges)
+
+
+def _some_vertex(
+    n: NDArray[np.float64], o: NDArray[np.float64], scale: float
+) -> NDArray[np.float64]:
+    """A vertex, reached from the origin by steps to the nearest rows within the rows hit."""
+    k, r = n.shape
+    y = np.zeros(r)
+    goal = np.cos(np.arange(1, r + 1) * 1.234567)  # a fixed direction in general position
+    tight = np.zeros(k, dtype=bool)
+    for _ in range(2 * r + 2):
+        through = n[tight]
+        if len(through):
+            _, sigma, vt = np.linalg.svd(through, full_matrices=True)
+            rank = int(np.count_nonzero(sigma > RANK_RTOL * sigma[0]))
+            if rank == r:
+                return y
+            free = vt[rank:].T
+        else:
+            free = np.eye(r)
+        d = free @ (free.T @ goal)
+        d = d if np.linalg.norm(d) > 1e-3 else free[:, 0]
+        d = d / np.linalg.norm(d)
+        for sign in (1.0, -1.0):
+            rate = sign * (n @ d)
+            blocking = (rate > 0) & ~tight
+            if blocking.any():
+                step = float(np.min((o - n @ y)[blocking] / rate[blocking]))
+                if step <= FAR_RATIO * (scale + float(np.abs(y).max())):
+                    break
+        else:
+            raise _Ambiguous  # a line through the point, to rounding
+        y = y + step * sign * d
+        tight = _slack_tight(n, o, y[None, :], scale)[0]
+    raise _Ambiguous
+
+
+def _polish(
+    n: NDArray[np.float64], o: NDArray[np.float64], points: NDArray[np.float64], scale: float
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Points (V, r) solved again on the rows through them; those rows after, (V, k)."""
+    r = n.shape[1]
+    tight = _slack_tight(n, o, points, scale)
+    count = tight.sum(axis=1)
+    if count.min(initial=r) < r:
+        raise _Ambiguous  # not a vertex
+    out = np.empty_like(points)
+    simple = count == r
+    if simple.any():
+        rows = np.nonzero(tight[simple])[1].reshape(-1, r)
+        out[simple] = np.linalg.solve(n[rows], o[rows][..., None])[..., 0]
+    for j in np.flatnonzero(~simple):
+        out[j] = np.linalg.lstsq(n[tight[j]], o[tight[j]], rcond=None)[0]
+    slack = o[None, :] - out @ n.T
+    on = _on_plane(scale, out)
+    if (slack.min(axis=1) < -on).any():
+        raise _Ambiguous  # outside a row once solved
+    return out, slack <= on[:, None]
+
+
+def _edges_at(
+    n: NDArray[np.float64], points: NDArray[np.float64], tight: NDArray[np.bool_]
+) -> tuple[NDArray[np.int_], NDArray[np.float64]]:
+    """The edge directions (unit) at vertices (V, r): owners (E,) and directions (E, r)."""
+    r = n.shape[1]
+    count = tight.sum(axis=1)
+    simple = np.flatnonzero(count == r)
+    owners, directions = [], []
+    if len(simple):
+        blocks = n[np.nonzero(tight[simple])[1].reshape(-1, r)]
+        sigma = np.linalg.svd(blocks, compute_uv=False)
+        if (sigma[:, -1] <= RANK_RTOL * sigma[:, 0]).any():
+            raise _Ambiguous  # a vertex on nearly dependent rows
+        D = -np.swapaxes(np.linalg.inv(blocks), 1, 2).reshape(-1, r)  # -N_T^-1, by columns
+        owners.append(np.repeat(simple, r))
+        directions.append(D / np.sqrt((D * D).sum(axis=1))[:, None])
+    for v in np.flatnonzero(count > r):
+        D = _cone_rays(n[tight[v]], -points[v])
+        owners.append(np.full(len(D), v))
+        directions.append(D)
+    return np.concatenate(owners), np.vstack(directions)
+
+
+def _cone_rays(
+    normals: NDArray[np.float64], inside: NDArray[np.float64] | None = None
+) -> NDArray[np.float64]:
+    """The extreme rays (unit) of the pointed cone ``{d : normals d <= 0}``.
+
+    Parameters
+    ----------
+    normals : ndarray, shape (t, r)
+        Unit rows of rank r.
+    inside : ndarray, shape (r,), optional
+        A direction strictly inside (``normals @ inside < 0``), for the slice fallback;
+        by default one from a linear program where needed.
+
+    Returns
+    -------
+    ndarray, shape (p, r)
+        Every r - 1 rows tried where they are few (exact: a ray is on r - 1 independent
+        rows and inside); else cddlib's rays where they are certainly all of them
+        (:func:`_simple_and_closed`, or every facet of their cone on a row's plane,
+        :func:`_cone_is`); else every r - 1 rows up to :data:`MAX_CONE_SUBSETS`; else the
+        vertices of the slice ``{d : c . d = -1}`` by :func:`_walk`.
+    """
+    t, r = normals.shape
+    subsets = math.comb(t, r - 1)
+    if subsets <= FEW_CONE_SUBSETS:
+        return _cone_rays_by_subsets(normals)
+    try:
+        matrix = cdd.matrix_from_array(
+            np.hstack([np.zeros((t, 1)), -normals]).tolist(), rep_type=cdd.RepType.INEQUALITY
+        )
+        found = np.array(cdd.copy_generators(cdd.polyhedron_from_matrix(matrix)).array, float)
+    except RuntimeError:
+        found = np.zeros((0, r + 1))
+    found = found.reshape(-1, r + 1)
+    found = found[~_is_point(found)]
+    D = found[:, 1:] / np.sqrt((found[:, 1:] ** 2).sum(axis=1))[:, None]
+    if len(D) >= r and float((D @ normals.T).max()) <= WALK_ON_PLANE:
+        if _simple_and_closed(D, normals) or _cone_is(D, normals):
+            return D
+    if subsets <= MAX_CONE_SUBSETS:
+        return _cone_rays_by_subsets(normals)
+    return _cone_rays_by_slice(normals, inside)
+
+
+def _simple_and_closed(rays: NDArray[np.float64], normals: NDArray[np.float64]) -> bool:
+    """Whether extreme rays found (p, r) of ``{d : normals d <= 0}`` are certainly all.
+
+    When each is on exactly r - 1 rows, independent, the slice of the cone is a simple
+    polytope of dimension r - 1 at every ray found, whose edges join rays sharing r - 2
+    rows; they are all when each has its r - 1 neighbours among them (:func:`_closed`).
+    """
+    r = normals.shape[1]
+    through = np.abs(rays @ normals.T) <= WALK_ON_PLANE  # (p, t)
+    if not bool((through.sum(axis=1) == r - 1).all()):
+        return False
+    blocks = normals[np.nonzero(through)[1].reshape(-1, r - 1)]  # (p, r - 1, r)
+    sigma = np.linalg.svd(blocks, compute_uv=False)
+    if bool((sigma[:, -1] <= WALK_ON_PLANE * sigma[:, 0]).any()):
+        return False
+    return r == 2 or _closed(through.T.astype(float), r - 1)
+
+
+def _cofactor_normals(blocks: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The normal of each block of r - 1 vectors (..., r - 1, r): its cofactors, (..., r)."""
+    r = blocks.shape[-1]
+    out = np.empty((*blocks.shape[:-2], r))
+    for j in range(r):
+        out[..., j] = (-1.0) ** j * np.linalg.det(blocks[..., _OTHER_COLUMNS[r][j]])
+    return out
+
+
+#: The columns but j, for each j, per dimension (the minors of the cofactors).
+_OTHER_COLUMNS = {r: [[i for i in range(r) if i != j] for j in range(r)] for r in range(1, 16)}
+
+
+def _supporting(
+    vectors: NDArray[np.float64], others: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.int_]]:
+    """Unit normals ``a`` of every r - 1 of ``vectors`` (t, r) with ``others @ a <= 0``.
+
+    Each is orthogonal to r - 1 independent vectors (cofactor length above
+    :data:`WALK_ON_PLANE`: unit vectors at angles above it) and has every one of
+    ``others`` on its side (to :data:`WALK_ON_PLANE`), its sign chosen so.  Returns the
+    normals (p, r) and the subsets' indices (p, r - 1).
+    """
+    t, r = vectors.shape
+    subsets = _subsets(t, r - 1)
+    normals = _cofactor_normals(vectors[subsets])
+    size = np.sqrt((normals * normals).sum(axis=1))
+    independent = size > WALK_ON_PLANE
+    normals, subsets = normals[independent] / size[independent, None], subsets[independent]
+    dots = normals @ others.T
+    below = (dots <= WALK_ON_PLANE).all(axis=1)
+    above = (dots >= -WALK_ON_PLANE).all(axis=1)
+    keep = below | above
+    normals = normals[keep] * np.where(below[keep], 1.0, -1.0)[:, None]
+    return normals, subsets[keep]
+
+
+@lru_cache(maxsize=256)
+def _subsets(t: int, q: int) -> NDArray[np.int_]:
+    """Every q of t indices, (C(t, q), q), read-only (cached)."""
+    from itertools import combinations
+
+    table = np.array(list(combinations(range(t), q)), dtype=int).reshape(-1, q)
+    table.flags.writeable = False
+    return table
+
+
+def _cone_rays_by_subsets(normals: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Extreme rays of ``{d : normals d <= 0}``: null directions of r - 1 rows, inside."""
+    rays, _ = _supporting(normals, normals)
+    rays = _unique_directions(rays)  # normals d <= 0: the rays themselves
+    if len(rays) < normals.shape[1]:
+        raise _Ambiguous  # not a pointed full-dimensional cone, to rounding
+    return rays
+
+
+def _cone_is(rays: NDArray[np.float64], normals: NDArray[np.float64]) -> bool:
+    """Whether ``cone(rays)`` is all of ``{d : normals d <= 0}`` (the rays found inside it).
+
+    It is inside; it is all of it when each of its facets lies on the plane of a row, the
+    cone being on the inner side of every row.  Its facets: the planes through r - 1
+    independent rays with every ray on one side (tried when there are few enough).
+    """
+    p, r = rays.shape
+    if float((rays @ normals.T).max()) > WALK_ON_PLANE or math.comb(p, r - 1) > MAX_CONE_SUBSETS:
+        return False
+    facets, _ = _supporting(rays, rays)
+    return bool(len(facets)) and bool(((facets @ normals.T).max(axis=1) >= 1 - WALK_ON_PLANE).all())
+
+
+def _cone_rays_by_slice(
+    normals: NDArray[np.float64], inside: NDArray[np.float64] | None
+) -> NDArray[np.float64]:
+    """Extreme rays of ``{d : normals d <= 0}`` as the vertices of a slice, by :func:`_walk`.
+
+    The slice ``{d : c . d = -1}`` with ``c`` the sum of the rows (inside the polar cone:
+    ``c . d < 0`` on the cone but at 0) is a polytope of dimension r - 1 with the point
+    along ``inside`` strictly inside (by default ``normals d <= -1`` solved by HiGHS).
+    """
+    r = normals.shape[1]
+    if inside is None:
+        from scipy.optimize import linprog
+
+        found = linprog(
+            np.zeros(r), normals, -np.ones(len(normals)), bounds=[(None, None)] * r, method="highs"
+        )
+        if found.status != 0:
+            raise _Ambiguous  # no interior: the cone is not full-dimensional
+        inside = np.asarray(found.x, dtype=float)
+    c = normals.sum(axis=0)
+    c = c / np.linalg.norm(c)
+    centre = inside / -float(c @ inside)
+    if not float(c @ inside) < 0:
+        raise _Ambiguous
+    basis = np.linalg.svd(c[None, :], full_matrices=True)[2][1:].T  # (r, r - 1)
+    rows, offsets = normals @ basis, -(normals @ centre)
+    if not float(offsets.min()) > 0:
+        raise _Ambiguous
+    keep = np.sqrt((rows * rows).sum(axis=1)) > RANK_RTOL  # rows along c hold no edge
+    slice_ = _walk(rows[keep], offsets[keep])
+    if len(slice_.rays):
+        raise _Ambiguous
+    D = centre[None, :] + slice_.points @ basis.T
+    return D / np.sqrt((D * D).sum(axis=1))[:, None]
+
+
+def _unique_directions(D: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Unit directions (p, r), each once (within :data:`WALK_ON_PLANE`), in their order."""
+    if len(D) < 2:
+        return D
+    from scipy.spatial import cKDTree
+
+    D = D[np.sort(np.unique(np.round(D, 7), axis=0, return_index=True)[1])]  # most copies
+    pairs = cKDTree(D).query_pairs(WALK_ON_PLANE, p=np.inf, output_type="ndarray")
+    later = np.zeros(len(D), dtype=bool)
+    later[pairs.max(axis=1)] = True  # within the tolerance of an earlier one
+    return D[~later]
+
+
+def _facet_rows(walk: _Walk) -> NDArray[np.bool_]:
+    """The rows that are facets: their faces of dimension r - 1, each plane once (the last).
+
+    The face of a row is spanned by the vertices and rays on it (a face of a pointed
+    polyhedron holds a vertex); rows on the same vertices and rays are one plane.
+    """
+    k, r = walk.tight.shape[1], walk.points.shape[1]
+    facet = np.zeros(k, dtype=bool)
+    last: dict[bytes, int] = {}
+    scale = max(1.0, float(np.abs(walk.points).max(initial=0.0)))
+    for i in range(k):
+        on, on_rays = walk.tight[:, i], walk.ray_tight[:, i]
+        count = int(on.sum())
+        if not count or count - 1 + int(on_rays.sum()) < r - 1:
+            continue
+        face = walk.points[on]
+        span = np.vstack([face[1:] - face[0], walk.rays[on_rays]])
+        sigma = np.linalg.svd(span, compute_uv=False)
+        if int(np.count_nonzero(sigma > 1e-9 * max([scale, *sigma[:1]]))) != r - 1:
+            continue
+        key = np.packbits(np.concatenate([on, on_rays])).tobytes()
+        if key in last:
+            facet[last[key]] = False
+        last[key] = i
+        facet[i] = True
+    return facet
+
+
+def _is_point(generators: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Which of cddlib's generators ``[t | y]`` (G, r + 1) are points (the rest: directions).
+
+    A relative rule: a point farther than :data:`FAR_RATIO` whitened units (the interior
+    point's farthest row at distance 1) is a direction, ``|t| <= |y| / FAR_RATIO``; a ray
+    that cddlib's rounding left at ``t = 1e-15`` is no vertex at 1e16.
+    """
+    return np.abs(generators[:, 0]) * FAR_RATIO > np.abs(generators[:, 1:]).max(axis=1)
+
+
+def _known_walk(
+    known: tuple[NDArray[np.float64], NDArray[np.int_] | None],
+    array: NDArray[np.float64],
+    S: NDArray[np.float64],
+    U1: NDArray[np.float64],
+    unit: float,
+    origin: NDArray[np.float64],
+) -> _Walk | None:
+    """A caller's vertices (V, m) and edges as a walk of the whitened rows ``array``.
+
+    None unless the rows have full rank m, every vertex satisfies every row and lies on m
+    rows or more (to :data:`WALK_ON_PLANE`).
+    """
+    vertices, edges = known
+    r = array.shape[1] - 1
+    if r != vertices.shape[1] or not len(vertices):
+        return None
+    y = S * ((vertices - origin) @ U1) / unit
+    n, o = _unit_rows(-array[:, 1:], array[:, 0])
+    slack = o[None, :] - y @ n.T
+    on = _on_plane(float(o.max()), y)
+    if bool((slack.min(axis=1) < -on).any()):
+        return None
+    tight = slack <= on[:, None]
+    if int(tight.sum(axis=1).min()) < r:
+        return None
+    return _Walk(y, np.zeros((0, r)), tight, np.zeros((0, len(o)), dtype=bool), edges)
+
+
+def vertex_edges(
+    vertices: NDArray[np.float64],
+    A: NDArray[np.float64],
+    b: NDArray[np.float64],
+    basis: NDArray[np.float64],
+) -> NDArray[np.int_]:
+    """The edges of a polytope from its vertices (V, m) and facets ``A x <= b`` (F, m).
+
+    Two vertices are the ends of an edge when the facets through both have rank q - 1 in
+    the polytope's affine hull (``basis``, (m, q)): their common face has dimension 1 and
+    holds no other vertex.  A facet passes through a vertex when its slack is at most
+    1e-9 of the polytope's size about the vertices' mean.
+
+    Returns
+    -------
+    ndarray of int, shape (E, 2)
+        Pairs of vertex indices, the smaller first.
+    """
+    from scipy.sparse import csr_matrix
+
+    V, q = len(vertices), basis.shape[1]
+    if q == 0 or V < 2:
+        return np.zeros((0, 2), dtype=int)
+    if q == 1:
+        return np.array([[0, 1]]) if V == 2 else np.zeros((0, 2), dtype=int)
+    centre = vertices.mean(axis=0)
+    widths = b - A @ centre
+    reach = float(np.abs(vertices - centre).max()) + float(np.abs(widths).max(initial=0.0))
+    tight = widths[None, :] - (vertices - centre) @ A.T <= 1e-9 * reach
+    incidence = csr_matrix(tight.astype(np.int32))
+    shared = (incidence @ incidence.T).tocoo()
+    pick = (shared.row < shared.col) & (shared.data >= q - 1)
+    rows, cols, common = shared.row[pick], shared.col[pick], shared.data[pick]
+    count = tight.sum(axis=1)
+    normals = A @ basis  # (F, q): the facets within the affine hull
+    edges = []
+    for i, j, c in zip(rows, cols, common, strict=True):
+        if c == q - 1 and count[i] == q and count[j] == q:  # simple ends: rank q - 1
+            edges.append((i, j))
+            continue
+        sigma = np.linalg.svd(normals[tight[i] & tight[j]], compute_uv=False)
+        if int(np.count_nonzero(sigma > 1e-9 * sigma[0])) == q - 1:
+            edges.append((i, j))
+    return np.array(edges, dtype=int).reshape(-1, 2)

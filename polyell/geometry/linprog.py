@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from polyell.errors import SolverError
+from polyell.errors import MissingDependencyError, SolverError, install_hint
 
 __all__ = ["CLARABEL_SETTINGS", "polytope_limits_lp"]
 
@@ -57,7 +57,12 @@ def polytope_limits_lp(
         If Clarabel returns anything but a certified optimum or infeasibility (an
         "inaccurate" status is not accepted as an answer).
     """
-    import cvxpy as cp  # here: cvxpy takes most of a second to import
+    try:
+        import cvxpy as cp  # here: cvxpy takes most of a second to import
+    except ImportError as exn:
+        raise MissingDependencyError(
+            'method="lp" needs cvxpy and Clarabel. Fix: ' + install_hint("lp") + "."
+        ) from exn
 
     m, n = M.shape
     t = cp.Parameter(m)

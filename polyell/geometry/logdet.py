@@ -30,7 +30,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from polyell.errors import SolverError
+from polyell.errors import MissingDependencyError, SolverError, install_hint
 
 __all__ = ["CentredEllipsoid", "centred_mvee", "centred_mvee_batch", "centred_mvee_by_cvxpy"]
 
@@ -114,7 +114,12 @@ def centred_mvee_by_cvxpy(points: Array, what: str) -> Array:
     SolverError
         If Clarabel fails or stops short of an optimum.
     """
-    import cvxpy as cp
+    try:
+        import cvxpy as cp  # here: cvxpy takes most of a second to import
+    except ImportError as exn:
+        raise MissingDependencyError(
+            'method="cvxpy" needs cvxpy and Clarabel. Fix: ' + install_hint("lp") + "."
+        ) from exn
 
     r = points.shape[1]
     S = cp.Variable((r, r), PSD=True)

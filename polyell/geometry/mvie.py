@@ -78,10 +78,10 @@ def max_volume_inscribed_ellipsoid(
         from polyell.geometry.free_center import free_center_mvie
 
         E = free_center_mvie(P)
-        E.affine_rtol = P.affine_rtol
+        E.affine_rtol, E.task = P.affine_rtol, P.task
         return E
     E = _mvie(P, method)
-    E.affine_rtol = P.affine_rtol
+    E.affine_rtol, E.task = P.affine_rtol, P.task
     return E
 
 

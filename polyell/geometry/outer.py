@@ -61,7 +61,7 @@ def min_volume_enclosing_ellipsoid(
         from polyell.geometry.free_center import free_center_mvee
 
         E = free_center_mvee(P)
-        E.affine_rtol = P.affine_rtol
+        E.affine_rtol, E.task = P.affine_rtol, P.task
         return E
     svd, r = P.svd, P.dim
     if r == 0:
@@ -74,7 +74,7 @@ def min_volume_enclosing_ellipsoid(
     else:
         X = log_det_shape(whitened_vertices(P), method, "the minimum-volume enclosing ellipsoid")
         E = ellipsoid_from_shape(P, X, -0.5, "outer")
-    E.affine_rtol = P.affine_rtol
+    E.affine_rtol, E.task = P.affine_rtol, P.task
     return E
 
 

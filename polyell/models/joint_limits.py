@@ -52,7 +52,8 @@ class JointLimits:
     tau_max, tau_min : ndarray, shape (n,), or None
         Rated torque limits [N m] (None: the robot has none of its own).
     qd_max, qd_min : ndarray, shape (n,), or None
-        Joint velocity limits [rad/s or m/s], ``qd_min <= 0 < qd_max`` (None: unknown).
+        Joint velocity limits [rad/s or m/s], a box ``qd_min < qd_max`` (usually
+        ``qd_min <= 0 < qd_max``; None: unknown).
     torque_speed : TorqueSpeed or None
         The joints' torque-speed curves (None: the torque limits do not depend on the
         velocity).

@@ -94,7 +94,8 @@ class PlanarArm(JointLimits):
         The joint torque limits [N m] the robot carries with it (used by studies and
         the command line when no limits are given); ``tau_min`` defaults to ``-tau_max``.
     qd_max, qd_min : array-like, shape (n,), optional
-        Joint velocity limits [rad/s], ``qd_min <= 0 < qd_max``; ``qd_min`` defaults to
+        Joint velocity limits [rad/s], a box ``qd_min < qd_max`` (usually
+        ``qd_min <= 0 < qd_max``); ``qd_min`` defaults to
         ``-qd_max`` (:meth:`velocity_limits`).
     torque_speed : TorqueSpeed, optional
         The joints' torque-speed curves: :meth:`torque_limits` gives the torque limits

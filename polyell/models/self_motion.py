@@ -163,7 +163,7 @@ class _Task:
         """The task's position rows [m], its rotation (or None) and unweighted Jacobian."""
         if isinstance(self.robot, PlanarArm):
             return self.robot.forward_kinematics(q), None, self.robot.jacobian(q)
-        position, rotation, J = self.robot.tip_kinematics(q)
+        position, rotation, J = self.robot.tip_kinematics(q, check_limits=False)  # q0: checked
         rotation = rotation if self.angular.size else None
         return position[self.rows[self.linear]], rotation, J / self.weights[:, None]
 

@@ -10,6 +10,11 @@ the joint's position :math:`q` and velocity :math:`\dot q`, so :math:`\tau \dot 
 drive giving power to the motion (*motoring*: the torque acts in the direction of motion)
 and :math:`\tau \dot q < 0` a drive taking power from it (*braking*: the torque opposes
 the motion).
+
+A robot with a torque-speed model (``torque_speed=``) gives its limits at :math:`\dot q`
+with ``robot.torque_limits(qd)``; ``robot.analyze(q, qd)`` (a URDF robot) analyses it in
+motion with them, and an analysis of ``robot.dynamics(q, qd)`` given the rated limits
+instead warns with a :class:`~polyell.DeratingWarning`.
 """
 
 from __future__ import annotations

@@ -9,24 +9,32 @@ configuration :math:`q` (and joint velocity :math:`\dot q`, zero by default):
 * ``g``: the gravity torques; for :math:`\dot q \ne 0` the nonlinear effects
   :math:`c(q, \dot q) + g(q)`, and ``xdd_bias`` :math:`= \dot J \dot q`, the classical
   acceleration of the tip at zero joint acceleration (eq. 2-3 of the paper).
+
+Joint positions outside the URDF's position limits are evaluated, with a
+:class:`~polyell.JointLimitWarning` (once per call, naming the joints; a hint at degrees
+where revolute joints are beyond a full turn).  A robot with a torque-speed model in motion
+gives its :class:`~polyell.Dynamics` the torque limits at ``qd``
+(:class:`~polyell.models.dynamics.MotionLimits`): an analysis with the rated ones warns
+(:class:`~polyell.DeratingWarning`); :meth:`UrdfRobot.analyze` uses the limits at ``qd``.
 """
 
 from __future__ import annotations
 
 import hashlib
 import os
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
 from types import ModuleType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from polyell.errors import InputError, MissingDependencyError, install_hint
-from polyell.models.dynamics import Dynamics
+from polyell.errors import InputError, JointLimitWarning, MissingDependencyError, install_hint
+from polyell.models.dynamics import Dynamics, MotionLimits
 from polyell.models.joint_limits import JointLimits, check_torque_speed
 from polyell.models.torque_speed import TorqueSpeed
 from polyell.validation import (
@@ -37,12 +45,25 @@ from polyell.validation import (
     check_velocity_limits,
 )
 
-__all__ = ["TASKS", "TASK_ROWS", "Payload", "UrdfRobot", "import_pinocchio"]
+if TYPE_CHECKING:
+    from polyell.capacities.base import Analysis
+
+__all__ = [
+    "POSITION_LIMIT_TOL",
+    "TASKS",
+    "TASK_ROWS",
+    "Payload",
+    "UrdfRobot",
+    "import_pinocchio",
+]
 
 #: Rows of the 6-D frame Jacobian by name.
 TASK_ROWS = {"x": 0, "y": 1, "z": 2, "wx": 3, "wy": 4, "wz": 5}
 #: Named task spaces.
 TASKS = {"linear": ("x", "y", "z"), "angular": ("wx", "wy", "wz"), "planar": ("x", "y")}
+#: How far [rad or m] a joint position may be beyond its URDF limit without a
+#: :class:`~polyell.JointLimitWarning`: rounding, or a limit printed to 6 digits.
+POSITION_LIMIT_TOL = 1e-5
 
 
 def import_pinocchio() -> ModuleType:
@@ -133,7 +154,8 @@ class UrdfRobot(JointLimits):
     payload : Payload, optional
         Mass carried at the tip frame.
     qd_max, qd_min : array-like, shape (n,), optional
-        Joint velocity limits [rad/s or m/s], ``qd_min <= 0 < qd_max``; default the
+        Joint velocity limits [rad/s or m/s], a box ``qd_min < qd_max`` (usually
+        ``qd_min <= 0 < qd_max``); default the
         URDF's ``velocity`` limits (Pinocchio's ``velocityLimit``; ``qd_min = -qd_max``).
         Where the URDF gives none for a joint (no ``<limit>``, or ``velocity="0"``),
         :attr:`qd_max` is None and :meth:`velocity_limits` says which joints lack one.
@@ -346,6 +368,108 @@ class UrdfRobot(JointLimits):
                 high[joint.idx_v] = self.model.upperPositionLimit[joint.idx_q]
         return low, high
 
+    @cached_property
+    def _position_bounds(
+        self,
+    ) -> tuple[NDArray[Any], ...]:
+        """The limits :class:`~polyell.JointLimitWarning` checks, shape (nq,) each.
+
+        ``(low, high, low - tol, high + tol)`` with ``tol`` :data:`POSITION_LIMIT_TOL`, and
+        which joints are revolute.  Continuous joints, and joints whose URDF gives no range
+        (not finite, or ``lower >= upper``), are unbounded (``+-inf``).
+        """
+        low, high = np.full(self.nq, -np.inf), np.full(self.nq, np.inf)
+        revolute = np.zeros(self.nq, dtype=bool)
+        lower, upper = self.model.lowerPositionLimit, self.model.upperPositionLimit
+        for joint in list(self.model.joints)[1:]:
+            kind = joint.shortname()
+            revolute[joint.idx_v] = not (kind.startswith("JointModelP") or "Prismatic" in kind)
+            if joint.nq != 1:
+                continue  # (cos, sin): a continuous joint, no limits
+            a, b = float(lower[joint.idx_q]), float(upper[joint.idx_q])
+            if np.isfinite(a) and np.isfinite(b) and a < b:
+                low[joint.idx_v], high[joint.idx_v] = a, b
+        bounds = (low, high, low - POSITION_LIMIT_TOL, high + POSITION_LIMIT_TOL, revolute)
+        for array in bounds:
+            array.flags.writeable = False
+        return bounds
+
+    def check_positions(self, q: ArrayLike, *, stacklevel: int = 1) -> NDArray[np.float64]:
+        """Warn once if joint positions are outside the URDF's limits; return them checked.
+
+        What :meth:`dynamics` and :meth:`tip_kinematics` do first: a caller that evaluates
+        a batch in chunks checks it once here and passes ``check_limits=False`` per chunk.
+
+        Parameters
+        ----------
+        q : array-like, shape (nq,) or (K, nq)
+            Joint positions [rad or m].
+        stacklevel : int, optional
+            Which line the warning names, as :func:`warnings.warn`'s but counted from the
+            caller (1: the line that called this method, 2: its caller's).
+
+        Returns
+        -------
+        ndarray, shape (nq,) or (K, nq)
+            ``q`` as a finite float array.
+
+        Warns
+        -----
+        JointLimitWarning
+            Where a joint is beyond its range by more than :data:`POSITION_LIMIT_TOL`
+            (continuous joints have none).
+
+        Raises
+        ------
+        InputError
+            On a wrong shape or a non-finite value.
+        """
+        shape = ("K", self.nq) if array_ndim(q) == 2 else (self.nq,)
+        positions = check_array("q", q, shape, what="joint positions [rad or m]")
+        self._check_positions(np.atleast_2d(positions), stacklevel=stacklevel + 1)
+        return positions
+
+    def _check_positions(self, positions: NDArray[np.float64], stacklevel: int) -> None:
+        """Warn (JointLimitWarning) once if checked positions (K, nq) leave the limits.
+
+        ``stacklevel`` as :func:`warnings.warn`'s, counted from this function's caller (1:
+        the line that called this function, 2: the line that called that caller).
+        """
+        low, high, lowest, highest, revolute = self._position_bounds
+        below, above = positions < lowest, positions > highest
+        if not (below.any() or above.any()):
+            return
+        rows = len(positions)
+        parts, joints, degrees = [], [], False
+        for j in np.flatnonzero(below.any(axis=0) | above.any(axis=0)):
+            excess = np.maximum(low[j] - positions[:, j], positions[:, j] - high[j])
+            k = int(np.argmax(excess))
+            value, unit = positions[k, j], "rad" if revolute[j] else "m"
+            side = "below" if value < low[j] else "above"
+            bad = below[:, j] | above[:, j]
+            beyond = f"{excess[k]:.4g} {unit} {side} its range [{low[j]:.6g}, {high[j]:.6g}]"
+            parts.append(
+                f"{self.joint_names[j]} in {int(bad.sum())} of {rows} configurations (worst: "
+                f"row {k}, q = {value:.6g} {unit}, {beyond})"
+                if rows > 1
+                else f"{self.joint_names[j]} = {value:.6g} {unit} ({beyond})"
+            )
+            joints.append(self.joint_names[j])
+            degrees |= bool(revolute[j] and np.any(np.abs(positions[bad, j]) > 2 * np.pi))
+        hint = (
+            " Revolute joints beyond a full turn (|q| > 2 pi rad): these look like degrees; "
+            "convert them with np.deg2rad(q) (polyell analyze: --deg)."
+            if degrees
+            else ""
+        )
+        message = (
+            f"q: expected joint positions within the robot's limits (its URDF's), got "
+            f"{'; '.join(parts)}.{hint} The values are computed anyway. Fix: keep q within "
+            "robot.position_limits (pe.random_configurations draws within them), or silence "
+            "this with warnings.simplefilter('ignore', pe.JointLimitWarning)."
+        )
+        warnings.warn(JointLimitWarning(message, tuple(joints), degrees), stacklevel=stacklevel + 1)
+
     def __repr__(self) -> str:
         return (
             f"UrdfRobot(model={self.model.name!r}, nq={self.nq}, tip={self.tip!r}, "
@@ -393,7 +517,7 @@ class UrdfRobot(JointLimits):
         return config
 
     def tip_kinematics(
-        self, q: ArrayLike
+        self, q: ArrayLike, *, check_limits: bool = True
     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         """Where the tip frame is at ``q``, and the task Jacobian: the task's coordinates.
 
@@ -405,6 +529,10 @@ class UrdfRobot(JointLimits):
         ----------
         q : array-like, shape (nq,)
             Joint positions [rad or m].
+        check_limits : bool, optional
+            Warn (:class:`~polyell.JointLimitWarning`) where ``q`` is outside the URDF's
+            position limits (default); False for a caller that probes beyond them on
+            purpose (and checks them itself).
 
         Returns
         -------
@@ -417,6 +545,8 @@ class UrdfRobot(JointLimits):
         """
         pin, model, data = self._pin, self.model, self._data
         angles = check_array("q", q, (self.nq,), what="joint positions [rad or m]")
+        if check_limits:
+            self._check_positions(angles[None], stacklevel=2)
         config = self._configurations(angles[None])[0]
         pin.computeJointJacobians(model, data, config)
         pin.updateFramePlacements(model, data)
@@ -430,20 +560,40 @@ class UrdfRobot(JointLimits):
             J[self.rows] * self.weights[:, None],
         )
 
-    def dynamics(self, q: ArrayLike, qd: ArrayLike | None = None) -> Dynamics:
+    def dynamics(
+        self, q: ArrayLike, qd: ArrayLike | None = None, *, check_limits: bool = True
+    ) -> Dynamics:
         """Jacobian, inertia and gravity (or nonlinear) torques at ``q``.
 
         Parameters
         ----------
         q : array-like, shape (nq,) or (K, nq)
             Joint positions [rad or m]; a 2-D array gives a batched :class:`Dynamics`.
+            Positions outside the URDF's limits are evaluated with one
+            :class:`~polyell.JointLimitWarning` per call (a batch included).
         qd : array-like, same shape as ``q``, optional
             Joint velocities [rad/s or m/s]; nonzero adds the Coriolis and centrifugal
-            torques to ``g`` and ``Jdot qdot`` as ``xdd_bias``.
+            torques to ``g`` and ``Jdot qdot`` as ``xdd_bias``.  With a
+            :attr:`torque_speed` model, the Dynamics carries the torque limits at ``qd``
+            (``motion``, a :class:`~polyell.models.dynamics.MotionLimits`): an analysis
+            given larger ones (the rated limits) warns with a
+            :class:`~polyell.DeratingWarning`.
+        check_limits : bool, optional
+            Warn where ``q`` is outside the position limits (default); False for a caller
+            that probes beyond them on purpose (and checks them itself).
 
         Returns
         -------
         Dynamics
+        """
+        return self._dynamics(q, qd, check_limits, stacklevel=3)
+
+    def _dynamics(
+        self, q: ArrayLike, qd: ArrayLike | None, check_limits: bool, stacklevel: int
+    ) -> Dynamics:
+        """:meth:`dynamics`; a JointLimitWarning names the frame ``stacklevel`` up from here.
+
+        (1: this function's line, 2: the line that called it, 3: that caller's caller.)
         """
         shape = ("K", self.nq) if array_ndim(q) == 2 else (self.nq,)
         positions = check_array("q", q, shape, what="joint positions")
@@ -452,11 +602,108 @@ class UrdfRobot(JointLimits):
         )
         if velocities is not None and not np.any(velocities):
             velocities = None
+        if check_limits:
+            self._check_positions(np.atleast_2d(positions), stacklevel=stacklevel)
         terms = self._terms(
             np.atleast_2d(positions), None if velocities is None else np.atleast_2d(velocities)
         )
         J, B, g, bias = (t if positions.ndim == 2 else t[0] for t in terms)
-        return Dynamics(J, B, g, bias, task=self.row_names)
+        motion = None if velocities is None else self._motion_limits(velocities)
+        return Dynamics(J, B, g, bias, task=self.row_names, motion=motion)
+
+    def _motion_limits(self, velocities: NDArray[np.float64]) -> MotionLimits | None:
+        """The torque limits at checked nonzero ``velocities`` with a torque-speed model.
+
+        None without a model, or where :meth:`torque_limits` refuses the velocities (past
+        a tabulated curve: it says so to whoever asks for the limits).
+        """
+        if self.torque_speed is None:
+            return None
+        try:
+            upper, lower = self.torque_limits(velocities)
+        except InputError:
+            return None
+        rated_max, rated_min = self.torque_limits()
+        return MotionLimits(velocities, upper, lower, rated_max, rated_min, self.joint_names)
+
+    def analyze(
+        self,
+        q: ArrayLike,
+        qd: ArrayLike | None = None,
+        *,
+        capacity: str = "acceleration",
+        rank_rtol: float | None = None,
+        affine_rtol: float | None = None,
+    ) -> Analysis:
+        """A capacity of the robot at ``q``, moving at ``qd``, within its own joint limits.
+
+        The torque limits are those at ``qd``: derated by the robot's
+        :attr:`torque_speed` model (:meth:`torque_limits`), the rated ones at rest or
+        without a model.  The same as ``pe.analyze(robot.dynamics(q, qd),
+        *robot.torque_limits(qd), capacity=capacity)``; the velocity capacity takes
+        :meth:`velocity_limits` (and no ``qd``: its set is every joint velocity within
+        them).
+
+        Parameters
+        ----------
+        q : array-like, shape (nq,)
+            Joint positions [rad or m] (a :class:`~polyell.JointLimitWarning` outside the
+            URDF's limits).
+        qd : array-like, shape (nq,), optional
+            Joint velocities [rad/s or m/s]; default at rest.
+        capacity : {"acceleration", "velocity", "force"}, optional
+            As :func:`polyell.analyze`.
+        rank_rtol, affine_rtol : float, optional
+            As :func:`polyell.analyze` (default its defaults).
+
+        Returns
+        -------
+        Analysis
+
+        Raises
+        ------
+        InputError
+            On a bad ``q``, ``qd`` or ``capacity``; a robot without the limits of the
+            capacity; a ``qd`` past a tabulated torque-speed curve; joint velocities
+            for the velocity capacity.
+
+        Examples
+        --------
+        >>> import numpy as np, polyell as pe
+        >>> drives = pe.TorqueSpeed.linear([87.0] * 4 + [12.0] * 3, [3.0] * 4 + [4.0] * 3)
+        >>> robot = pe.robots.load("panda", torque_speed=drives)  # doctest: +SKIP
+        >>> q, qd = [0.0, -0.5, 0.0, -2.0, 0.0, 1.6, 0.8], [0.0, 1.5, 0.0, -1.5, 0.0, 0.0, 0.0]
+        >>> moving = robot.analyze(q, qd)  # doctest: +SKIP
+        >>> float(moving.tau_max[1]), float(moving.tau_min[3])  # doctest: +SKIP
+        (43.5, -43.5)
+        """
+        from polyell.capacities import analyze, capacity_class
+
+        cls = capacity_class(capacity)
+        if array_ndim(q) == 2:
+            raise InputError(
+                "q",
+                f"the joint positions of one configuration, shape ({self.nq},)",
+                f"a batch of shape {np.shape(q)}",
+                "analyze one row at a time, or call pe.sweep(robot, q) for the batch.",
+            )
+        dynamics = self._dynamics(q, qd, True, stacklevel=3)
+        if not cls.in_motion and qd is not None and np.any(np.asarray(qd, dtype=float)):
+            raise InputError(
+                "qd",
+                f"no joint velocities for the {cls.capacity} capacity (its set is every joint "
+                "velocity within the limits, whatever the robot's motion)",
+                "nonzero joint velocities",
+                "leave qd out, or analyse accelerations or forces of the robot in motion.",
+            )
+        limits = cls.limit_arguments(*cls.robot_limits(self, qd if cls.in_motion else None))
+        tolerances = {
+            name: value
+            for name, value in (("rank_rtol", rank_rtol), ("affine_rtol", affine_rtol))
+            if value is not None
+        }
+        analysis: Analysis = analyze(dynamics, capacity=cls.capacity, **limits, **tolerances)
+        return analysis
 
     def _terms(
         self, positions: NDArray[np.float64], velocities: NDArray[np.float64] | None

@@ -31,6 +31,7 @@ from polyell.capacities import (
     joint_limits_of,
 )
 from polyell.capacities.zonotope import ZonotopeAnalysis
+from polyell.comparison.directions import direction_vectors
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.limits import (
     DirectionalLimits,
@@ -44,7 +45,6 @@ from polyell.models.dynamics import Dynamics
 from polyell.studies.batch import BatchOptions, block_sets, block_size
 from polyell.validation import (
     check_array,
-    check_directions,
     check_fraction,
 )
 
@@ -75,8 +75,10 @@ def limits_along(
         :class:`~polyell.Dynamics` (then ``configurations`` is None).
     configurations : array-like, shape (K, n), or None
         Joint configurations [rad].
-    directions : array-like, shape (K, m)
-        One unit task direction per configuration (e.g. a path's tangents).
+    directions : array-like, shape (K, m), or sequence of K names or vectors
+        One unit task direction per configuration (e.g. a path's tangents); each may be a
+        name of the task rows (:func:`~polyell.comparison.directions.named_direction`:
+        ``["z"] * K``, ``["x", "-z", "xy", ...]``), read against ``dyn.task``.
     tau_max, tau_min : array-like, shape (n,), optional
         Torque limits of the acceleration and force capacities; default the robot's own.
     capacity : {"acceleration", "velocity", "force"}, optional
@@ -117,7 +119,16 @@ def limits_along(
     rank_rtol = check_fraction("rank_rtol", rank_rtol)
     upper, lower = joint_limits_of(capacity, tau_max, tau_min, qd_max, qd_min)
     dyn, upper, lower = _inputs(source, configurations, upper, lower, cls)
-    T = check_directions("directions", directions, dyn.m)
+    if isinstance(directions, str):  # one name for a batch: which count was meant?
+        raise InputError(
+            "directions",
+            f"one unit direction per configuration ({len(dyn)}): unit vectors of shape "
+            f"({len(dyn)}, {dyn.m}) or a list of {len(dyn)} names of the task rows "
+            f"{list(dyn.task)}",
+            f"the single name {directions!r}",
+            f"repeat it, e.g. directions=[{directions!r}] * {len(dyn)}.",
+        )
+    T = direction_vectors(directions, dyn.task, "directions")
     if T.ndim != 2 or len(T) != len(dyn):
         raise InputError(
             "directions",

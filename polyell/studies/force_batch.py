@@ -30,14 +30,20 @@ with more than :data:`MAX_CANDIDATES` vertex candidates.
 from __future__ import annotations
 
 import math
-from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
 from polyell.capacities.base import centre_and_half_range
-from polyell.capacities.force import force_terms
+from polyell.capacities.force import (  # the force sets (an analysis': a batch of one)
+    GENERAL_POSITION,
+    MAX_CANDIDATES,
+    _layout,
+    force_terms,
+    force_vertices,
+)
+from polyell.capacities.force import _closed as _closed  # (tests certify it here)
 from polyell.comparison.candidates import Candidate
 from polyell.comparison.comparison import compared_kinds
 from polyell.comparison.scores import (
@@ -55,7 +61,6 @@ from polyell.geometry.free_center import (
     free_center_mvie_batch,
 )
 from polyell.geometry.subspace import RANK_RTOL, scaled_norm
-from polyell.geometry.zonotope import subsets
 from polyell.models.dynamics import Dynamics
 from polyell.studies.batch import BLOCK_MEMORY, RANK_BAND, BatchOptions, score_columns
 
@@ -63,16 +68,6 @@ __all__ = ["GENERAL_POSITION", "MAX_CANDIDATES", "VOLUME_RTOL", "force_rows"]
 
 Array = NDArray[np.float64]
 
-#: Vertex candidates ``C(n, m) 2^m`` of a configuration above which the scalar path
-#: (cddlib) enumerates instead.
-MAX_CANDIDATES = 4096
-#: A row counts as tight at a vertex within this of its bound (whitened rows have norm at
-#: most 1 and the bounds are 1): a vertex with more than m rows that close is left to
-#: cddlib.
-GENERAL_POSITION = 1e-9
-#: m unit normals spanning less than this volume (``|det|``) are taken as dependent: their
-#: candidate is skipped, and the edges of the vertices found certify that it was no vertex.
-DEPENDENT = 1e-6
 #: Lawrence's sum can cancel: its two least cancelling evaluations must agree to this.
 VOLUME_RTOL = 1e-10
 #: The three generic directions of Lawrence's formula (fixed: rows are reproducible).
@@ -237,155 +232,36 @@ class _Vertices(NamedTuple):
     volume: Array
 
 
-@lru_cache(maxsize=16)
-def _layout(n: int, m: int) -> tuple[NDArray[np.int_], Array, Array, NDArray[np.int64]]:
-    """The candidates of :func:`_vertices`: rows, signs, tight one-sided rows, edges.
-
-    Returns
-    -------
-    chosen : ndarray of int, shape (C, m)
-        Every m of the n rows.
-    signs : ndarray, shape (2^m, m)
-        Every choice of bounds (+1: ``1 - c``, -1: ``-1 - c``).
-    incidence : ndarray, shape (C 2^m, 2n)
-        1 where candidate ``(S, sigma)`` (in that order) is tight at the one-sided row
-        (``+row i``: column i, ``-row i``: column n + i).
-    edges : ndarray of int64, shape (C 2^m, m)
-        The m edges of each candidate as a vertex: its tight one-sided rows but one, as
-        bits (bit i: ``+row i``, bit n + i: ``-row i``).
-    """
-    chosen = subsets(n, m)
-    signs = np.array(np.meshgrid(*[[1.0, -1.0]] * m, indexing="ij")).reshape(m, -1).T
-    tight = (chosen[:, None, :] + n * (signs[None] < 0)).reshape(-1, m)  # (C 2^m, m)
-    incidence = np.zeros((len(tight), 2 * n))
-    np.put_along_axis(incidence, tight, 1.0, axis=1)
-    bits = np.int64(1) << tight.astype(np.int64)
-    edges = bits.sum(axis=1, keepdims=True) - bits
-    for array in (signs, incidence, edges):
-        array.flags.writeable = False
-    return chosen, signs, incidence, edges
-
-
-def _closed(candidates: NDArray[np.bool_], edges: NDArray[np.int64]) -> NDArray[np.bool_]:
-    """Rows whose vertices are all found: every edge of a vertex ends at another one.
-
-    The vertices of a simple bounded polytope and their edges (m - 1 tight rows) form a
-    connected graph in which every edge joins exactly two vertices; vertices of which each
-    edge is shared by exactly one other found vertex are therefore all of them.  This
-    certifies the enumeration where candidates of nearly dependent rows were skipped (a
-    spherical shoulder, parallel joint axes: rows with coplanar normals).
-
-    Parameters
-    ----------
-    candidates : ndarray of bool, shape (K, P)
-        The vertices found among the candidates of :func:`_layout`.
-    edges : ndarray of int64, shape (P, m)
-        Each candidate's edges, :func:`_layout`.
-
-    Returns
-    -------
-    ndarray of bool, shape (K,)
-    """
-    K = len(candidates)
-    width = int(edges.max(initial=1)).bit_length()
-    if width + int(K).bit_length() > 62:  # the keys would not fit one int64
-        return np.zeros(K, dtype=bool)
-    row, candidate = np.nonzero(candidates)
-    if not row.size:  # no vertex in any row: nothing to close (the volume check refuses them)
-        return np.ones(K, dtype=bool)
-    keys = np.sort(((row.astype(np.int64) << width)[:, None] + edges[candidate]).ravel())
-    starts = np.flatnonzero(np.r_[True, keys[1:] != keys[:-1]])
-    twice = np.diff(np.r_[starts, len(keys)]) == 2
-    closed = np.ones(K, dtype=bool)
-    closed[keys[starts[~twice]] >> width] = False
-    return closed
-
-
-def _inverse_and_det(blocks: Array) -> tuple[Array, Array]:
-    """Inverses and ``|det|`` of a stack of m x m matrices; 0 for a singular one.
-
-    Up to m = 3 by the adjugate (for rows a, b, c its columns are ``b x c``, ``c x a``,
-    ``a x b``), entry by entry over the stack: a few array operations instead of one
-    LAPACK call per matrix.
-    """
-    m = blocks.shape[-1]
-    if m > 3:
-        det = np.abs(np.linalg.det(blocks))
-        regular = (det > 0)[..., None, None]
-        inverse = np.linalg.inv(np.where(regular, blocks, np.eye(m)))
-        return np.where(regular, inverse, 0.0), det
-    e = np.ascontiguousarray(np.moveaxis(blocks, (-2, -1), (0, 1)))  # entry (i, j) first
-    adjugate = np.empty_like(e)  # adjugate[j, i]: the cofactor of entry (i, j)
-    if m == 3:
-        for i in range(3):
-            for j in range(3):
-                i1, i2, j1, j2 = (i + 1) % 3, (i + 2) % 3, (j + 1) % 3, (j + 2) % 3
-                np.subtract(e[i1, j1] * e[i2, j2], e[i1, j2] * e[i2, j1], out=adjugate[j, i])
-    else:
-        adjugate[0, 0], adjugate[0, 1], adjugate[1, 0], adjugate[1, 1] = (
-            e[1, 1],
-            -e[0, 1],
-            -e[1, 0],
-            e[0, 0],
-        )
-    det = np.sum(e[0] * adjugate[:, 0], axis=0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        adjugate *= np.where(det != 0, 1.0 / det, 0.0)
-    return np.ascontiguousarray(np.moveaxis(adjugate, (0, 1), (-2, -1))), np.abs(det)
-
-
 def _vertices(Vt: Array, c_perp: Array, used: NDArray[np.bool_]) -> _Vertices:
-    r"""Vertices of ``{z : |V z + c_perp|_inf <= 1}`` for a block, by every m rows and signs.
+    r"""The vertices of :func:`~polyell.capacities.force.force_vertices`, with their volume.
 
-    Rows not ``used`` (negligible, as :class:`~polyell.HPolytope` decides) constrain nothing.
-
-    Rows ``S`` and signs ``sigma`` give ``V_S z = sigma - c_perp,S``; the point is a vertex
-    when every row holds.  With the outward normals ``N = diag(sigma) V_S`` and a generic
-    direction ``w = N^T gamma``, Lawrence's formula gives the volume of a simple polytope,
+    With the outward normals ``N = diag(sigma) V_S`` of a vertex and a generic direction
+    ``w = N^T gamma``, Lawrence's formula gives the volume of a simple polytope,
     ``sum (w . z)^m / (m! |det N| prod gamma)`` over the vertices (about an interior
     point: h0 is ``z = 0``).  A direction nearly orthogonal to an edge makes the sum cancel:
     of three directions the two with the least cancellation (``sum |term| / |sum|``) must
     agree, and the least cancelling one gives the volume.
     """
     K, m, n = Vt.shape
-    chosen, signs, incidence, edges = _layout(n, m)
-    V = np.where(used[..., None], np.swapaxes(Vt, 1, 2), 0.0)  # (K, n, m)
-    blocks = V[:, chosen, :]  # (K, C, m, m)
-    lengths = np.linalg.norm(V, axis=-1)[:, chosen]
-    inverse, det = _inverse_and_det(blocks)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        spans = det / np.prod(lengths, axis=-1)  # NaN with a zero row: never a vertex
-    solvable = spans > DEPENDENT
-    inverse = np.where(solvable[..., None, None], inverse, 0.0)
-    # z = V_S^-1 (sigma - c_S) for every sigma, as (K, m, P) with candidates (S, sigma)
-    bounds = (inverse @ c_perp[:, chosen][..., None])[..., 0]  # (K, C, m)
-    z = (inverse.reshape(-1, m) @ signs.T).reshape(*bounds.shape, -1) - bounds[..., None]
-    z = np.swapaxes(z, 1, 2).reshape(K, m, -1)
-    magnitude = V @ z
-    magnitude += c_perp[..., None]
-    magnitude = np.abs(magnitude, out=magnitude)  # (K, n, P)
-    feasible = ~(magnitude > 1.0 + GENERAL_POSITION).any(axis=1)
-    feasible &= np.repeat(solvable, len(signs), axis=1)
-    crowded = np.count_nonzero(magnitude >= 1.0 - GENERAL_POSITION, axis=1) > m
-    candidates = feasible & ~crowded
-    # m nearly dependent rows (skipped above) could hide a vertex: the edges certify that
-    # none is missing
-    general = ~(feasible & crowded).any(axis=1) & _closed(candidates, edges)
-    facet = (candidates @ incidence) > 0  # no other row is tight: those would be crowded
-
+    found = force_vertices(Vt, c_perp, used)
+    general = found.general.copy()
     # Only the vertices from here: the first V_max candidates in vertex-first order.
-    count = int(candidates.sum(axis=1).max(initial=0))
-    order = np.argsort(~candidates, axis=1, kind="stable")[:, :count]
-    is_vertex = np.take_along_axis(candidates, order, axis=1)
-    points = np.take_along_axis(z, order[:, None, :], axis=2)  # (K, m, V_max)
+    count = int(found.vertex.sum(axis=1).max(initial=0))
+    order = np.argsort(~found.vertex, axis=1, kind="stable")[:, :count]
+    is_vertex = np.take_along_axis(found.vertex, order, axis=1)
+    points = np.take_along_axis(found.z, order[..., None], axis=1)  # (K, V_max, m)
+    points = np.where(is_vertex[..., None], points, 0.0)  # (candidates skipped: NaN)
+    signs = _layout(n, m)[1]
     subset, sign = np.divmod(order, len(signs))
     factor = np.where(is_vertex, np.prod(signs, axis=-1)[sign], 0.0) / math.factorial(m)
     w = _DIRECTIONS[:, :m] / np.linalg.norm(_DIRECTIONS[:, :m], axis=1, keepdims=True)
-    at_vertex = np.take_along_axis(inverse.reshape(K, -1, m * m), subset[..., None], axis=1)
-    gamma = np.tensordot(at_vertex.reshape(K, -1, m, m), w, axes=(2, 1))  # V_S^T gamma = w
+    det = np.take_along_axis(found.det, subset, axis=1)  # (K, V_max)
+    adjugate = np.take_along_axis(found.adjugate.reshape(K, -1, m * m), subset[..., None], axis=1)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        scale = np.take_along_axis(det, subset, axis=1)[..., None] * np.prod(gamma, axis=2)
-        heights = np.swapaxes(points, 1, 2) @ w.T  # (K, V_max, 3)
+        inverse = np.swapaxes(adjugate.reshape(K, -1, m, m), -1, -2) / det[..., None, None]
+        gamma = np.tensordot(inverse, w, axes=(2, 1))  # V_S^T gamma = w
+        scale = np.abs(det)[..., None] * np.prod(gamma, axis=2)
+        heights = points @ w.T  # (K, V_max, 3)
         terms = factor[..., None] * heights**m / np.where(is_vertex[..., None], scale, 1.0)
         sums = np.sum(terms, axis=1)  # (K, 3)
         cancellation = np.sum(np.abs(terms), axis=1) / np.abs(sums)
@@ -394,9 +270,9 @@ def _vertices(Vt: Array, c_perp: Array, used: NDArray[np.bool_]) -> _Vertices:
     general &= np.abs(best - second) <= VOLUME_RTOL * np.abs(best)
     general &= best > 0
     return _Vertices(
-        np.swapaxes(points, 1, 2),
+        points,
         is_vertex,
-        facet,
+        found.facet,
         general,
         np.where(general, best, np.nan),
     )

@@ -20,7 +20,7 @@ import math
 import re
 import sys
 import types
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from difflib import get_close_matches
 from typing import Annotated, Any, ClassVar, Literal, Union, get_args, get_origin
@@ -51,6 +51,7 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 __all__ = [
+    "CSV_AUTO_ROWS",
     "FORMATS",
     "MAX_STUDY_CONFIGURATIONS",
     "ROBOT_NAME",
@@ -76,9 +77,13 @@ __all__ = [
     "reference_page",
 ]
 
-#: Most configurations of a grid or random study (all held in memory for its tables;
-#: larger sweeps go through pe.sweep(..., out=...)).
+#: Most configurations of a grid or random study (its results are streamed chunk by chunk:
+#: the bound is one of time and disk, about 0.4 kB of Parquet a configuration at the study
+#: defaults; larger sweeps go through pe.sweep(..., out=...)).
 MAX_STUDY_CONFIGURATIONS = 10_000_000
+#: ``[output] csv = "auto"`` writes ``results.csv`` for studies of at most this many
+#: configurations (about 1 kB of CSV a configuration with every score).
+CSV_AUTO_ROWS = 100_000
 #: Figure formats, and "html": one self-contained interactive report (plotly).
 FORMATS = ("pdf", "png", "svg", "html")
 #: A point's name becomes part of file names: letters, digits, ``_ . -``, not leading ``.``.
@@ -424,6 +429,74 @@ JointAngles = Annotated[
 ]
 
 
+def _csv_choice(value: object) -> bool | str:
+    if isinstance(value, bool) or (isinstance(value, str) and value == "auto"):
+        return value
+    raise InputError(
+        "",
+        'true, false or "auto"',
+        _describe(value),
+        f'"auto" writes results.csv up to {CSV_AUTO_ROWS:,} configurations; true always.',
+    )
+
+
+CsvChoice = Annotated[
+    bool | str,
+    Check(_csv_choice, {"oneOf": [{"type": "boolean"}, {"const": "auto"}]}, 'boolean or "auto"'),
+]
+
+
+def _table_labels(value: object) -> str | Mapping[str, str | tuple[str, str]]:
+    """A preset's name, or a table of labels (text, or ``[plain, latex]``) by name.
+
+    Checked as :class:`~polyell.comparison.layout.TableLayout` checks its ``labels``; that
+    every key is a set, a candidate or a score is checked with the candidates
+    (:class:`StudyFile`).
+    """
+    from polyell.comparison.labels import check_labels
+
+    if isinstance(value, str):
+        check_labels(value, "")  # a preset's name (the message lists them)
+        return value
+    if not isinstance(value, dict):
+        raise InputError(
+            "",
+            "a table of set or score names to labels, or a preset's name",
+            _describe(value),
+            'e.g. labels = { chiacchio = "DME", coverage = "share covered" }.',
+        )
+    checked: dict[str, str | tuple[str, str]] = {}
+    for name, label in value.items():
+        try:
+            check_labels({name: label}, "")
+        except InputError as exn:  # ["name"][1] as .name[1]
+            rest = exn.argument.removeprefix(f"[{name!r}]")
+            raise InputError(f".{name}{rest}", exn.expected, exn.got, exn.fix) from None
+        checked[name] = tuple(label) if isinstance(label, list) else label
+    return types.MappingProxyType(checked)
+
+
+_LABEL_SCHEMA: dict[str, Any] = {
+    "oneOf": [
+        {"type": "string"},
+        {"type": "array", "items": {"type": "string"}, "minItems": 2, "maxItems": 2},
+    ]
+}
+TableLabels = Annotated[
+    str | Mapping[str, str | tuple[str, str]],
+    Check(
+        _table_labels,
+        {
+            "oneOf": [
+                {"type": "string", "description": "a preset's name"},
+                {"type": "object", "additionalProperties": _LABEL_SCHEMA},
+            ]
+        },
+        "table of labels, or a preset's name",
+    ),
+]
+
+
 def Choices(valid: tuple[str, ...]) -> Check:
     """A list of strings among ``valid``."""
     schema = {"type": "array", "items": {"enum": list(valid)}}
@@ -756,13 +829,15 @@ q = [0, -0.5, 0, -2, 0, 1.6, 0.8]"""
     )
     qd_max: Numbers | None = key(
         None,
-        what="Upper joint velocity limits [rad/s], positive.",
+        what="Upper joint velocity limits [rad/s], above qd_min (positive without it).",
         example="[2, 2, 2.5]",
         default_text="the URDF's velocity limits; none for planar arms",
     )
     qd_min: Numbers | None = key(
         None,
-        what="Lower joint velocity limits [rad/s], at most 0.",
+        what="Lower joint velocity limits [rad/s], below qd_max: usually at most 0; above 0 "
+        "a joint that must move forward (its velocity set lies away from rest), as "
+        '`pe.analyze(..., capacity="velocity", qd_min=...)` takes it.',
         example="[-2, -2, -2.5]",
         default_text="-qd_max",
     )
@@ -824,7 +899,9 @@ inverse_at = "lo"'''
     qd: JointAngles | None = key(
         None,
         what="Joint velocities [rad/s] of a URDF robot in motion (accelerations and forces): "
-        "the torque limits at qd from its torque-speed curves, and its Coriolis terms.",
+        "the torque limits at qd from its torque-speed curves, and its Coriolis terms. "
+        "Several robots: `{ panda = [...] }`, a robot left out is at rest (a planar arm is "
+        "modelled at rest: leave it out, or give it zeros).",
         example="[0.5, 0, -1, 0, 0, 0, 0]",
         default_text="at rest",
     )
@@ -1087,7 +1164,15 @@ center = [0, -9.81]"""
 class OutputTable(Table):
     """What is written besides the tables, and how the tables are laid out.
 
-    `sets` to `percent` lay out the tables for print (`polyell.comparison.layout`).
+    `sets` to `labels` lay out the tables for print (`polyell.comparison.layout`). A grid,
+    random or trajectory study keeps its results in a Parquet dataset, `results/` (one
+    part per chunk: a killed study resumes), and reads it back one part at a time, so that
+    its memory does not grow with its configurations: `results.csv` is written from the
+    parts (`csv`); the summary tables are over every configuration, its count, minimum,
+    median and maximum exact and its mean and standard deviation to rounding; a heat map
+    of more than 300 values along an axis draws every k-th grid value, and histograms of
+    more than 100,000 configurations a seeded random sample of about 100,000 of them (the
+    figures say so).
     """
 
     heading: ClassVar[str] = "[output]"
@@ -1107,7 +1192,9 @@ scores = ["coverage", "inscribed_scale"]
 transpose = true
 split = "posture"
 digits = 4
-percent = false"""
+percent = false
+labels = { chiacchio = "DME", coverage = "share covered" }
+csv = true"""
 
     formats: Annotated[tuple[str, ...], Choices(FORMATS)] = key(
         ("pdf", "png"),
@@ -1156,10 +1243,26 @@ percent = false"""
         3, what="Significant digits of the tables.", example="4"
     )
     percent: bool = key(True, what="Fractions as percentages (true) or fractions.", example="false")
+    labels: TableLabels | None = key(
+        None,
+        what="Names of sets and scores in the tables: a table of set names (a candidate's "
+        "too) and score names to labels, each plain text or `[plain, latex]`; or a "
+        'preset\'s name ("chiacchio2000": the equation numbers of the paper).',
+        example='{ chiacchio = "DME", coverage = "share covered" }',
+        default_text="one name per set",
+    )
+    csv: CsvChoice = key(
+        "auto",
+        what="Grid, random and trajectory studies: write `results.csv` (every configuration "
+        "and score, streamed from the Parquet dataset `results/`): true, false, or "
+        f'"auto": only for at most {CSV_AUTO_ROWS:,} configurations (the log and '
+        "`manifest.json` say when it is left out).",
+        example="true",
+    )
 
     @property
     def layout(self) -> TableLayout:
-        """The tables' layout of ``sets`` to ``percent``."""
+        """The tables' layout of ``sets`` to ``percent`` and ``labels``."""
         return TableLayout(
             sets=self.sets,
             scores=self.scores,
@@ -1167,7 +1270,14 @@ percent = false"""
             split=self.split,
             digits=self.digits,
             percent=self.percent,
+            labels=self.labels,
         )
+
+    def writes_csv(self, configurations: int) -> bool:
+        """Whether a study of ``configurations`` writes ``results.csv`` (``csv``)."""
+        if self.csv == "auto":
+            return configurations <= CSV_AUTO_ROWS
+        return bool(self.csv)
 
     @property
     def figure_formats(self) -> tuple[str, ...]:
@@ -1371,6 +1481,28 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
                         )
         if output.series and self.trajectory is None:
             raise InputError("output.series", "a [trajectory] study", "another kind of study")
+        if "csv" in output.model_fields_set and (
+            self.points is not None or self.posture is not None
+        ):
+            raise InputError(
+                "output.csv",
+                "a grid, random or trajectory study (results.csv holds its configurations)",
+                "a study of points" if self.points is not None else "a posture study",
+                "drop csv: a study of points writes scores.csv, a posture study "
+                "posture_values.csv.",
+            )
+        if isinstance(output.labels, Mapping):
+            from polyell.comparison.labels import QUANTITIES
+
+            valid = list(dict.fromkeys([*LAYOUT_SETS, *candidates, *SCORE_NAMES, *QUANTITIES]))
+            for name in output.labels:
+                if name not in valid:
+                    raise InputError(
+                        f"output.labels.{name}",
+                        "a key that names a set (a candidate's too) or a score",
+                        repr(name),
+                        did_you_mean([name], valid) or f"valid: {valid}.",
+                    )
         for name in output.sets or ():
             if name not in (*LAYOUT_SETS, *candidates):
                 valid = [*LAYOUT_SETS, *candidates]

@@ -34,6 +34,7 @@ from numpy.typing import ArrayLike, NDArray
 from polyell.capacities import capacity_class, check_capacity, joint_limits_of
 from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.comparison.candidates import Candidate, check_candidates
+from polyell.comparison.directions import named_direction
 from polyell.comparison.scores import polytope_columns
 from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.ellipsoid import Ellipsoid, unit_ball_volume
@@ -152,11 +153,13 @@ def posture_choice(
         :func:`polyell.self_motion`.
     tau_max, tau_min : array-like, shape (n,), optional
         Torque limits [N m]; default the robot's own.
-    direction : array-like, shape (m,)
-        The task direction d of the ``"limit"`` criterion (normalised here; not zero): the
-        accelerations exactly along d, ``{t d}`` with no sideways part, that the set holds
-        (its interval [lo, hi] on that line, as ``Polytope.limits``), not how far the set
-        reaches along d.
+    direction : str or array-like, shape (m,)
+        The task direction d of the ``"limit"`` criterion: the accelerations exactly along
+        d, ``{t d}`` with no sideways part, that the set holds (its interval [lo, hi] on
+        that line, as ``Polytope.limits``), not how far the set reaches along d.  A name of
+        the robot's task rows (:func:`~polyell.comparison.directions.named_direction`:
+        ``"x"``, ``"-z"``, ``"xy"`` the unit diagonal, ``"wz"``), or a vector of m entries
+        (normalised here; not zero).
     mvie, outer : bool, optional
         Whether to include the maximum-volume inscribed and the minimum-volume enclosing
         ellipsoids (a batched log-det program each).
@@ -183,7 +186,8 @@ def posture_choice(
     ------
     InputError
         For a robot without dynamics, configurations of the wrong shape or fewer than 2,
-        a direction of the wrong size or zero, torque limits that do not fit, a flag that
+        a direction of the wrong size or zero, a name with a row the task does not have
+        (the message lists the rows), torque limits that do not fit, a flag that
         is not a bool, candidates that do not fit the arm.
 
     Examples
@@ -218,7 +222,10 @@ def posture_choice(
     upper, lower = joint_limits_of(capacity, tau_max, tau_min, qd_max, qd_min)
     dyn = robot.dynamics(q)
     upper, lower = cls.source_limits(robot, upper, lower, dyn.n)
-    d = check_direction(direction, dyn.m)
+    if isinstance(direction, str):  # a name of the task rows: "x", "-z", "xy"
+        d = named_direction(direction, dyn.task, "direction")[0]
+    else:
+        d = check_direction(direction, dyn.m)
     found = check_candidates(candidates)
     for candidate in found:
         candidate.check_sizes(dyn.m, dyn.n)

@@ -13,10 +13,9 @@ import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from polyell.comparison.labels import set_label
 from polyell.comparison.latex_text import markdown_text
 from polyell.comparison.layout import TableLayout
-from polyell.comparison.printable import Cell, Label, PrintTable, text_label
+from polyell.comparison.printable import Cell, Label, PrintTable, given_label, text_label
 from polyell.comparison.tables import escape_latex, escape_markdown, render_tables
 from polyell.errors import InputError
 from polyell.storage import write_text_atomically
@@ -47,7 +46,7 @@ _COLUMNS = {
 DIGITS = 3
 
 
-def _print_table(table: pd.DataFrame) -> PrintTable:
+def _print_table(table: pd.DataFrame, layout: TableLayout) -> PrintTable:
     """The choice table laid out by the package's table writers: a line per set."""
     if table.index.nlevels != 2:
         raise InputError(
@@ -82,7 +81,7 @@ def _print_table(table: pd.DataFrame) -> PrintTable:
             kind_of = _COLUMNS[column][1]
             cells.append(Cell(value, 2 if kind_of == "share" else 0, count=kind_of == "index"))
         stub = (
-            text_label(set_label(str(kind), capacity), "sets"),
+            given_label(layout.set_text(str(kind), capacity), "sets"),
             text_label(str(criterion), "criterion"),
         )
         rows.append((stub, tuple(cells)))
@@ -116,9 +115,10 @@ def format_posture_table(
         ``[output]``; default every set at :data:`DIGITS` digits.
     """
     table, digits = _laid_out(table, layout)
+    layout = layout or TableLayout()
     if style not in ("latex", "markdown", "csv"):
         raise InputError("style", "'latex', 'markdown' or 'csv'", repr(style))
-    printable = _print_table(table)
+    printable = _print_table(table, layout)
     if style == "markdown":
         heading = f"# {markdown_text(escape_markdown(title, 'title'))}\n\n" if title else ""
         return heading + render_tables([printable], "markdown", digits)

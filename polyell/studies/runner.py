@@ -4,14 +4,17 @@ from __future__ import annotations
 
 import json
 import logging
+import math
 import os
 import re
 import time
-from dataclasses import replace
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from polyell.capacities import analyze, capacity_class
 from polyell.comparison.comparison import SCORE_NAMES, Comparison, compare, compared_kinds
@@ -262,7 +265,7 @@ def _run_posture(spec: StudySpec, folder: Path) -> list[Path]:
     def one(spec: StudySpec, folder: Path, capacity: str, *_: Any) -> Any:
         return _posture_outputs(spec, folder, capacity, motions)
 
-    return _each_capacity(one, spec, folder, False, None, {})
+    return _each_capacity(one, spec, folder, False, None, {}, [])
 
 
 def _posture_outputs(
@@ -352,8 +355,438 @@ def _posture_outputs(
     return written, sections
 
 
+#: Values along each axis of a heat map drawn in a figure; a grid with more draws every
+#: k-th value (its title says so).  A figure's axes are about 1,000 pixels wide at 300 dpi,
+#: and matplotlib draws each cell of a PDF as a path: 300 x 300 cells take about 70 MiB
+#: (1,000 x 1,000 take 650 MiB and a 27 MB file).
+MAP_AXIS_VALUES = 300
+#: Values along each axis of a heat map in ``report.html`` (every cell carries the
+#: configuration and its scores for the hover: about 0.5 kB).
+REPORT_MAP_AXIS_VALUES = 128
+#: Configurations a histogram is drawn from; a study of more draws a seeded random
+#: sample of about as many (the figure says so).
+HISTOGRAM_ROWS = 100_000
+#: Bits of a sort key a pass of :class:`StreamedSummary` resolves, and the most values of
+#: a column (or of one of its key ranges) kept whole.
+_DIGIT_BITS = 12
+_KEEP = 1 << 14
+_SIGN = 1 << 63
+_ALL_BITS = (1 << 64) - 1
+
+
+def _parts(dataset: Path) -> list[Path]:
+    """A sweep dataset's part files, in chunk order (configurations ascending)."""
+    return [path for _, path in sorted(existing_parts(dataset).items())]
+
+
+def _part_rows(part: Path) -> int:
+    """A part's row count, from its Parquet footer."""
+    import pyarrow.parquet as pq
+
+    return int(pq.read_metadata(part).num_rows)
+
+
+def _sort_keys(values: NDArray[np.float64]) -> NDArray[np.uint64]:
+    """Unsigned keys in the order of the (finite) ``values``: IEEE bits, sign folded."""
+    bits = np.ascontiguousarray(values, dtype=np.float64).view(np.uint64)
+    sign = np.uint64(_SIGN)
+    return np.where(bits & sign, ~bits, bits | sign)
+
+
+def _key_value(key: int) -> float:
+    """The float of a key of :func:`_sort_keys`."""
+    bits = key ^ _SIGN if key & _SIGN else ~key & _ALL_BITS
+    return float(np.array(bits, dtype=np.uint64).view(np.float64))
+
+
+@dataclass
+class _Range:
+    """The values of a column whose sort keys start with ``prefix`` (``bits`` long).
+
+    ``ranks`` are the ranks wanted among them (0-based), those of ``wanted`` among all the
+    column's values; a pass counts their next digit (``histogram``) or keeps them whole.
+    """
+
+    prefix: int
+    bits: int
+    count: int
+    ranks: list[int]
+    wanted: list[int]
+    histogram: NDArray[np.int64] | None = None
+    kept: list[NDArray[np.uint64]] | None = None
+
+    def start(self) -> None:
+        """Ready for a pass: keep the range whole, or count its next digit."""
+        if self.count <= _KEEP:
+            self.kept = []
+        else:
+            self.histogram = np.zeros(1 << min(_DIGIT_BITS, 64 - self.bits), dtype=np.int64)
+
+    def add(self, keys: NDArray[np.uint64]) -> None:
+        """The keys of a part's values (all of them: this picks its range's)."""
+        if self.bits:
+            keys = keys[(keys >> np.uint64(64 - self.bits)) == np.uint64(self.prefix)]
+        if self.kept is not None:
+            self.kept.append(keys)
+            return
+        assert self.histogram is not None
+        width = self.histogram.size.bit_length() - 1
+        digits = (keys >> np.uint64(64 - self.bits - width)) & np.uint64(self.histogram.size - 1)
+        self.histogram += np.bincount(digits.astype(np.int64), minlength=self.histogram.size)
+
+
+def _narrow(range_: _Range, histogram: NDArray[np.int64], found: dict[int, float]) -> list[_Range]:
+    """The ranges of the next digit that hold the wanted ranks (``found`` where resolved)."""
+    width = histogram.size.bit_length() - 1
+    below = np.concatenate([[0], np.cumsum(histogram)])
+    narrower: dict[int, _Range] = {}
+    for rank, wanted in zip(range_.ranks, range_.wanted, strict=True):
+        digit = int(np.searchsorted(below, rank, side="right")) - 1
+        prefix, bits = (range_.prefix << width) | digit, range_.bits + width
+        if bits == 64:  # one key: the value itself
+            found[wanted] = _key_value(prefix)
+            continue
+        if digit not in narrower:
+            narrower[digit] = _Range(prefix, bits, int(histogram[digit]), [], [])
+        narrower[digit].ranks.append(rank - int(below[digit]))
+        narrower[digit].wanted.append(wanted)
+    return list(narrower.values())
+
+
+class StreamedSummary:
+    """:func:`~polyell.comparison.summary.summarize` of results read one part at a time.
+
+    The statistics of every ``<kind>_<score>`` column over all its finite values, in the
+    order and layout of ``summarize``, with memory independent of the rows: ``defined``,
+    ``min``, ``max`` and ``median`` are exact (the median by radix selection on the
+    values' IEEE bits, ``_DIGIT_BITS`` a pass, its range kept whole once it holds at most
+    ``_KEEP`` values); ``mean`` is the sum of the parts' sums (``math.fsum``) over the
+    count and ``std`` the two-pass one of pandas (``ddof=1``) about that mean, both equal
+    to the whole column's to rounding.  A column of at most ``_KEEP`` finite values is
+    kept whole and summarised by ``summarize`` itself (every statistic exact).
+
+    Parameters
+    ----------
+    columns : dict
+        ``(kind, score)`` to its column, in the order of ``summarize``.
+    """
+
+    def __init__(self, columns: dict[tuple[str, str], str]) -> None:
+        self.columns = columns
+        self._count = dict.fromkeys(columns.values(), 0)
+        self._sums: dict[str, list[float]] = {c: [] for c in columns.values()}
+        self._low = dict.fromkeys(columns.values(), np.inf)
+        self._high = dict.fromkeys(columns.values(), -np.inf)
+        self._kept: dict[str, list[NDArray[np.float64]] | None] = {c: [] for c in columns.values()}
+        self._first = {c: _Range(0, 0, 0, [], []) for c in columns.values()}
+        for range_ in self._first.values():
+            range_.histogram = np.zeros(1 << _DIGIT_BITS, dtype=np.int64)
+
+    def add(self, frame: pd.DataFrame) -> None:
+        """The next part's rows (the first pass)."""
+        for column in self.columns.values():
+            values = frame[column].to_numpy(dtype=float)
+            values = values[np.isfinite(values)]
+            if not values.size:
+                continue
+            self._count[column] += values.size
+            self._sums[column].append(float(values.sum()))
+            self._low[column] = min(self._low[column], float(values.min()))
+            self._high[column] = max(self._high[column], float(values.max()))
+            kept = self._kept[column]
+            if kept is not None:
+                kept.append(values)
+                if self._count[column] > _KEEP:  # too many to keep: selected later
+                    self._kept[column] = None
+            self._first[column].add(_sort_keys(values + 0.0))  # (+ 0.0: -0.0 as 0.0)
+
+    def extremes(self, column: str) -> tuple[float, float] | None:
+        """The exact ``(min, max)`` of a column's finite values (None: it has none)."""
+        if not self._count.get(column):
+            return None
+        return self._low[column], self._high[column]
+
+    def summary(self, parts: Sequence[Path]) -> pd.DataFrame:
+        """The summary, reading ``parts`` again for the columns too long to keep whole."""
+        import pandas as pd
+
+        statistics: dict[str, dict[str, float]] = {}
+        means: dict[str, float] = {}
+        ranges: dict[str, list[_Range]] = {}
+        found: dict[str, dict[int, float]] = {}
+        for (kind, score), column in self.columns.items():
+            count, kept = self._count[column], self._kept[column]
+            if not count:
+                continue
+            if kept is not None:  # every value: summarize's own numbers
+                whole = summarize(
+                    pd.DataFrame({column: np.concatenate(kept)}), (score,), kinds=[kind]
+                )
+                statistics[column] = {name: whole[name].iloc[0] for name in whole.columns}
+                continue
+            means[column] = math.fsum(self._sums[column]) / count
+            middle = sorted({(count - 1) // 2, count // 2})
+            found[column] = {}
+            first = self._first[column]
+            first.count, first.ranks, first.wanted = count, list(middle), list(middle)
+            assert first.histogram is not None
+            ranges[column] = _narrow(first, first.histogram, found[column])
+        squares: dict[str, list[float]] = {column: [] for column in means}
+        while any(ranges.values()) or squares:
+            for group in ranges.values():
+                for range_ in group:
+                    range_.start()
+            read = list(dict.fromkeys([*(c for c in ranges if ranges[c]), *squares]))
+            for part in parts:
+                frame = pd.read_parquet(part, columns=read)
+                for column in read:
+                    values = frame[column].to_numpy(dtype=float)
+                    values = values[np.isfinite(values)] + 0.0
+                    if column in squares:
+                        squares[column].append(float(((means[column] - values) ** 2).sum()))
+                    keys = _sort_keys(values) if ranges.get(column) else None
+                    for range_ in ranges.get(column, ()):
+                        assert keys is not None
+                        range_.add(keys)
+            for column, values in squares.items():
+                count = self._count[column]
+                variance = math.fsum(values) / (count - 1) if count > 1 else 0.0
+                statistics[column] = {"std": float(np.sqrt(variance))}
+            squares = {}
+            for column, group in ranges.items():
+                narrower = []
+                for range_ in group:
+                    if range_.kept is not None:
+                        ordered = np.sort(np.concatenate([np.zeros(0, np.uint64), *range_.kept]))
+                        for rank, wanted_rank in zip(range_.ranks, range_.wanted, strict=True):
+                            found[column][wanted_rank] = _key_value(int(ordered[rank]))
+                    else:
+                        assert range_.histogram is not None
+                        narrower += _narrow(range_, range_.histogram, found[column])
+                ranges[column] = narrower
+        rows: dict[tuple[str, str], dict[str, Any]] = {}
+        for key, column in self.columns.items():
+            count = self._count[column]
+            if not count:
+                continue
+            if self._kept[column] is not None:
+                rows[key] = statistics[column]
+                continue
+            lower, upper = found[column][(count - 1) // 2], found[column][count // 2]
+            rows[key] = {
+                "defined": int(count),
+                "mean": means[column],
+                "std": statistics[column]["std"],
+                "min": self._low[column],
+                # numpy's median of an even count: the mean of the two middle values
+                "median": lower if count % 2 else float(np.mean(np.array([lower, upper]))),
+                "max": self._high[column],
+            }
+        if not rows:
+            return summarize(pd.DataFrame())
+        # as summarize builds its frame (its columns, its index's names)
+        empty = summarize(pd.DataFrame())
+        summary = pd.DataFrame.from_dict(rows, orient="index", columns=list(empty.columns))
+        summary.index = pd.MultiIndex.from_tuples(summary.index, names=empty.index.names)
+        return summary
+
+
+def _hash_rows(configuration: NDArray[np.int64]) -> NDArray[np.uint64]:
+    """A fixed pseudo-random 64-bit number per configuration index (splitmix64)."""
+    with np.errstate(over="ignore"):
+        z = configuration.astype(np.uint64) + np.uint64(0x9E3779B97F4A7C15)
+        z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+        z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+        return z ^ (z >> np.uint64(31))
+
+
+class _RowSample:
+    """Rows of a dataset kept for its histograms: all, or a seeded sample of about ``limit``.
+
+    A configuration is kept when the hash of its index falls below ``limit / total`` of
+    the 64-bit range: the sample does not depend on how the dataset was chunked.
+    """
+
+    def __init__(self, total: int, columns: Sequence[str], limit: int | None = None) -> None:
+        self.total, self.columns = total, list(columns)
+        limit = HISTOGRAM_ROWS if limit is None else limit
+        self.threshold = None if total <= limit else np.uint64(int(limit / total * 2.0**64))
+        self._kept: list[pd.DataFrame] = []
+
+    @property
+    def sampled(self) -> bool:
+        """Whether the rows are a sample (the study has more than ``limit``)."""
+        return self.threshold is not None
+
+    def add(self, frame: pd.DataFrame) -> None:
+        """A part's rows (in order)."""
+        if not self.columns:
+            return
+        if self.threshold is None:
+            self._kept.append(frame[self.columns])
+            return
+        keep = _hash_rows(frame["configuration"].to_numpy()) < self.threshold
+        self._kept.append(frame.loc[keep, self.columns])
+
+    def frame(self) -> pd.DataFrame:
+        """The kept rows."""
+        import pandas as pd
+
+        if not self._kept:
+            return pd.DataFrame(columns=self.columns)
+        return pd.concat(self._kept, ignore_index=True)
+
+
+class _SubGrid:
+    """Every k-th value along each of a grid's two varying joints, read part by part.
+
+    ``y`` varies slower than ``x`` (configuration ``iy * len(x) + ix``); along an axis of
+    more than ``limit`` values, every ``ceil(len / limit)``-th is kept, the first included.
+    ``columns`` None keeps whole rows (:meth:`frame`), else those columns (:meth:`values`).
+    """
+
+    def __init__(
+        self, y: GridAxis, x: GridAxis, limit: int, columns: Sequence[str] | None = None
+    ) -> None:
+        self.y, self.x, self.columns = y, x, columns
+        self.steps = (-(-y.values.size // limit), -(-x.values.size // limit))
+        self._rows: list[pd.DataFrame] = []
+        self._values: dict[str, list[NDArray[np.float64]]] = {c: [] for c in columns or ()}
+
+    @property
+    def decimated(self) -> bool:
+        """Whether some grid values are left out."""
+        return self.steps != (1, 1)
+
+    @property
+    def axes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The kept values of ``y`` and of ``x``."""
+        return self.y.values[:: self.steps[0]], self.x.values[:: self.steps[1]]
+
+    def shape_note(self) -> str:
+        """What a figure draws: ``"1000 x 1000 of 3000 x 3000 grid points"``."""
+        ys, xs = self.axes
+        return f"{ys.size} x {xs.size} of {self.y.values.size} x {self.x.values.size} grid points"
+
+    def note(self) -> str:
+        """What is drawn: ``"1000 x 1000 of 3000 x 3000 grid points: every 3rd value ..."``."""
+        ys, xs = self.axes
+        return (
+            f"{ys.size} x {xs.size} of {self.y.values.size} x {self.x.values.size} grid "
+            f"points: {_every(self.steps[0])} of {self.y.name}, {_every(self.steps[1])} "
+            f"of {self.x.name}"
+        )
+
+    def add(self, frame: pd.DataFrame) -> None:
+        """A part's rows."""
+        iy, ix = np.divmod(frame["configuration"].to_numpy(), self.x.values.size)
+        keep = (iy % self.steps[0] == 0) & (ix % self.steps[1] == 0)
+        if self.columns is None:
+            self._rows.append(frame[keep])
+            return
+        for column in self.columns:
+            self._values[column].append(frame[column].to_numpy(dtype=float)[keep])
+
+    def values(self, column: str) -> NDArray[np.float64]:
+        """A kept column as a map, shape (len(y kept), len(x kept))."""
+        ys, xs = self.axes
+        return np.concatenate(self._values[column]).reshape(ys.size, xs.size)
+
+    def frame(self) -> pd.DataFrame:
+        """The kept rows (``columns`` None)."""
+        import pandas as pd
+
+        return pd.concat(self._rows, ignore_index=True)
+
+
+def _every(k: int) -> str:
+    """``"every value"``, ``"every 2nd value"``, ``"every 11th value"``."""
+    if k == 1:
+        return "every value"
+    suffix = "th" if 10 <= k % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(k % 10, "th")
+    return f"every {k}{suffix} value"
+
+
+class _Stream:
+    """One robot's sweep dataset of a capacity, read one part at a time.
+
+    The first pass (:meth:`add`, part by part) feeds what the study's outputs need, each of
+    a size that does not grow with the rows: the summary's statistics
+    (:class:`StreamedSummary`, its further passes in :meth:`summary`), the extremes of the
+    mapped columns (one colour scale per score), the heat maps' values and the report's
+    map (:class:`_SubGrid`) and the histograms' rows (:class:`_RowSample`).
+    """
+
+    def __init__(self, spec: StudySpec, dataset: Path, capacity: str) -> None:
+        self.spec, self.capacity = spec, capacity
+        self.parts = _parts(dataset)
+        self.count = sum(_part_rows(part) for part in self.parts)
+        self.varying = [axis for axis in spec.grid if axis.values.size > 1]
+        self.kinds: list[str] = []
+        self.maps: list[str] = []
+        self.extremes: dict[str, tuple[float, float]] = {}
+        self.statistics: StreamedSummary | None = None
+        self.map: _SubGrid | None = None
+        self.report_map: _SubGrid | None = None
+        self.sample: _RowSample | None = None
+
+    def _start(self, frame: pd.DataFrame) -> None:
+        output = self.spec.file.output
+        self.kinds = result_kinds(frame)
+        self.statistics = StreamedSummary(
+            {
+                (kind, score): f"{kind}_{score}"
+                for kind in self.kinds
+                for score in SUMMARY_SCORES
+                if f"{kind}_{score}" in frame.columns
+            }
+        )
+        # A map of a kind this capacity does not have is not drawn for it.
+        self.maps = [name for name in output.maps if name in frame.columns]
+        if self.maps and len(self.varying) == 2:
+            y, x = self.varying
+            self.map = _SubGrid(y, x, MAP_AXIS_VALUES, self.maps)
+            if "html" in output.formats:
+                self.report_map = _SubGrid(y, x, REPORT_MAP_AXIS_VALUES)
+        measured = [kind for kind in self.kinds if kind not in ("mvie", "outer")]
+        columns = [
+            f"{kind}_{score}"
+            for score in output.histograms
+            for kind in measured
+            if f"{kind}_{score}" in frame.columns
+        ]
+        self.sample = _RowSample(self.count, columns)
+
+    def add(self, frame: pd.DataFrame) -> None:
+        """The next part's rows (the first pass)."""
+        if self.statistics is None:
+            self._start(frame)
+        assert self.statistics is not None and self.sample is not None
+        self.statistics.add(frame)
+        for name in self.maps:
+            values = frame[name].to_numpy(dtype=float)
+            values = values[np.isfinite(values)]
+            if values.size:
+                low, high = self.extremes.get(name, (np.inf, -np.inf))
+                self.extremes[name] = (min(low, values.min()), max(high, values.max()))
+        for grid in (self.map, self.report_map):
+            if grid is not None:
+                grid.add(frame)
+        self.sample.add(frame)
+
+    def summary(self) -> pd.DataFrame:
+        """The summary over every configuration (further passes where needed)."""
+        assert self.statistics is not None
+        return self.statistics.summary(self.parts)
+
+
 def _run_many(
-    spec: StudySpec, folder: Path, progress: bool, scheduler: str | None, seconds: dict[str, float]
+    spec: StudySpec,
+    folder: Path,
+    progress: bool,
+    scheduler: str | None,
+    seconds: dict[str, float],
+    notes: list[str],
 ) -> list[Path]:
     """A grid or random study: one sweep per robot, tables and figures side by side.
 
@@ -363,8 +796,8 @@ def _run_many(
     named ``map_<robot>.<name>``, ``histogram_<robot>.<score>``.
     """
     if spec.trajectory is not None:
-        return _run_trajectory(spec, folder, progress, scheduler, seconds)
-    return _each_capacity(_run_many_capacity, spec, folder, progress, scheduler, seconds)
+        return _run_trajectory(spec, folder, progress, scheduler, seconds, notes)
+    return _each_capacity(_run_many_capacity, spec, folder, progress, scheduler, seconds, notes)
 
 
 def _each_capacity(
@@ -374,12 +807,15 @@ def _each_capacity(
     progress: bool,
     scheduler: str | None,
     seconds: dict[str, float],
+    notes: list[str],
 ) -> list[Path]:
     """``run_one`` for each capacity of ``[compare] capacities``, then the HTML report."""
     written: list[Path] = []
     sections = _about(spec)
     for capacity in spec.file.compare.capacities:
-        files, capacity_sections = run_one(spec, folder, capacity, progress, scheduler, seconds)
+        files, capacity_sections = run_one(
+            spec, folder, capacity, progress, scheduler, seconds, notes
+        )
         written += files
         sections += capacity_sections
     if "html" in spec.file.output.formats:
@@ -396,113 +832,181 @@ def _run_many_capacity(
     progress: bool,
     scheduler: str | None,
     seconds: dict[str, float],
+    notes: list[str],
 ) -> tuple[list[Path], list[tuple[str, Any]]]:
     """One capacity of a grid or random study: its sweep, tables, figures, report sections.
 
     The acceleration outputs keep their names (``results/``, ``summary.tex``,
     ``map_<name>.png``); another capacity's carry its name (``results_force/``,
-    ``summary_force.tex``, ``map_<name>_force.png``).
+    ``summary_force.tex``, ``map_<name>_force.png``).  The sweep's dataset is read back
+    one part at a time (:class:`_Stream`): ``results.csv`` (``[output] csv``), the summary,
+    the maps and the histograms all hold memory that does not grow with the
+    configurations.
     """
-    import pandas as pd
-
     suffix = capacity_class(capacity).output_suffix
-    runs: dict[str, pd.DataFrame] = {}
+    streams: dict[str, _Stream] = {}
     for index, robot in enumerate(spec.robots):
-        configurations = spec.configurations(index)
         results_folder = folder / f"results{suffix}"
         out = results_folder / f"robot={robot.name}" if spec.by_robot else results_folder
+        configurations = spec.configuration_set(index)  # lazy: made a chunk at a time
         dataset = _sweep(spec, robot, configurations, out, progress, scheduler, seconds, capacity)
-        results = pd.read_parquet(dataset).sort_values("configuration").reset_index(drop=True)
-        runs[robot.name if spec.by_robot else ""] = results
-    if spec.by_robot:
-        table = pd.concat([r.assign(robot=name) for name, r in runs.items()], ignore_index=True)
-        table = table[["robot", *[c for c in table.columns if c != "robot"]]]
-    else:
-        table = runs[""]
-    results_csv = folder / f"results{suffix}.csv"
-    written = [write_atomically(results_csv, lambda name: _csv(name, table))]
-    summaries = {name: summarize(results) for name, results in runs.items()}
-    written += _write_summary(spec, folder, summaries, len(table), capacity)
+        streams[robot.name if spec.by_robot else ""] = _Stream(spec, dataset, capacity)
+    count = sum(stream.count for stream in streams.values())
+    written = _stream_results(spec, folder, f"results{suffix}", streams, count, notes)
+    summaries = {name: stream.summary() for name, stream in streams.items()}
+    written += _write_summary(spec, folder, summaries, count, capacity)
     # Maps of one score share one colour scale, so that colours compare across candidates
-    # (and robots).  A map of a kind this capacity does not have is not drawn for it.
-    maps = [name for name in spec.file.output.maps if name in table.columns]
+    # (and robots): the extremes of every configuration's value, not only of those drawn.
+    maps = next(iter(streams.values())).maps
     scales: dict[str, tuple[float, float]] = {}
-    for name in maps:
-        _, score = _split(name)
-        finite = table[name].to_numpy(dtype=float)
-        finite = finite[np.isfinite(finite)] * score_display(score, capacity)[1]
-        if finite.size:
-            low, high = scales.get(score, (np.inf, -np.inf))
-            scales[score] = (min(low, finite.min()), max(high, finite.max()))
+    for stream in streams.values():
+        for name, (low, high) in stream.extremes.items():
+            factor = score_display(_split(name)[1], capacity)[1]
+            old = scales.get(_split(name)[1], (np.inf, -np.inf))
+            scales[_split(name)[1]] = (min(old[0], factor * low), max(old[1], factor * high))
     sections: list[tuple[str, Any]] = []
-    for name, results in runs.items():
+    for name, stream in streams.items():
         files, robot_sections = _many_outputs(
-            spec, folder, name, results, summaries[name], scales, capacity, maps
+            spec, folder, name, stream, summaries[name], scales, capacity, maps, notes
         )
         written += files
         sections += robot_sections
     return written, sections
 
 
+def _stream_results(
+    spec: StudySpec,
+    folder: Path,
+    stem: str,
+    streams: dict[str, _Stream],
+    count: int,
+    notes: list[str],
+) -> list[Path]:
+    """The first pass over the datasets' parts: each stream fed, ``<stem>.csv`` written.
+
+    The CSV (``[output] csv``) is written part by part as it is read (a ``robot`` column
+    first in a study of several robots), so that it never is in memory whole; without it,
+    the log and the manifest say where the rows are.
+    """
+    import pandas as pd
+    import pyarrow.parquet as pq
+
+    # The columns of every robot's rows, as pandas.concat joins them (the first robot's,
+    # then those only later ones have: a robot of fewer joints has no q7), robot first.
+    columns: list[str] = ["robot"] if spec.by_robot else []
+    for stream in streams.values():
+        names = pq.read_schema(stream.parts[0]).names
+        columns += [name for name in names if name not in columns]
+
+    def read(handle: Any) -> None:
+        header = True
+        for robot, stream in streams.items():
+            for part in stream.parts:
+                frame = pd.read_parquet(part)
+                stream.add(frame)
+                if handle is not None:
+                    if spec.by_robot:
+                        frame.insert(0, "robot", robot)
+                    write_csv(frame.reindex(columns=columns), handle, header=header)
+                    header = False
+
+    output = spec.file.output
+    if output.writes_csv(count):
+        return [write_atomically(folder / f"{stem}.csv", lambda name: _with_file(name, read))]
+    read(None)
+    why = (
+        "[output] csv = false"
+        if output.csv is False
+        else f'{count:,} configurations, more than [output] csv = "auto" writes'
+    )
+    note = (
+        f"{stem}.csv not written ({why}): every row is in the Parquet dataset {stem}/ "
+        f"(pandas.read_parquet); csv = true writes it, streamed"
+    )
+    _log.info("note: %s", note)
+    notes.append(note)
+    return []
+
+
+def _with_file(name: str, write: Any) -> None:
+    """``write(handle)`` on the file ``name``, opened for binary writing."""
+    with open(name, "wb") as handle:
+        write(handle)
+
+
 def _many_outputs(
     spec: StudySpec,
     folder: Path,
     robot: str,
-    results: pd.DataFrame,
+    stream: _Stream,
     summary: pd.DataFrame,
     scales: dict[str, tuple[float, float]],
     capacity: str,
     maps: list[str],
+    notes: list[str],
 ) -> tuple[list[Path], list[tuple[str, Any]]]:
     """The figures of one robot's sweep of a capacity, and its sections of the report.
 
     ``robot`` is its name in a study of several robots, else ``""``; ``maps`` the study's
-    maps this capacity has columns for.
+    maps this capacity has columns for.  A map of a grid larger than
+    :data:`MAP_AXIS_VALUES` along an axis draws every k-th value, histograms of more than
+    :data:`HISTOGRAM_ROWS` configurations a seeded sample: their titles, the log and the
+    manifest say so.
     """
     suffix = capacity_class(capacity).output_suffix
-    if maps or spec.file.series or spec.file.output.histograms:  # matplotlib: a second of start-up
-        from polyell.figures import plot_score_histogram, plot_score_map, plot_score_series
+    if maps or spec.file.output.histograms:  # matplotlib: a second of start-up
+        from polyell.figures import plot_score_histogram, plot_score_map
 
     prefix, by = (f"{robot}.", f"{robot}: ") if robot else ("", "")
     if suffix:
         by = f"{by}{capacity}: "
     written: list[Path] = []
-    kinds = result_kinds(results.columns)
-    varying = [axis for axis in spec.grid if axis.values.size > 1]
+    grid = stream.map
     for name in maps:
-        if len(varying) != 2:
+        if grid is None:
             break
-        x_axis, y_axis = varying[1], varying[0]  # the last joint varies fastest: columns
         kind, score = _split(name)
         label, factor = score_display(score, capacity)
-        values = factor * results[name].to_numpy().reshape(y_axis.values.size, x_axis.values.size)
+        ys, xs = grid.axes
+        title = f"{by}{ellipsoid_label(kind, capacity)}: {label}"
         figure = plot_score_map(
-            values,
-            x_axis.values,
-            y_axis.values,
-            xlabel=f"${x_axis.name[0]}_{x_axis.name[1:]}$ [rad]",
-            ylabel=f"${y_axis.name[0]}_{y_axis.name[1:]}$ [rad]",
+            factor * grid.values(name),
+            xs,
+            ys,
+            xlabel=f"${grid.x.name[0]}_{grid.x.name[1:]}$ [rad]",
+            ylabel=f"${grid.y.name[0]}_{grid.y.name[1:]}$ [rad]",
             label=label,
-            title=f"{by}{ellipsoid_label(kind, capacity)}: {label}",
+            title=title + (f"\n({grid.shape_note()})" if grid.decimated else ""),
             limits=scales.get(score),
         )
         stem = folder / f"map_{prefix}{name}{suffix}"
         written += _save(spec, figure, stem)
+    if grid is not None and grid.decimated and maps:
+        notes.append(f"{by}maps map_{prefix}*{suffix}: {grid.note()}")
+    measured = [kind for kind in stream.kinds if kind not in ("mvie", "outer")]  # not optima
+    assert stream.sample is not None
+    sample = stream.sample.frame() if spec.file.output.histograms else None
+    sampled = ""
+    if stream.sample.sampled and sample is not None:
+        sampled = f"a seeded random sample of {len(sample):,} of {stream.count:,} configurations"
+        notes.append(f"{by}histograms histogram_{prefix}*{suffix}: {sampled}")
     title = f"{by}{spec.title}"
-    for score in spec.file.series:
-        figure = plot_score_series(results, score, kinds=kinds, title=title, capacity=capacity)
-        stem = folder / f"series_{prefix}{score}{suffix}"
-        written += _save(spec, figure, stem)
-    measured = [kind for kind in kinds if kind not in ("mvie", "outer")]  # not the optima
     for score in spec.file.output.histograms:
+        assert sample is not None
         figure = plot_score_histogram(
-            results, score, kinds=measured, title=title, capacity=capacity
+            sample,
+            score,
+            kinds=measured,
+            title=title + (f"\n({sampled})" if sampled else ""),
+            capacity=capacity,
         )
         stem = folder / f"histogram_{prefix}{score}{suffix}"
         written += _save(spec, figure, stem)
     sections: list[tuple[str, Any]] = []
     if "html" in spec.file.output.formats:
-        sections = _many_report(spec, by, results, summary, varying, measured, capacity, maps)
+        sections = _many_report(
+            spec, by, stream, sample, sampled, summary, measured, capacity, maps
+        )
     return written, sections
 
 
@@ -636,19 +1140,27 @@ def _write_summary(
 
 
 def _run_trajectory(
-    spec: StudySpec, folder: Path, progress: bool, scheduler: str | None, seconds: dict[str, float]
+    spec: StudySpec,
+    folder: Path,
+    progress: bool,
+    scheduler: str | None,
+    seconds: dict[str, float],
+    notes: list[str],
 ) -> list[Path]:
-    """A trajectory study, its memory independent of the number of samples but for two terms.
+    """A trajectory study, its memory independent of the number of samples but for one term.
 
     The sweep writes one Parquet part per chunk; the parts are then read one at a time:
     the tangent limits of a part's samples are computed, its rows appended to
-    ``results.csv`` and passed to the series' decimators (:class:`SeriesDecimator`: the
-    figures and the report draw at most a few thousand points per curve, and say so).
-    The two terms that grow with the samples are the trajectory itself (``(2n + 1) * 8``
-    bytes a sample) and one score column at a time (8 bytes a sample) for the summary's
-    medians and the histograms.  Each capacity of ``[compare] capacities`` in turn.
+    ``results.csv`` (``[output] csv``) and passed to the series' decimators
+    (:class:`SeriesDecimator`: the figures and the report draw at most a few thousand
+    points per curve, and say so), to the summary's statistics (:class:`StreamedSummary`)
+    and to the histograms' rows (:class:`_RowSample`).  The one term that grows with the
+    samples is the trajectory itself (``(2n + 1) * 8`` bytes a sample).  Each capacity of
+    ``[compare] capacities`` in turn.
     """
-    return _each_capacity(_run_trajectory_capacity, spec, folder, progress, scheduler, seconds)
+    return _each_capacity(
+        _run_trajectory_capacity, spec, folder, progress, scheduler, seconds, notes
+    )
 
 
 def _run_trajectory_capacity(
@@ -658,6 +1170,7 @@ def _run_trajectory_capacity(
     progress: bool,
     scheduler: str | None,
     seconds: dict[str, float],
+    notes: list[str],
 ) -> tuple[list[Path], list[tuple[str, Any]]]:
     """One capacity of a trajectory study: its sweep, tables, figures, report sections.
 
@@ -682,7 +1195,7 @@ def _run_trajectory_capacity(
     import pandas as pd
     import pyarrow.parquet as pq
 
-    parts = [path for _, path in sorted(existing_parts(Path(dataset)).items())]
+    parts = _parts(Path(dataset))
     columns = pq.read_schema(parts[0]).names
     count = len(trajectory)
     kinds = result_kinds(columns)
@@ -697,34 +1210,64 @@ def _run_trajectory_capacity(
     sets = ("polytope", *cls.ellipsoid_kinds)
     tangents = [f"tangent_{name}_{end}" for name in sets for end in ("lo", "hi")]
     along = SeriesDecimator(count, tangents) if tangent else None
+    statistics = StreamedSummary(
+        {
+            (kind, score): f"{kind}_{score}"
+            for kind in kinds  # the order of summarize(): ellipsoids, then scores
+            for score in SUMMARY_SCORES
+            if f"{kind}_{score}" in columns
+        }
+    )
+    measured = [kind for kind in kinds if kind not in ("mvie", "outer")]  # not the optima
+    sample = _RowSample(
+        count,
+        [
+            f"{k}_{score}"
+            for score in spec.file.output.histograms
+            for k in measured
+            if f"{k}_{score}" in columns
+        ],
+    )
 
-    def write_results(name: str) -> None:
-        with open(name, "wb") as handle:
-            start = 0
-            for index, part in enumerate(parts):
-                frame = pd.read_parquet(part)
-                stop = start + len(frame)
-                if tangent:  # what the capacity allows along the path, where the arm moves
-                    assert trajectory.qd is not None
-                    piece = Trajectory(trajectory.q[start:stop], trajectory.qd[start:stop])
-                    along_path = tangent_limits(model, piece, capacity=capacity, **limits)
-                    frame = frame.assign(**along_path)
+    def read(handle: Any) -> None:
+        start = 0
+        for index, part in enumerate(parts):
+            frame = pd.read_parquet(part)
+            statistics.add(frame)
+            sample.add(frame)
+            stop = start + len(frame)
+            if tangent:  # what the capacity allows along the path, where the arm moves
+                assert trajectory.qd is not None
+                piece = Trajectory(trajectory.q[start:stop], trajectory.qd[start:stop])
+                along_path = tangent_limits(model, piece, capacity=capacity, **limits)
+                frame = frame.assign(**along_path)
+            if handle is not None:
                 write_csv(frame, handle, header=index == 0)
-                for decimator in series.values():
-                    decimator.add(frame[[x, *decimator.traces]])
-                if along is not None:
-                    along.add(frame[[x, *tangents]])
-                start = stop
+            for decimator in series.values():
+                decimator.add(frame[[x, *decimator.traces]])
+            if along is not None:
+                along.add(frame[[x, *tangents]])
+            start = stop
 
-    written = [write_atomically(folder / f"results{suffix}.csv", write_results)]
-    summaries = []
-    for kind in kinds:  # the order of summarize(): ellipsoids, then scores
-        for score in SUMMARY_SCORES:
-            column = f"{kind}_{score}"
-            if column in columns:
-                values = pd.read_parquet(dataset, columns=[column])
-                summaries.append(summarize(values, (score,)))
-    summary = pd.concat(summaries) if summaries else summarize(pd.DataFrame())
+    written: list[Path] = []
+    if spec.file.output.writes_csv(count):
+        csv = folder / f"results{suffix}.csv"
+        written.append(write_atomically(csv, lambda name: _with_file(name, read)))
+    else:
+        read(None)
+        why = (
+            "[output] csv = false"
+            if spec.file.output.csv is False
+            else f'{count:,} samples, more than [output] csv = "auto" writes'
+        )
+        note = (
+            f"results{suffix}.csv not written ({why}): the scores are in the Parquet dataset "
+            f"results{suffix}/ (pandas.read_parquet), the tangent limits only in the CSV; "
+            "csv = true writes it, streamed"
+        )
+        _log.info("note: %s", note)
+        notes.append(note)
+    summary = statistics.summary(parts)
     written += _write_summary(spec, folder, {"": summary}, count, capacity)
     shown = {score: decimator.result() for score, decimator in series.items()}
     for score, frame in shown.items():
@@ -738,17 +1281,14 @@ def _run_trajectory_capacity(
         figure = plot_tangent_limits(along.result(), unit=unit, capacity=capacity)
         stem = folder / f"tangent_limits{suffix}"
         written += _save(spec, figure, stem)
-    measured = [kind for kind in kinds if kind not in ("mvie", "outer")]  # not the optima
-    histograms = {
-        score: pd.read_parquet(
-            dataset, columns=[f"{k}_{score}" for k in measured if f"{k}_{score}" in columns]
-        )
-        for score in spec.file.output.histograms
-    }
-    for score, frame in histograms.items():
-        figure = plot_score_histogram(
-            frame, score, kinds=measured, title=f"{by}{spec.title}", capacity=capacity
-        )
+    rows = sample.frame()
+    sampled = ""
+    if sample.sampled and spec.file.output.histograms:
+        sampled = f"a seeded random sample of {len(rows):,} of {count:,} samples"
+        notes.append(f"{by}histograms histogram_*{suffix}: {sampled}")
+    title = f"{by}{spec.title}" + (f"\n({sampled})" if sampled else "")
+    for score in spec.file.output.histograms:
+        figure = plot_score_histogram(rows, score, kinds=measured, title=title, capacity=capacity)
         stem = folder / f"histogram_{score}{suffix}"
         written += _save(spec, figure, stem)
     sections: list[tuple[str, Any]] = []
@@ -758,9 +1298,10 @@ def _run_trajectory_capacity(
         for score, frame in shown.items():
             figure = interactive_series(frame, score, total=count, capacity=capacity)
             sections.append((by + score_display(score, capacity)[0], figure))
-        for score, frame in histograms.items():
-            figure = interactive_histogram(frame, score, measured, capacity=capacity)
-            sections.append((by + score_display(score, capacity)[0], figure))
+        for score in spec.file.output.histograms:
+            figure = interactive_histogram(rows, score, measured, capacity=capacity)
+            name = score_display(score, capacity)[0] + (f" ({sampled})" if sampled else "")
+            sections.append((by + name, figure))
         sections.append((f"{by}Summary over {count} configurations (fractions)", summary))
     return written, sections
 
@@ -768,37 +1309,36 @@ def _run_trajectory_capacity(
 def _many_report(
     spec: StudySpec,
     by: str,
-    results: pd.DataFrame,
+    stream: _Stream,
+    sample: pd.DataFrame | None,
+    sampled: str,
     summary: pd.DataFrame,
-    varying: list[GridAxis],
     measured: list[str],
     capacity: str,
     maps: list[str],
 ) -> list[tuple[str, Any]]:
     """The report's sections of one robot's sweep of a capacity (``formats`` "html").
 
-    ``by`` opens each section's title (the robot's name, the capacity, or ``""``).
+    ``by`` opens each section's title (the robot's name, the capacity, or ``""``); the
+    heat maps show at most :data:`REPORT_MAP_AXIS_VALUES` values along each axis, the
+    histograms the rows of :class:`_RowSample` (``sampled`` says which, if not all).
     """
-    from polyell.interactive import (
-        HtmlTable,
-        interactive_histogram,
-        interactive_map,
-        interactive_series,
-    )
+    from polyell.interactive import HtmlTable, interactive_histogram, interactive_map
 
     sections: list[tuple[str, Any]] = []
-    if len(varying) == 2 and maps:  # one figure, a menu over the maps
-        figure = interactive_map(results, maps, varying[1].name, varying[0].name, capacity=capacity)
-        sections.append((f"{by}Heat maps (choose the score in the menu)", figure))
-    for score in spec.file.series:
-        figure = interactive_series(results, score, capacity=capacity)
-        sections.append((by + score_display(score, capacity)[0], figure))
+    grid = stream.report_map
+    if grid is not None and maps:  # one figure, a menu over the maps
+        figure = interactive_map(grid.frame(), maps, grid.x.name, grid.y.name, capacity=capacity)
+        shown = f"; {grid.note()}" if grid.decimated else ""
+        sections.append((f"{by}Heat maps (choose the score in the menu{shown})", figure))
     for score in spec.file.output.histograms:
-        figure = interactive_histogram(results, score, measured, capacity=capacity)
-        sections.append((by + score_display(score, capacity)[0], figure))
+        assert sample is not None
+        figure = interactive_histogram(sample, score, measured, capacity=capacity)
+        name = score_display(score, capacity)[0] + (f" ({sampled})" if sampled else "")
+        sections.append((by + name, figure))
     layout = _layout(spec, capacity)
     text = format_summary_table(summary, "html", layout=layout, capacity=capacity)
-    sections.append((f"{by}Summary over {len(results)} configurations", HtmlTable(text)))
+    sections.append((f"{by}Summary over {stream.count} configurations", HtmlTable(text)))
     return sections
 
 
@@ -839,11 +1379,6 @@ def _save(spec: StudySpec, figure: Any, stem: Path) -> list[Path]:
 
     output = spec.file.output
     return save_figure(figure, stem, output.figure_formats, output.dpi)
-
-
-def _csv(name: str, frame: pd.DataFrame) -> None:
-    with open(name, "wb") as handle:
-        write_csv(frame, handle)
 
 
 def _heading(spec: StudySpec, heading: str) -> str:
@@ -920,6 +1455,15 @@ def run_study(
     configuration at a time.  A run into a folder of an earlier run replaces its outputs as
     a whole: the files its manifest lists that this run does not write are removed (listed
     under ``removed``); the sweep datasets stay, to resume.
+
+    A grid, random or trajectory study's memory does not grow with its configurations: its
+    sweep writes one Parquet part per chunk (``results/``), read back one part at a time
+    for ``results.csv`` (``[output] csv``: by default only up to
+    :data:`~polyell.studies.models.CSV_AUTO_ROWS` configurations), the summary tables
+    (over every configuration: :class:`StreamedSummary`), the heat maps (every k-th grid
+    value beyond :data:`MAP_AXIS_VALUES` per axis) and the histograms (a seeded sample of
+    about :data:`HISTOGRAM_ROWS` configurations beyond that many).  What was left out or
+    sampled is listed under ``notes`` in the manifest (and logged).
     """
     if not isinstance(spec, StudySpec):
         raise InputError(
@@ -936,13 +1480,14 @@ def run_study(
     started = time.perf_counter()
     folder = _prepare(out)
     seconds: dict[str, float] = {}
+    notes: list[str] = []
     with folder_lock(folder, STUDY_LOCK, "study"):
         remove_stale_temporaries(folder, STUDY_FILES)  # what a killed run left
         previous = _previous_outputs(folder)
         if spec.posture is not None:
             written = _run_posture(spec, folder)
         elif spec.is_batch:
-            written = _run_many(spec, folder, progress, scheduler, seconds)
+            written = _run_many(spec, folder, progress, scheduler, seconds, notes)
         else:
             written = _run_points(spec, folder)
         seconds["total"] = time.perf_counter() - started
@@ -954,6 +1499,8 @@ def run_study(
             "seconds": {name: round(value, 3) for name, value in seconds.items()},
             "per_row": _per_row_notes(spec, folder),
         }
+        if notes:  # results.csv left out, figures of a sample or a sub-grid
+            manifest["notes"] = notes
         stale = sorted(set(previous) - {p.name for p in written} - {"manifest.json"})
         for name in stale:  # the previous run's outputs this run does not write
             (folder / name).unlink(missing_ok=True)

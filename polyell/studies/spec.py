@@ -32,9 +32,9 @@ from polyell.errors import InputError
 from polyell.models.planar_arm import PlanarArm
 from polyell.models.task import task_unit
 from polyell.models.urdf import Payload, UrdfRobot
-from polyell.studies.configurations import uniform_rows
+from polyell.studies.configurations import ConfigurationSet, Grid, uniform_rows
 from polyell.studies.trajectory import Trajectory, load_trajectory
-from polyell.validation import array_ndim, check_array, check_joint_velocities
+from polyell.validation import array_ndim, check_array, check_integer, check_joint_velocities
 
 if TYPE_CHECKING:  # pydantic is imported where study files are read (start-up time)
     from polyell.studies import models
@@ -49,6 +49,7 @@ __all__ = [
     "Point",
     "Posture",
     "Robot",
+    "SeededRows",
     "StudySpec",
     "load_robot_file",
     "load_study",
@@ -345,8 +346,9 @@ class StudySpec:
         Every point on every robot (point by point, robots in file order).
     grid : tuple of GridAxis
         A grid study's axes, one per joint.
-    random_q : tuple of ndarray
-        A random study's configurations, one array per robot.
+    random_q : tuple of ConfigurationSet
+        A random study's configurations, one lazy set per robot (:class:`SeededRows`:
+        ``np.asarray`` gives the (count, n) array, ``rows(start, stop)`` a range of it).
     trajectory : Trajectory or None
         A trajectory study's path, loaded.
     posture : Posture or None
@@ -359,7 +361,7 @@ class StudySpec:
     candidates: tuple[Candidate, ...] = ()
     points: tuple[Point, ...] = ()
     grid: tuple[GridAxis, ...] = ()
-    random_q: tuple[NDArray[np.float64], ...] = ()
+    random_q: tuple[ConfigurationSet, ...] = ()
     trajectory: Trajectory | None = None
     posture: Posture | None = None
 
@@ -398,14 +400,25 @@ class StudySpec:
     def configurations(self, robot: int = 0) -> NDArray[np.float64]:
         """All configurations of robot number ``robot``, shape (K, n).
 
-        A grid's (the last joint fastest), the robot's random ones, or a trajectory's.
+        A grid's (the last joint fastest), the robot's random ones, or a trajectory's, as
+        one array (:meth:`configuration_set` makes them on demand instead).
+        """
+        if self.trajectory is not None:
+            return self.trajectory.q
+        return np.asarray(self.configuration_set(robot))
+
+    def configuration_set(self, robot: int = 0) -> ConfigurationSet | NDArray[np.float64]:
+        """The configurations of robot number ``robot``, made a range of rows at a time.
+
+        A grid study's :class:`~polyell.studies.configurations.Grid` and a random study's
+        :class:`SeededRows` (the rows of :meth:`configurations`, never all in memory:
+        what the study passes to :func:`polyell.sweep`); a trajectory's array.
         """
         if self.trajectory is not None:
             return self.trajectory.q
         if self.random_q:
             return self.random_q[robot]
-        mesh = np.meshgrid(*[axis.values for axis in self.grid], indexing="ij")
-        return np.stack([m.ravel() for m in mesh], axis=1)
+        return Grid([axis.values for axis in self.grid])
 
 
 # ---------------------------------------------------------------------------------------
@@ -447,8 +460,12 @@ def _point_q(
     robot: Robot,
     names: list[str] | None,
     field: Literal["q", "qd"] = "q",
-) -> NDArray[np.float64]:
-    """The point's joint angles (or ``qd``) on ``robot`` (``names``: those of ``[[robots]]``)."""
+) -> NDArray[np.float64] | None:
+    """The point's joint angles (or ``qd``) on ``robot`` (``names``: those of ``[[robots]]``).
+
+    A table of ``q`` per robot names every robot; one of ``qd`` may leave robots out
+    (None: that robot is at rest).
+    """
     n = robot.model.n
     key = f"{where}.{field}"
     given = table.q if field == "q" else table.qd
@@ -462,15 +479,19 @@ def _point_q(
             )
         unknown = sorted(set(given) - set(names))
         missing = [name for name in names if name not in given]
-        if unknown or missing:
+        if unknown or (missing and field == "q"):
             from polyell.studies.models import did_you_mean
 
             raise InputError(
                 key,
-                f"one list of {what} per robot {names}",
+                f"one list of {what} per robot {names}"
+                if field == "q"
+                else f"lists of {what} by robot name, among {names} (robots left out are at rest)",
                 f"unknown robot(s) {unknown}" if unknown else f"none for {missing}",
                 did_you_mean(unknown, names),
             )
+        if robot.name not in given:  # (qd only) a robot left out of the table is at rest
+            return None
         values, key = given[robot.name], f"{key}.{robot.name}"
     else:
         assert given is not None
@@ -499,28 +520,52 @@ def _points(
         where = f"points[{index}]"
         for robot in robots_:
             q = _point_q(table, where, robot, names)
+            assert q is not None  # (every robot has its q: checked)
             with _within(f"{where}.q"):
                 rows = tuple(robot.model.dynamics(q).task)
             directions, labels = _directions(table, rows, where)
-            qd = None if table.qd is None else _point_qd(table, where, robot, names)
+            qd = None if table.qd is None else _point_qd(table, where, robot, robots_, names)
             points.append(Point(table, robot.name if several else "", q, directions, labels, qd))
     return tuple(points)
 
 
 def _point_qd(
-    table: models.PointTable, where: str, robot: Robot, names: list[str] | None
-) -> NDArray[np.float64]:
-    """A moving point's joint velocities [rad/s]: a URDF robot's (Pinocchio's Coriolis terms)."""
+    table: models.PointTable,
+    where: str,
+    robot: Robot,
+    robots_: tuple[Robot, ...],
+    names: list[str] | None,
+) -> NDArray[np.float64] | None:
+    """A moving point's joint velocities [rad/s] on ``robot``; None where it is at rest.
+
+    A URDF robot moves (Pinocchio's Coriolis terms, the torque limits at ``qd``).  A
+    planar arm is modelled at rest: zero velocities are accepted as rest, and in a table of
+    ``qd`` per robot it is left out (a robot left out of the table is at rest).
+    """
+    values = _point_q(table, where, robot, names, "qd")
+    if values is None:
+        return None
+    key = f"{where}.qd" + (f".{robot.name}" if isinstance(table.qd, dict) else "")
+    qd = check_joint_velocities(key, values, robot.model.n)
     if not isinstance(robot.model, UrdfRobot):
+        if not qd.any():  # exactly at rest: the planar arm's own model
+            return None
+        moving = [r.name for r in robots_ if isinstance(r.model, UrdfRobot)]
+        if names is not None and len(names) > 1:
+            fix = f"leave {robot.name!r} out of qd (a robot left out is at rest): " + (
+                "qd = { " + ", ".join(f"{name} = [...]" for name in moving) + " }."
+                if moving
+                else "drop qd (no robot of the study is a URDF robot)."
+            )
+        else:
+            fix = "drop qd (or give zeros), or load a URDF robot."
         raise InputError(
-            f"{where}.qd",
-            "a URDF robot (its Coriolis and centrifugal torques come from Pinocchio)",
-            "qd for a planar arm",
-            "the planar arm is modelled at rest: drop qd, or load a URDF robot.",
+            key,
+            "a URDF robot (its Coriolis and centrifugal torques come from Pinocchio), or "
+            "zero joint velocities for a planar arm (it is modelled at rest)",
+            f"qd = {np.round(qd, 6).tolist()}",
+            fix,
         )
-    qd = check_joint_velocities(
-        f"{where}.qd", _point_q(table, where, robot, names, "qd"), robot.model.n
-    )
     with _within(where):  # the curves' refusals name "qd": points[i].qd
         robot.torque_limits(qd)  # the torque-speed curves accept it (in their range)
     return qd
@@ -575,9 +620,57 @@ def _grid(table: dict[str, Any], robots_: tuple[Robot, ...]) -> tuple[GridAxis, 
     return tuple(axes)
 
 
-def _random(
-    table: models.RandomTable, robots_: tuple[Robot, ...]
-) -> tuple[NDArray[np.float64], ...]:
+class SeededRows(ConfigurationSet):
+    """The rows of ``uniform_rows(np.random.default_rng(seed), low, high, count)``, lazily.
+
+    A ``[random]`` study's configurations: row ``i`` is made on demand, by advancing a
+    fresh generator of the seed past the ``i * n`` numbers before it (PCG64 advances in
+    constant time), so that a study of millions of rows never holds them all and its rows
+    are those the seed always gave.
+
+    Parameters
+    ----------
+    count : int
+        Rows, at least 1.
+    low, high : array-like, shape (n,)
+        The box, ``low <= high``.
+    seed : int
+        Seed of ``np.random.default_rng``, 0 or more.
+
+    Raises
+    ------
+    InputError
+        Naming the argument, for a bad count, box or seed.
+    """
+
+    def __init__(self, count: int, low: ArrayLike, high: ArrayLike, seed: int) -> None:
+        self.low = check_array("low", low, (None,))
+        self.high = check_array("high", high, (self.low.size,))
+        if np.any(self.low > self.high):
+            raise InputError(
+                "low", "low <= high for every joint", f"low={self.low}, high={self.high}"
+            )
+        self.count = check_integer("count", count, 1, 2**62)
+        self.seed = check_integer("seed", seed, 0, 2**63 - 1)
+        self.n = self.low.size
+
+    def __len__(self) -> int:
+        return self.count
+
+    def rows(self, start: int, stop: int) -> NDArray[np.float64]:
+        """Rows ``start`` to ``stop - 1`` (clipped to the set), shape (stop - start, n)."""
+        start, stop = max(0, int(start)), min(int(stop), self.count)
+        if stop <= start:
+            return np.zeros((0, self.n))
+        generator = np.random.default_rng(self.seed)
+        generator.bit_generator.advance(start * self.n)  # type: ignore[attr-defined]
+        return uniform_rows(generator, self.low, self.high, stop - start)
+
+    def __repr__(self) -> str:
+        return f"SeededRows(count={self.count}, seed={self.seed})"
+
+
+def _random(table: models.RandomTable, robots_: tuple[Robot, ...]) -> tuple[SeededRows, ...]:
     if (table.low is not None or table.high is not None) and len(robots_) > 1:
         _same_joint_count(robots_, "random", "low and high are shared")
     samples = []
@@ -595,7 +688,7 @@ def _random(
             raise InputError(
                 "random", f"low <= high with {model.n} entries each", f"low={low}, high={high}"
             )
-        samples.append(uniform_rows(np.random.default_rng(table.seed), low, high, table.count))
+        samples.append(SeededRows(table.count, low, high, table.seed))
     return tuple(samples)
 
 

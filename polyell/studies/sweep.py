@@ -5,6 +5,11 @@ Each chunk of configurations is computed by the vectorised path
 equals ``compare(analyze(...)).to_row()``.  With ``out=`` every chunk becomes one Parquet
 file, written atomically (a temporary file renamed into place): a run stopped at any point
 and started again with the same arguments computes only the missing chunks.
+
+Chunks are sized by time (``chunk=None``, :func:`chunk_for`): as many configurations
+as take about :data:`CHUNK_SECONDS` on this core, measured on the sweep's first rows, at
+most :data:`MAX_CHUNK`; so that a stopped run loses seconds, and the progress bar (one
+step per configuration) moves every few seconds.
 """
 
 from __future__ import annotations
@@ -15,10 +20,12 @@ import logging
 import os
 import pickle
 import re
+import time
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, cast
+from typing import TYPE_CHECKING, Any, NoReturn, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -34,6 +41,7 @@ from polyell.comparison.comparison import (
     compare,
     compared_kinds,
 )
+from polyell.comparison.long_form import wide_attrs
 from polyell.errors import InputError, MissingDependencyError, StorageError, install_hint
 from polyell.geometry.directions import default_direction_count, sphere_directions
 from polyell.geometry.subspace import RANK_RTOL
@@ -47,7 +55,7 @@ from polyell.storage import (
     write_atomically,
     write_text_atomically,
 )
-from polyell.studies.batch import BatchOptions, batch_rows
+from polyell.studies.batch import BLOCK, BatchOptions, batch_rows
 from polyell.studies.cluster import check_scheduler, local_cluster
 from polyell.studies.configurations import ConfigurationSet
 from polyell.studies.force_batch import force_rows
@@ -62,7 +70,15 @@ from polyell.validation import (
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
 
-__all__ = ["DEFAULT_SCORES", "PER_ROW", "per_row_note", "sweep"]
+__all__ = [
+    "CHUNK_SECONDS",
+    "DEFAULT_SCORES",
+    "MAX_CHUNK",
+    "PER_ROW",
+    "chunk_for",
+    "per_row_note",
+    "sweep",
+]
 
 #: Progress notes (a resumed dataset), at level INFO: silent unless the application shows
 #: them (``polyell study`` does, on standard error).
@@ -144,7 +160,33 @@ class _Job:
             names = [f"q{i + 1}" for i in range(padded.shape[1])]
             frame = frame.join(pd.DataFrame(padded, columns=names))
         frame[PER_ROW] = scalar
-        return frame.join(pd.DataFrame({name: values[name] for name in self.columns}))
+        frame = frame.join(pd.DataFrame({name: values[name] for name in self.columns}))
+        frame.attrs.update(_frame_attrs(self))  # written into the Parquet parts too
+        return frame
+
+
+#: The polytope's own columns, before every ``<kind>_<score>`` one.
+_POLYTOPE = ("polytope_dim", "polytope_volume", "polytope_ball_radius", "polytope_origin_radius")
+
+
+def _kinds(options: BatchOptions) -> list[str]:
+    """The ellipsoids a sweep scores: the capacity's, the optima computed, the candidates."""
+    computed = {"mvie": options.mvie, "outer": options.outer}
+    kinds = [kind for kind in compared_kinds(options.capacity) if computed.get(kind, True)]
+    return kinds + [candidate.name for candidate in options.candidates]
+
+
+def _frame_attrs(job: _Job) -> dict[str, Any]:
+    """The structure a sweep's frame records in ``attrs``: capacity, kinds, score names.
+
+    The score names are those of the first kind's columns, ``f"{kinds[0]}_{score}"`` by
+    construction (:func:`_job`), in column order.
+    """
+    kinds = _kinds(job.options)
+    width = (len(job.columns) - len(_POLYTOPE)) // len(kinds)
+    first = job.columns[len(_POLYTOPE) : len(_POLYTOPE) + width]
+    scores = [column[len(kinds[0]) + 1 :] for column in first]
+    return wide_attrs(job.options.capacity, kinds, scores)
 
 
 def _batch(dyn: Dynamics, job: _Job) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_]]:
@@ -162,11 +204,13 @@ def _batch(dyn: Dynamics, job: _Job) -> tuple[dict[str, NDArray[np.float64]], ND
     K, n = len(dyn), dyn.n
     still = Dynamics(dyn.J, np.broadcast_to(np.eye(n), (K, n, n)), np.zeros((K, n)), task=dyn.task)
     values, scalar = batch_rows(still, job.tau_max, job.tau_min, job.directions, job.options)
-    renamed = {}
-    for name, column in values.items():
-        if name.startswith("yoshikawa_"):
-            continue  # the classic dynamic ellipsoid: no velocity counterpart
-        renamed[name.replace("chiacchio_", "yoshikawa_", 1)] = column
+    # Exact column names, not prefixes: a candidate may be named "chiacchio_w" or
+    # "yoshikawa_x" (its columns then start like a built-in kind's).
+    classic = {f"yoshikawa_{score}" for score in SCORE_NAMES}  # no velocity counterpart
+    unit_ball = {f"chiacchio_{score}": f"yoshikawa_{score}" for score in SCORE_NAMES}
+    renamed = {
+        unit_ball.get(name, name): column for name, column in values.items() if name not in classic
+    }
     return renamed, scalar
 
 
@@ -214,6 +258,103 @@ def _fingerprint(job: _Job, chunk: int) -> str:
     model = getattr(job.source, "content_digest", None)
     digest = hashlib.sha256(pickle.dumps((job, chunk, model), protocol=4))
     return digest.hexdigest()
+
+
+#: How long a chunk of the automatic size takes [s]: what a stopped run loses at most (per
+#: worker), and how often the progress bar moves.  Parquet's cost per part (about 10 ms)
+#: is then under 1 % of it (``docs/performance.md`` (q)).
+CHUNK_SECONDS = 2.0
+
+#: The largest automatic chunk: the fixed chunk size of earlier versions, whose peak memory
+#: it keeps (about 430 MiB for the Panda, ``docs/performance.md`` (d)).
+MAX_CHUNK = 20_000
+
+#: The chunk size of the datasets written before ``_sweep.json`` recorded it (the default
+#: then, and the study files' default).
+_LEGACY_CHUNK = 20_000
+
+#: The pilot run of :func:`_automatic_chunk`: the sweep's first rows, each count in turn,
+#: until one takes ``_PILOT_SECONDS``.
+_PILOT_ROWS = (16, 64, 256, 1024)
+_PILOT_SECONDS = 0.1
+
+
+def chunk_for(seconds_per_configuration: float) -> int:
+    """The automatic chunk size for a cost per configuration [s].
+
+    ``CHUNK_SECONDS / seconds_per_configuration`` rounded down to two significant digits,
+    from 1 to :data:`MAX_CHUNK`.
+
+    Examples
+    --------
+    >>> chunk_for(55e-6), chunk_for(300e-6), chunk_for(0.021)
+    (20000, 6600, 95)
+    """
+    if not seconds_per_configuration > 0.0:  # (a clock too coarse to see the pilot)
+        return MAX_CHUNK
+    rows = CHUNK_SECONDS / seconds_per_configuration
+    if rows >= MAX_CHUNK:
+        return MAX_CHUNK
+    whole = max(1, int(rows))
+    scale = 10 ** max(0, len(str(whole)) - 2)
+    return whole // scale * scale
+
+
+def _automatic_chunk(job: _Job) -> int:
+    """:func:`chunk_for` the cost per configuration of the job's first rows (a pilot run).
+
+    The first 16 rows are computed once untimed (the first call of a process imports
+    and warms up what the rows need), then the pilot grows through ``_PILOT_ROWS`` until
+    one takes ``_PILOT_SECONDS`` (0.1 s) or already gives :data:`MAX_CHUNK` or the whole
+    job in one chunk: at most about 0.2 s (0.4 s on a busy machine), or twice 16
+    configurations, of work done again by the first chunk (the results are dropped).  Its
+    warnings are silenced: the same rows warn when the first chunk computes them.  A job
+    of 16 configurations or fewer is one chunk, without a pilot.
+    """
+    size = job.size()
+    if size <= _PILOT_ROWS[0]:
+        return size
+    times: list[tuple[int, float]] = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        job.chunk(0, _PILOT_ROWS[0])
+        for pilot in _PILOT_ROWS:
+            rows = min(pilot, size)
+            started = time.perf_counter()
+            job.chunk(0, rows)
+            times.append((rows, time.perf_counter() - started))
+            if times[-1][1] >= _PILOT_SECONDS or rows == size:
+                break
+            if chunk_for(_seconds_per_row(times)) >= min(size, MAX_CHUNK):
+                break  # one chunk, or the largest: no need to know better
+    chunk = chunk_for(_seconds_per_row(times))
+    _log.debug(
+        "sweep of %s: chunks of %d configurations (pilot: %s)",
+        job.options.capacity,
+        chunk,
+        ", ".join(f"{rows} in {seconds:.3g} s" for rows, seconds in times),
+    )
+    return chunk
+
+
+def _seconds_per_row(times: list[tuple[int, float]]) -> float:
+    """A configuration's time in a chunk of full blocks, from the pilot's (rows, seconds).
+
+    The batch computes blocks of ``BLOCK`` (512) rows at a cost ``a + b r`` each: the
+    last two pilots give ``b`` and ``a``, and a row of a full block costs
+    ``b + a / BLOCK`` (the MVIE's solver, a fixed number of vectorised iterations per
+    block, has a large ``a``).  With one pilot, or two that contradict this, the last
+    one's average (an overestimate: smaller chunks).
+    """
+    rows, seconds = times[-1]
+    if len(times) < 2:
+        return seconds / rows
+    before, earlier = times[-2]
+    per_row = (seconds - earlier) / (rows - before)
+    per_call = seconds - per_row * rows
+    if per_row <= 0.0 or per_call < 0.0:
+        return seconds / rows
+    return per_row + per_call / max(rows, BLOCK)
 
 
 #: How long to wait for a Dask scheduler to answer.
@@ -322,11 +463,8 @@ def _job(
     else:
         T = np.atleast_2d(check_directions("directions", cast(ArrayLike, directions), m))
         scalar_directions = T
-    computed = {"mvie": options.mvie, "outer": options.outer}
-    kinds = [kind for kind in compared_kinds(options.capacity) if computed.get(kind, True)]
-    kinds += [candidate.name for candidate in options.candidates]
-    polytope = ("polytope_dim", "polytope_volume", "polytope_ball_radius", "polytope_origin_radius")
-    columns = (*polytope, *(f"{k}_{s}" for k in kinds for s in scores))
+    kinds = _kinds(options)
+    columns = (*_POLYTOPE, *(f"{k}_{s}" for k in kinds for s in scores))
     options = replace(options, vertices=options.outer or "enclosing_scale" in scores)
     return _Job(source, configurations, upper, lower, T, scalar_directions, columns, options, n)
 
@@ -341,7 +479,7 @@ def sweep(
     directions: int | ArrayLike | None = None,
     out: str | os.PathLike[str] | None = None,
     scheduler: str | None = None,
-    chunk: int = 20_000,
+    chunk: int | None = None,
     mvie: bool = False,
     outer: bool = False,
     candidates: Sequence[Candidate] = (),
@@ -390,15 +528,35 @@ def sweep(
         core (:func:`polyell.local_cluster`).  ``"tcp://host:port"``: an existing Dask
         cluster (start its workers without ``MALLOC_TRIM_THRESHOLD_``, see
         :mod:`polyell.studies.cluster`).
-    chunk : int
-        Configurations per task (and per Parquet file).
+    chunk : int or None
+        Configurations per task (and per Parquet file).  Default (None): sized by time,
+        :func:`chunk_for` the cost per configuration of a pilot run on the first rows: as
+        many as take about :data:`CHUNK_SECONDS` (2 s) here, at most :data:`MAX_CHUNK`
+        (20,000, the fixed default of earlier versions), so that a stopped run loses
+        seconds and the progress bar moves.  On the Panda's 3-D task (a busy 2-core
+        machine, ``docs/performance.md`` (q)) 13,000 to 20,000 at the defaults (about
+        9,500 for forces) and 2,700 to 4,200 with ``mvie=True, outer=True``; in its 6-D
+        task 9,500, 270 for forces and 58 for accelerations with both.  The rows do not
+        depend on it; in memory without ``progress`` or ``scheduler`` it is
+        20,000 without a pilot.  A dataset in ``out`` keeps the chunk size it was written
+        with (recorded in its ``_sweep.json``; one written before chunk sizes were
+        recorded resumes at 20,000, or says which ``chunk`` to pass), and an explicit
+        ``chunk`` other than the dataset's is refused, naming it.
     mvie : bool
         Also compute the maximum-volume inscribed ellipsoid at every configuration
-        (batched interior-point solver: about 5 times slower than without, see
-        ``docs/performance.md``).
+        (batched interior-point solver) and every ``mvie_ratio``.
     outer : bool
         Also compute the minimum-volume enclosing (outer) ellipsoid at every configuration
         (the same solver on the vertices) and every ``outer_ratio``.
+
+        Both default to False here and to true in study files (``[compare] mvie``,
+        ``outer``), which therefore cost more per configuration.  On the Panda's 3-D
+        position task (one core, Pinocchio's dynamics included; three runs on a shared
+        machine, ``docs/performance.md`` (q)) each takes 2.9 to 5.8 times the time of the
+        defaults (the MVIE of forces 1.8 to 2.7 times), and both 4.6 to 6.5 times for
+        accelerations and velocities and 3.9 to 4.7 times for forces; in its 6-D task
+        both take 6.5 times for velocities, 1.7 times for forces and 81 times for
+        accelerations.  Set them in a study file to false for this function's cost.
     candidates : sequence of Candidate
         User-defined ellipsoids (:class:`polyell.Candidate`), scored like the built-in
         ones under ``<name>_<score>``.  One that is not inside P where the vertices are not
@@ -411,7 +569,10 @@ def sweep(
     rank_rtol : float
         Rank tolerance, as in :func:`polyell.analyze`.
     progress : bool
-        A progress bar over the chunks on standard error.
+        A progress bar on standard error (tqdm), one step per configuration, advanced as
+        each chunk finishes, named after the capacity (and the robot, for several robots
+        or a ``robot=<name>`` dataset); a resumed dataset starts it at the configurations
+        already done, and one with nothing left to compute shows none.
     capacity : {"acceleration", "velocity", "force"}
         As in :func:`polyell.analyze`: the columns are ``<kind>_<score>`` over the
         capacity's own kinds (``static_*`` for forces).  Velocities take ``qd_max`` and
@@ -429,12 +590,16 @@ def sweep(
         configuration at a time: counted in the log, :func:`per_row_note`),
         ``polytope_dim``, ``polytope_volume``, ``polytope_ball_radius``,
         ``polytope_origin_radius`` and the score columns; or the dataset folder with
-        ``out=``.
+        ``out=``.  Its ``attrs`` record its structure
+        (:func:`~polyell.comparison.long_form.wide_attrs`): ``"capacity"``, ``"kinds"``
+        (the ellipsoids with columns, candidates too) and ``"scores"``; Parquet parts keep
+        them, and :func:`polyell.to_long` reads them.
     """
     robots = (
         _named("source", source, "robots") if isinstance(source, Mapping | list | tuple) else None
     )
-    chunk = check_integer("chunk", chunk, 1, 10_000_000)
+    if chunk is not None:  # None: sized by time (_automatic_chunk)
+        chunk = check_integer("chunk", chunk, 1, 10_000_000)
     for name, flag in (("mvie", mvie), ("outer", outer), ("progress", progress)):
         if not isinstance(flag, bool | np.bool_):
             raise InputError(name, "True or False", repr(flag))
@@ -465,7 +630,7 @@ def sweep(
     if robots is not None:
         return _sweep_robots(
             robots, configurations, tau_max, tau_min, scores, directions, options, out,
-            lambda job, folder: _run(job, folder, chunk, scheduler, progress),
+            lambda job, folder, name: _run(job, folder, chunk, scheduler, progress, name),
         )  # fmt: skip
     job = _job(source, configurations, tau_max, tau_min, scores, directions, options)
     if out is not None:
@@ -474,20 +639,39 @@ def sweep(
 
 
 def _run(
-    job: _Job, out: Any, chunk: int, scheduler: str | None, progress: bool
+    job: _Job,
+    out: Any,
+    chunk: int | None,
+    scheduler: str | None,
+    progress: bool,
+    robot: str = "",
 ) -> pd.DataFrame | Path:
-    """Compute a job: returned as a frame, or into the dataset ``out`` (resuming it)."""
-    count = -(-job.size() // chunk)
+    """Compute a job: returned as a frame, or into the dataset ``out`` (resuming it).
+
+    ``chunk`` None: the dataset's own, or sized by time (:func:`_automatic_chunk`); in
+    memory without a progress bar or a scheduler, :data:`MAX_CHUNK` (no pilot run).
+    ``robot`` names the progress bar's robot; a dataset ``robot=<name>/`` (one robot of
+    several, as :func:`sweep` and ``polyell study`` write them) names it too.
+    """
     if out is None:
-        frame = _execute(job, list(range(count)), chunk, None, scheduler, progress)
+        if chunk is None:  # the time of a chunk matters to a bar and to Dask's tasks only
+            timed = progress or scheduler is not None
+            chunk = _automatic_chunk(job) if timed else min(MAX_CHUNK, job.size())
+        count = -(-job.size() // chunk)
+        frame = _execute(job, list(range(count)), chunk, None, scheduler, progress, robot)
+        frame.attrs.update(_frame_attrs(job))  # capacity, kinds, scores: pe.to_long
         _log_per_row(frame, job.options.capacity)
         return frame
     folder = _folder(out)
+    if not robot and folder.name.startswith("robot="):
+        robot = folder.name.removeprefix("robot=")
     with dataset_lock(folder):
+        chunk = _dataset_chunk(folder, job, chunk)
+        count = -(-job.size() // chunk)
         todo = _resume(folder, job, chunk, count)
         if len(todo) < count:
             _log.info("resuming %s: %d of %d chunks done", folder, count - len(todo), count)
-        _execute(job, todo, chunk, folder, scheduler, progress)
+        _execute(job, todo, chunk, folder, scheduler, progress, robot)
         unfinished = [i for i in range(count) if not _done(folder, job, chunk, i)]
         if unfinished:  # pragma: no cover - a worker's write that vanished
             raise StorageError(f"{len(unfinished)} parts of {folder} are missing after the run.")
@@ -577,7 +761,7 @@ def _sweep_robots(
     directions: Any,
     options: BatchOptions,
     out: Any,
-    run: Callable[[_Job, Path | None], pd.DataFrame | Path],
+    run: Callable[[_Job, Path | None, str], pd.DataFrame | Path],
 ) -> pd.DataFrame | Path:
     """:func:`sweep` of several robots: one job each, side by side under a ``robot`` key."""
     names = capacity_class(options.capacity).limit_keywords  # (given in the torque slots)
@@ -614,14 +798,18 @@ def _sweep_robots(
     import pandas as pd
 
     if out is None:
-        frames = [cast("pd.DataFrame", run(job, None)).assign(robot=n) for n, job in jobs.items()]
+        frames = [
+            cast("pd.DataFrame", run(job, None, n)).assign(robot=n) for n, job in jobs.items()
+        ]
         frame = pd.concat(frames, ignore_index=True)
-        return frame[["robot", *(c for c in frame.columns if c != "robot")]]
+        frame = frame[["robot", *(c for c in frame.columns if c != "robot")]]
+        frame.attrs.update(_frame_attrs(next(iter(jobs.values()))))  # the same for every robot
+        return frame
     folder = _folder(out)
     _refuse_mixed(folder, several=True, names=list(jobs))
     write_text_atomically(folder / _ROBOTS_FILE, json.dumps({"robots": list(jobs)}) + "\n")
     for name, job in jobs.items():
-        run(job, folder / f"robot={name}")
+        run(job, folder / f"robot={name}", name)
     return folder
 
 
@@ -658,6 +846,75 @@ def _done(folder: Path, job: _Job, chunk: int, index: int) -> bool:
     return part_is_complete(part_path(folder, index), _rows(job, chunk, index))
 
 
+def _check_capacity(record: dict[str, Any], folder: Path, capacity: str) -> None:
+    """Refuse a dataset of another capacity, saying so (its columns are another's kinds)."""
+    held = record.get("capacity", "acceleration")  # datasets before capacities: accelerations
+    if held != capacity:
+        raise InputError(
+            "out",
+            f"an empty folder, or one holding the {capacity} capacity's sweep with the same "
+            "arguments",
+            f"{folder} holds the {held} capacity's sweep (its columns are {held}'s kinds)",
+            "choose another folder for each capacity, or delete it to start over.",
+        )
+
+
+def _dataset_chunk(folder: Path, job: _Job, chunk: int | None) -> int:
+    """The chunk size of the sweep into ``folder``: the dataset's own, ``chunk``, or by time.
+
+    A dataset records its chunk size in ``_sweep.json`` (``"chunk"``); one written before
+    it did was in chunks of 20,000 (the default then) or of an explicit ``chunk``, and its
+    fingerprint, which includes the chunk size, tells which.  ``chunk=None`` resumes a
+    dataset in its own chunks; an explicit ``chunk`` other than the dataset's is refused,
+    naming the dataset's (the parts would not line up).
+    """
+    meta = folder / "_sweep.json"
+    if not meta.exists():
+        return _automatic_chunk(job) if chunk is None else chunk
+    record = read_metadata(meta)
+    _check_capacity(record, folder, job.options.capacity)
+    held = record.get("chunk")
+    recorded = isinstance(held, int) and not isinstance(held, bool) and held >= 1
+    own = cast(int, held) if recorded else _LEGACY_CHUNK
+    if chunk is None:
+        if recorded or _fingerprint(job, own) == record["fingerprint"]:
+            return own  # (a different sweep is refused by _resume)
+        _refuse_legacy(folder, job, record)
+    elif chunk != own and _fingerprint(job, chunk) != record["fingerprint"]:
+        if _fingerprint(job, own) == record["fingerprint"]:
+            raise InputError(
+                "chunk",
+                f"{own} (the chunk size of the sweep in {folder}) to resume it",
+                f"{chunk}",
+                f"pass chunk={own}, or leave chunk=None; or use another folder.",
+            )
+    return own if chunk is None else chunk
+
+
+def _refuse_legacy(folder: Path, job: _Job, record: dict[str, Any]) -> NoReturn:
+    """Refuse a dataset without its chunk size that is not this sweep in chunks of 20,000.
+
+    Either a different sweep, or this one in the chunks of an explicit ``chunk``: the
+    error gives the chunk sizes that make its number of parts.
+    """
+    parts, size = record.get("chunks"), record.get("configurations")
+    hint = ""
+    if isinstance(parts, int) and parts >= 1 and size == job.size():
+        low = -(-size // parts)
+        if parts == 1:
+            hint = f" (chunk={low} or more)"
+        elif low <= (size - 1) // (parts - 1):
+            hint = f" (chunk={low} to {(size - 1) // (parts - 1)})"
+    raise InputError(
+        "out",
+        "an empty folder, or one holding a sweep with the same arguments",
+        f"{folder} holds a different sweep, or this one in chunks other than {_LEGACY_CHUNK:,} "
+        "(its _sweep.json predates recorded chunk sizes)",
+        f"to resume it, pass the chunk it was written with{hint}; or choose another folder, "
+        "or delete it to start over.",
+    )
+
+
 def _resume(folder: Path, job: _Job, chunk: int, count: int) -> list[int]:
     """Check the dataset's metadata (or write it) and list the chunks still to compute.
 
@@ -672,15 +929,7 @@ def _resume(folder: Path, job: _Job, chunk: int, count: int) -> list[int]:
     capacity = job.options.capacity
     if meta.exists():
         record = read_metadata(meta)
-        held = record.get("capacity", "acceleration")  # datasets before capacities: accelerations
-        if held != capacity:
-            raise InputError(
-                "out",
-                f"an empty folder, or one holding the {capacity} capacity's sweep with the same "
-                "arguments",
-                f"{folder} holds the {held} capacity's sweep (its columns are {held}'s kinds)",
-                "choose another folder for each capacity, or delete it to start over.",
-            )
+        _check_capacity(record, folder, capacity)
         if record["fingerprint"] != fingerprint:
             raise InputError(
                 "out",
@@ -699,6 +948,7 @@ def _resume(folder: Path, job: _Job, chunk: int, count: int) -> list[int]:
         record = {
             "fingerprint": fingerprint,
             "chunks": count,
+            "chunk": chunk,  # the configurations per part (in the fingerprint too)
             "configurations": job.size(),
             "capacity": capacity,
         }
@@ -714,6 +964,22 @@ def _resume(folder: Path, job: _Job, chunk: int, count: int) -> list[int]:
     return [i for i in range(count) if not (i in parts and _done(folder, job, chunk, i))]
 
 
+def _progress_bar(job: _Job, todo: list[int], chunk: int, progress: bool, robot: str) -> Any:
+    """The progress bar of a sweep: one step per configuration, from those already done.
+
+    Named after the capacity (and the robot); none where there is nothing left to compute.
+    """
+    left = sum(_rows(job, chunk, i) for i in todo)
+    return tqdm(
+        total=job.size(),
+        initial=job.size() - left,
+        desc=f"{robot} {job.options.capacity}".strip(),
+        unit=" configurations",
+        unit_scale=job.size() >= 10_000,  # 46.6k/200k; but 30/30, not 30.0/30.0
+        disable=not progress or left == 0,
+    )
+
+
 def _execute(
     job: _Job,
     todo: list[int],
@@ -721,27 +987,30 @@ def _execute(
     folder: Path | None,
     scheduler: str | None,
     progress: bool,
+    robot: str = "",
 ) -> pd.DataFrame:
     """Run the chunks ``todo``: written to ``folder``, or returned as one frame."""
     target = None if folder is None else str(folder)
     results = []
-    with tqdm(total=len(todo), unit="chunk", disable=not progress) as bar:
+    with _progress_bar(job, todo, chunk, progress, robot) as bar:
         if scheduler is None:
             for i in todo:
                 results.append(_run_chunk(job, i, chunk, target))
-                bar.update()
+                bar.update(_rows(job, chunk, i))
         else:
             client = _client(scheduler)
             try:
                 from dask.distributed import as_completed
 
                 scattered = client.scatter(job, broadcast=True)
-                futures = [
-                    client.submit(_run_chunk, scattered, i, chunk, target, pure=False) for i in todo
-                ]
-                for future in as_completed(futures):
+                futures = {
+                    i: client.submit(_run_chunk, scattered, i, chunk, target, pure=False)
+                    for i in todo
+                }
+                rows = {futures[i].key: _rows(job, chunk, i) for i in todo}
+                for future in as_completed(list(futures.values())):
                     results.append(future.result())
-                    bar.update()
+                    bar.update(rows[future.key])
             finally:
                 cluster = client.cluster
                 client.close()

@@ -13,7 +13,14 @@ half-spaces (50 directions).
 from __future__ import annotations
 
 import numpy as np
-from run_benchmarks import capacity_version, panda_configurations, summary, timed_alternately
+from run_benchmarks import (
+    README_POSTURE,
+    capacity_version,
+    cpu_timed_alternately,
+    panda_configurations,
+    summary,
+    timed_alternately,
+)
 from scipy.optimize import linprog
 from scipy.spatial import ConvexHull
 
@@ -108,6 +115,9 @@ def bench_capacities(repeats: int) -> list[str]:
         cases.append((label, arms, high, low, high, low))
     arms, panda = panda_arms(20)
     cases.append(("Panda", arms, panda.tau_max, panda.tau_min, panda.qd_max, panda.qd_min))
+    posture = panda.dynamics(README_POSTURE)
+    limits = (panda.tau_max, panda.tau_min, panda.qd_max, panda.qd_min)
+    cases.append(("Panda at the README's q", [(posture.J, posture.g)] * 20, *limits))
     rows, checks = [], []
     for label, arms, t_max, t_min, v_max, v_min in cases:
         n = arms[0][0].shape[1]
@@ -132,7 +142,7 @@ def bench_capacities(repeats: int) -> list[str]:
             for J, g in arms:
                 capacity.force_polytope(J, t_max, t_min, t_bias=g)
 
-        times = timed_alternately(
+        times = cpu_timed_alternately(
             [ours_velocity, theirs_velocity, ours_force, theirs_force], 3 * repeats
         )
         per = 1e3 / len(arms)
@@ -182,15 +192,16 @@ def bench_capacities(repeats: int) -> list[str]:
         "`b` (the `Kinematics`/`Dynamics` objects built before timing, as pycapacity gets its "
         f"arrays); pycapacity {capacity_version()} `velocity_polytope(J, dq_max, dq_min)` and "
         "`force_polytope(J, t_max, t_min, t_bias=g)`. Random arms: J normal, asymmetric "
-        "limits, g = 0.05 N(0, 1); the Panda at 20 random configurations with its URDF limits. "
-        f"Timed alternately, {3 * repeats} repeats, one core.",
+        "limits, g = 0.05 N(0, 1); the Panda at 20 random configurations and at the README's "
+        "q = (0, -0.5, 0, -2, 0, 1.6, 0.8) with its URDF limits. Timed alternately, "
+        f"{3 * repeats} repeats, in CPU time on one core (`time.process_time`).",
         "",
         "| arms | polytope | polyell ms/config | pycapacity ms/config | speed-up |",
         "|---|---|---|---|---|",
         *rows,
         "",
-        "Target: 20× on 3x7 arms. The same sets, first 5 configurations of each row "
-        "(largest over them; target 1e-9; distances relative to the set's size): "
+        "Target: 20× on 3x7 arms and on the Panda. The same sets, first 5 configurations of "
+        "each row (largest over them; target 1e-9; distances relative to the set's size): "
         "pycapacity's vertices against polyell's nearest; polyell's volume against Qhull of "
         "pycapacity's vertices (relative); polyell's limits along 50 directions against one "
         "scipy LP per direction over the raw joint limits; then both against an independent "

@@ -19,6 +19,10 @@ def test_fields_and_defaults():
         "split": "combined",
         "digits": 3,
         "percent": True,
+        "labels": None,
+        "captions": None,
+        "siunitx": False,
+        "text_width": 345.0,
     }
     assert LAYOUT_SETS == ("polytope", "chiacchio", "yoshikawa", "mvie", "outer", "static")
     with pytest.raises(dataclasses.FrozenInstanceError):
@@ -47,6 +51,22 @@ def test_lists_become_tuples_and_candidate_names_are_sets():
         ({"digits": 18}, "layout.digits: expected an integer from 1 to 17"),
         ({"digits": 3.0}, "layout.digits: expected an integer from 1 to 17"),
         ({"digits": True}, "layout.digits: expected an integer from 1 to 17"),
+        ({"labels": "paper"}, "layout.labels: expected a preset among ['chiacchio2000']"),
+        ({"labels": ["chiacchio"]}, "layout.labels: expected a mapping of set or score names"),
+        ({"labels": {"chiachio": "DME"}}, "layout.labels: expected keys among the sets"),
+        ({"labels": {"Coverage": "c"}}, "layout.labels: expected keys that are set names"),
+        ({"labels": {"coverage": ""}}, "layout.labels['coverage']: expected a label that is"),
+        ({"labels": {"coverage": 3}}, "layout.labels['coverage']: expected a label: plain"),
+        ({"labels": {"coverage": ("c", "50%")}}, "layout.labels['coverage'][1]: expected LaTeX"),
+        ({"labels": {"coverage": ("c", "{x")}}, "layout.labels['coverage'][1]: expected balanced"),
+        ({"labels": {"coverage": ("c", "$x")}}, "layout.labels['coverage'][1]: expected paired"),
+        ({"labels": {"coverage": ("c", r"a\\b")}}, "layout.labels['coverage'][1]: expected LaTeX"),
+        ({"captions": {"limit": "x"}}, "layout.captions: expected keys among ['comparison'"),
+        ({"captions": "x"}, "layout.captions: expected a mapping of table names"),
+        ({"siunitx": 1}, "layout.siunitx: expected True or False"),
+        ({"text_width": 0}, "layout.text_width: expected a width in pt above 0"),
+        ({"text_width": float("nan")}, "layout.text_width: expected a width in pt above 0"),
+        ({"text_width": True}, "layout.text_width: expected a width in pt above 0"),
     ],
 )
 def test_bad_fields_are_refused_by_name(arguments, start):
@@ -60,3 +80,21 @@ def test_suggestions():
         TableLayout(split="postures")
     with pytest.raises(pe.InputError, match="did you mean 'coverage'"):
         TableLayout(scores=["coverag"])
+
+
+def test_labels_and_captions_are_kept_read_only_and_the_layout_stays_hashable():
+    from dataclasses import replace
+
+    layout = TableLayout(
+        labels={"chiacchio": "DME", "coverage": ("share", r"$\eta$")},
+        captions={"limits": "Limits."},
+    )
+    assert layout.set_label("chiacchio") == "DME" and layout.set_label("mvie") == "MVIE"
+    assert layout.quantity("coverage").latex == r"$\eta$"
+    assert layout.caption("limits").plain == "Limits." and layout.caption("summary") is None
+    with pytest.raises(TypeError):
+        layout.labels["chiacchio"] = "x"  # type: ignore[index]
+    assert hash(layout) == hash(replace(layout)) and replace(layout) == layout
+    assert TableLayout(labels="chiacchio2000").set_label("yoshikawa") == "classic (eq. 27)"
+    assert TableLayout(text_width=252).text_width == 252.0
+    assert TableLayout(text_width=None).text_width is None

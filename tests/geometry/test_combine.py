@@ -8,6 +8,8 @@ programs over both arms' half-spaces at once.  Tolerances: RTOL_LP (HiGHS).
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 from scipy.optimize import linprog
@@ -93,3 +95,140 @@ def test_sets_of_different_task_spaces_or_unbounded_ones_are_refused():
     assert not intersection(plane, slab).is_empty
     with pytest.raises(pe.InputError, match="P1"):
         minkowski_sum("box", plane)
+
+
+# --- issue 33: sums beyond 3-D, at the speed of their vertex counts -----------------------
+
+
+def pairwise_hull(P1, P2):
+    """Qhull on every sum of two vertices: the reference hull of a sum (up to 5-D)."""
+    sums = (P1.vertices[:, None] + P2.vertices[None]).reshape(-1, P1.ambient_dim)
+    return sums, ConvexHull(sums)
+
+
+def same_points(found, expected, atol):
+    distance = np.abs(found[:, None, :] - expected[None, :, :]).max(axis=2)
+    return bool((distance.min(axis=0) <= atol).all() and (distance.min(axis=1) <= atol).all())
+
+
+@pytest.mark.parametrize(("m", "n"), [(4, 5), (4, 7), (5, 7)])
+def test_sums_of_two_arms_beyond_3d(m, n):
+    """SolverError before (the hull of the pairwise sums, then its half-spaces again)."""
+    first, second = force(1, m, n), force(2, m, n)
+    S = minkowski_sum(first.polytope, second.polytope)
+    sums, hull = pairwise_hull(first.polytope, second.polytope)
+    scale = float(np.abs(sums).max())
+    assert len(S.vertices) == len(hull.vertices)
+    assert same_points(S.vertices, sums[hull.vertices], 1e-12 * scale)
+    assert S.volume == pytest.approx(hull.volume, rel=1e-9)
+    for d in random_directions(4, 10, m):
+        expected = support(*raw(first), d) + support(*raw(second), d)
+        assert float(np.max(S.vertices @ d)) == pytest.approx(expected, rel=RTOL_LP, abs=RTOL_LP)
+    # every facet: the offset is the sum of the arms' supports along its normal
+    for a, b in list(zip(S.A, S.b, strict=True))[:: max(1, len(S.b) // 20)]:
+        expected = support(*raw(first), a) + support(*raw(second), a)
+        assert b == pytest.approx(expected, rel=RTOL_LP, abs=RTOL_LP)
+
+
+def test_a_6d_sum_of_two_7_joint_arms():
+    """Did not return in 20-25 minutes (Qhull on 11,520 pairwise sums, then cddlib); a few
+    seconds now.  Against HiGHS: the supports add, and in generic directions the sum's
+    maximiser is the sum of the arms' (HiGHS's vertex solutions)."""
+    from scipy.spatial import cKDTree
+
+    m, n = 6, 7
+    first, second = force(1, m, n), force(2, m, n)
+    S = minkowski_sum(first.polytope, second.polytope)
+    sums = (first.polytope.vertices[:, None] + second.polytope.vertices[None]).reshape(-1, m)
+    scale = float(np.abs(sums).max())
+    distance, _ = cKDTree(sums).query(S.vertices)
+    assert distance.max() <= 1e-12 * scale  # every vertex is a sum of vertices
+    rng = np.random.default_rng(6)
+    for d in rng.standard_normal((60, m)):
+        ends = [
+            linprog(-d, *raw(arm), bounds=[(None, None)] * m, method="highs-ds")
+            for arm in (first, second)
+        ]
+        assert float(np.max(S.vertices @ d)) == pytest.approx(
+            -ends[0].fun - ends[1].fun, rel=RTOL_LP, abs=RTOL_LP
+        )
+        assert np.abs(S.vertices - (ends[0].x + ends[1].x)).max(axis=1).min() <= 1e-7 * scale
+    for a, b in list(zip(S.A, S.b, strict=True))[:: len(S.b) // 30]:
+        assert b == pytest.approx(support(*raw(first), a) + support(*raw(second), a), rel=RTOL_LP)
+    # each facet holds m affinely independent vertices
+    slack = S.b[None, :] - S.vertices @ S.A.T
+    for on in (slack <= 1e-9 * scale).T[:: len(S.b) // 50]:
+        face = S.vertices[on]
+        assert np.linalg.matrix_rank(face - face[0], tol=1e-9 * scale) == m - 1
+
+
+def zonotope_volume(G):
+    from itertools import combinations
+
+    m = G.shape[0]
+    return 2.0**m * sum(
+        abs(np.linalg.det(G[:, list(s)])) for s in combinations(range(G.shape[1]), m)
+    )
+
+
+def test_two_zonotopes_add_to_the_zonotope_of_both_generators():
+    """Two 6-D acceleration zonotopes of 7-joint arms: 14 generators, 4760 vertices."""
+    from math import comb
+
+    m, n = 6, 7
+    first, second = random_problem(1, m, n), random_problem(2, m, n)
+    P1, P2 = first.polytope, second.polytope
+    S = minkowski_sum(P1, P2)
+    G = np.hstack([P1.generators, P2.generators])
+    c = P1.center + P2.center
+    assert len(S.vertices) == 2 * sum(comb(2 * n - 1, i) for i in range(m))  # general position
+    assert len(S.b) == 2 * comb(2 * n, m - 1)
+    assert S.volume == pytest.approx(zonotope_volume(G), rel=1e-9)
+    for d in random_directions(8, 20, m):
+        assert float(np.max(S.vertices @ d)) == pytest.approx(
+            c @ d + np.abs(G.T @ d).sum(), rel=1e-12
+        )
+    assert np.allclose(S.center, c)
+
+
+@pytest.mark.parametrize("m", [3, 4])
+def test_a_zonotope_plus_a_force_set(m):
+    zonotope, forces = random_problem(3, m, 6).polytope, force(4, m, 7).polytope
+    S = minkowski_sum(zonotope, forces)
+    sums, hull = pairwise_hull(zonotope, forces)
+    assert same_points(S.vertices, sums[hull.vertices], 1e-12 * float(np.abs(sums).max()))
+    assert S.volume == pytest.approx(hull.volume, rel=1e-9)
+
+
+@pytest.mark.parametrize("m", [2, 3, 4, 5])
+def test_parallel_edges_a_set_and_itself(m):
+    """P + P = 2 P: every edge of one is parallel to an edge of the other (both move)."""
+    P = force(5, m, m + 3).polytope
+    S = minkowski_sum(P, P)
+    assert same_points(S.vertices, 2 * P.vertices, 1e-12 * float(np.abs(P.vertices).max()))
+    assert S.volume == pytest.approx(2.0**m * P.volume, rel=1e-9)
+    box = pe.HPolytope(np.vstack([np.eye(m), -np.eye(m)]), np.ones(2 * m))
+    other = pe.HPolytope(box.A, np.arange(1.0, 2 * m + 1))  # [-(m + 1 + i), 1 + i]
+    boxes = minkowski_sum(box, other)  # a box: every corner of the added intervals
+    ends = zip(-(2.0 + m + np.arange(m)), 2.0 + np.arange(m), strict=True)
+    corners = np.array(list(itertools.product(*ends)))
+    assert same_points(boxes.vertices, corners, 1e-12)
+    assert boxes.volume == pytest.approx(np.prod(4.0 + m + 2 * np.arange(m)), rel=1e-12)
+
+
+def test_a_lower_dimensional_summand_and_a_sum_of_sums():
+    """A zonotope of rank 2 in 3-D (a singular configuration) plus a force set, and sums of
+    those results (whose vertices came from the walk, or from the zonotope's closed form)."""
+    flat = random_problem(6, 3, 2).polytope
+    assert flat.dim == 2
+    forces = force(7, 3, 7).polytope
+    S = minkowski_sum(flat, forces)
+    sums, hull = pairwise_hull(flat, forces)
+    assert same_points(S.vertices, sums[hull.vertices], 1e-12 * float(np.abs(sums).max()))
+    assert S.volume == pytest.approx(hull.volume, rel=1e-9)
+    zonotopes = minkowski_sum(random_problem(8, 3, 4).polytope, flat)  # edges not kept
+    for first, second in [(S, forces), (zonotopes, S)]:
+        total = minkowski_sum(first, second)
+        sums, hull = pairwise_hull(first, second)
+        assert same_points(total.vertices, sums[hull.vertices], 1e-12 * float(np.abs(sums).max()))
+        assert total.volume == pytest.approx(hull.volume, rel=1e-9)

@@ -98,9 +98,9 @@ def test_a_planar_arm_without_velocity_limits_says_so():
             "qd_max: expected joint velocity limits of size at most 1e+150",
         ),
         (
-            {"qd_max": [2.0, 1.0, 1.0], "qd_min": [-1.0, 0.5, -1.0]},
-            "qd_min: expected lower "
-            "joint velocities of at most 0 [rad/s or m/s] (default -qd_max), got qd_min[1] = 0.5",
+            {"qd_max": [2.0, 1.0, 1.0], "qd_min": [-1.0, 1.0, -1.0]},
+            "qd_min: expected qd_min < qd_max for every joint [rad/s or m/s], "
+            "got qd_min[1] = 1 >= qd_max[1] = 1",
         ),
         ({"qd_max": [2.0, 1.0, 1.0], "qd_min": [-1.0, -1.0]}, "qd_min: expected an array"),
         ({"qd_min": [-1.0, -1.0, -1.0]}, "qd_min: expected qd_min only together with qd_max"),

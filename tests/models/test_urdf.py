@@ -110,6 +110,8 @@ def panda() -> pe.UrdfRobot:
     return pe.robots.load("panda")
 
 
+# Pinocchio's neutral q (zeros) is outside joint 4's limits: evaluated on purpose.
+@pytest.mark.filterwarnings("ignore::polyell.JointLimitWarning")
 def test_panda_against_pinocchio_called_directly(panda):
     full = pin.buildModelFromUrdf(str(pe.robots.urdf_path("panda")))
     locked = [full.getJointId(n) for n in ("panda_finger_joint1", "panda_finger_joint2")]
@@ -150,6 +152,8 @@ def test_panda_jacobian_and_gravity_by_finite_differences(panda):
     np.testing.assert_allclose(panda.tau_max, [87, 87, 87, 87, 12, 12, 12])
 
 
+# q = 0.2 puts joint 4 outside its limits: evaluated on purpose (the rows, not the posture).
+@pytest.mark.filterwarnings("ignore::polyell.JointLimitWarning")
 def test_task_rows_and_weights(panda):
     q = np.full(7, 0.2)
     six = pe.robots.load(
@@ -191,6 +195,8 @@ def test_bad_urdf_inputs(tmp_path):
         pe.UrdfRobot(no_effort, "tip")
 
 
+# q = 0.1 is outside the limits of some arms (the Panda's joint 4, the Kinova's joint 2).
+@pytest.mark.filterwarnings("ignore::polyell.JointLimitWarning")
 def test_every_library_arm_loads():
     for name in pe.robots.URDF_ARMS:
         robot = pe.robots.load(name)

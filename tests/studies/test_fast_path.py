@@ -185,3 +185,31 @@ def test_a_direction_count_must_be_an_integer(directions):
     dyn, tau_max, _ = random_batch(1, 2, 3, 7, 0.3, False)
     with pytest.raises(pe.InputError, match="a count"):
         pe.sweep(dyn, tau_max=tau_max, directions=directions)
+
+
+def test_a_negligible_generator_gives_the_sweep_the_scalar_facets():
+    # Found by an independent check: a Jacobian column of 1e-16 (a tip on a joint's axis,
+    # as Pinocchio returns it) gave the batch facets of no direction, and an overreaching
+    # candidate a different coverage estimate (2.5e-3 apart, 12x the stderr) than compare.
+    m, n = 3, 6
+    qd = np.full(n, 3.0)
+    grown = pe.Candidate("grown", weighting=np.eye(n) / 1.8**2)
+    rng = np.random.default_rng(4)
+    for _ in range(4):
+        J = rng.standard_normal((m, n))
+        J[:, -1] = 1e-16 * rng.standard_normal(m)
+        dyn = pe.Dynamics(J=J, B=np.eye(n), g=np.zeros(n))
+        row = pe.sweep(
+            pe.Dynamics(J=J[None], B=np.eye(n)[None], g=np.zeros((1, n))),
+            capacity="velocity",
+            qd_max=qd,
+            candidates=[grown],
+            outer=True,
+            seed=2,
+        ).iloc[0]
+        scores = pe.compare(
+            pe.analyze(dyn, capacity="velocity", qd_max=qd), seed=2, candidates=[grown], mvie=False
+        )["grown"]
+        assert not row["per_row"]
+        assert row["grown_coverage"] == pytest.approx(scores.coverage, abs=1e-12)
+        assert row["grown_coverage_stderr"] == pytest.approx(scores.coverage_stderr, rel=1e-9)

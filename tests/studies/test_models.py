@@ -550,7 +550,13 @@ def test_a_urdf_robot_file_with_velocity_limits_and_curves(tmp_path):
         (PAPER + 'qd_max = ["fast", 1, 1]\n', "robot.qd_max[0]: expected a number"),
         (
             PAPER + "qd_max = [1, 1, 1]\nqd_min = [-1, 1, -1]\n",
-            "robot.qd_min: expected lower joint velocities of at most 0",
+            "robot.qd_min: expected qd_min < qd_max for every joint [rad/s or m/s], got "
+            "qd_min[1] = 1 >= qd_max[1] = 1",
+        ),
+        (
+            PAPER + "qd_max = [1, -1, 1]\n",
+            "robot.qd_max: expected strictly positive upper joint velocities [rad/s or m/s], got "
+            "qd_max[1] = -1. Fix: without qd_min (it defaults to -qd_max)",
         ),
         (PAPER + "qd_min = [-1, -1, -1]\n", "robot.qd_min: expected qd_min only together"),
         (PLANAR + "tau_min = [-1, -1, -1]\n", "robot.tau_min: expected tau_min only with tau_max"),
@@ -582,3 +588,173 @@ def test_the_schema_knows_the_torque_speed_keys():
         jsonschema.validate(
             tomllib.loads('library = "chiacchio2000"\ntorque_speed = { stall = [1] }\n'), schema
         )
+
+
+# --- issue 33: what the API answers, a study file answers ----------------------------------
+
+
+@pytest.mark.parametrize(
+    ("qd_max", "qd_min"),
+    [
+        ([2.0, 3.0, 4.0], [0.5, -3.0, -4.0]),
+        ([2.0, 3.0, 4.0], [1.0, 0.5, 2.0]),
+        ([-1.0, 3, 4], [-2.0, -3, -4]),
+    ],
+)
+def test_a_velocity_box_the_api_takes_a_study_file_takes(tmp_path, qd_max, qd_min):
+    """qd_min > 0 (a joint that must move forward) was answered by pe.analyze and refused by
+    study files ("lower joint velocities of at most 0"): both take any qd_min < qd_max, and
+    give the same numbers."""
+    options = '[compare]\ncapacities = ["velocity"]\nmvie = false\nouter = false\n'
+    text = PAPER + f"qd_max = {qd_max}\nqd_min = {qd_min}\n" + POINT + options
+    spec = load(tmp_path, text + "directions = 16\nsamples = 64\n[output]\nformats = []\n")
+    np.testing.assert_array_equal(spec.robot.velocity_limits()[1], qd_min)
+    out = tmp_path / "out"
+    pe.studies.run_study(spec, out)
+    arm = pe.robots.load("chiacchio2000")
+    by_api = pe.compare(
+        pe.analyze(
+            arm.dynamics(spec.points[0].q), capacity="velocity", qd_max=qd_max, qd_min=qd_min
+        ),
+        16,
+        samples=64,
+        mvie=False,
+        outer=False,
+    ).to_frame()
+    import pandas as pd
+
+    by_study = pd.read_csv(out / "scores_velocity.csv", index_col=0)
+    assert list(by_study.columns) == list(by_api.columns)
+    numbers = list(by_api.select_dtypes("number").columns)
+    assert "volume" in numbers and "coverage" in numbers
+    np.testing.assert_allclose(
+        by_study[numbers].to_numpy(float), by_api[numbers].to_numpy(float), rtol=1e-12
+    )
+    # the robot of the API takes the same box
+    robot = pe.robots.load("chiacchio2000", qd_max=qd_max, qd_min=qd_min)
+    np.testing.assert_array_equal(robot.velocity_limits()[1], qd_min)
+
+
+@pytest.mark.parametrize(
+    ("qd_max", "qd_min", "start"),
+    [
+        ([1.0, 1.0, 1.0], [-1.0, 1.0, -1.0], "qd_min: expected qd_min < qd_max for every joint"),
+        ([1.0, 0.0, 1.0], None, "qd_max: expected strictly positive upper joint velocities"),
+    ],
+)
+def test_a_velocity_box_the_api_refuses_a_study_file_refuses(tmp_path, qd_max, qd_min, start):
+    kin = pe.Kinematics(np.eye(2, 3))
+    with pytest.raises(pe.InputError) as by_api:
+        pe.analyze(kin, capacity="velocity", qd_max=qd_max, qd_min=qd_min)
+    text = PAPER + f"qd_max = {qd_max}\n" + (f"qd_min = {qd_min}\n" if qd_min else "") + POINT
+    message = refused(tmp_path, text)
+    assert message.startswith(f"robot.{start}"), message
+    assert str(by_api.value).split(":")[0] == start.split(":")[0]
+
+
+TWO_KINDS = (
+    '[[robots]]\nname = "arm"\nlibrary = "chiacchio2000"\n'
+    '[[robots]]\nname = "panda"\nlibrary = "panda"\n'
+    f'[[points]]\nname = "p"\nq = {{ arm = [0.1, 0.2, 0.3], panda = {PANDA_Q} }}\n'
+)
+
+
+def test_a_table_of_qd_per_robot_beside_a_planar_arm(tmp_path):
+    """qd = { panda = [...] } beside a planar arm was refused ("qd for a planar arm"): a
+    robot left out of the table is at rest, as a planar arm always is."""
+    spec = load(tmp_path, TWO_KINDS + "qd = { panda = [0.5, 0, 0, 0, 0, 0, 0] }\n")
+    by_robot = {point.robot: point for point in spec.points}
+    assert by_robot["arm"].qd is None
+    np.testing.assert_array_equal(by_robot["panda"].qd, [0.5, 0, 0, 0, 0, 0, 0])
+    # zeros for the planar arm: at rest, the same study
+    spec = load(tmp_path, TWO_KINDS + f"qd = {{ arm = [0, 0, 0], panda = {PANDA_Q} }}\n")
+    assert {point.robot: point.qd is None for point in spec.points} == {"arm": True, "panda": False}
+
+
+def test_a_moving_planar_arm_is_refused_saying_what_to_write(tmp_path):
+    message = refused(tmp_path, TWO_KINDS + f"qd = {{ arm = [1, 0, 0], panda = {PANDA_Q} }}\n")
+    assert message == (
+        "points[0].qd.arm: expected a URDF robot (its Coriolis and centrifugal torques come "
+        "from Pinocchio), or zero joint velocities for a planar arm (it is modelled at rest), "
+        "got qd = [1.0, 0.0, 0.0]. Fix: leave 'arm' out of qd (a robot left out is at rest): "
+        "qd = { panda = [...] }."
+    )
+    message = refused(tmp_path, PAPER + POINT + "qd = [0, 1, 0]\n")
+    assert message.startswith("points[0].qd: expected a URDF robot"), message
+    assert message.endswith("Fix: drop qd (or give zeros), or load a URDF robot."), message
+    assert load(tmp_path, PAPER + POINT + "qd = [0, 0, 0]\n").points[0].qd is None
+    # an unknown robot in the table is still refused, with the names
+    message = refused(tmp_path, TWO_KINDS + "qd = { pand = [0, 0, 0, 0, 0, 0, 0] }\n")
+    assert message.startswith("points[0].qd: expected lists of joint velocities by robot name"), (
+        message
+    )
+    assert "did you mean 'panda' for 'pand'?" in message
+
+
+def test_two_urdf_robots_one_of_them_left_out_of_qd_is_at_rest(tmp_path):
+    spec = load(
+        tmp_path,
+        TWO + f'[[points]]\nname = "p"\nq = {{ panda = {PANDA_Q}, ur5 = {UR5_Q} }}\n'
+        "qd = { ur5 = [0.3, 0, 0, 0, 0, 0] }\n",
+    )
+    by_robot = {point.robot: point for point in spec.points}
+    assert by_robot["panda"].qd is None and by_robot["ur5"].qd is not None
+    # q still needs every robot
+    message = refused(tmp_path, TWO + f'[[points]]\nname = "p"\nq = {{ panda = {PANDA_Q} }}\n')
+    assert message.startswith("points[0].q: expected one list of joint angles per robot"), message
+
+
+def test_output_labels_rename_the_sets_and_scores_of_every_table(tmp_path):
+    spec = load(
+        tmp_path,
+        PAPER + POINT + '[[candidates]]\nname = "wrist"\nweighting = [1, 1, 4]\n'
+        '[output]\nformats = ["png"]\ndpi = 20\n'
+        'labels = { chiacchio = "DME", wrist = ["heavy wrist", "$W_4$"], coverage = "share" }\n'
+        "[compare]\nmvie = false\nouter = false\ndirections = 16\nsamples = 64\n",
+    )
+    layout = spec.file.output.layout
+    assert layout == TableLayout(
+        labels={"chiacchio": "DME", "wrist": ("heavy wrist", "$W_4$"), "coverage": "share"}
+    )
+    out = tmp_path / "out"
+    pe.studies.run_study(spec, out)
+    markdown, latex = (out / "comparison.md").read_text(), (out / "comparison.tex").read_text()
+    assert "DME" in markdown and "heavy wrist" in markdown and "share" in markdown
+    assert "$W_4$" in latex
+    assert load(
+        tmp_path, PAPER + POINT + '[output]\nlabels = "chiacchio2000"\n'
+    ).file.output.layout == TableLayout(labels="chiacchio2000")
+
+
+@pytest.mark.parametrize(
+    ("labels", "start"),
+    [
+        ("{ chiacchio = 3 }", "output.labels.chiacchio: expected a label: plain text, or a pair"),
+        ('{ chiacchio = ["a", "$x"] }', "output.labels.chiacchio[1]: expected paired math"),
+        ('{ chiachio = "x" }', "output.labels.chiachio: expected keys among the sets"),
+        ('{ bogus = "x" }', "output.labels.bogus: expected a key that names a set"),
+        ('"paper"', "output.labels: expected a preset among ['chiacchio2000']"),
+        ("3", "output.labels: expected a table of set or score names to labels"),
+    ],
+)
+def test_bad_output_labels_are_refused_naming_the_key(tmp_path, labels, start):
+    message = refused(tmp_path, PAPER + POINT + f"[output]\nlabels = {labels}\n")
+    assert message.startswith(start), message
+
+
+@pytest.mark.parametrize(
+    ("text", "start"),
+    [
+        (
+            PAPER + '[random]\ncount = 2\n[output]\ncsv = "yes"\n',
+            'output.csv: expected true, false or "auto"',
+        ),
+        (
+            PAPER + POINT + "[output]\ncsv = true\n",
+            "output.csv: expected a grid, random or trajectory study",
+        ),
+    ],
+)
+def test_bad_output_csv_is_refused_naming_the_key(tmp_path, text, start):
+    message = refused(tmp_path, text)
+    assert message.startswith(start), message

@@ -195,6 +195,26 @@ def test_panda_batch_equals_the_scalar_path():
             np.testing.assert_allclose(row[(kind, "radius")], max(best, 0.0), rtol=1e-8)
 
 
+def test_panda_direction_by_name():
+    """issue 32: direction="z" is the unit vector (0, 0, 1) of the Panda's task rows."""
+    panda = pe.robots.load("panda")
+    q0 = np.array([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8])
+    postures = pe.self_motion(panda, q0, count=4, seed=3).configurations
+    options = {"mvie": False, "outer": False}
+    named = pe.posture_choice(panda, postures, direction="-z", **options)
+    vector = pe.posture_choice(panda, postures, direction=[0.0, 0.0, -1.0], **options)
+    np.testing.assert_array_equal(named.direction, [0.0, 0.0, -1.0])
+    assert named.values.equals(vector.values) and named.table.equals(vector.table)
+    for k, q in enumerate(postures):  # against the LP of each posture
+        analysis = pe.analyze(panda.dynamics(q), panda.tau_max)
+        lo, hi = lp_limits(analysis.M, analysis.xg, np.array([0.0, 0.0, -1.0]))
+        row = named.values.loc[k]
+        np.testing.assert_allclose([row[("polytope", "lo")], row[("polytope", "hi")]], [lo, hi])
+    with pytest.raises(pe.InputError) as info:
+        pe.posture_choice(panda, postures, direction="wz", **options)
+    assert info.value.argument == "direction" and "(x, y, z)" in str(info.value)
+
+
 def test_singular_postures_take_the_scalar_path():
     """At the stretched arm the classic ellipsoid is undefined; nothing is flat-but-counted."""
     postures = np.array([[np.pi / 6, 0.0, 0.0], PAPER_Q_REDUNDANT, [0.3, 0.9, -0.4]])

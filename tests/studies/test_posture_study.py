@@ -376,9 +376,9 @@ def test_the_posture_tables_follow_output_sets_and_digits(tmp_path):
     rows = [
         line.split("|")[1].strip() for line in markdown.splitlines()[4:] if line.startswith("|")
     ]
-    assert rows == ["new (eq. 32/38)"] * 3 + ["polytope"] * 3, rows  # in the order asked
-    assert "heavy_wrist" not in markdown and "classic" not in markdown
-    first = next(line for line in markdown.splitlines() if line.startswith("| new"))
+    assert rows == ["Chiacchio"] * 3 + ["polytope"] * 3, rows  # in the order asked
+    assert "heavy_wrist" not in markdown and "Yoshikawa" not in markdown
+    first = next(line for line in markdown.splitlines() if line.startswith("| Chiacchio"))
     truth = [cell.strip() for cell in first.split("|")][4]  # the truth at the pick
     assert len(truth.replace(".", "").replace("-", "").lstrip("0")) == 6, truth
     full = pd.read_csv(out / "posture_choice.csv")  # every set, full precision

@@ -68,9 +68,9 @@ def test_paper_study_table_equals_compare(paper_study):
     expected = pe.compare(paper_analysis(PAPER_Q_REDUNDANT), 360)
     for name in pe.SCORE_NAMES:
         np.testing.assert_allclose(
-            table.loc["redundant: new (eq. 32/38)", name], getattr(expected["chiacchio"], name)
+            table.loc["redundant: Chiacchio", name], getattr(expected["chiacchio"], name)
         )
-    assert np.isnan(table.loc["singular: classic (eq. 27)", "coverage"])
+    assert np.isnan(table.loc["singular: Yoshikawa", "coverage"])
 
 
 def test_grid_study_results_and_maps(tmp_path):
@@ -409,7 +409,7 @@ def test_the_shipped_two_robot_study_runs_from_one_file(tmp_path):
             pe.analyze(robot.dynamics(point.q), robot.tau_max), 50, mvie=False, outer=False
         )
         for score in ("coverage", "inscribed_scale", "volume"):
-            assert table.loc[f"{point.label}: new (eq. 32/38)", score] == pytest.approx(
+            assert table.loc[f"{point.label}: Chiacchio", score] == pytest.approx(
                 getattr(expected["chiacchio"], score), rel=1e-12
             )
         section = numbers.split(f"## {point.label}")[1].split("\n## ")[0]

@@ -101,7 +101,7 @@ def test_summaries_and_report_name_each_capacitys_ellipsoids(tmp_path):
     force = (out / "summary_force.md").read_text()
     for kind in ("chiacchio", "yoshikawa", "static"):
         assert set_label(kind, "force") in force
-    assert "new (eq. 32/38)" not in force  # the acceleration name is not a force's
+    assert "new (eq. 32/38)" not in force  # the paper's labels only where asked for
     assert "force summary" in force
     tex = (out / "summary_force.tex").read_text()
     assert r"\label{tab:summary-force" in tex and "force scores" in tex
@@ -115,7 +115,7 @@ def test_summaries_and_report_name_each_capacitys_ellipsoids(tmp_path):
     assert "map_yoshikawa_coverage_force.png" in written
     report = (out / "report.html").read_text()
     assert "force: Heat maps" in report and "velocity: Summary over 6" in report
-    assert "no gravity: coverage" in report  # the force map's menu names the ellipsoid
+    assert "static (no gravity): coverage" in report  # the force map's menu names the ellipsoid
 
 
 def test_a_random_study_of_forces(tmp_path):
@@ -400,7 +400,7 @@ def test_output_sets_are_kept_per_capacity_and_checked_at_load(tmp_path):
     run_study(load_study(path), tmp_path / "out")
     assert "no gravity" in (tmp_path / "out" / "comparison_force.tex").read_text()
     acceleration = (tmp_path / "out" / "comparison.tex").read_text()
-    assert "no gravity" not in acceleration and "classic" in acceleration
+    assert "no gravity" not in acceleration and "Yoshikawa" in acceleration
     path = _points_study(tmp_path, '["velocity"]', output='sets = ["polytope", "static"]')
     with pytest.raises(pe.InputError) as info:
         load_study(path)
@@ -440,9 +440,9 @@ def test_a_posture_study_chooses_by_each_capacity(tmp_path):
     arm = pe.robots.load("chiacchio2000")
     postures = pd.read_csv(out / "posture_values.csv")[["q1", "q2", "q3"]].to_numpy()
     for capacity, suffix, first in (
-        ("acceleration", "", "new (eq. 32/38)"),
-        ("velocity", "_velocity", "unit ball"),
-        ("force", "_force", "with gravity"),
+        ("acceleration", "", "Chiacchio"),
+        ("velocity", "_velocity", "Yoshikawa"),
+        ("force", "_force", "Chiacchio"),
     ):
         for name in ("posture_choice", "posture_targets"):
             for ending in (".md", ".tex", ".csv"):

@@ -160,8 +160,10 @@ def test_parquet_dataset_resumes_and_refuses_other_arguments(tmp_path):
     pe.sweep(ARM, g, out=out, chunk=4)
     assert {p: p.stat().st_mtime_ns for p in parts[:5]} == kept  # not recomputed
     assert len(list(out.glob("part-*.parquet"))) == 8
+    with pytest.raises(pe.InputError, match=r"chunk: expected 4 .*pass chunk=4"):
+        pe.sweep(ARM, g, out=out, chunk=5)  # the dataset's chunk size, named
     with pytest.raises(pe.InputError, match="holds a different sweep"):
-        pe.sweep(ARM, g, out=out, chunk=5)
+        pe.sweep(ARM, g, out=out, chunk=4, directions=9)
 
 
 def test_dask_local_cluster_on_loopback_gives_the_same_rows(tmp_path):
