@@ -20,6 +20,7 @@ __all__ = [
     "MIN_RELATIVE_EXTENT",
     "ROUNDED_INPUT_RTOL",
     "array_ndim",
+    "as_floats",
     "check_array",
     "check_directions",
     "check_fraction",
@@ -375,6 +376,14 @@ def check_frame(name: str, value: object, fix: str = "") -> None:
     import pandas as pd
 
     check_instance(name, value, pd.DataFrame, fix)
+
+
+def as_floats(name: str, value: object) -> NDArray[np.float64]:
+    """``value`` as an array of floats (NaN and inf allowed), or an InputError naming it."""
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(name, "an array of real numbers", repr(value)[:80]) from None
 
 
 def check_integer(name: str, value: object, low: int, high: int) -> int:

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polyell.errors import InputError
-from polyell.validation import check_integer
+from polyell.validation import as_floats, check_integer
 
 __all__ = [
     "ANTIPARALLEL",
@@ -28,14 +28,6 @@ __all__ = [
     "cap_union_share",
     "estimate",
 ]
-
-
-def _floats(name: str, value: object) -> NDArray[np.float64]:
-    """``value`` as an array of floats (NaN allowed), or an InputError naming it."""
-    try:
-        return np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(name, "an array of real numbers", repr(value)[:80]) from None
 
 
 #: Two unit normals with ``1 + cos`` at most this are opposite (the two sides of one row,
@@ -144,7 +136,7 @@ def _cap_geometry(
     reach_vectors: NDArray[np.float64], slack: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], _Caps]:
     """:func:`cap_share` and the caps it found (for :func:`cap_union_share`)."""
-    W, slack = _floats("reach_vectors", reach_vectors), _floats("slack", slack)
+    W, slack = as_floats("reach_vectors", reach_vectors), as_floats("slack", slack)
     if W.ndim < 2 or slack.shape != W.shape[:-1]:
         raise InputError(
             "reach_vectors",
@@ -601,7 +593,7 @@ def estimate(counts: NDArray[np.int64], samples: int) -> tuple[float, float]:
     half a point added, ``sqrt(p (1 - p) / N)``, ``p = (k + 1/2) / (N + 1)``: an estimate
     never reads as exact (standard error 0).
     """
-    values = _floats("counts", counts)
+    values = as_floats("counts", counts)
     samples = check_integer("samples", samples, 1, 2**62)
     if values.ndim != 1 or len(values) < 2:
         raise InputError("counts", "one count per replicate, at least 2", f"shape {values.shape}")

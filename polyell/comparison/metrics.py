@@ -20,7 +20,7 @@ from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.limits import DirectionalLimits
 from polyell.geometry.polytope import Polytope
 from polyell.inverse import AffineMap
-from polyell.validation import check_instance, check_integer
+from polyell.validation import as_floats, check_instance, check_integer
 
 __all__ = [
     "DirectionErrors",
@@ -34,14 +34,6 @@ __all__ = [
     "relative_error",
     "witness_torque_max",
 ]
-
-
-def _floats(name: str, value: object) -> NDArray[np.float64]:
-    """``value`` as an array of floats (NaN allowed), or an InputError naming it."""
-    try:
-        return np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(name, "an array of real numbers", repr(value)[:80]) from None
 
 
 #: How to mend a wrong DirectionalLimits argument.
@@ -208,7 +200,7 @@ def relative_error(
         Dimensionless.  For upper limits > 0 means the ellipsoid promises too much; for
         lower limits < 0 does (it reaches further down).
     """
-    e, p = _floats("ellipsoid", ellipsoid), _floats("polytope", polytope)
+    e, p = as_floats("ellipsoid", ellipsoid), as_floats("polytope", polytope)
     used = ~np.isnan(e) & ~np.isnan(p) & (p != 0)
     error = np.full(np.broadcast_shapes(e.shape, p.shape), np.nan)
     infinite = used & np.isinf(p) & np.isfinite(e)

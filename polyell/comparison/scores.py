@@ -28,7 +28,7 @@ from polyell.geometry.ellipsoid import Ellipsoid, unit_ball_volume
 from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.limits import facet_slack, rounding_floor
 from polyell.geometry.polytope import Polytope
-from polyell.validation import check_integer
+from polyell.validation import as_floats, check_integer
 
 __all__ = [
     "INSIDE_RTOL",
@@ -90,13 +90,7 @@ def scale_rtol(
     """
     eps = float(np.finfo(float).eps)
     m, n = check_integer("m", m, 0, 2**31), check_integer("n", n, 0, 2**31)
-    try:
-        extent = np.asarray(extent, dtype=float)
-        smallest = np.asarray(smallest_axis, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(
-            "extent", "real numbers (extent and smallest_axis)", repr(extent)[:80]
-        ) from None
+    extent, smallest = as_floats("extent", extent), as_floats("smallest_axis", smallest_axis)
     with np.errstate(divide="ignore"):
         result: float | Array = ROUNDING_FACTOR * (m + n) * eps * extent / smallest
     return result

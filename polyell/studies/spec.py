@@ -32,9 +32,14 @@ from polyell.errors import InputError
 from polyell.models.planar_arm import PlanarArm
 from polyell.models.task import task_unit
 from polyell.models.urdf import Payload, UrdfRobot
-from polyell.studies.configurations import ConfigurationSet, Grid, uniform_rows
+from polyell.studies.configurations import (
+    ConfigurationSet,
+    Grid,
+    RandomConfigurations,
+    uniform_rows,
+)
 from polyell.studies.trajectory import Trajectory, load_trajectory
-from polyell.validation import array_ndim, check_array, check_integer, check_joint_velocities
+from polyell.validation import array_ndim, check_array, check_joint_velocities
 
 if TYPE_CHECKING:  # pydantic is imported where study files are read (start-up time)
     from polyell.studies import models
@@ -620,7 +625,7 @@ def _grid(table: dict[str, Any], robots_: tuple[Robot, ...]) -> tuple[GridAxis, 
     return tuple(axes)
 
 
-class SeededRows(ConfigurationSet):
+class SeededRows(RandomConfigurations):
     """The rows of ``uniform_rows(np.random.default_rng(seed), low, high, count)``, lazily.
 
     A ``[random]`` study's configurations: row ``i`` is made on demand, by advancing a
@@ -640,22 +645,10 @@ class SeededRows(ConfigurationSet):
     Raises
     ------
     InputError
-        Naming the argument, for a bad count, box or seed.
+        Naming the argument, for a bad count, box or seed (as
+        :class:`~polyell.studies.configurations.RandomConfigurations`, whose rows are
+        drawn in seeded blocks instead).
     """
-
-    def __init__(self, count: int, low: ArrayLike, high: ArrayLike, seed: int) -> None:
-        self.low = check_array("low", low, (None,))
-        self.high = check_array("high", high, (self.low.size,))
-        if np.any(self.low > self.high):
-            raise InputError(
-                "low", "low <= high for every joint", f"low={self.low}, high={self.high}"
-            )
-        self.count = check_integer("count", count, 1, 2**62)
-        self.seed = check_integer("seed", seed, 0, 2**63 - 1)
-        self.n = self.low.size
-
-    def __len__(self) -> int:
-        return self.count
 
     def rows(self, start: int, stop: int) -> NDArray[np.float64]:
         """Rows ``start`` to ``stop - 1`` (clipped to the set), shape (stop - start, n)."""
