@@ -13,7 +13,6 @@
 
 from __future__ import annotations
 
-import inspect
 import pickle
 import warnings
 import xml.etree.ElementTree as ET
@@ -44,20 +43,8 @@ DRIVES = pe.TorqueSpeed.linear(STALL, NO_LOAD)
 #: same small, well-scaled problem (7 torques of size <= 87 N m) to about 1e-12.
 RTOL = 1e-8
 
+
 #: Whether the hooks outside this change's files are in (see the skip reasons).
-ANALYZE_HOOKED = any(
-    name in inspect.getsource(module)
-    for name in ("warn_rated_limits_in_motion", "check_motion_limits")
-    for module in (
-        polyell.capacities,
-        polyell.capacities.base,
-        polyell.capacities.acceleration,
-        polyell.capacities.force,
-    )
-)
-SELF_MOTION_QUIET = "check_limits=False" in inspect.getsource(polyell.models.self_motion)
-
-
 def urdf_limits(name: str) -> dict[str, tuple[float, float]]:
     """``{joint: (lower, upper)}`` of the revolute and prismatic joints, from the XML."""
     root = ET.parse(pe.robots.urdf_path(name)).getroot()
@@ -218,11 +205,6 @@ def test_the_warning_pickles_with_its_attributes():
     assert str(copy) == str(records[0].message)
 
 
-@pytest.mark.skipif(
-    not SELF_MOTION_QUIET,
-    reason="needs self_motion's probing beyond the limits to be quiet: in "
-    "polyell/models/self_motion.py, _Task.coordinates, tip_kinematics(q, check_limits=False)",
-)
 def test_self_motion_probing_the_limits_does_not_warn():
     panda = pe.robots.load("panda", task=["x", "y", "z", "wx", "wy", "wz"], weights=[1] * 6)
     q0 = np.array([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8])
@@ -352,11 +334,6 @@ def test_a_batch_in_motion_warns_once(moving):
     assert "panda_joint2 (row 2, qd = -1.2 rad/s): tau_min = -87 N m" in text
 
 
-@pytest.mark.skipif(
-    not ANALYZE_HOOKED,
-    reason="needs the hook in polyell/capacities/__init__.py, analyze: "
-    "return warn_rated_limits_in_motion(cls(dyn, upper, lower, ...))",
-)
 def test_pe_analyze_warns_with_rated_limits_in_motion(moving):
     robot, dyn = moving
     with pytest.warns(pe.DeratingWarning, match="panda_joint2") as records:
