@@ -9,11 +9,13 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
 from numpy.typing import ArrayLike
 
 from polyell.capacities.acceleration import ELLIPSOID_KINDS, AccelerationAnalysis
 from polyell.capacities.base import Analysis, InverseSolution
 from polyell.capacities.force import ForceAnalysis
+from polyell.capacities.horizon import HorizonAnalysis, JointHorizon, joint_horizon
 from polyell.capacities.velocity import VelocityAnalysis
 from polyell.errors import InputError
 from polyell.geometry.subspace import AFFINE_RTOL, RANK_RTOL
@@ -25,6 +27,7 @@ __all__ = [
     "AccelerationAnalysis",
     "Analysis",
     "ForceAnalysis",
+    "HorizonAnalysis",
     "InverseSolution",
     "VelocityAnalysis",
     "analyze",
@@ -38,6 +41,11 @@ _REGISTRY: dict[str, type[Analysis]] = {
 }
 #: The capacities :func:`analyze` knows, in table order.
 CAPACITIES: tuple[str, ...] = tuple(_REGISTRY)
+#: The capacities that take a horizon (``analyze(..., horizon=dt)``): their set within the
+#: joint position and velocity limits over the next control period.
+_WITHIN_HORIZON: dict[type[Analysis], type[HorizonAnalysis]] = {
+    AccelerationAnalysis: HorizonAnalysis
+}
 
 
 def check_capacity(capacity: object, argument: str = "capacity") -> str:
@@ -70,6 +78,12 @@ def analyze(
     qd_min: ArrayLike | None = None,
     rank_rtol: float = RANK_RTOL,
     affine_rtol: float = AFFINE_RTOL,
+    horizon: float | None = None,
+    q: ArrayLike | None = None,
+    qd: ArrayLike | None = None,
+    q_min: ArrayLike | None = None,
+    q_max: ArrayLike | None = None,
+    braking: ArrayLike | None = None,
 ) -> Any:
     """Analyze one capacity of a robot at one configuration.
 
@@ -88,8 +102,8 @@ def analyze(
         velocity box and its manipulability ellipsoid) or ``"force"`` (the static force
         polytope ``{h : tau_min <= J^T h + g <= tau_max}`` and three force ellipsoids).
     qd_max, qd_min : array-like, shape (n,)
-        Joint velocity limits [rad/s] of the velocity capacity (``qd_min`` default
-        ``-qd_max``).
+        Joint velocity limits [rad/s] of the velocity capacity, or of the horizon
+        (``qd_min`` default ``-qd_max``).
     rank_rtol : float, optional
         Relative tolerance of the rank decision (singular values at or below
         ``rank_rtol * sigma_max`` are zero); default :data:`~polyell.RANK_RTOL`.
@@ -97,12 +111,29 @@ def analyze(
         At a singular configuration, how far (relative) a direction or a point may be off
         the affine set and still count as in it (rounded input, projected with a
         :class:`~polyell.ProjectedInputWarning`); default :data:`~polyell.AFFINE_RTOL`.
+    horizon : float, optional
+        A control period ``dt`` [s] (accelerations only): the set becomes the accelerations
+        that also keep every joint within its position limits ``q_min``, ``q_max`` at every
+        instant of the period and within its velocity limits ``qd_min``, ``qd_max`` at its
+        end, from the state ``q``, ``qd``
+        (:class:`~polyell.capacities.horizon.HorizonAnalysis`).  None (default): the set
+        without them.
+    q, qd : array-like, shape (n,)
+        The joint positions [rad or m] and velocities [rad/s or m/s] of the state, with
+        ``horizon`` (``dyn`` must be the dynamics at that state, ``qd`` included).
+    q_min, q_max : array-like, shape (n,)
+        Joint position limits, with ``horizon``.
+    braking : float or array-like, shape (n,), optional
+        With ``horizon``: the deceleration [rad/s^2] each joint can still brake with after
+        the period; the set then also keeps every joint able to stop before its position
+        limit (viability, Del Prete 2018).
 
     Returns
     -------
     Analysis
         :class:`~polyell.capacities.AccelerationAnalysis`, ``VelocityAnalysis`` or
-        ``ForceAnalysis``; ``analysis.capacity`` says which.
+        ``ForceAnalysis`` (``HorizonAnalysis`` with ``horizon``); ``analysis.capacity``
+        says which.
 
     Raises
     ------
@@ -122,6 +153,10 @@ def analyze(
     ('force', ('chiacchio', 'yoshikawa', 'static'))
     """
     cls = capacity_class(capacity)
+    state = None
+    if horizon is not None or q is not None or qd is not None:
+        state = _state(cls, horizon, dyn, q, qd, q_min, q_max, qd_min, qd_max, braking)
+        qd_max = qd_min = None  # the horizon's
     upper, lower = joint_limits_of(cls.capacity, tau_max, tau_min, qd_max, qd_min)
     if upper is None:
         raise InputError(
@@ -130,8 +165,58 @@ def analyze(
             "none",
             cls.limit_hint,
         )
-    analysis = cls(dyn, upper, lower, rank_rtol=rank_rtol, affine_rtol=affine_rtol)
+    if state is not None:
+        analysis: Analysis = _WITHIN_HORIZON[cls](
+            dyn, upper, lower, state=state, rank_rtol=rank_rtol, affine_rtol=affine_rtol
+        )
+    else:
+        analysis = cls(dyn, upper, lower, rank_rtol=rank_rtol, affine_rtol=affine_rtol)
     return warn_rated_limits_in_motion(analysis)  # a moving robot given its rated limits
+
+
+def _state(
+    cls: type[Analysis],
+    horizon: object,
+    dyn: Any,
+    q: ArrayLike | None,
+    qd: ArrayLike | None,
+    q_min: ArrayLike | None,
+    q_max: ArrayLike | None,
+    qd_min: ArrayLike | None,
+    qd_max: ArrayLike | None,
+    braking: ArrayLike | None,
+) -> JointHorizon:
+    """The checked state and limits of ``analyze(..., horizon=)``."""
+    if horizon is None:
+        raise InputError(
+            "q" if q is not None else "qd",
+            "a state (q, qd) only with a horizon",
+            "a state without horizon=",
+            "pass horizon=dt [s] (e.g. 0.001), or leave q and qd out: dyn holds the state.",
+        )
+    if cls not in _WITHIN_HORIZON:
+        raise InputError(
+            "horizon",
+            "a horizon only for "
+            + ", ".join(repr(c.capacity) for c in _WITHIN_HORIZON)
+            + " (the joint limits over a control period bound accelerations)",
+            f"horizon={horizon!r} with capacity={cls.capacity!r}",
+            "leave horizon out.",
+        )
+    n = int(np.shape(getattr(dyn, "J", np.zeros((0, 0))))[-1])
+    if qd_max is not None and qd_min is None:
+        qd_min = -np.asarray(qd_max, dtype=float)
+    return joint_horizon(
+        horizon,
+        n,
+        q=q,
+        qd=qd,
+        q_min=q_min,
+        q_max=q_max,
+        qd_min=qd_min,
+        qd_max=qd_max,
+        braking=braking,
+    )
 
 
 def joint_limits_of(

@@ -1,0 +1,566 @@
+r"""Accelerations within the joint position and velocity limits over one control period.
+
+The paper's set (eq. 15) assumes the arm far from its joint limits.  At a state
+:math:`(q, \dot q)`, with the joint accelerations held over the next control period
+:math:`\Delta t`, the joint velocity must end within its limits and the position stay within
+its range at every instant (DESIGN.md section 8):
+
+.. math::
+
+    \dot q_{min} \le \dot q + \ddot q\, \Delta t \le \dot q_{max}, \qquad
+    q_{min} \le q + \dot q\, t + \ddot q\, t^2 / 2 \le q_{max}
+    \quad (0 \le t \le \Delta t),
+
+optionally with viability (Del Prete, IEEE RA-L 2018): at the end of the period the joint
+can still stop before its position limit braking at :math:`\ddot q_{brake}`.  Per joint each
+condition is an interval of :math:`\ddot q` in closed form (:func:`acceleration_interval`),
+so the feasible joint accelerations are the torque parallelotope
+:math:`\{B^{-1}(\tau - g)\}` cut by a box.  In the normalized torques ``u`` of eq. (13),
+
+.. math::
+
+    \ddot x = M u + \ddot x_g, \qquad \|u\|_\infty \le 1, \qquad
+    \ddot q_{lo} - a_0 \le W u \le \ddot q_{hi} - a_0,
+
+with :math:`W = B^{-1} L` and :math:`a_0 = -B^{-1}(g - \tau_c)`.  Where the box holds the
+whole parallelotope the set is the zonotope of eq. (15), unchanged; otherwise its vertices are
+the images of the vertices of the cut cube (cddlib, n-D) and its facets their hull.  The
+ellipsoids are the acceleration capacity's: they ignore the position and velocity limits,
+which is what comparing them with this set measures.  Directional limits are the facets'
+closed form for one configuration and a batched dual simplex
+(:func:`~polyell.geometry.bounded_lp.dual_simplex`) for a path (:func:`line_limits`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.optimize import linprog
+from scipy.spatial import ConvexHull
+
+from polyell.capacities.acceleration import AccelerationAnalysis
+from polyell.errors import InputError, SolverError
+from polyell.geometry.bounded_lp import INFEASIBLE, OPTIMAL, UNRESOLVED, dual_simplex
+from polyell.geometry.hpolytope import HPolytope
+from polyell.geometry.polytope import Polytope
+from polyell.geometry.subspace import AFFINE_RTOL, RANK_RTOL, RankRevealingSVD
+from polyell.models.dynamics import Dynamics
+from polyell.validation import array_ndim, check_array
+
+__all__ = [
+    "HorizonAnalysis",
+    "JointHorizon",
+    "acceleration_interval",
+    "joint_horizon",
+    "line_limits",
+]
+
+Array = NDArray[np.float64]
+
+#: A joint's interval cuts the torque set when the set reaches beyond it by more than this
+#: share of the set's own reach along that joint (below it the cut changes nothing that
+#: floating point can show, and the zonotope, exact, is kept).
+CUT_RTOL = 1e-12
+
+
+@dataclass(frozen=True)
+class JointHorizon:
+    """A joint state, its position and velocity limits, and the control period.
+
+    Build it with :func:`joint_horizon` (checked); one state (arrays of shape (n,)) or a
+    batch (K, n) of states with shared limits.
+
+    Attributes
+    ----------
+    horizon : float
+        The control period ``dt`` [s], positive.
+    q, qd : ndarray, shape (n,) or (K, n)
+        Joint positions [rad or m] and velocities [rad/s or m/s].
+    q_min, q_max : ndarray, shape (n,)
+        Joint position limits.
+    qd_min, qd_max : ndarray, shape (n,)
+        Joint velocity limits.
+    braking : ndarray, shape (n,), or None
+        Viability: the deceleration [rad/s^2 or m/s^2] each joint can still brake with
+        after the period; None: no viability condition.
+    """
+
+    horizon: float
+    q: Array
+    qd: Array
+    q_min: Array
+    q_max: Array
+    qd_min: Array
+    qd_max: Array
+    braking: Array | None = None
+
+    def interval(self) -> tuple[Array, Array]:
+        """``(qdd_lo, qdd_hi)``: :func:`acceleration_interval` of this state."""
+        return acceleration_interval(
+            self.horizon,
+            self.q,
+            self.qd,
+            self.q_min,
+            self.q_max,
+            self.qd_min,
+            self.qd_max,
+            self.braking,
+        )
+
+    def __getitem__(self, index: int | slice) -> JointHorizon:
+        """One state (an int) or a sub-batch (a slice) of a batch."""
+        return JointHorizon(
+            self.horizon,
+            self.q[index],
+            self.qd[index],
+            self.q_min,
+            self.q_max,
+            self.qd_min,
+            self.qd_max,
+            self.braking,
+        )
+
+
+def joint_horizon(
+    horizon: object,
+    n: int,
+    *,
+    q: ArrayLike | None,
+    qd: ArrayLike | None,
+    q_min: ArrayLike | None,
+    q_max: ArrayLike | None,
+    qd_min: ArrayLike | None,
+    qd_max: ArrayLike | None,
+    braking: ArrayLike | None = None,
+) -> JointHorizon:
+    """A checked :class:`JointHorizon` of ``n`` joints (``q``, ``qd`` one state or a batch).
+
+    Raises
+    ------
+    InputError
+        Naming the argument: a horizon that is not a positive finite number of seconds,
+        ``q`` without ``qd`` or the reverse, missing limits, limits of another length,
+        ``q_min >= q_max``, ``qd_min > qd_max``, or a braking deceleration that is not
+        positive.
+    """
+    dt = _check_horizon(horizon)
+    if q is None or qd is None:
+        missing = "q" if q is None else "qd"
+        raise InputError(
+            missing,
+            "the joint positions q and velocities qd of the state with horizon=",
+            "q without qd" if qd is None and q is not None else f"{missing}=None",
+            "pass both, e.g. horizon=0.001, q=q, qd=qd (qd = 0 at rest).",
+        )
+    shape: tuple[str | int, ...] = ("K", n) if array_ndim(q) == 2 else (n,)
+    positions = check_array("q", q, shape, what="joint positions [rad or m]")
+    velocities = check_array("qd", qd, positions.shape, what="joint velocities [rad/s or m/s]")
+    limits = {}
+    for name, value in (("q_min", q_min), ("q_max", q_max), ("qd_min", qd_min), ("qd_max", qd_max)):
+        if value is None:
+            raise InputError(
+                name,
+                f"the joint {'position' if name[1] == '_' else 'velocity'} limits with horizon=",
+                "none",
+                "pass q_min=, q_max=, qd_max= (qd_min default -qd_max), or use "
+                "robot.analyze(q, qd, horizon=dt), which takes the robot's own.",
+            )
+        limits[name] = check_array(name, value, (n,), what="joint limits")
+    for low, high, strict in (("q_min", "q_max", True), ("qd_min", "qd_max", False)):
+        bad = limits[low] >= limits[high] if strict else limits[low] > limits[high]
+        if bad.any():
+            j = int(np.flatnonzero(bad)[0])
+            raise InputError(
+                low,
+                f"{low} {'<' if strict else '<='} {high} for every joint",
+                f"joint {j + 1}: {low} = {limits[low][j]:g}, {high} = {limits[high][j]:g}",
+                "check the order of the limits.",
+            )
+    brake = None
+    if braking is not None:
+        brake = check_array("braking", np.broadcast_to(braking, (n,)), (n,))
+        if not (brake > 0).all():
+            raise InputError(
+                "braking",
+                "positive decelerations [rad/s^2], one per joint or one for all",
+                f"{brake.tolist()}"[:200],
+                "leave it out for no viability condition.",
+            )
+    return JointHorizon(dt, positions, velocities, *limits.values(), braking=brake)
+
+
+def _check_horizon(horizon: object) -> float:
+    """``horizon`` as a positive finite float, or an InputError naming it."""
+    if isinstance(horizon, bool) or not isinstance(horizon, int | float | np.integer | np.floating):
+        raise InputError("horizon", "a control period in seconds, e.g. 0.001", repr(horizon))
+    value = float(horizon)
+    if not (math.isfinite(value) and value > 0.0):
+        raise InputError(
+            "horizon",
+            "a positive, finite control period in seconds",
+            repr(horizon),
+            "leave it out (None) for the set without joint position and velocity limits.",
+        )
+    return value
+
+
+def acceleration_interval(
+    horizon: float,
+    q: Array,
+    qd: Array,
+    q_min: Array,
+    q_max: Array,
+    qd_min: Array,
+    qd_max: Array,
+    braking: Array | None = None,
+) -> tuple[Array, Array]:
+    r"""The joint accelerations that keep each joint within its limits over the horizon.
+
+    For a constant :math:`\ddot q` over :math:`[0, \Delta t]`: the velocity
+    :math:`\dot q + \ddot q \Delta t` within its limits at the end, the position
+    :math:`q + \dot q t + \ddot q t^2/2` within its range at every instant (the end point,
+    and, for a joint decelerating towards a limit, the apex of the parabola when it falls
+    inside the horizon), and with ``braking`` the joint able to stop before its limit
+    after the period (viability).
+
+    Parameters
+    ----------
+    horizon : float
+        ``dt`` [s].
+    q, qd : ndarray, shape (n,) or (K, n)
+        The state.
+    q_min, q_max, qd_min, qd_max : ndarray, shape (n,)
+        The limits.
+    braking : ndarray, shape (n,), optional
+        The deceleration each joint can brake with after the period.
+
+    Returns
+    -------
+    lo, hi : ndarray, the shape of ``q``
+        The interval; ``lo > hi`` (or ``-inf``/``inf`` ends crossing) where no acceleration
+        keeps the joint within its limits: a position outside its range, or one that the
+        velocity reaches within the horizon whatever the joint does.
+    """
+    dt = horizon
+    hi = np.minimum((qd_max - qd) / dt, _upper_position_bound(q_max - q, qd, dt, braking))
+    lo = np.maximum((qd_min - qd) / dt, -_upper_position_bound(q - q_min, -qd, dt, braking))
+    return lo, hi
+
+
+def _upper_position_bound(room: Array, qd: Array, dt: float, braking: Array | None) -> Array:
+    r"""The largest :math:`a` with :math:`\dot q t + a t^2 / 2 \le D` (``room``) over the horizon.
+
+    Over :math:`t` the bound :math:`2 (D - \dot q t) / t^2` is a parabola in :math:`1/t`,
+    smallest at the apex :math:`t = 2 D / \dot q` when that is within the horizon (then
+    :math:`-\dot q^2 / (2 D)`) and at :math:`t = \Delta t` otherwise.  With ``braking`` b,
+    the end state must also allow a stop: :math:`p + v^2/(2b) \le D` for an end velocity
+    :math:`v > 0`, whose largest :math:`v` is a root taken without cancellation.  A
+    negative ``room`` (the joint beyond its limit) gives ``-inf``.
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        end = 2.0 * (room - qd * dt) / dt**2
+        apex = np.where(room > 0, -qd * qd / (2.0 * room), -np.inf)
+        bound = np.where((qd > 0) & (qd * dt >= 2.0 * room), apex, end)
+        if braking is not None:
+            # v = qd + a dt ends the period at p = (qd + v) dt / 2: v^2 + b dt v + 2 b c <= 0
+            # with c = qd dt / 2 - D; its larger root, for c < 0 (else v <= 0: the end point).
+            c = 0.5 * qd * dt - room
+            b = braking
+            v = -4.0 * b * c / (b * dt + np.sqrt((b * dt) ** 2 - 8.0 * b * c))
+            bound = np.where(c < 0, np.minimum(bound, (v - qd) / dt), bound)
+    return np.where(room < 0, -np.inf, bound)
+
+
+class HorizonAnalysis(AccelerationAnalysis):
+    """The accelerations of one configuration within its joint limits over a horizon.
+
+    Build it with ``pe.analyze(dyn, tau_max, tau_min, horizon=dt, q=q, qd=qd, q_min=...,
+    q_max=..., qd_max=...)`` or ``robot.analyze(q, qd, horizon=dt)``.  Everything of
+    :class:`~polyell.capacities.AccelerationAnalysis` (``M``, ``xg``, the ellipsoids and
+    their inverses), with :attr:`polytope` the set within the joint limits.
+
+    Attributes
+    ----------
+    state : JointHorizon
+        The state, the limits and the horizon.
+    qdd_lo, qdd_hi : ndarray, shape (n,)
+        The joint accelerations the position and velocity limits allow
+        (:func:`acceleration_interval`) [rad/s^2].
+    cut : ndarray of bool, shape (n,)
+        The joints whose interval cuts the torque-limited set (none: the zonotope of
+        eq. 15 is the set).
+    empty_reason : str or None
+        Why no acceleration is feasible; None when some is.
+    """
+
+    def __init__(
+        self,
+        dynamics: Dynamics,
+        tau_max: ArrayLike,
+        tau_min: ArrayLike | None = None,
+        *,
+        state: JointHorizon,
+        rank_rtol: float = RANK_RTOL,
+        affine_rtol: float = AFFINE_RTOL,
+    ) -> None:
+        super().__init__(dynamics, tau_max, tau_min, rank_rtol=rank_rtol, affine_rtol=affine_rtol)
+        if state.q.ndim != 1:
+            raise InputError("q", f"one state, shape ({self.n},)", f"shape {state.q.shape}")
+        self.state = state
+        self.qdd_lo, self.qdd_hi = state.interval()
+        self.W, self.a0 = _joint_map(dynamics.B, self.half_range, self._gravity_bias)
+        self.cut = cutting_joints(self.W, self.a0, self.qdd_lo, self.qdd_hi)
+        self.empty_reason = _joint_reason(state, self.qdd_lo, self.qdd_hi)
+
+    def matrices(self) -> dict[str, NDArray[np.float64]]:
+        """``xg`` (eq. 8), ``M`` (eq. 14) and the joint interval ``qdd_lo``, ``qdd_hi``."""
+        return {**super().matrices(), "qdd_lo": self.qdd_lo, "qdd_hi": self.qdd_hi}
+
+    @cached_property
+    def polytope(self) -> Polytope | HPolytope:  # type: ignore[override]
+        """The accelerations within the torque limits and the joint limits over the horizon.
+
+        The zonotope of eq. (15) where no joint's interval cuts it; else the hull of its
+        support points (:func:`cut_set`, an :class:`~polyell.HPolytope`), empty (with
+        :attr:`empty_reason`) where no torque gives an acceleration within the interval.
+        """
+        if self.empty_reason is None and not self.cut.any():
+            return super().polytope
+        polytope = None
+        if self.empty_reason is None:
+            polytope = cut_set(self.M, self.xg, self.W, self.a0, self.qdd_lo, self.qdd_hi, self.svd)
+        if polytope is None:
+            self.empty_reason = self.empty_reason or (
+                "the torque limits give no joint acceleration within the interval "
+                "[qdd_lo, qdd_hi] that keeps the joints within their position and velocity "
+                "limits over the horizon"
+            )
+            polytope = _empty(self.m)
+        polytope.affine_rtol = self.affine_rtol
+        polytope.task = self.task
+        return polytope
+
+
+def _joint_map(B: Array, half_range: Array, bias: Array) -> tuple[Array, Array]:
+    """``W = B^-1 L`` and ``a0 = -B^-1 (g - tau_c)``: the joint accelerations of ``u``.
+
+    One configuration (n, n) or a batch (K, n, n).
+    """
+    L = np.broadcast_to(half_range[..., None, :] * np.eye(B.shape[-1]), B.shape)
+    solved = np.linalg.solve(B, np.concatenate([L, -bias[..., :, None]], axis=-1))
+    return solved[..., :-1], solved[..., -1]
+
+
+def cutting_joints(W: Array, a0: Array, lo: Array, hi: Array) -> NDArray[np.bool_]:
+    """Which joints' intervals cut the parallelotope ``a0 + W u``, shape of ``a0``.
+
+    The parallelotope reaches ``a0 -+ sum_j |W_ij|`` along joint i; the interval cuts it
+    when it ends inside that reach by more than :data:`CUT_RTOL` of it.
+    """
+    reach = np.abs(W).sum(axis=-1)
+    slack = CUT_RTOL * (reach + np.abs(a0))
+    return (a0 + reach > hi + slack) | (a0 - reach < lo - slack)
+
+
+def _joint_reason(state: JointHorizon, lo: Array, hi: Array) -> str | None:
+    """Why the joint interval is empty (the first joint that has none), or None."""
+    empty = ~(lo <= hi)
+    if not empty.any():
+        return None
+    j = int(np.flatnonzero(empty)[0])
+    q, low, high = state.q[j], state.q_min[j], state.q_max[j]
+    if not low <= q <= high:
+        return f"joint {j + 1} is at q = {q:.6g}, outside its limits [{low:.6g}, {high:.6g}]"
+    return (
+        f"no acceleration of joint {j + 1} keeps it within its limits over the horizon "
+        f"{state.horizon:g} s (q = {q:.6g}, qd = {state.qd[j]:.6g}: it reaches a limit "
+        "whatever it does)"
+    )
+
+
+def _empty(m: int) -> HPolytope:
+    """The empty set of R^m, as half-spaces ``x_1 <= -1``, ``-x_1 <= -1``."""
+    A = np.zeros((2, m))
+    A[0, 0], A[1, 0] = 1.0, -1.0
+    return HPolytope(A, [-1.0, -1.0])
+
+
+#: A support point beyond a facet of the hull built so far by more than this share of the
+#: hull's extent is a new vertex (:func:`cut_set`); closer, the facet is the set's.
+SUPPORT_RTOL = 1e-11
+#: Rounds of :func:`cut_set` at most (each adds every vertex beyond the current facets).
+MAX_ROUNDS = 64
+
+
+def cut_set(
+    M: Array, xg: Array, W: Array, a0: Array, lo: Array, hi: Array, svd: RankRevealingSVD
+) -> HPolytope | None:
+    r"""The set :math:`\{\ddot x_g + M u : |u|_\infty \le 1, lo \le a_0 + W u \le hi\}`.
+
+    Its hull is grown from support points (linear programs over the cut cube, a batch per
+    round, :func:`support_points`): start from the points along the axes of its affine
+    set, then ask every facet of the hull so far for the set's support point along its
+    normal; a point beyond the facet is a new vertex, and when none is, every facet of the
+    hull supports the set, so the hull is the set (the convex hull method of Lassez and
+    Lassez, 1992).  The vertices are LP vertices, solved from n rows each: exact to
+    rounding.  In the coordinates of the affine set of the points (flat where M is
+    singular or the interval pins a joint).
+
+    Returns
+    -------
+    HPolytope, or None where the cut cube is empty.
+    """
+    m = M.shape[0]
+    frame = svd.U1  # the set lies in xg + Im(M)
+    r = frame.shape[1]
+    if r == 0:
+        points = np.zeros((1, 0))
+        if _support(M, W, a0, lo, hi, np.zeros((1, m)))[1][0] == INFEASIBLE:
+            return None
+    else:
+        axes = np.vstack([np.eye(r), -np.eye(r)]) @ frame.T  # task directions (2r, m)
+        u, status = _support(M, W, a0, lo, hi, axes)
+        if (status == INFEASIBLE).any():
+            return None
+        points = (u @ M.T) @ frame  # the support points in the frame's coordinates
+    origin = points.mean(axis=0)
+    _, sigma, Vt = np.linalg.svd(points - origin, full_matrices=False)
+    flat = int(np.count_nonzero(sigma > 1e-9 * sigma.max(initial=0.0)))
+    inner = Vt[:flat].T  # (r, flat): the points' own affine set in the frame
+    basis = frame @ inner  # (m, flat) in the task space
+    x0 = xg + frame @ origin
+    z = (points - origin) @ inner
+    if flat >= 2:
+        z = _grow_hull(M, W, a0, lo, hi, basis, frame @ origin, z)
+        hull = ConvexHull(z)
+        normals, offsets = hull.equations[:, :-1], -hull.equations[:, -1]
+    elif flat == 1:
+        normals, offsets = np.array([[1.0], [-1.0]]), np.array([z.max(), -z.min()])
+    else:
+        normals, offsets = np.zeros((0, 0)), np.zeros(0)
+    complement = np.linalg.svd(basis, full_matrices=True)[0][:, flat:] if flat < m else None
+    rows, bounds = [normals @ basis.T], [offsets + normals @ basis.T @ x0]
+    if complement is not None:
+        rows += [complement.T, -complement.T]
+        bounds += [complement.T @ x0, -(complement.T @ x0)]
+    center = x0 + basis @ z.mean(axis=0)
+    return HPolytope(np.vstack(rows), np.concatenate(bounds), center=center)
+
+
+def _grow_hull(
+    M: Array, W: Array, a0: Array, lo: Array, hi: Array, basis: Array, shift: Array, z: Array
+) -> Array:
+    """The points ``z`` of :func:`cut_set` grown until every facet supports the set.
+
+    ``z = basis^T (M u - shift)``: coordinates about ``xg + shift`` in the columns of
+    ``basis`` (m, flat).
+    """
+    for _ in range(MAX_ROUNDS):
+        hull = ConvexHull(z)
+        normals = np.unique(np.round(hull.equations[:, :-1], 12), axis=0)
+        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+        u, _ = _support(M, W, a0, lo, hi, normals @ basis.T)
+        found = (u @ M.T - shift) @ basis  # the support points, (F, flat)
+        facets = (z @ normals.T).max(axis=0)
+        beyond = (found * normals).sum(axis=1) > facets + SUPPORT_RTOL * np.ptp(z, axis=0).max()
+        if not beyond.any():
+            return z
+        z = np.vstack([z, found[beyond]])
+    raise SolverError(
+        f"the cut acceleration set's hull did not close in {MAX_ROUNDS} rounds of support "
+        "queries; report this configuration."
+    )
+
+
+def _support(
+    M: Array, W: Array, a0: Array, lo: Array, hi: Array, directions: Array
+) -> tuple[Array, NDArray[np.int_]]:
+    """The support points ``u`` (k, n) of the cut cube along task ``directions`` (k, m).
+
+    :func:`~polyell.geometry.bounded_lp.dual_simplex` from the cube's own support point;
+    a problem it leaves (degenerate cycling) is solved by HiGHS.
+    """
+    k, n = len(directions), W.shape[0]
+    norms = np.linalg.norm(W, axis=1)
+    norms = np.where(norms > 0, norms, 1.0)
+    G = np.broadcast_to(np.vstack([np.eye(n), W / norms[:, None]]), (k, 2 * n, n))
+    lower = np.broadcast_to(np.concatenate([-np.ones(n), (lo - a0) / norms]), (k, 2 * n))
+    upper = np.broadcast_to(np.concatenate([np.ones(n), (hi - a0) / norms]), (k, 2 * n))
+    d = directions @ M
+    basis = np.broadcast_to(np.arange(n), (k, n))
+    answer = dual_simplex(d, G, lower, upper, basis, np.where(d >= 0, 1.0, -1.0))
+    u, status = answer.u, answer.status
+    for i in np.flatnonzero(status == UNRESOLVED):
+        result = linprog(
+            -d[i],
+            A_ub=np.vstack([G[i], -G[i]]),
+            b_ub=np.concatenate([upper[i], -lower[i]]),
+            bounds=[(None, None)] * n,
+            method="highs",
+        )
+        status[i] = OPTIMAL if result.status == 0 else INFEASIBLE
+        if result.status == 0:
+            u[i] = result.x
+    return u, status
+
+
+def line_limits(
+    M: Array, xg: Array, W: Array, a0: Array, lo: Array, hi: Array, T: Array
+) -> tuple[Array, Array, NDArray[np.bool_]]:
+    r"""The interval ``{s : s t in the set}`` for K cut sets at once (batched dual simplex).
+
+    Along the line :math:`s t`: :math:`E (M u + \ddot x_g) = 0` for an orthonormal
+    complement E of t, and :math:`s = t \cdot (M u + \ddot x_g)`, maximised and minimised
+    over the cut cube (:func:`~polyell.geometry.bounded_lp.dual_simplex`, started from the
+    cube's support point).
+
+    Parameters
+    ----------
+    M : ndarray, shape (K, m, n)
+    xg : ndarray, shape (K, m)
+    W : ndarray, shape (K, n, n)
+    a0 : ndarray, shape (K, n)
+    lo, hi : ndarray, shape (K, n)
+        The joint intervals (:func:`acceleration_interval`; an empty one gives NaN).
+    T : ndarray, shape (K, m)
+        Unit directions.
+
+    Returns
+    -------
+    lo, hi : ndarray, shape (K,)
+        NaN where the line misses the set.
+    unresolved : ndarray of bool, shape (K,)
+        Rows the simplex left (cycling, a near-singular complement): for the exact path.
+    """
+    K, _, n = M.shape
+    Q = np.linalg.qr(T[:, :, None], mode="complete")[0]
+    E = np.swapaxes(Q[:, :, 1:], 1, 2)  # (K, m-1, m)
+    EM, Ex = E @ M, -np.einsum("kim,km->ki", E, xg)
+    w_norm, e_norm = np.linalg.norm(W, axis=2), np.linalg.norm(EM, axis=2)
+    scale = np.linalg.norm(M, axis=(1, 2))
+    unresolved = (e_norm <= 1e-9 * scale[:, None]).any(axis=1) | (w_norm <= 0).any(axis=1)
+    w_norm, e_norm = np.where(w_norm > 0, w_norm, 1.0), np.where(e_norm > 0, e_norm, 1.0)
+    G = np.concatenate(
+        [np.broadcast_to(np.eye(n), (K, n, n)), W / w_norm[..., None], EM / e_norm[..., None]],
+        axis=1,
+    )
+    ones = np.ones((K, n))
+    lower = np.concatenate([-ones, (lo - a0) / w_norm, Ex / e_norm], axis=1)
+    upper = np.concatenate([ones, (hi - a0) / w_norm, Ex / e_norm], axis=1)
+    d = np.einsum("kmn,km->kn", M, T)
+    both = np.concatenate([d, -d])
+    side = np.where(both >= 0, 1.0, -1.0)
+    basis = np.broadcast_to(np.arange(n), (2 * K, n))
+    twice = [np.concatenate([a, a]) for a in (G, lower, upper)]
+    answer = dual_simplex(both, *twice, basis, side)
+    offset = np.einsum("km,km->k", T, xg)
+    value = np.einsum("kn,kn->k", both, answer.u)
+    top, bottom = offset + value[:K], offset - value[K:]
+    status = answer.status.reshape(2, K)
+    unresolved = unresolved | ((status != OPTIMAL) & (status != INFEASIBLE)).any(axis=0)
+    missed = (status == INFEASIBLE).any(axis=0) | ~(lo <= hi).all(axis=1)
+    return np.where(missed, np.nan, bottom), np.where(missed, np.nan, top), unresolved
