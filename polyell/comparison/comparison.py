@@ -213,10 +213,10 @@ class Comparison:
             return f"not computed ({kind}=False)"
         P = self.analysis.polytope
         if getattr(P, "is_empty", False):
-            return (
-                f"the exact {self.analysis.capacity} set is empty: the arm cannot hold "
-                "itself against gravity within its limits here."
+            why = getattr(self.analysis, "empty_reason", None) or (
+                "the arm cannot hold itself against gravity within its limits here"
             )
+            return f"the exact {self.analysis.capacity} set is empty: {why}."
         try:
             E = self.ellipsoid(kind)
         except (UndefinedEllipsoidError, SolverError) as exn:
