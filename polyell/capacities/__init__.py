@@ -34,6 +34,7 @@ __all__ = [
     "capacity_class",
     "check_capacity",
     "joint_limits_of",
+    "state_of",
 ]
 
 _REGISTRY: dict[str, type[Analysis]] = {
@@ -166,12 +167,29 @@ def analyze(
             cls.limit_hint,
         )
     if state is not None:
-        analysis: Analysis = _WITHIN_HORIZON[cls](
+        analysis: Analysis = state_of(cls, horizon)(
             dyn, upper, lower, state=state, rank_rtol=rank_rtol, affine_rtol=affine_rtol
         )
     else:
         analysis = cls(dyn, upper, lower, rank_rtol=rank_rtol, affine_rtol=affine_rtol)
     return warn_rated_limits_in_motion(analysis)  # a moving robot given its rated limits
+
+
+def state_of(cls: type[Analysis], horizon: object) -> type[HorizonAnalysis]:
+    """The class of a capacity's set within the joint limits over a horizon.
+
+    Raises an InputError naming ``horizon`` for a capacity that takes none.
+    """
+    if cls not in _WITHIN_HORIZON:
+        raise InputError(
+            "horizon",
+            "a horizon only for "
+            + ", ".join(repr(c.capacity) for c in _WITHIN_HORIZON)
+            + " (the joint limits over a control period bound accelerations)",
+            f"horizon={horizon!r} with capacity={cls.capacity!r}",
+            "leave horizon out.",
+        )
+    return _WITHIN_HORIZON[cls]
 
 
 def _state(
@@ -194,15 +212,7 @@ def _state(
             "a state without horizon=",
             "pass horizon=dt [s] (e.g. 0.001), or leave q and qd out: dyn holds the state.",
         )
-    if cls not in _WITHIN_HORIZON:
-        raise InputError(
-            "horizon",
-            "a horizon only for "
-            + ", ".join(repr(c.capacity) for c in _WITHIN_HORIZON)
-            + " (the joint limits over a control period bound accelerations)",
-            f"horizon={horizon!r} with capacity={cls.capacity!r}",
-            "leave horizon out.",
-        )
+    state_of(cls, horizon)
     n = int(np.shape(getattr(dyn, "J", np.zeros((0, 0))))[-1])
     if qd_max is not None and qd_min is None:
         qd_min = -np.asarray(qd_max, dtype=float)

@@ -55,7 +55,9 @@ __all__ = [
     "HorizonAnalysis",
     "JointHorizon",
     "acceleration_interval",
+    "cutting_joints",
     "joint_horizon",
+    "joint_map",
     "line_limits",
 ]
 
@@ -312,7 +314,7 @@ class HorizonAnalysis(AccelerationAnalysis):
             raise InputError("q", f"one state, shape ({self.n},)", f"shape {state.q.shape}")
         self.state = state
         self.qdd_lo, self.qdd_hi = state.interval()
-        self.W, self.a0 = _joint_map(dynamics.B, self.half_range, self._gravity_bias)
+        self.W, self.a0 = joint_map(dynamics.B, self.half_range, self._gravity_bias)
         self.cut = cutting_joints(self.W, self.a0, self.qdd_lo, self.qdd_hi)
         self.empty_reason = _joint_reason(state, self.qdd_lo, self.qdd_hi)
 
@@ -345,7 +347,7 @@ class HorizonAnalysis(AccelerationAnalysis):
         return polytope
 
 
-def _joint_map(B: Array, half_range: Array, bias: Array) -> tuple[Array, Array]:
+def joint_map(B: Array, half_range: Array, bias: Array) -> tuple[Array, Array]:
     """``W = B^-1 L`` and ``a0 = -B^-1 (g - tau_c)``: the joint accelerations of ``u``.
 
     One configuration (n, n) or a batch (K, n, n).

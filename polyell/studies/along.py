@@ -17,6 +17,7 @@ one (within the sweep's rank band) take the per-configuration path.
 
 from __future__ import annotations
 
+import inspect
 from typing import Any
 
 import numpy as np
@@ -29,6 +30,15 @@ from polyell.capacities import (
     capacity_class,
     check_capacity,
     joint_limits_of,
+    state_of,
+)
+from polyell.capacities.base import centre_and_half_range
+from polyell.capacities.horizon import (
+    JointHorizon,
+    cutting_joints,
+    joint_horizon,
+    joint_map,
+    line_limits,
 )
 from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.comparison.directions import direction_vectors
@@ -65,6 +75,11 @@ def limits_along(
     qd_max: ArrayLike | None = None,
     qd_min: ArrayLike | None = None,
     rank_rtol: float = RANK_RTOL,
+    horizon: float | None = None,
+    qd: ArrayLike | None = None,
+    q_min: ArrayLike | None = None,
+    q_max: ArrayLike | None = None,
+    braking: ArrayLike | None = None,
 ) -> dict[str, DirectionalLimits]:
     """What a capacity's set and ellipsoids allow along one unit direction per configuration.
 
@@ -88,6 +103,21 @@ def limits_along(
         Joint velocity limits of the velocity capacity [rad/s]; default the robot's own.
     rank_rtol : float, optional
         As in :func:`polyell.analyze`: a relative tolerance in [0, 1).
+    horizon : float, optional
+        A control period [s] (accelerations, a robot ``source``): the polytope's limits
+        become those of the accelerations that also keep every joint within its position
+        and velocity limits over the period, from the state ``(configurations, qd)``, as
+        ``analyze(..., horizon=)`` defines them
+        (:class:`~polyell.capacities.horizon.HorizonAnalysis`); the ellipsoids ignore those
+        limits.  Where no joint's interval cuts the set the limits are the closed form;
+        elsewhere a batched dual simplex (:func:`~polyell.capacities.horizon.line_limits`).
+    qd : array-like, shape (K, n), optional
+        Joint velocities of the state with ``horizon`` [rad/s]; default 0 (at rest).  The
+        dynamics then include the Coriolis and centrifugal torques and ``Jdot qdot``.
+    q_min, q_max, braking : array-like, shape (n,), optional
+        With ``horizon``: the position limits (default the robot's ``position_limits``) and
+        the braking decelerations of viability (default none); the velocity limits are
+        ``qd_max``, ``qd_min`` (default the robot's own).
 
     Returns
     -------
@@ -117,8 +147,13 @@ def limits_along(
     capacity = check_capacity(capacity)
     cls = capacity_class(capacity)
     rank_rtol = check_fraction("rank_rtol", rank_rtol)
+    state = None
+    if horizon is not None:
+        state = _state(source, configurations, qd, horizon, q_min, q_max, qd_min, qd_max, braking)
+        state_of(cls, horizon)  # refuses a capacity without a horizon
+        qd_max = qd_min = None
     upper, lower = joint_limits_of(capacity, tau_max, tau_min, qd_max, qd_min)
-    dyn, upper, lower = _inputs(source, configurations, upper, lower, cls)
+    dyn, upper, lower = _inputs(source, configurations, upper, lower, cls, state)
     if isinstance(directions, str):  # one name for a batch: which count was meant?
         raise InputError(
             "directions",
@@ -150,8 +185,11 @@ def limits_along(
             scalar = _block(part, upper, lower, T[rows], rank_rtol, block_lo, block_hi, cls)
             for name, target in cls.acceleration_names.items():
                 lo[target][rows], hi[target][rows] = block_lo[name], block_hi[name]
+            if state is not None:  # the polytope cut by the joints' intervals
+                scalar |= _cut_rows(part, state[rows], upper, lower, T[rows], lo, hi, start)
         for k in np.flatnonzero(scalar) + start:  # forces, (near-)singular: the exact path
-            analysis = analysis_within(dyn[int(k)], capacity, upper, lower, rank_rtol)
+            limits = {} if state is None else {"state": state[int(k)]}
+            analysis = analysis_within(dyn[int(k)], capacity, upper, lower, rank_rtol, **limits)
             lo["polytope"][k], hi["polytope"][k] = analysis.polytope.limits(T[k])
             for kind in sets[1:]:
                 try:
@@ -162,11 +200,93 @@ def limits_along(
 
 
 def analysis_within(
-    dyn: Dynamics, capacity: str, upper: Array, lower: Array, rank_rtol: float
+    dyn: Dynamics,
+    capacity: str,
+    upper: Array,
+    lower: Array,
+    rank_rtol: float,
+    state: JointHorizon | None = None,
 ) -> Any:
-    """``polyell.analyze`` of one configuration within a capacity's checked joint limits."""
+    """``polyell.analyze`` of one configuration within a capacity's checked joint limits.
+
+    With a checked ``state``, the set within its joint limits over its horizon.
+    """
+    if state is not None:
+        return state_of(capacity_class(capacity), state.horizon)(
+            dyn, upper, lower, state=state, rank_rtol=rank_rtol
+        )
     limits = capacity_class(capacity).limit_arguments(upper, lower)
     return analyze(dyn, capacity=capacity, rank_rtol=rank_rtol, **limits)
+
+
+def _state(
+    source: Any,
+    configurations: ArrayLike | None,
+    qd: ArrayLike | None,
+    horizon: float,
+    q_min: ArrayLike | None,
+    q_max: ArrayLike | None,
+    qd_min: ArrayLike | None,
+    qd_max: ArrayLike | None,
+    braking: ArrayLike | None,
+) -> JointHorizon:
+    """The checked states (K, n) of ``limits_along(..., horizon=)``, limits the robot's."""
+    if not hasattr(source, "dynamics") or configurations is None:
+        raise InputError(
+            "source",
+            "a robot with configurations (the positions of the states) with horizon=",
+            type(source).__name__,
+            "pass the robot and its configurations, e.g. limits_along(panda, q, T, "
+            "horizon=0.001, qd=qd).",
+        )
+    q = check_array("configurations", configurations, ("K", source.n))
+    qd = np.zeros_like(q) if qd is None else qd
+    if q_min is None and q_max is None and hasattr(source, "position_limits"):
+        q_min, q_max = source.position_limits
+    if qd_max is None and qd_min is None and getattr(source, "qd_max", None) is not None:
+        qd_max, qd_min = source.velocity_limits()
+    elif qd_max is not None and qd_min is None:
+        qd_min = -np.asarray(qd_max, dtype=float)
+    return joint_horizon(
+        horizon,
+        source.n,
+        q=q,
+        qd=qd,
+        q_min=q_min,
+        q_max=q_max,
+        qd_min=qd_min,
+        qd_max=qd_max,
+        braking=braking,
+    )
+
+
+def _cut_rows(
+    dyn: Dynamics,
+    state: JointHorizon,
+    upper: Array,
+    lower: Array,
+    T: Array,
+    lo: dict[str, Array],
+    hi: dict[str, Array],
+    start: int,
+) -> NDArray[np.bool_]:
+    """The polytope's limits of the rows of a block whose joint intervals cut the set.
+
+    Batched dual simplex (:func:`~polyell.capacities.horizon.line_limits`); returns the
+    rows it leaves (degenerate cycling) to the exact path.
+    """
+    qdd_lo, qdd_hi = state.interval()
+    center, half_range = centre_and_half_range(upper, lower)
+    W, a0 = joint_map(dyn.B, half_range, dyn.g - center)
+    cut = cutting_joints(W, a0, qdd_lo, qdd_hi).any(axis=1) | ~(qdd_lo <= qdd_hi).all(axis=1)
+    rows = np.flatnonzero(cut)
+    M = dyn.J[rows] @ W[rows]
+    xg = dyn.xdd_bias[rows] + np.einsum("kmn,kn->km", dyn.J[rows], a0[rows])
+    a, b, unresolved = line_limits(M, xg, W[rows], a0[rows], qdd_lo[rows], qdd_hi[rows], T[rows])
+    lo["polytope"][rows + start], hi["polytope"][rows + start] = a, b
+    left = np.zeros(len(cut), dtype=bool)
+    left[rows[unresolved]] = True
+    return left
 
 
 def _inputs(
@@ -175,6 +295,7 @@ def _inputs(
     upper: Any,
     lower: Any,
     capacity: type[Analysis],
+    state: JointHorizon | None = None,
 ) -> tuple[Dynamics, Array, Array]:
     """The batched dynamics and the capacity's checked joint limits (given or the robot's)."""
     if isinstance(source, Dynamics):
@@ -191,7 +312,17 @@ def _inputs(
         q = check_array("configurations", configurations, ("K", source.n))
         if len(q) == 0:
             raise InputError("configurations", "at least one configuration", "none")
-        dyn = source.dynamics(q)
+        if state is None or not state.qd.any():
+            dyn = source.dynamics(q)
+        elif "qd" in inspect.signature(source.dynamics).parameters:
+            dyn = source.dynamics(q, state.qd)
+        else:
+            raise InputError(
+                "qd",
+                "joint velocities only for a robot whose dynamics take them (UrdfRobot)",
+                f"moving states of a {type(source).__name__}",
+                "leave qd out (at rest), or load the robot from its URDF.",
+            )
     else:
         raise InputError("source", "a robot or a batched pe.Dynamics", type(source).__name__)
     return (dyn, *capacity.source_limits(source, upper, lower, dyn.n))
