@@ -634,6 +634,8 @@ class UrdfRobot(JointLimits):
         capacity: str = "acceleration",
         rank_rtol: float | None = None,
         affine_rtol: float | None = None,
+        horizon: float | None = None,
+        braking: ArrayLike | None = None,
     ) -> Analysis:
         """A capacity of the robot at ``q``, moving at ``qd``, within its own joint limits.
 
@@ -653,6 +655,13 @@ class UrdfRobot(JointLimits):
             Joint velocities [rad/s or m/s]; default at rest.
         capacity : {"acceleration", "velocity", "force"}, optional
             As :func:`polyell.analyze`.
+        horizon : float, optional
+            A control period [s]: the accelerations that also keep every joint within
+            :attr:`position_limits` over it and within :meth:`velocity_limits` at its end,
+            from ``(q, qd)`` (:class:`~polyell.capacities.horizon.HorizonAnalysis`).
+        braking : float or array-like, shape (nq,), optional
+            With ``horizon``: viability, the deceleration [rad/s^2] each joint can still
+            brake with after the period.
         rank_rtol, affine_rtol : float, optional
             As :func:`polyell.analyze` (default its defaults).
 
@@ -702,6 +711,12 @@ class UrdfRobot(JointLimits):
             for name, value in (("rank_rtol", rank_rtol), ("affine_rtol", affine_rtol))
             if value is not None
         }
+        if horizon is not None:
+            q_min, q_max = self.position_limits
+            qd_max, qd_min = self.velocity_limits()
+            state = {"q": q, "qd": np.zeros(self.nq) if qd is None else qd, "braking": braking}
+            tolerances |= {"horizon": horizon, "q_min": q_min, "q_max": q_max}
+            tolerances |= {"qd_max": qd_max, "qd_min": qd_min, **state}
         analysis: Analysis = analyze(dynamics, capacity=cls.capacity, **limits, **tolerances)
         return analysis
 

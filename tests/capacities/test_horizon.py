@@ -480,3 +480,29 @@ def test_cutting_joints_batch_equals_one_by_one():
     for k in range(50):
         np.testing.assert_array_equal(batch[k], cutting_joints(W[k], a0[k], lo[k], hi[k]))
     assert batch.any() and not batch.all()
+
+
+def test_robot_analyze_takes_its_own_limits():
+    panda = pe.robots.load("panda")
+    q_min, q_max = panda.position_limits
+    qd_max, qd_min = panda.velocity_limits()
+    q = np.array([0.0, -0.5, 0.0, q_max[3] - 0.004, 0.0, 1.6, 0.8])
+    qd = np.array([0.0, 0.2, 0.0, 0.5, 0.0, 0.0, 0.0])
+    mine = panda.analyze(q, qd, horizon=0.01, braking=20.0)
+    given = pe.analyze(
+        panda.dynamics(q, qd),
+        panda.tau_max,
+        horizon=0.01,
+        q=q,
+        qd=qd,
+        q_min=q_min,
+        q_max=q_max,
+        qd_max=qd_max,
+        qd_min=qd_min,
+        braking=20.0,
+    )
+    assert mine.cut.any()
+    np.testing.assert_array_equal(mine.qdd_hi, given.qdd_hi)
+    np.testing.assert_allclose(mine.polytope.vertices, given.polytope.vertices, rtol=0, atol=1e-9)
+    at_rest = panda.analyze(q, horizon=0.01)
+    assert (at_rest.state.qd == 0).all()
