@@ -33,9 +33,11 @@ closed form for one configuration and a batched dual simplex
 
 from __future__ import annotations
 
+import inspect
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -59,6 +61,8 @@ __all__ = [
     "joint_horizon",
     "joint_map",
     "line_limits",
+    "moving_dynamics",
+    "robot_horizon",
 ]
 
 Array = NDArray[np.float64]
@@ -112,6 +116,14 @@ class JointHorizon:
             self.qd_max,
             self.braking,
         )
+
+    def at(self, q: ArrayLike, qd: ArrayLike) -> JointHorizon:
+        """The same limits and horizon at other states ``q``, ``qd`` (n,) or (K, n), checked."""
+        n = len(self.q_min)
+        shape: tuple[str | int, ...] = ("K", n) if array_ndim(q) == 2 else (n,)
+        positions = check_array("q", q, shape, what="joint positions [rad or m]")
+        velocities = check_array("qd", qd, positions.shape, what="joint velocities [rad/s]")
+        return replace(self, q=positions, qd=velocities)
 
     def __getitem__(self, index: int | slice) -> JointHorizon:
         """One state (an int) or a sub-batch (a slice) of a batch."""
@@ -192,7 +204,69 @@ def joint_horizon(
                 f"{brake.tolist()}"[:200],
                 "leave it out for no viability condition.",
             )
-    return JointHorizon(dt, positions, velocities, *limits.values(), braking=brake)
+    return JointHorizon(
+        dt,
+        positions,
+        velocities,
+        limits["q_min"],
+        limits["q_max"],
+        limits["qd_min"],
+        limits["qd_max"],
+        brake,
+    )
+
+
+def robot_horizon(
+    robot: Any,
+    horizon: object,
+    q_min: ArrayLike | None = None,
+    q_max: ArrayLike | None = None,
+    qd_min: ArrayLike | None = None,
+    qd_max: ArrayLike | None = None,
+    braking: ArrayLike | None = None,
+) -> JointHorizon:
+    """A robot's horizon template (at q = qd = 0; :meth:`JointHorizon.at` moves it).
+
+    The limits given, or the robot's own: ``robot.position_limits`` and
+    ``robot.velocity_limits()``; ``qd_min`` defaults to ``-qd_max``.
+    """
+    n = int(robot.n)
+    if q_min is None and q_max is None and hasattr(robot, "position_limits"):
+        q_min, q_max = robot.position_limits
+    if qd_max is None and qd_min is None and getattr(robot, "qd_max", None) is not None:
+        qd_max, qd_min = robot.velocity_limits()
+    elif qd_max is not None and qd_min is None:
+        qd_min = -np.asarray(qd_max, dtype=float)
+    zero = np.zeros(n)
+    return joint_horizon(
+        horizon,
+        n,
+        q=zero,
+        qd=zero,
+        q_min=q_min,
+        q_max=q_max,
+        qd_min=qd_min,
+        qd_max=qd_max,
+        braking=braking,
+    )
+
+
+def moving_dynamics(robot: Any, q: Array, qd: Array) -> Dynamics:
+    """``robot.dynamics(q, qd)``: with the velocity terms where the joints move.
+
+    Raises an InputError naming ``qd`` for moving states of a robot whose dynamics take
+    no velocities (a :class:`~polyell.PlanarArm`).
+    """
+    if not qd.any():
+        return robot.dynamics(q)
+    if "qd" not in inspect.signature(robot.dynamics).parameters:
+        raise InputError(
+            "qd",
+            "joint velocities only for a robot whose dynamics take them (UrdfRobot)",
+            f"moving states of a {type(robot).__name__}",
+            "leave qd out (at rest), or load the robot from its URDF.",
+        )
+    return robot.dynamics(q, qd)
 
 
 def _check_horizon(horizon: object) -> float:
@@ -557,8 +631,8 @@ def line_limits(
     both = np.concatenate([d, -d])
     side = np.where(both >= 0, 1.0, -1.0)
     basis = np.broadcast_to(np.arange(n), (2 * K, n))
-    twice = [np.concatenate([a, a]) for a in (G, lower, upper)]
-    answer = dual_simplex(both, *twice, basis, side)
+    G, lower, upper = (np.concatenate([a, a]) for a in (G, lower, upper))
+    answer = dual_simplex(both, G, lower, upper, basis, side)
     offset = np.einsum("km,km->k", T, xg)
     value = np.einsum("kn,kn->k", both, answer.u)
     top, bottom = offset + value[:K], offset - value[K:]

@@ -17,7 +17,6 @@ one (within the sweep's rank band) take the per-configuration path.
 
 from __future__ import annotations
 
-import inspect
 from typing import Any
 
 import numpy as np
@@ -36,9 +35,10 @@ from polyell.capacities.base import centre_and_half_range
 from polyell.capacities.horizon import (
     JointHorizon,
     cutting_joints,
-    joint_horizon,
     joint_map,
     line_limits,
+    moving_dynamics,
+    robot_horizon,
 )
 from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.comparison.directions import direction_vectors
@@ -240,24 +240,8 @@ def _state(
             "horizon=0.001, qd=qd).",
         )
     q = check_array("configurations", configurations, ("K", source.n))
-    qd = np.zeros_like(q) if qd is None else qd
-    if q_min is None and q_max is None and hasattr(source, "position_limits"):
-        q_min, q_max = source.position_limits
-    if qd_max is None and qd_min is None and getattr(source, "qd_max", None) is not None:
-        qd_max, qd_min = source.velocity_limits()
-    elif qd_max is not None and qd_min is None:
-        qd_min = -np.asarray(qd_max, dtype=float)
-    return joint_horizon(
-        horizon,
-        source.n,
-        q=q,
-        qd=qd,
-        q_min=q_min,
-        q_max=q_max,
-        qd_min=qd_min,
-        qd_max=qd_max,
-        braking=braking,
-    )
+    template = robot_horizon(source, horizon, q_min, q_max, qd_min, qd_max, braking)
+    return template.at(q, np.zeros_like(q) if qd is None else qd)
 
 
 def _cut_rows(
@@ -284,7 +268,7 @@ def _cut_rows(
     xg = dyn.xdd_bias[rows] + np.einsum("kmn,kn->km", dyn.J[rows], a0[rows])
     a, b, unresolved = line_limits(M, xg, W[rows], a0[rows], qdd_lo[rows], qdd_hi[rows], T[rows])
     lo["polytope"][rows + start], hi["polytope"][rows + start] = a, b
-    left = np.zeros(len(cut), dtype=bool)
+    left = np.zeros(len(dyn), dtype=np.bool_)
     left[rows[unresolved]] = True
     return left
 
@@ -312,17 +296,7 @@ def _inputs(
         q = check_array("configurations", configurations, ("K", source.n))
         if len(q) == 0:
             raise InputError("configurations", "at least one configuration", "none")
-        if state is None or not state.qd.any():
-            dyn = source.dynamics(q)
-        elif "qd" in inspect.signature(source.dynamics).parameters:
-            dyn = source.dynamics(q, state.qd)
-        else:
-            raise InputError(
-                "qd",
-                "joint velocities only for a robot whose dynamics take them (UrdfRobot)",
-                f"moving states of a {type(source).__name__}",
-                "leave qd out (at rest), or load the robot from its URDF.",
-            )
+        dyn = source.dynamics(q) if state is None else moving_dynamics(source, q, state.qd)
     else:
         raise InputError("source", "a robot or a batched pe.Dynamics", type(source).__name__)
     return (dyn, *capacity.source_limits(source, upper, lower, dyn.n))
