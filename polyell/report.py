@@ -10,6 +10,7 @@ from numpy.typing import NDArray
 
 from polyell.capacities import Analysis, InverseSolution
 from polyell.comparison import Comparison
+from polyell.comparison.labels import Labels, check_labels, set_label
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.hpolytope import HPolytope
 
@@ -66,6 +67,7 @@ def format_analysis(
     inverse_at: Literal["lo", "hi"] = "hi",
     *,
     equations: bool | None = None,
+    labels: Labels = None,
 ) -> str:
     """Every quantity of the paper's section 6 at one configuration, as text.
 
@@ -87,15 +89,35 @@ def format_analysis(
         ``Polytope (eq. 15)``): for the paper's own study (a table layout's
         ``labels="chiacchio2000"``).  False: the names that fit any robot.  None (the
         default): the capacity's (``analysis.paper``: accelerations), as before.
+    labels : str or mapping, optional
+        How the sets are named, as a table layout's ``labels``
+        (:class:`polyell.TableLayout`): a preset's name (``"chiacchio2000"``) or a mapping
+        of set names to labels -- an empty one for the default labels that every table
+        and figure uses (``"Chiacchio"``, ``"Yoshikawa"``).  A study passes its own, so
+        that its numbers name each set as its tables and figures do.  None (the default):
+        the kinds' names of the API (``'chiacchio'``, as ``analysis.ellipsoid`` takes
+        them).
 
     Returns
     -------
     str
+
+    Raises
+    ------
+    InputError
+        If ``equations`` is not a bool or None, or ``labels`` is not a preset's name or a
+        mapping of labels (naming ``labels``).
     """
     P, svd = analysis.polytope, analysis.svd  # type: ignore[attr-defined]
     unit = analysis.unit()
     if equations is not None and not isinstance(equations, bool):
         raise InputError("equations", "True, False or None", repr(equations)[:60])
+    labels = check_labels(labels)
+
+    def called(kind: str) -> str:
+        """A set's name: the API's kind (``labels`` None), else its label."""
+        return kind if labels is None else set_label(kind, analysis.capacity, labels)
+
     # the paper's names and equation numbers (an acceleration analysis has the matrices)
     paper = analysis.paper and (equations is None or equations)
     lines = [
@@ -116,13 +138,18 @@ def format_analysis(
             lines.append(f"{name}: " + ", ".join(f"{v:.5g}" for v in value))
         lines.append("SVD: singular values ")
     lines[-1] += ", ".join(f"{s:.5g}" for s in svd.singular_values)
+    if labels is not None:
+        exact = called("polytope")
+        exact = exact[:1].upper() + exact[1:]
+    else:
+        exact = "Polytope (eq. 15)" if paper else "Exact set"
     lines += [
         "  U = [U1 U2]:",
         _matrix(np.hstack([svd.U1, svd.U2])),
         "  V1^T:",
         _matrix(svd.V1.T),
         "",
-        f"{'Polytope (eq. 15)' if paper else 'Exact set'}: dimension {P.dim}, "
+        f"{exact}: dimension {P.dim}, "
         f"{len(P.vertices)} vertices, {len(P.A)} facets, volume {P.volume:.6g}",
         f"  vertices [{unit}]:",
         _matrix(P.vertices),
@@ -134,16 +161,20 @@ def format_analysis(
     if P.A_eq.size:
         lines += ["  equalities A_eq x = b_eq:", _matrix(np.hstack([P.A_eq, P.b_eq[:, None]]))]
     limits = {"polytope": P.limits(direction)}
+
+    def heading(kind: str) -> str:
+        return repr(kind) if labels is None else called(kind)
+
     for kind in analysis.ellipsoid_kinds:
         lines.append("")
         try:
             E = analysis.ellipsoid(kind)
         except UndefinedEllipsoidError as exn:
-            lines += [f"Ellipsoid {kind!r}: undefined here.", f"  {exn}"]
+            lines += [f"Ellipsoid {heading(kind)}: undefined here.", f"  {exn}"]
             continue
         limits[kind] = E.limits(direction)
         lines += [
-            f"Ellipsoid {kind!r}: rank {E.rank}, volume {E.volume:.6g}",
+            f"Ellipsoid {heading(kind)}: rank {E.rank}, volume {E.volume:.6g}",
             "  core N:",
             _matrix(E.core),
             f"  semi-axes [{unit}]: " + ", ".join(f"{s:.5g}" for s in E.semi_axes),
@@ -154,25 +185,33 @@ def format_analysis(
         "",
         f"Achievable {analysis.quantity} along {label} = {np.round(direction, 6).tolist()}:",
     ]
+    width = max(10, *(len(called(kind)) for kind in limits))
     lines += [
-        f"  {name:<10} {_interval(float(lo), float(hi))}" for name, (lo, hi) in limits.items()
+        f"  {called(kind):<{width}} {_interval(float(lo), float(hi))}"
+        for kind, (lo, hi) in limits.items()
     ]
     xdd, solutions = inverse_at_end(analysis, direction, inverse_at)
     if xdd is None:
         return "\n".join(lines)
-    first = "new" if paper else analysis.ellipsoid_kinds[0]
+    first = "new" if paper and labels is None else called(analysis.ellipsoid_kinds[0])
     lines += [
         "",
         f"Inverse maps at {analysis.point_symbol} = {np.round(xdd, 5).tolist()} "
         f"({inverse_at} end, {first}):",
     ]
-    numbers = {"chiacchio": " (eq. 33/40)", "yoshikawa": " (eq. 26)"} if paper else {}
+    # the inverse maps' equations (a label of the paper's preset holds the set's own)
+    numbers = {"chiacchio": "eq. 33/40", "yoshikawa": "eq. 26"} if paper else {}
+    numbers = {
+        kind: f" ({number})" if labels is None else f", {number}"
+        for kind, number in numbers.items()
+    }
     joint, normalized = analysis.inverse_names
     if analysis.unique_inverse:  # a force needs one torque, whatever the definition
         solutions = dict(list(solutions.items())[:1])
-    for name, solution in solutions.items():
+    for kind, solution in solutions.items():
         lines += [
-            f"  {name}{numbers.get(name, '')}: {joint} = {np.round(solution.joint, 5).tolist()}",
+            f"  {called(kind)}{numbers.get(kind, '')}: {joint} = "
+            f"{np.round(solution.joint, 5).tolist()}",
             f"    {normalized} = {np.round(solution.normalized, 5).tolist()}, "
             f"|{normalized}| = {float(solution.torque_norm):.5g}, "
             f"max |{normalized}_i| = {float(np.max(np.abs(solution.normalized))):.5g}",

@@ -142,13 +142,16 @@ QUANTITIES: dict[str, Quantity] = {
         _q("enclosing_scale", "enclosing scale", "number"),
         _q("coverage", "coverage", "share"),
         _q("overreach", "overreach", "share"),
-        _q("mvie_ratio", "volume / MVIE volume", "number"),
-        _q("outer_ratio", "volume / outer volume", "number"),
+        # (abbreviated in LaTeX, as the direction errors and the feasibility mismatches:
+        # the widest stubs of a comparison table, whose five force sets then fit a
+        # one-column page)
+        _q("mvie_ratio", "volume / MVIE volume", "number", r"vol.\ / MVIE vol."),
+        _q("outer_ratio", "volume / outer volume", "number", r"vol.\ / outer vol."),
         _q("direction_error_mean", "direction error, mean", "share", r"dir.\ error, mean"),
         _q("direction_error_max", "direction error, max", "share", r"dir.\ error, max"),
         _q("direction_error_rms", "direction error, RMS", "share", r"dir.\ error, RMS"),
         _q("direction_bias", "direction bias", "share", r"dir.\ bias"),
-        _q("feasibility_mismatch", "feasibility mismatches", "count"),
+        _q("feasibility_mismatch", "feasibility mismatches", "count", r"feas.\ mismatches"),
         _q("witness_torque_max", "torque witness", "number"),
         _q("lower", "lower", "task"),
         _q("upper", "upper", "task"),

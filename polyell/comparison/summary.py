@@ -125,7 +125,8 @@ def result_kinds(
         ``<kind>_<score>`` names of the recorded kinds, of ``kinds`` and of the built-in
         kinds.  Where neither ``attrs`` nor ``kinds`` name them, the remaining names that
         end in a score (candidates of a frame read back without its kinds) are resolved by
-        the rule of :func:`split_column` for bare names.
+        the rule of :func:`split_column` for bare names; a caller that knows its kinds (a
+        study: its capacity's kinds and its candidates) passes them, and no name is split.
     """
     if (isinstance(columns, str) or not hasattr(columns, "__iter__")) and not _is_frame(columns):
         raise InputError("columns", "column names (e.g. frame.columns)", repr(columns)[:80])
@@ -134,8 +135,8 @@ def result_kinds(
         kinds=None if kinds is None else list(_kind_names(kinds)),
     )
     held = found.kinds
-    if found.recorded or not found.unresolved:
-        return held
+    if found.recorded or kinds is not None or not found.unresolved:
+        return held  # the kinds are known: no name is split to guess one
     names = list(cast("pd.DataFrame", columns).columns if _is_frame(columns) else columns)
     extra: dict[str, int] = {}
     for column in found.unresolved:

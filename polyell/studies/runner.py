@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import html
 import json
 import logging
 import math
@@ -18,6 +19,7 @@ from numpy.typing import NDArray
 
 from polyell.capacities import analyze, capacity_class
 from polyell.comparison.comparison import SCORE_NAMES, Comparison, compare, compared_kinds
+from polyell.comparison.labels import ellipsoid_label
 from polyell.comparison.latex_text import markdown_text
 from polyell.comparison.limits import limits_table
 from polyell.comparison.point_tables import write_point_tables
@@ -29,7 +31,6 @@ from polyell.comparison.summary import (
     summarize,
 )
 from polyell.comparison.tables import (
-    ellipsoid_label,
     format_comparison_table,
     format_limits_table,
     score_display,
@@ -71,6 +72,9 @@ STUDY_FILES = re.compile(
     r"|posture_values(?:_velocity|_force)?\.csv"
     r"|posture_indices(?:_velocity|_force)?\.(?:pdf|png|svg)"
 )
+#: The label preset of Chiacchio's paper: with it, ``numbers.md`` also carries the paper's
+#: names and equation numbers (``xdd_g (eq. 8)``, ``M (eq. 14)``).
+PAPER_PRESET = "chiacchio2000"
 #: The lock a running study holds on its folder (hidden: not one of its outputs).
 STUDY_LOCK = ".polyell-study.lock"
 #: Notes on standard error (``polyell study`` shows INFO).
@@ -175,15 +179,15 @@ def _run_points_capacity(
             "",
             *motion,
             "```text",
-            _along_directions(analysis, point),
+            _along_directions(analysis, point, layout),
             "```",
             "",
             "Scores (`pe.compare`):",
             "",
-            cmp.to_markdown(),
+            cmp.to_markdown(replace(layout, sets=None)),  # every set, the study's labels
         ]
         frame = cmp.to_frame()
-        frame.index = [f"{point.label}: {ellipsoid_label(k, capacity)}" for k in frame.index]
+        frame.index = [f"{point.label}: {layout.set_label(k, capacity)}" for k in frame.index]
         frames.append(frame)
         comparisons[point.label] = cmp
         directions[point.label] = _named_or_vectors(point)
@@ -195,7 +199,9 @@ def _run_points_capacity(
 
             drawable = analysis.m in (2, 3) and getattr(analysis.polytope, "is_bounded", True)
             if drawable and not getattr(analysis.polytope, "is_empty", False):
-                report.append((heading, interactive_sets(cmp)))
+                report.append(
+                    (heading, _relabeled(interactive_sets(cmp), layout, capacity, cmp.kinds))
+                )
             limits = limits_table(cmp, directions[point.label])
             for name, text in (
                 ("scores", format_comparison_table(cmp, "html", layout=layout)),
@@ -215,14 +221,16 @@ def _run_points_capacity(
             for kind in cmp.kinds[first_extra:]  # the outer ellipsoid (if computed), candidates
             if cmp[kind].defined
         }
+        drawn: dict[str, Any] = {"kinds": kinds, "mvie": mvie, "extra": extra}
+        drawn["labels"] = layout.labels  # the tables' names of the sets
         if analysis.m == 2:
-            figure = plot_sets(analysis, kinds=kinds, mvie=mvie, extra=extra, title=title)
+            figure = plot_sets(analysis, title=title, **drawn)
             written += _save(spec, figure, stem)
             if P.dim == 2:
-                figure = plot_directional_limits(analysis, kinds=kinds, mvie=mvie, extra=extra)
+                figure = plot_directional_limits(analysis, **drawn)
                 written += _save(spec, figure, folder / f"limits_{point.stem}{suffix}")
         elif analysis.m == 3:
-            figure = plot_sets_3d(analysis, kinds=kinds, mvie=mvie, extra=extra, title=title)
+            figure = plot_sets_3d(analysis, title=title, **drawn)
             written += _save(spec, figure, stem)
     import pandas as pd
 
@@ -274,7 +282,6 @@ def _posture_outputs(
     """One capacity's choice over the sampled postures: tables, values, figure, sections."""
     from polyell.figures import plot_posture_indices
     from polyell.studies.posture import posture_choice
-    from polyell.studies.posture_tables import write_posture_tables
     from polyell.studies.posture_targets import posture_choice_over_targets
 
     posture = spec.posture
@@ -295,16 +302,14 @@ def _posture_outputs(
     limits = cls.limit_arguments(*cls.robot_limits(robot))
     choice = posture_choice(robot.model, configurations, **limits, **options)
     along = f"along {posture.label}"
-    written = list(
-        write_posture_tables(
-            choice.table,
-            folder,
-            f"{spec.title}: {named}the posture each index picks ({along}, "
-            f"{len(configurations)} postures)",
-            label=f"tab:posture-choice{suffix.replace('_', '-')}",
-            stem=f"posture_choice{suffix}",
-            layout=_layout(spec, capacity),
-        ).values()
+    layout = _layout(spec, capacity)
+    written = _posture_tables(
+        spec,
+        choice.table,
+        folder,
+        f"{named}the posture each index picks ({along}, {len(configurations)} postures)",
+        f"posture_choice{suffix}",
+        layout,
     )
     import pandas as pd
 
@@ -326,11 +331,15 @@ def _posture_outputs(
         choice.table,
         position=motions[0].position if traced else None,
         title=f"{spec.title} ({named}{along})",
+        labels=layout.labels,
     )
     stem = folder / f"posture_indices{suffix}"
     written += _save(spec, figure, stem)
     sections: list[tuple[str, Any]] = [
-        (f"{named}The posture each index picks ({along}; regret as a fraction)", choice.table)
+        (
+            f"{named}The posture each index picks ({along}; regret as a fraction)",
+            _labelled_sets(choice.table, layout, capacity),
+        )
     ]
     if posture.table.targets is not None:
         over = posture_choice_over_targets(
@@ -342,17 +351,48 @@ def _posture_outputs(
             postures=posture.table.count,
             **options,
         )
-        title = f"{spec.title}: {named}regret over {len(over.targets)} random targets ({along})"
-        written += write_posture_tables(
-            over.summary,
-            folder,
-            title,
-            label=f"tab:posture-targets{suffix.replace('_', '-')}",
-            stem=f"posture_targets{suffix}",
-            layout=_layout(spec, capacity),
-        ).values()
-        sections.append((f"{named}Over {posture.table.targets} random targets", over.summary))
+        title = f"{named}regret over {len(over.targets)} random targets ({along})"
+        written += _posture_tables(
+            spec, over.summary, folder, title, f"posture_targets{suffix}", layout
+        )
+        sections.append(
+            (
+                f"{named}Over {posture.table.targets} random targets",
+                _labelled_sets(over.summary, layout, capacity),
+            )
+        )
     return written, sections
+
+
+def _posture_tables(
+    spec: StudySpec,
+    table: pd.DataFrame,
+    folder: Path,
+    what: str,
+    stem: str,
+    layout: TableLayout,
+) -> list[Path]:
+    """``<stem>.{tex,md,csv}`` of a posture table (:func:`polyell.write_posture_tables`).
+
+    The LaTeX caption is ``what`` alone (a paper's table has its own context: no study
+    title before it); the Markdown file's heading starts with the study's title, as every
+    Markdown file of a study does.
+    """
+    from polyell.studies.posture_tables import format_posture_table, write_posture_tables
+
+    label = "tab:" + stem.replace("_", "-")  # tab:posture-choice-force
+    written = write_posture_tables(
+        table, folder, _sentence(what), label=label, stem=stem, layout=layout
+    )
+    heading = f"{spec.title}: {what}"
+    markdown = format_posture_table(table, "markdown", heading, layout=layout)
+    written["markdown"] = write_text_atomically(folder / f"{stem}.md", markdown)
+    return list(written.values())
+
+
+def _labelled_sets(table: pd.DataFrame, layout: TableLayout, capacity: str) -> pd.DataFrame:
+    """A posture table for the report: its sets (the index's first level) by their labels."""
+    return table.rename(index=lambda kind: layout.set_label(str(kind), capacity), level=0)
 
 
 #: Values along each axis of a heat map drawn in a figure; a grid with more draws every
@@ -732,7 +772,7 @@ class _Stream:
 
     def _start(self, frame: pd.DataFrame) -> None:
         output = self.spec.file.output
-        self.kinds = result_kinds(frame)
+        self.kinds = result_kinds(frame, _study_kinds(self.spec, self.capacity))
         self.statistics = StreamedSummary(
             {
                 (kind, score): f"{kind}_{score}"
@@ -861,9 +901,10 @@ def _run_many_capacity(
     scales: dict[str, tuple[float, float]] = {}
     for stream in streams.values():
         for name, (low, high) in stream.extremes.items():
-            factor = score_display(_split(name)[1], capacity)[1]
-            old = scales.get(_split(name)[1], (np.inf, -np.inf))
-            scales[_split(name)[1]] = (min(old[0], factor * low), max(old[1], factor * high))
+            score = _split(name, stream.kinds)[1]
+            factor = score_display(score, capacity)[1]
+            old = scales.get(score, (np.inf, -np.inf))
+            scales[score] = (min(old[0], factor * low), max(old[1], factor * high))
     sections: list[tuple[str, Any]] = []
     for name, stream in streams.items():
         files, robot_sections = _many_outputs(
@@ -962,13 +1003,14 @@ def _many_outputs(
         by = f"{by}{capacity}: "
     written: list[Path] = []
     grid = stream.map
+    layout = _layout(spec, capacity)
     for name in maps:
         if grid is None:
             break
-        kind, score = _split(name)
-        label, factor = score_display(score, capacity)
+        kind, score = _split(name, stream.kinds)
+        label, factor = score_display(score, capacity, layout.labels)
         ys, xs = grid.axes
-        title = f"{by}{ellipsoid_label(kind, capacity)}: {label}"
+        title = f"{by}{layout.set_label(kind, capacity)}: {label}"
         figure = plot_score_map(
             factor * grid.values(name),
             xs,
@@ -999,6 +1041,7 @@ def _many_outputs(
             kinds=measured,
             title=title + (f"\n({sampled})" if sampled else ""),
             capacity=capacity,
+            labels=layout.labels,
         )
         stem = folder / f"histogram_{prefix}{score}{suffix}"
         written += _save(spec, figure, stem)
@@ -1107,12 +1150,16 @@ def _write_summary(
     suffix = capacity_class(capacity).output_suffix
     scores = "scores" if not suffix else f"{capacity} scores"
     tag = suffix.replace("_", "-")  # LaTeX labels: tab:summary-force
-    options: dict[str, Any] = {"layout": _layout(spec, capacity), "capacity": capacity}
+    layout = _layout(spec, capacity)
+    options: dict[str, Any] = {"layout": layout, "capacity": capacity}
     what = "summary" if not suffix else f"{capacity} summary"
     markdown = _heading(spec, f"{spec.title}: {what} over {count} configurations")
+    # The captions do not repeat the study's title (a paper's table has its own context);
+    # the layout's own caption (captions["summary"]) replaces them.
+    own = layout.caption("summary") is not None
     if list(summaries) == [""]:
         summary = summaries[""]
-        caption = f"{spec.title}: {scores} over {count} configurations."
+        caption = None if own else f"Summary of the {scores} over {count} configurations."
         latex = format_summary_table(
             summary, "latex", caption=caption, label=f"tab:summary{tag}", **options
         )
@@ -1121,7 +1168,9 @@ def _write_summary(
     else:
         latex_tables, markdown_tables = [], []
         for robot, summary in summaries.items():
-            caption = f"{spec.title}: {scores} of {robot} over its configurations."
+            caption = (
+                None if own else f"Summary of the {scores} of {robot} over its configurations."
+            )
             latex_tables.append(
                 format_summary_table(
                     summary, "latex", caption=caption, label=f"tab:summary{tag}-{robot}", **options
@@ -1198,7 +1247,8 @@ def _run_trajectory_capacity(
     parts = _parts(Path(dataset))
     columns = pq.read_schema(parts[0]).names
     count = len(trajectory)
-    kinds = result_kinds(columns)
+    kinds = result_kinds(columns, _study_kinds(spec, capacity))
+    layout = _layout(spec, capacity)
     x = "t" if trajectory.t is not None else "configuration"
     tangent = trajectory.qd is not None
     cls = capacity_class(capacity)
@@ -1272,13 +1322,20 @@ def _run_trajectory_capacity(
     shown = {score: decimator.result() for score, decimator in series.items()}
     for score, frame in shown.items():
         figure = plot_score_series(
-            frame, score, kinds=kinds, title=f"{by}{spec.title}", capacity=capacity
+            frame,
+            score,
+            kinds=kinds,
+            title=f"{by}{spec.title}",
+            capacity=capacity,
+            labels=layout.labels,
         )
         stem = folder / f"series_{score}{suffix}"
         written += _save(spec, figure, stem)
     if along is not None:
         unit = task_unit(first.task, tex=True, capacity=capacity)
-        figure = plot_tangent_limits(along.result(), unit=unit, capacity=capacity)
+        figure = plot_tangent_limits(
+            along.result(), unit=unit, capacity=capacity, labels=layout.labels
+        )
         stem = folder / f"tangent_limits{suffix}"
         written += _save(spec, figure, stem)
     rows = sample.frame()
@@ -1288,21 +1345,27 @@ def _run_trajectory_capacity(
         notes.append(f"{by}histograms histogram_*{suffix}: {sampled}")
     title = f"{by}{spec.title}" + (f"\n({sampled})" if sampled else "")
     for score in spec.file.output.histograms:
-        figure = plot_score_histogram(rows, score, kinds=measured, title=title, capacity=capacity)
+        figure = plot_score_histogram(
+            rows, score, kinds=measured, title=title, capacity=capacity, labels=layout.labels
+        )
         stem = folder / f"histogram_{score}{suffix}"
         written += _save(spec, figure, stem)
     sections: list[tuple[str, Any]] = []
     if "html" in spec.file.output.formats:
-        from polyell.interactive import interactive_histogram, interactive_series
+        from polyell.interactive import HtmlTable, interactive_histogram, interactive_series
 
         for score, frame in shown.items():
-            figure = interactive_series(frame, score, total=count, capacity=capacity)
-            sections.append((by + score_display(score, capacity)[0], figure))
+            drawn = [kind for kind in kinds if f"{kind}_{score}" in frame]
+            figure = interactive_series(frame, score, drawn, total=count, capacity=capacity)
+            figure = _relabeled(figure, layout, capacity, drawn)
+            sections.append((by + score_display(score, capacity, layout.labels)[0], figure))
         for score in spec.file.output.histograms:
             figure = interactive_histogram(rows, score, measured, capacity=capacity)
-            name = score_display(score, capacity)[0] + (f" ({sampled})" if sampled else "")
-            sections.append((by + name, figure))
-        sections.append((f"{by}Summary over {count} configurations (fractions)", summary))
+            figure = _relabeled(figure, layout, capacity, measured)
+            name = score_display(score, capacity, layout.labels)[0]
+            sections.append((by + name + (f" ({sampled})" if sampled else ""), figure))
+        text = format_summary_table(summary, "html", layout=layout, capacity=capacity)
+        sections.append((f"{by}Summary over {count} configurations", HtmlTable(text)))
     return written, sections
 
 
@@ -1327,16 +1390,18 @@ def _many_report(
 
     sections: list[tuple[str, Any]] = []
     grid = stream.report_map
+    layout = _layout(spec, capacity)
     if grid is not None and maps:  # one figure, a menu over the maps
         figure = interactive_map(grid.frame(), maps, grid.x.name, grid.y.name, capacity=capacity)
+        figure = _relabeled(figure, layout, capacity, stream.kinds)
         shown = f"; {grid.note()}" if grid.decimated else ""
         sections.append((f"{by}Heat maps (choose the score in the menu{shown})", figure))
     for score in spec.file.output.histograms:
         assert sample is not None
         figure = interactive_histogram(sample, score, measured, capacity=capacity)
-        name = score_display(score, capacity)[0] + (f" ({sampled})" if sampled else "")
-        sections.append((by + name, figure))
-    layout = _layout(spec, capacity)
+        figure = _relabeled(figure, layout, capacity, measured)
+        name = score_display(score, capacity, layout.labels)[0]
+        sections.append((by + name + (f" ({sampled})" if sampled else ""), figure))
     text = format_summary_table(summary, "html", layout=layout, capacity=capacity)
     sections.append((f"{by}Summary over {stream.count} configurations", HtmlTable(text)))
     return sections
@@ -1350,20 +1415,100 @@ def _named_or_vectors(point: Point) -> list[Any]:
     ]
 
 
-def _along_directions(analysis: Analysis, point: Point) -> str:
+def _along_directions(analysis: Analysis, point: Point, layout: TableLayout) -> str:
     """The numbers of a point: its sets once, then its limits along each direction.
 
     :func:`format_analysis` along the first direction, then the limits and inverse maps
-    along each further one.
+    along each further one; the sets named as the study's tables name them
+    (``layout.labels``), the paper's equation numbers only with its preset.
     """
+    paper = layout.labels == PAPER_PRESET
     texts = [
         format_analysis(
-            analysis, direction, "t" if label.startswith("(") else label, point.table.inverse_at
+            analysis,
+            direction,
+            "t" if label.startswith("(") else label,
+            point.table.inverse_at,
+            equations=paper,
+            labels=layout.labels if layout.labels is not None else {},
         )
         for direction, label in zip(point.directions, point.labels, strict=True)
     ]
     marker = f"\nAchievable {analysis.quantity} along "
     return "\n".join([texts[0], *(text[text.index(marker) :] for text in texts[1:])])
+
+
+def _relabeled(figure: Any, layout: TableLayout, capacity: str, kinds: Sequence[str] = ()) -> Any:
+    """An interactive figure of :mod:`polyell.interactive` with the study's labels.
+
+    Those functions name the sets and scores by the defaults
+    (:data:`~polyell.comparison.labels.SET_LABELS`); a study whose ``[output] labels``
+    renames them gets its names in the legends, the hover texts, the menus and the titles
+    of its report too, as in its tables and figures.  Only whole labels are replaced: a
+    trace name equal to a set's default label or starting with it and ``", "`` (the
+    polytope's ``"polytope, volume ..."``), a hover line's bold set name, a title or menu
+    entry ``"<set>: <score>"``, an axis title equal to a score's label.
+    """
+    if layout.labels is None:
+        return figure
+    sets: dict[str, str] = {}
+    for kind in ("polytope", *kinds):
+        default, own = ellipsoid_label(kind, capacity), layout.set_label(kind, capacity)
+        if default != own:
+            sets[default] = own
+    scores: dict[str, str] = {}
+    for score in SCORE_NAMES:
+        default = score_display(score, capacity)[0]
+        own = score_display(score, capacity, layout.labels)[0]
+        if default != own:
+            scores[default] = own
+    if not sets and not scores:
+        return figure
+
+    def title(text: str | None) -> str | None:
+        """``"<set>: <score>"``, a set's or a score's label, with the study's labels."""
+        if text is None:
+            return None
+        head, colon, tail = text.partition(": ")
+        if colon:
+            return f"{sets.get(head, head)}: {scores.get(tail, tail)}"
+        return scores.get(text, sets.get(text, text))
+
+    def hover(text: Any) -> Any:
+        if isinstance(text, str):
+            for default, own in sets.items():
+                text = text.replace(f"<b>{html.escape(default)}</b>", f"<b>{html.escape(own)}</b>")
+            for default, own in scores.items():
+                text = text.replace(f"<br>{default} ", f"<br>{own} ")
+            return text
+        if isinstance(text, list | tuple):
+            return [hover(item) for item in text]
+        return text
+
+    for trace in figure.data:
+        name = trace.name
+        if isinstance(name, str):
+            head, comma, tail = name.partition(", ")
+            trace.name = f"{sets.get(head, head)}{comma}{tail}"
+        for key in ("text", "hovertext"):
+            if key in trace and trace[key] is not None:
+                trace[key] = hover(trace[key])
+        if "colorbar" in trace and trace.colorbar.title.text is not None:
+            trace.colorbar.title.text = title(trace.colorbar.title.text)
+    figure.layout.title.text = title(figure.layout.title.text)
+    for axis in ("xaxis", "yaxis"):
+        shown = figure.layout[axis].title.text
+        figure.layout[axis].title.text = scores.get(shown, shown) if shown else shown
+    for menu in figure.layout.updatemenus:
+        for button in menu.buttons:
+            button.label = title(button.label)
+            if len(button.args) > 1 and "title.text" in button.args[1]:
+                update, relayout = button.args[0], dict(button.args[1])
+                relayout["title.text"] = title(relayout["title.text"])
+                if "colorbar.title.text" in update:
+                    update = {**update, "colorbar.title.text": title(update["colorbar.title.text"])}
+                button.args = [update, relayout]
+    return figure
 
 
 def _robot_of(spec: StudySpec, name: str) -> Robot:
@@ -1381,6 +1526,11 @@ def _save(spec: StudySpec, figure: Any, stem: Path) -> list[Path]:
     return save_figure(figure, stem, output.figure_formats, output.dpi)
 
 
+def _sentence(text: str) -> str:
+    """``text`` with its first letter upper-case (a caption: ``"force: the ..."``)."""
+    return text[:1].upper() + text[1:]
+
+
 def _heading(spec: StudySpec, heading: str) -> str:
     """A Markdown file's title, with the study's description below it (if it has one)."""
     description = f"{markdown_text(spec.file.description)}\n\n" if spec.file.description else ""
@@ -1392,11 +1542,21 @@ def _about(spec: StudySpec) -> list[tuple[str, Any]]:
     return [("About this study", spec.file.description)] if spec.file.description else []
 
 
-def _split(column: str) -> tuple[str, str]:
-    """(kind, score) of a map's column (validated when the study was loaded)."""
-    split = split_column(column)
+def _split(column: str, kinds: Sequence[str]) -> tuple[str, str]:
+    """(kind, score) of a map's column among the study's ``kinds`` (validated at load)."""
+    split = split_column(column, kinds)
     assert split is not None
     return split
+
+
+def _study_kinds(spec: StudySpec, capacity: str) -> list[str]:
+    """The ellipsoids a study scores in a capacity: its own, the MVIE, the outer, candidates.
+
+    Given to :func:`~polyell.comparison.summary.result_kinds` and
+    :func:`~polyell.comparison.summary.split_column`, so that no column name is split to
+    guess its kind.
+    """
+    return [*compared_kinds(capacity), *(candidate.name for candidate in spec.candidates)]
 
 
 def _compared(spec: StudySpec) -> dict[str, Any]:
