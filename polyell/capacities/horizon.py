@@ -512,8 +512,15 @@ def cut_set(
     z = (points - origin) @ inner
     if flat >= 2:
         z = _grow_hull(M, W, a0, lo, hi, basis, frame @ origin, z)
-        hull = ConvexHull(z)
-        normals, offsets = hull.equations[:, :-1], -hull.equations[:, -1]
+        normals, offsets, corners = _facets(z)
+        z = z[corners]  # the vertices (counter-clockwise in 2-D)
+        if flat == m:  # full-dimensional: facets and vertices known and certified
+            center = z.mean(axis=0)
+            A = normals @ basis.T
+            return HPolytope.from_enumeration(
+                A, offsets + A @ x0, x0 + z @ basis.T, x0 + basis @ center,
+                (z - center, basis, np.ones(m)),
+            )  # fmt: skip
     elif flat == 1:
         normals, offsets = np.array([[1.0], [-1.0]]), np.array([z.max(), -z.min()])
     else:
@@ -525,6 +532,21 @@ def cut_set(
         bounds += [complement.T @ x0, -(complement.T @ x0)]
     center = x0 + basis @ z.mean(axis=0)
     return HPolytope(np.vstack(rows), np.concatenate(bounds), center=center)
+
+
+def _facets(z: Array) -> tuple[Array, Array, NDArray[np.int_]]:
+    """The hull of points: its distinct facet planes ``a . z <= b`` and its vertices' indices.
+
+    Qhull's triangles of one facet share its plane to rounding: planes equal to 1e-9 (of the
+    unit normal, and of the offset relative to the points' extent) are one.
+    """
+    hull = ConvexHull(z)
+    equations = hull.equations
+    extent = float(np.abs(z).max(initial=0.0)) or 1.0
+    keys = np.round(np.hstack([equations[:, :-1], equations[:, -1:] / extent]), 9)
+    _, first = np.unique(keys, axis=0, return_index=True)
+    planes = equations[np.sort(first)]
+    return planes[:, :-1], -planes[:, -1], hull.vertices
 
 
 def _grow_hull(

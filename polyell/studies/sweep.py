@@ -31,7 +31,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from tqdm import tqdm
 
-from polyell.capacities import analyze, capacity_class, check_capacity, joint_limits_of
+from polyell.capacities import capacity_class, check_capacity, joint_limits_of, state_of
+from polyell.capacities.base import centre_and_half_range
+from polyell.capacities.horizon import (
+    JointHorizon,
+    cutting_joints,
+    joint_map,
+    moving_dynamics,
+    robot_horizon,
+)
 from polyell.comparison.candidates import Candidate, check_candidates
 from polyell.comparison.comparison import (
     MAX_SAMPLES,
@@ -55,6 +63,7 @@ from polyell.storage import (
     write_atomically,
     write_text_atomically,
 )
+from polyell.studies.along import analysis_within
 from polyell.studies.batch import BLOCK, BatchOptions, batch_rows
 from polyell.studies.cluster import check_scheduler, local_cluster
 from polyell.studies.configurations import ConfigurationSet
@@ -124,6 +133,8 @@ class _Job:
     columns: tuple[str, ...]
     options: BatchOptions
     joints: int = 0  # q columns written: n, or more (NaN) to match other robots' datasets
+    # The joint limits over a horizon (sweep(horizon=)), at q = qd = 0: moved to each state.
+    horizon: JointHorizon | None = None
 
     def size(self) -> int:
         if self.configurations is None:
@@ -141,13 +152,21 @@ class _Job:
                 else self.configurations[start:stop]
             )
             dyn = self.source.dynamics(q)
+        state = None
+        if self.horizon is not None:  # the states: at rest, or a trajectory's velocities
+            assert q is not None  # a robot's configurations (checked by _job)
+            qd = getattr(self.configurations, "qd", None)
+            state = self.horizon.at(q, np.zeros_like(q) if qd is None else qd[start:stop])
+            dyn = moving_dynamics(self.source, q, state.qd)
         if dyn.m > dyn.n:  # singular everywhere: the scalar path
             scalar = np.ones(len(dyn), dtype=bool)
-            values = _scalar_rows(dyn, scalar, self)
+            values = _scalar_rows(dyn, scalar, self, state)
         else:
             values, scalar = _batch(dyn, self)
+            if state is not None:  # a set cut by the joints' intervals: the exact path
+                scalar |= _cut(dyn, state, self.tau_max, self.tau_min)
             if scalar.any():
-                for name, column in _scalar_rows(dyn, scalar, self).items():
+                for name, column in _scalar_rows(dyn, scalar, self, state).items():
                     values[name][scalar] = column[scalar]
         import pandas as pd
 
@@ -214,17 +233,32 @@ def _batch(dyn: Dynamics, job: _Job) -> tuple[dict[str, NDArray[np.float64]], ND
     return renamed, scalar
 
 
+def _cut(
+    dyn: Dynamics, state: JointHorizon, upper: NDArray[np.float64], lower: NDArray[np.float64]
+) -> NDArray[np.bool_]:
+    """The rows whose joint intervals cut the set or leave none (K,)."""
+    qdd_lo, qdd_hi = state.interval()
+    center, half_range = centre_and_half_range(upper, lower)
+    W, a0 = joint_map(dyn.B, half_range, dyn.g - center)
+    cut = cutting_joints(W, a0, qdd_lo, qdd_hi).any(axis=1) | ~(qdd_lo <= qdd_hi).all(axis=1)
+    return np.asarray(cut, dtype=np.bool_)
+
+
 def _scalar_rows(
-    dyn: Dynamics, rows: NDArray[np.bool_], job: _Job
+    dyn: Dynamics, rows: NDArray[np.bool_], job: _Job, state: JointHorizon | None = None
 ) -> dict[str, NDArray[np.float64]]:
     """``compare(analyze(...)).to_row()`` for the flagged rows (NaN elsewhere)."""
     values = {name: np.full(len(dyn), np.nan) for name in job.columns}
     options = job.options
-    # (a capacity's limits come in the torque slots, whatever they are)
-    limits = capacity_class(options.capacity).limit_arguments(job.tau_max, job.tau_min)
     for k in np.flatnonzero(rows):
-        analysis = analyze(
-            dyn[int(k)], capacity=options.capacity, rank_rtol=options.rank_rtol, **limits
+        # (a capacity's limits come in the torque slots, whatever they are)
+        analysis = analysis_within(
+            dyn[int(k)],
+            options.capacity,
+            job.tau_max,
+            job.tau_min,
+            options.rank_rtol,
+            None if state is None else state[int(k)],
         )
         row = compare(
             analysis,
@@ -403,7 +437,15 @@ def _job(
     scores: Sequence[str],
     directions: int | ArrayLike | None,
     options: BatchOptions,
+    horizon: dict[str, Any] | None = None,
 ) -> _Job:
+    if isinstance(source, Dynamics) and horizon is not None:
+        raise InputError(
+            "source",
+            "a robot and its configurations (the states' positions) with horizon=",
+            "a batched Dynamics",
+            "pass the robot, e.g. pe.sweep(panda, q, horizon=0.001).",
+        )
     if isinstance(source, Dynamics):
         if source.batch_size is None:
             raise InputError("source", "a batched Dynamics (J of shape (K, m, n))", "a single one")
@@ -466,7 +508,10 @@ def _job(
     kinds = _kinds(options)
     columns = (*_POLYTOPE, *(f"{k}_{s}" for k in kinds for s in scores))
     options = replace(options, vertices=options.outer or "enclosing_scale" in scores)
-    return _Job(source, configurations, upper, lower, T, scalar_directions, columns, options, n)
+    template = None if horizon is None else robot_horizon(source, **horizon)
+    return _Job(
+        source, configurations, upper, lower, T, scalar_directions, columns, options, n, template
+    )
 
 
 def sweep(
@@ -490,6 +535,10 @@ def sweep(
     capacity: str = "acceleration",
     qd_max: ArrayLike | None = None,
     qd_min: ArrayLike | None = None,
+    horizon: float | None = None,
+    q_min: ArrayLike | None = None,
+    q_max: ArrayLike | None = None,
+    braking: ArrayLike | None = None,
 ) -> pd.DataFrame | Path:
     """Score the ellipsoids of a capacity, optionally the MVIE, the outer one, candidates.
 
@@ -580,7 +629,19 @@ def sweep(
         limits; forces take their own batch path
         (:mod:`polyell.studies.force_batch`).
     qd_max, qd_min : array-like, shape (n,), optional
-        Joint velocity limits [rad/s] of the velocity capacity.
+        Joint velocity limits [rad/s] of the velocity capacity, or of the horizon.
+    horizon : float, optional
+        A control period [s] (accelerations, robots): score the ellipsoids against the
+        accelerations that also keep every joint within its position limits over the
+        period and within its velocity limits at its end
+        (:class:`~polyell.capacities.horizon.HorizonAnalysis`), from the state
+        ``(q, qd)``: ``qd`` a :class:`~polyell.Trajectory`'s velocities, else 0 (at rest).
+        Rows whose joint intervals cut the set take the per-row path (``per_row``; they
+        are counted in the log); the others are the sets without a horizon.
+    q_min, q_max, braking : array-like, shape (n,), optional
+        With ``horizon``: the position limits (default the robot's ``position_limits``)
+        and the braking decelerations of viability (default none), as in
+        :func:`polyell.analyze`.
 
     Returns
     -------
@@ -615,6 +676,12 @@ def sweep(
             "scheduler", "None, 'processes' or a Dask scheduler address", repr(scheduler)
         )
     capacity = check_capacity(capacity)
+    limits = None
+    if horizon is not None:  # the velocity limits are the horizon's
+        state_of(capacity_class(capacity), horizon)
+        limits = {"horizon": horizon, "q_min": q_min, "q_max": q_max, "braking": braking}
+        limits |= {"qd_min": qd_min, "qd_max": qd_max}
+        qd_max = qd_min = None
     # velocities: the velocity limits in the torque limits' slots of the batch
     tau_max, tau_min = joint_limits_of(capacity, tau_max, tau_min, qd_max, qd_min)
     options = BatchOptions(
@@ -631,8 +698,9 @@ def sweep(
         return _sweep_robots(
             robots, configurations, tau_max, tau_min, scores, directions, options, out,
             lambda job, folder, name: _run(job, folder, chunk, scheduler, progress, name),
+            limits,
         )  # fmt: skip
-    job = _job(source, configurations, tau_max, tau_min, scores, directions, options)
+    job = _job(source, configurations, tau_max, tau_min, scores, directions, options, limits)
     if out is not None:
         _refuse_mixed(Path(out), several=False)
     return _run(job, out, chunk, scheduler, progress)
@@ -762,6 +830,7 @@ def _sweep_robots(
     options: BatchOptions,
     out: Any,
     run: Callable[[_Job, Path | None, str], pd.DataFrame | Path],
+    horizon: dict[str, Any] | None = None,
 ) -> pd.DataFrame | Path:
     """:func:`sweep` of several robots: one job each, side by side under a ``robot`` key."""
     names = capacity_class(options.capacity).limit_keywords  # (given in the torque slots)
@@ -789,7 +858,7 @@ def _sweep_robots(
     jobs = {}
     for name, robot in robots.items():
         try:
-            jobs[name] = _job(robot, sets[name], None, None, scores, directions, options)
+            jobs[name] = _job(robot, sets[name], None, None, scores, directions, options, horizon)
         except InputError as exn:  # which robot: its name in the argument
             argument = f"{exn.argument} of robot {name!r}"
             raise InputError(argument, exn.expected, exn.got, exn.fix) from None
