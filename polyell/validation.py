@@ -202,6 +202,9 @@ def check_spd(
     return matrix
 
 
+#: Reductions without the array methods' Python wrappers (the fast paths of one set).
+_ALL, _MAX, _MIN = np.logical_and.reduce, np.maximum.reduce, np.minimum.reduce
+
 #: Largest torque limit accepted [N m]: ``tau_max - tau_min`` and its products with the
 #: inverse inertia stay finite; a limit beyond it is no limit (the sets would be unbounded).
 MAX_TORQUE = 1e150
@@ -255,10 +258,12 @@ def check_torque_limits(
         # few operations (the checks below say what is wrong otherwise)
         upper = np.array(tau_max)
         lower = -upper if tau_min is None else np.array(tau_min)
-        if float(np.abs(upper).max(initial=0.0)) <= MAX_TORQUE and bool(
-            (upper > lower).all()
-            if tau_min is None
-            else (lower < upper).all() and float(np.abs(lower).max(initial=0.0)) <= MAX_TORQUE
+        # ordered (NaN is not) and within MAX_TORQUE: lower >= -MAX_TORQUE and upper <=
+        # MAX_TORQUE bound both, as lower < upper
+        if (
+            _ALL(lower < upper, None)
+            and -MAX_TORQUE <= _MIN(lower, None, initial=0.0)
+            and (_MAX(upper, None, initial=0.0) <= MAX_TORQUE)
         ):
             return upper, lower
     upper = check_array(hi, tau_max, (n,))
@@ -399,6 +404,8 @@ def check_integer(name: str, value: object, low: int, high: int) -> int:
 
 def check_fraction(name: str, value: object) -> float:
     """Check a relative tolerance: a real number in ``[0, 1)``, returned as a float."""
+    if type(value) is float and 0.0 <= value < 1.0:  # the usual case: as it is
+        return value
     if (
         isinstance(value, bool)
         or not isinstance(value, int | float | np.integer | np.floating)
@@ -461,7 +468,7 @@ def check_magnitudes(
     limit = magnitude_limit(m)
     high = 10.0**limit
     if M.ndim == 2 and M.size and xg.size:  # one set: the same tests on two numbers
-        one_m, one_x = float(np.abs(M).max()), float(np.abs(xg).max())
+        one_m, one_x = float(_MAX(np.abs(M), None)), float(_MAX(np.abs(xg), None))
         if (
             one_m <= high
             and one_x <= high

@@ -17,13 +17,14 @@ and :mod:`~polyell.capacities.force` implement it.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from functools import cached_property
+from functools import cached_property, lru_cache
 from typing import Any, ClassVar, NamedTuple, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from polyell.errors import InputError
+from polyell.geometry.convex_set import ConvexSet
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.polytope import Polytope
@@ -31,10 +32,10 @@ from polyell.geometry.subspace import AFFINE_RTOL, RANK_RTOL
 from polyell.inverse import AffineMap
 from polyell.models.dynamics import Dynamics
 from polyell.models.kinematics import Kinematics
-from polyell.models.task import task_unit
+from polyell.models.task import check_task, task_unit
 from polyell.validation import check_points, source_torque_limits
 
-__all__ = ["Analysis", "InverseSolution", "JointLimited", "centre_and_half_range"]
+__all__ = ["Analysis", "InverseSolution", "JointLimited", "centre_and_half_range", "label_rows"]
 
 
 class JointLimited(Protocol):
@@ -49,6 +50,25 @@ class JointLimited(Protocol):
     def velocity_limits(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """``(qd_max, qd_min)`` [rad/s]."""
         ...
+
+
+@lru_cache(maxsize=64)
+def _checked_rows(rows: tuple[str, ...], m: int) -> tuple[str, ...]:
+    """:func:`~polyell.models.task.check_task` of hashable row names, remembered."""
+    return check_task(rows, m)
+
+
+def label_rows(convex_set: ConvexSet, rows: tuple[str, ...]) -> None:
+    """Set a set's task rows (``convex_set.task = rows``), checking rows seen before once.
+
+    An analysis labels every set it builds with the same few tuples of row names: their
+    check (:func:`~polyell.models.task.check_task`, a few microseconds) is remembered.
+    Names that are not hashable (a robot's rows edited by hand) go through the setter.
+    """
+    try:
+        convex_set._task = _checked_rows(rows, convex_set.ambient_dim)
+    except TypeError:  # unhashable names: the setter's own check and message
+        convex_set.task = rows
 
 
 def centre_and_half_range(
@@ -300,7 +320,7 @@ class Analysis(ABC):
                     "apart, or express the task in other units.",
                 ) from None
             ellipsoid.affine_rtol = self.affine_rtol
-            ellipsoid.task = self.task
+            label_rows(ellipsoid, self.task)
             self._ellipsoids[kind] = ellipsoid
         return self._ellipsoids[kind]
 

@@ -51,7 +51,12 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import lapack
 
 from polyell.capacities.acceleration import check_dynamics
-from polyell.capacities.base import Analysis, InverseSolution, centre_and_half_range
+from polyell.capacities.base import (
+    Analysis,
+    InverseSolution,
+    centre_and_half_range,
+    label_rows,
+)
 from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope
@@ -181,7 +186,8 @@ class ForceAnalysis(Analysis):
         if info != 0:  # pragma: no cover - Dynamics has checked J (finite)
             raise SolverError(f"The SVD of J did not converge: LAPACK dgesdd info={info}.")
         rank_rtol = check_fraction("rank_rtol", rank_rtol)
-        rank = int(np.count_nonzero(kinematic > rank_rtol * kinematic[0])) if kinematic[0] else 0
+        values = kinematic.tolist()  # a few numbers: counted in Python
+        rank = sum(value > rank_rtol * values[0] for value in values) if values[0] else 0
         self.svd = rank_revealing_svd(M, rank_rtol, rank=rank)
         self.affine_rtol = check_fraction("affine_rtol", affine_rtol)
         svd = self.svd
@@ -222,7 +228,7 @@ class ForceAnalysis(Analysis):
         if polytope is None:
             polytope = HPolytope(A, b, center=self.center, rank=self.rank)  # lines: Ker J^T
         polytope.affine_rtol = self.affine_rtol
-        polytope.task = self.task
+        label_rows(polytope, self.task)
         return polytope
 
     def _enumerated(self, A: NDArray[np.float64], b: NDArray[np.float64]) -> HPolytope | None:
@@ -236,15 +242,17 @@ class ForceAnalysis(Analysis):
             return None
         J = self.dynamics.J
         norms = np.sqrt(_ADD(J * J, 0))  # |J_i|, as HPolytope normalizes its rows
-        if not 1e-140 < _MAX(norms) < 1e140:  # squares that may underflow or overflow
+        largest = _MAX(norms)
+        if not 1e-140 < largest < 1e140:  # squares that may underflow or overflow
             norms = scaled_norm(J, axis=0)
-        used = norms > RANK_RTOL * _MAX(norms)
+            largest = _MAX(norms)
+        used = norms > RANK_RTOL * largest
         svd = self.svd
         found = force_vertices(svd.V1.T[None], self.c_perp[None], used[None])
         if not found.general[0]:
             return None
-        norms, used = np.concatenate((norms, norms)), np.concatenate((used, used))
-        offsets = b.compress(used) / norms.compress(used)
+        norms = np.concatenate((norms, norms))
+        offsets = b / np.where(np.concatenate((used, used)), norms, np.inf)  # unused: 0
         limit = 10.0 ** magnitude_limit(m)
         if not 1.0 / limit <= _MAX(np.abs(offsets)) <= limit:
             return None  # HPolytope refuses them
@@ -256,7 +264,7 @@ class ForceAnalysis(Analysis):
         norms = norms.compress(facet)
         return HPolytope.from_enumeration(
             A.compress(facet, axis=0) / norms[:, None],
-            b.compress(facet) / norms,
+            offsets.compress(facet),
             vertices,
             self.center,
             (z, svd.U1, 1.0 / svd.sigma),
@@ -421,7 +429,8 @@ def force_vertices(
     chosen, signs, incidence, edges = _layout(n, m)
     others = _other_rows(n, m)
     V = Vt.swapaxes(1, 2)  # (K, n, m)
-    if not _ALL(used, None):
+    every_row = bool(_ALL(used, None))
+    if not every_row:
         V = np.where(used[..., None], V, 0.0)
     adjugate, det = _adjugates(V, chosen)
     # m rows spanning less than DEPENDENT (as unit normals) are skipped: a NaN point
@@ -442,10 +451,15 @@ def force_vertices(
     other = _MAX(magnitude, 1)
     vertex = other < 1.0 - GENERAL_POSITION
     crowded = (other <= 1.0 + GENERAL_POSITION) ^ vertex
-    # m nearly dependent rows (skipped above) could hide a vertex: the edges certify that
-    # none is missing (and closed, a vertex has m neighbours: there are more than m)
     general = _ANY(vertex, 1) & ~_ANY(crowded, 1)
-    general &= _closed(vertex, edges)
+    # m nearly dependent rows (skipped above) could hide a vertex: the edges certify that
+    # none is missing (and closed, a vertex has m neighbours: there are more than m).
+    # Where no m used rows were skipped, every vertex was solved for: a bounded set
+    # (V has rank m) in general position, whose edges close (m rows of an unused row, 0,
+    # are no vertex's).
+    skipped = ~solvable if every_row else ~solvable & _ALL(used.take(chosen, axis=1), -1)
+    if _ANY(skipped, None):
+        general &= _closed(vertex, edges)
     facet = (vertex @ incidence) > 0  # no other row is tight: those would be crowded
     return ForceVertices(z.swapaxes(1, 2), vertex, facet, general, adjugate, det)
 

@@ -17,7 +17,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
-from polyell.capacities.base import Analysis
+from polyell.capacities.base import Analysis, label_rows
 from polyell.errors import ProjectedInputWarning, UnreachableAccelerationError
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.polytope import Polytope
@@ -96,16 +96,17 @@ class ZonotopeAnalysis(Analysis):
         the task point, as the Panda's last joint for its position) add nothing to the set
         and are left out of it (its vertex enumeration would take them as degenerate).
         """
-        norms = np.sqrt((self.M * self.M).sum(axis=0))
-        keep = norms > self.svd.rtol * norms.max(initial=0.0)
-        kept = np.count_nonzero(keep)
-        if kept == len(keep) or not kept:
-            polytope = Polytope(self.M, self.xg, svd=self.svd)
+        M, svd = self.M, self.svd
+        norms = np.sqrt(np.add.reduce(M * M, 0))
+        threshold = svd.rtol * np.maximum.reduce(norms, None)
+        keep = None if np.minimum.reduce(norms, None) > threshold else norms > threshold
+        if keep is None or not keep.any():  # every generator, or M = 0 (a point)
+            polytope = Polytope(M, self.xg, svd=svd)
         else:
-            svd = self.svd._replace(V1=self.svd.V1[keep])
-            polytope = Polytope(self.M[:, keep], self.xg, svd=svd)
+            svd = svd._replace(V1=svd.V1.compress(keep, 0))
+            polytope = Polytope(M.compress(keep, 1), self.xg, svd=svd)
         polytope.affine_rtol = self.affine_rtol
-        polytope.task = self.task
+        label_rows(polytope, self.task)
         return polytope
 
     def _image_ellipsoid(self, kind: str) -> Ellipsoid:

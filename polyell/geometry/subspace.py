@@ -127,9 +127,10 @@ def rank_revealing_svd(
     U, s, Vt, info = lapack.dgesdd(M, full_matrices=int(m > n))  # U is square either way
     if info != 0:
         raise SolverError(f"The SVD of M (eq. 35) did not converge: LAPACK dgesdd info={info}.")
-    positive = int(np.count_nonzero(s > 0))
+    values = s.tolist()  # a few numbers: counted in Python, without numpy's per-call cost
+    positive = sum(value > 0 for value in values)
     if rank is None:
-        rank = int(np.count_nonzero(s > rtol * s[0])) if s.size and s[0] > 0 else 0
+        rank = sum(value > rtol * values[0] for value in values) if values and values[0] > 0 else 0
     rank = min(rank, positive)
     return RankRevealingSVD(
         U1=U[:, :rank],

@@ -74,6 +74,8 @@ _SIGN_TABLE_JOINTS = 12
 #: the small arrays of one set).
 _ADD, _MAX, _MIN = np.add.reduce, np.maximum.reduce, np.minimum.reduce
 _ANY, _ALL = np.logical_or.reduce, np.logical_and.reduce
+#: The smallest positive normal double.
+_TINY = float(np.finfo(np.float64).tiny)
 
 
 @lru_cache(maxsize=64)
@@ -157,14 +159,17 @@ def _unique_directions(normals: NDArray[np.float64]) -> NDArray[np.float64]:
     close = np.abs(normals @ normals.T) > 1.0 - 1e-12
     if np.count_nonzero(close) == len(normals):  # only the diagonal: the usual case
         return normals
-    near = np.argwhere(np.triu(close, 1))
-    first, second = normals[near[:, 0]], normals[near[:, 1]]
-    distance = np.minimum(
-        np.linalg.norm(first - second, axis=1), np.linalg.norm(first + second, axis=1)
+    earlier, later = np.nonzero(close)  # row by row; the pairs above the diagonal kept
+    above = earlier < later
+    earlier, later = earlier.compress(above), later.compress(above)
+    first, second = normals.take(earlier, 0), normals.take(later, 0)
+    difference, total = first - second, first + second
+    distance = np.sqrt(  # the Euclidean norms of numpy.linalg.norm, without its wrapper
+        np.minimum(_ADD(difference * difference, 1), _ADD(total * total, 1))
     )
     duplicate = np.zeros(len(normals), dtype=bool)
-    duplicate[near[distance < _SAME_NORMAL_TOL, 1]] = True
-    return normals[~duplicate]
+    duplicate[later.compress(distance < _SAME_NORMAL_TOL)] = True
+    return normals.compress(~duplicate, 0)
 
 
 def subset_cofactors(G: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -341,8 +346,9 @@ def unwhiten(
         ``h_x = h_y / |S^-1 a_y|``, the support of the set about its centre along ``a_x``.
     """
     scaled = normals / sigma[..., None, :]
-    length = np.sqrt(_ADD(scaled * scaled, -1))
-    length = np.where(length > 0, length, 1.0)  # a zero row (no constraint) stays zero
+    # A zero row (no constraint) stays zero: divided by the smallest normal number, which
+    # no other row's length is below (sigma is at most about 1e146, check_magnitudes).
+    length = np.maximum(np.sqrt(_ADD(scaled * scaled, -1)), _TINY)
     scaled /= length[..., None]
     return scaled @ frame.swapaxes(-1, -2), offsets / length
 
@@ -508,7 +514,7 @@ def _signs_of_keys(keys: NDArray[np.int64], n: int) -> NDArray[np.float64]:
     if n <= _SIGN_TABLE_JOINTS:  # mark the keys present in a table of all 2^n
         present = np.zeros(1 << n, dtype=bool)
         present.put(keys, True)
-        present |= present[::-1]
+        present.put(keys ^ ((1 << n) - 1), True)  # their complements (-sigma)
         return _sign_table(n).compress(present, axis=0)
     keys = np.unique(np.concatenate([keys.ravel(), keys.ravel() ^ ((1 << n) - 1)]))
     return (((keys[:, None] >> np.arange(n)) & 1) * 2.0 - 1.0).astype(np.float64)
@@ -862,7 +868,6 @@ def _flag_codes(
     K, m, n = unit.shape
     bits = _bits(n)
     edge, first, pair, edge_bits, edge_flips = _frames(n, m)
-    clear = np.ones(K, dtype=bool)
     # The bits of the generators decided by a later vector of the frame flip with its
     # sense: (K, C, 2^(m-1)) flips, the choices of senses.
     if m == 3 and _ALL(valid, None):
@@ -875,13 +880,13 @@ def _flag_codes(
         middle = _ADD(cofactors.take(edge_pairs, axis=1) * cofactors[:, :, None, :], -1)
         deciding = np.where(flat, middle * sense, products)
         flips = ((flat @ bits ^ edge_bits)[..., None] & _FLIPS[1]) | edge_flips
-        return ((deciding > 0) @ bits)[..., None] ^ flips, clear
+        return ((deciding > 0) @ bits)[..., None] ^ flips, np.ones(K, dtype=bool)
     gram = unit.swapaxes(1, 2) @ unit  # (K, n, n)
     along = gram.take(edge, axis=1)  # u_j . u_k (K, C, n)
     if m == 2:  # frame j: a = (-u_j2, u_j1), u_j; in a's line: parallel to u_j
         deciding = np.where(flat, along, products)
         flips = (flat @ bits & (~zero @ bits)[:, None])[..., None] & _FLIPS[1]
-        return ((deciding > 0) @ bits)[..., None] ^ flips, clear
+        return ((deciding > 0) @ bits)[..., None] ^ flips, np.ones(K, dtype=bool)
     # |cofactor| (b . u_k) = (u_i . u_j)(u_j . u_k) - u_i . u_k
     middle = gram.reshape(K, n * n).take(pair, axis=1)[..., None] * along
     middle -= gram.take(first, axis=1)
@@ -891,7 +896,7 @@ def _flag_codes(
     deciding = np.where(flat, np.where(flat_middle, along, middle), products)
     by_edge_normal = flat & ~flat_middle
     ambiguous = by_edge_normal & (middle_magnitude <= SIGN_RTOL * scale)
-    clear &= ~_ANY(_ANY(ambiguous, 2) & valid, 1)
+    clear = ~_ANY(_ANY(ambiguous, 2) & valid, 1)
     by_edge = (flat & flat_middle) @ bits & (~zero @ bits)[:, None]
     flips = ((by_edge_normal @ bits)[..., None] & _FLIPS[1]) | (by_edge[..., None] & _FLIPS[2])
     return ((deciding > 0) @ bits)[..., None] ^ flips, clear
@@ -1145,20 +1150,26 @@ def _first_of_planes(
     if _ALL(valid, None):  # no parallel generators: none before j but i
         return (plane & low_j) == others
     # each generator's parallel ones, as bits (itself too): i's gets j's bit, j's i's
-    at_first, at_last = _pair_incidence(n)
-    bits_i, bits_j = (_bits(n).take(rows) * ~valid for rows in pair_rows)
-    parallel = _bits(n) | at_first @ bits_j | at_last @ bits_i
+    at_first, at_last, bits_i, bits_j = _pair_incidence(n)
+    parallel_pairs = ~valid
+    parallel = _bits(n) | at_first @ (bits_j * parallel_pairs) | at_last @ (bits_i * parallel_pairs)
     return valid & ((plane & low_i) == 0) & ((plane & low_j & ~parallel.take(pair_rows[0])) == 0)
 
 
 @lru_cache(maxsize=64)
-def _pair_incidence(n: int) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-    """(n, C) 0/1 matrices: generator g is the first (last) of the pair p of subsets(n, 2)."""
+def _pair_incidence(n: int) -> tuple[NDArray[np.int64], ...]:
+    """The pairs p = (i, j) of ``subsets(n, 2)``: which generators are their ends, and theirs.
+
+    (n, C) 0/1 matrices (generator g is the first, the last, of the pair p), then the bits
+    of each pair's first and last generators (C,) each.
+    """
     pairs = subsets(n, 2)
     at_first = (np.arange(n)[:, None] == pairs[:, 0]).astype(np.int64)
     at_last = (np.arange(n)[:, None] == pairs[:, 1]).astype(np.int64)
-    at_first.flags.writeable = at_last.flags.writeable = False
-    return at_first, at_last
+    bits_i, bits_j = _bits(n)[pairs[:, 0]], _bits(n)[pairs[:, 1]]
+    for array in (at_first, at_last, bits_i, bits_j):
+        array.flags.writeable = False
+    return at_first, at_last, bits_i, bits_j
 
 
 @lru_cache(maxsize=64)

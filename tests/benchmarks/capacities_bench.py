@@ -14,10 +14,14 @@ from __future__ import annotations
 
 import numpy as np
 from run_benchmarks import (
+    POLYTOPE_COMMAND,
     README_POSTURE,
+    below_target,
     capacity_version,
     cpu_timed_alternately,
     panda_configurations,
+    stage_row,
+    stage_times,
     summary,
     timed_alternately,
 )
@@ -118,7 +122,7 @@ def bench_capacities(repeats: int) -> list[str]:
     posture = panda.dynamics(README_POSTURE)
     limits = (panda.tau_max, panda.tau_min, panda.qd_max, panda.qd_min)
     cases.append(("Panda at the README's q", [(posture.J, posture.g)] * 20, *limits))
-    rows, checks = [], []
+    rows, checks, stages, speeds = [], [], [], []
     for label, arms, t_max, t_min, v_max, v_min in cases:
         n = arms[0][0].shape[1]
         kinematics = [pe.Kinematics(J) for J, _ in arms]
@@ -152,6 +156,22 @@ def bench_capacities(repeats: int) -> list[str]:
                 f"| {label} | {name} | {summary(ours, per)} | {summary(theirs, per)} | "
                 f"{speedup:.1f}× |"
             )
+            if not label.startswith("random 6x7"):  # the target's rows
+                speeds.append((f"{label} {name}", np.median(ours) * per, np.median(theirs) * per))
+        velocity_stages = stage_times(
+            lambda kin, v_max=v_max, v_min=v_min: pe.analyze(
+                kin, capacity="velocity", qd_max=v_max, qd_min=v_min
+            ),
+            kinematics,
+            repeats,
+        )
+        force_stages = stage_times(
+            lambda dyn, t_max=t_max, t_min=t_min: pe.analyze(dyn, t_max, t_min, capacity="force"),
+            dynamics,
+            repeats,
+        )
+        stages += [stage_row(f"{label} | velocity", velocity_stages)]
+        stages += [stage_row(f"{label} | force", force_stages)]
         worst = np.zeros((2, 5))
         for (J, g), kin, dyn in list(zip(arms, kinematics, dynamics, strict=True))[:5]:
             velocity = pe.analyze(kin, capacity="velocity", qd_max=v_max, qd_min=v_min)
@@ -194,13 +214,27 @@ def bench_capacities(repeats: int) -> list[str]:
         "`force_polytope(J, t_max, t_min, t_bias=g)`. Random arms: J normal, asymmetric "
         "limits, g = 0.05 N(0, 1); the Panda at 20 random configurations and at the README's "
         "q = (0, -0.5, 0, -2, 0, 1.6, 0.8) with its URDF limits. Timed alternately, "
-        f"{3 * repeats} repeats, in CPU time on one core (`time.process_time`).",
+        f"{3 * repeats} repeats, in CPU time on one core (`time.process_time`), by "
+        f"`{POLYTOPE_COMMAND}`.",
         "",
         "| arms | polytope | polyell ms/config | pycapacity ms/config | speed-up |",
         "|---|---|---|---|---|",
         *rows,
         "",
-        "Target: 20× on 3x7 arms and on the Panda. The same sets, first 5 configurations of "
+        "Target: 20× on 3x7 arms and on the Panda. " + below_target(speeds),
+        "",
+        "Where polyell's time goes, µs per call (as in (a): `pe.analyze`, `.polytope`, its "
+        "`vertices`, `A` and `b`; median over every call of "
+        f"{repeats} passes after a warm-up, CPU time, without pycapacity's calls in "
+        "between). A force set is enumerated when `.polytope` is built (its vertices and "
+        "facets then cost nothing more); a zonotope's facets and vertices when they are "
+        "first asked for.",
+        "",
+        "| arms | polytope | analysis | set | vertices and facets | total |",
+        "|---|---|---|---|---|---|",
+        *stages,
+        "",
+        "The same sets, first 5 configurations of "
         "each row (largest over them; target 1e-9; distances relative to the set's size): "
         "pycapacity's vertices against polyell's nearest; polyell's volume against Qhull of "
         "pycapacity's vertices (relative); polyell's limits along 50 directions against one "
