@@ -37,7 +37,7 @@ import inspect
 import math
 from dataclasses import dataclass, replace
 from functools import cached_property
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -45,6 +45,7 @@ from scipy.optimize import linprog
 from scipy.spatial import ConvexHull
 
 from polyell.capacities.acceleration import AccelerationAnalysis
+from polyell.capacities.base import centre_and_half_range
 from polyell.errors import InputError, SolverError
 from polyell.geometry.bounded_lp import INFEASIBLE, OPTIMAL, UNRESOLVED, dual_simplex
 from polyell.geometry.hpolytope import HPolytope
@@ -55,9 +56,11 @@ from polyell.validation import array_ndim, check_array
 
 __all__ = [
     "HorizonAnalysis",
+    "HorizonBlock",
     "JointHorizon",
     "acceleration_interval",
     "cutting_joints",
+    "horizon_block",
     "joint_horizon",
     "joint_map",
     "line_limits",
@@ -429,6 +432,36 @@ def joint_map(B: Array, half_range: Array, bias: Array) -> tuple[Array, Array]:
     L = np.broadcast_to(half_range[..., None, :] * np.eye(B.shape[-1]), B.shape)
     solved = np.linalg.solve(B, np.concatenate([L, -bias[..., :, None]], axis=-1))
     return solved[..., :-1], solved[..., -1]
+
+
+class HorizonBlock(NamedTuple):
+    """A block of K states within their limits over a horizon (:func:`horizon_block`).
+
+    Attributes
+    ----------
+    W, a0 : ndarray, shape (K, n, n) and (K, n)
+        The joint accelerations ``a0 + W u`` of the normalized torques ``u``.
+    lo, hi : ndarray, shape (K, n)
+        The joint intervals (:func:`acceleration_interval`).
+    cut : ndarray of bool, shape (K,)
+        The rows whose intervals cut the torque set, or leave no acceleration: the rows
+        whose set is not the zonotope of eq. (15).
+    """
+
+    W: Array
+    a0: Array
+    lo: Array
+    hi: Array
+    cut: NDArray[np.bool_]
+
+
+def horizon_block(dyn: Dynamics, state: JointHorizon, upper: Array, lower: Array) -> HorizonBlock:
+    """The joint maps and intervals of a batch ``dyn`` at the states ``state`` (K, n)."""
+    lo, hi = state.interval()
+    center, half_range = centre_and_half_range(upper, lower)
+    W, a0 = joint_map(dyn.B, half_range, dyn.g - center)
+    cut = cutting_joints(W, a0, lo, hi).any(axis=1) | ~(lo <= hi).all(axis=1)
+    return HorizonBlock(W, a0, lo, hi, np.asarray(cut, dtype=np.bool_))
 
 
 def cutting_joints(W: Array, a0: Array, lo: Array, hi: Array) -> NDArray[np.bool_]:

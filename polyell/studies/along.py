@@ -31,11 +31,9 @@ from polyell.capacities import (
     joint_limits_of,
     state_of,
 )
-from polyell.capacities.base import centre_and_half_range
 from polyell.capacities.horizon import (
     JointHorizon,
-    cutting_joints,
-    joint_map,
+    horizon_block,
     line_limits,
     moving_dynamics,
     robot_horizon,
@@ -259,14 +257,12 @@ def _cut_rows(
     Batched dual simplex (:func:`~polyell.capacities.horizon.line_limits`); returns the
     rows it leaves (degenerate cycling) to the exact path.
     """
-    qdd_lo, qdd_hi = state.interval()
-    center, half_range = centre_and_half_range(upper, lower)
-    W, a0 = joint_map(dyn.B, half_range, dyn.g - center)
-    cut = cutting_joints(W, a0, qdd_lo, qdd_hi).any(axis=1) | ~(qdd_lo <= qdd_hi).all(axis=1)
-    rows = np.flatnonzero(cut)
-    M = dyn.J[rows] @ W[rows]
-    xg = dyn.xdd_bias[rows] + np.einsum("kmn,kn->km", dyn.J[rows], a0[rows])
-    a, b, unresolved = line_limits(M, xg, W[rows], a0[rows], qdd_lo[rows], qdd_hi[rows], T[rows])
+    block = horizon_block(dyn, state, upper, lower)
+    rows = np.flatnonzero(block.cut)
+    W, a0 = block.W[rows], block.a0[rows]
+    M = dyn.J[rows] @ W
+    xg = dyn.xdd_bias[rows] + np.einsum("kmn,kn->km", dyn.J[rows], a0)
+    a, b, unresolved = line_limits(M, xg, W, a0, block.lo[rows], block.hi[rows], T[rows])
     lo["polytope"][rows + start], hi["polytope"][rows + start] = a, b
     left = np.zeros(len(dyn), dtype=np.bool_)
     left[rows[unresolved]] = True

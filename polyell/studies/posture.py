@@ -26,12 +26,13 @@ from __future__ import annotations
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from polyell.capacities import capacity_class, check_capacity, joint_limits_of
+from polyell.capacities import capacity_class, check_capacity, joint_limits_of, state_of
+from polyell.capacities.horizon import horizon_block, robot_horizon
 from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.comparison.candidates import Candidate, check_candidates
 from polyell.comparison.directions import named_direction
@@ -140,6 +141,10 @@ def posture_choice(
     capacity: str = "acceleration",
     qd_max: ArrayLike | None = None,
     qd_min: ArrayLike | None = None,
+    horizon: float | None = None,
+    q_min: ArrayLike | None = None,
+    q_max: ArrayLike | None = None,
+    braking: ArrayLike | None = None,
 ) -> PostureChoice:
     """Which posture each index picks, and how much of the truth (the polytope) it loses.
 
@@ -175,7 +180,17 @@ def posture_choice(
         computed a block of postures at once (the acceleration zonotope of ``B = I``,
         ``g = 0``), forces one posture at a time.
     qd_max, qd_min : array-like, shape (n,), optional
-        Joint velocity limits of the velocity capacity [rad/s]; default the robot's own.
+        Joint velocity limits of the velocity capacity, or of the horizon [rad/s]; default
+        the robot's own.
+    horizon : float, optional
+        A control period [s] (accelerations): the truth is the set of accelerations that
+        also keep every joint, at rest in the posture, within its position limits over
+        the period (and its velocity limits at its end), as ``analyze(..., horizon=)``
+        defines it; the ellipsoids ignore those limits.  Postures whose set they cut are
+        computed one at a time.
+    q_min, q_max, braking : array-like, shape (n,), optional
+        With ``horizon``: position limits (default the robot's ``position_limits``) and the
+        braking decelerations of viability (default none).
 
     Returns
     -------
@@ -219,6 +234,14 @@ def posture_choice(
         )
     capacity = check_capacity(capacity)
     cls = capacity_class(capacity)
+    state, within = None, cast(dict[str, Any], {})
+    if horizon is not None:  # at rest in each posture
+        state_of(cls, horizon)
+        state = robot_horizon(robot, horizon, q_min, q_max, qd_min, qd_max, braking)
+        state = state.at(q, np.zeros_like(q))
+        within = {"horizon": horizon, "q_min": state.q_min, "q_max": state.q_max}
+        within |= {"qd_min": state.qd_min, "qd_max": state.qd_max, "braking": state.braking}
+        qd_max = qd_min = None
     upper, lower = joint_limits_of(capacity, tau_max, tau_min, qd_max, qd_min)
     dyn = robot.dynamics(q)
     upper, lower = cls.source_limits(robot, upper, lower, dyn.n)
@@ -238,15 +261,21 @@ def posture_choice(
 
     limits = cls.limit_arguments(upper, lower)
     T = np.broadcast_to(d, (K, m))
-    along = limits_along(dyn, None, T, capacity=capacity, rank_rtol=rank_rtol, **limits)
+    if state is None:
+        along = limits_along(dyn, None, T, capacity=capacity, rank_rtol=rank_rtol, **limits)
+    else:
+        along = limits_along(robot, q, T, rank_rtol=rank_rtol, **limits, **within)
     for kind in ("polytope", *definitions):
         values[kind]["lo"][:], values[kind]["hi"][:] = along[kind]
     scalar = np.ones(K, dtype=bool)  # forces: one posture at a time
     if issubclass(cls, ZonotopeAnalysis):  # a block at once, as acceleration zonotopes
         scalar[:] = False
         _block_values(dyn, upper, lower, d, cls, found, values, scalar, mvie, outer, rank_rtol)
+    if state is not None:  # a set cut by the joints' intervals: one posture at a time
+        scalar |= horizon_block(dyn, state, upper, lower).cut
     for k in np.flatnonzero(scalar):
-        analysis = analysis_within(dyn[int(k)], capacity, upper, lower, rank_rtol)
+        at = None if state is None else state[int(k)]
+        analysis = analysis_within(dyn[int(k)], capacity, upper, lower, rank_rtol, at)
         _scalar_row(analysis, d, found, kinds, values, int(k))
     defined = {kind: ~np.isnan(values[kind]["volume"]) for kind in kinds}
     for kind in kinds:

@@ -32,11 +32,9 @@ from numpy.typing import ArrayLike, NDArray
 from tqdm import tqdm
 
 from polyell.capacities import capacity_class, check_capacity, joint_limits_of, state_of
-from polyell.capacities.base import centre_and_half_range
 from polyell.capacities.horizon import (
     JointHorizon,
-    cutting_joints,
-    joint_map,
+    horizon_block,
     moving_dynamics,
     robot_horizon,
 )
@@ -164,7 +162,7 @@ class _Job:
         else:
             values, scalar = _batch(dyn, self)
             if state is not None:  # a set cut by the joints' intervals: the exact path
-                scalar |= _cut(dyn, state, self.tau_max, self.tau_min)
+                scalar |= horizon_block(dyn, state, self.tau_max, self.tau_min).cut
             if scalar.any():
                 for name, column in _scalar_rows(dyn, scalar, self, state).items():
                     values[name][scalar] = column[scalar]
@@ -231,17 +229,6 @@ def _batch(dyn: Dynamics, job: _Job) -> tuple[dict[str, NDArray[np.float64]], ND
         unit_ball.get(name, name): column for name, column in values.items() if name not in classic
     }
     return renamed, scalar
-
-
-def _cut(
-    dyn: Dynamics, state: JointHorizon, upper: NDArray[np.float64], lower: NDArray[np.float64]
-) -> NDArray[np.bool_]:
-    """The rows whose joint intervals cut the set or leave none (K,)."""
-    qdd_lo, qdd_hi = state.interval()
-    center, half_range = centre_and_half_range(upper, lower)
-    W, a0 = joint_map(dyn.B, half_range, dyn.g - center)
-    cut = cutting_joints(W, a0, qdd_lo, qdd_hi).any(axis=1) | ~(qdd_lo <= qdd_hi).all(axis=1)
-    return np.asarray(cut, dtype=np.bool_)
 
 
 def _scalar_rows(
