@@ -65,15 +65,11 @@ _LIST_OPTIONS = ("--q", "--qd", "--qd-max", "--qd-min", "--tau-max", "--tau-min"
 def _join_list_options(argv: Sequence[str]) -> list[str]:
     """``--q -pi/2,0`` as ``--q=-pi/2,0``: argparse would take ``-pi/2,0`` for an option."""
     joined: list[str] = []
-    items = list(argv)
-    i = 0
-    while i < len(items):
-        if items[i] in _LIST_OPTIONS and i + 1 < len(items) and items[i + 1].startswith("-"):
-            joined.append(f"{items[i]}={items[i + 1]}")
-            i += 2
+    for item in argv:
+        if joined and joined[-1] in _LIST_OPTIONS and item.startswith("-"):
+            joined[-1] = f"{joined[-1]}={item}"
         else:
-            joined.append(items[i])
-            i += 1
+            joined.append(item)
     return joined
 
 
@@ -395,14 +391,12 @@ def _study(args: argparse.Namespace) -> None:
     written = run_study(spec, args.out, progress=not args.quiet, scheduler=args.scheduler)
     names = {path.name for path in written}
     lines = [f"{spec.title}: wrote {len(written)} files to {args.out}"]
+    suffixes = {capacity: capacity_class(capacity).output_suffix for capacity in spec.capacities}
     for name, what in MAIN_OUTPUTS.items():
         if name in _SHARED_OUTPUTS:  # one of each, whatever the capacities
             shown = {name: what}
         else:  # each capacity's; another capacity's carry its name (comparison_force.md)
             stem, extension = name.rsplit(".", 1)
-            suffixes = {
-                capacity: capacity_class(capacity).output_suffix for capacity in spec.capacities
-            }
             shown = {
                 f"{stem}{suffix}.{extension}": f"{capacity}: {what}" if suffix else what
                 for capacity, suffix in suffixes.items()

@@ -35,6 +35,7 @@ __all__ = [
     "check_capacity",
     "joint_limits_of",
     "state_of",
+    "takes_horizon",
 ]
 
 _REGISTRY: dict[str, type[Analysis]] = {
@@ -173,6 +174,11 @@ def analyze(
     else:
         analysis = cls(dyn, upper, lower, rank_rtol=rank_rtol, affine_rtol=affine_rtol)
     return warn_rated_limits_in_motion(analysis)  # a moving robot given its rated limits
+
+
+def takes_horizon(capacity: str) -> bool:
+    """Whether a capacity takes ``analyze(..., horizon=)`` (accelerations)."""
+    return capacity_class(capacity) in _WITHIN_HORIZON
 
 
 def state_of(cls: type[Analysis], horizon: object) -> type[HorizonAnalysis]:

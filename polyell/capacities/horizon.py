@@ -59,6 +59,7 @@ __all__ = [
     "HorizonBlock",
     "JointHorizon",
     "acceleration_interval",
+    "check_horizon",
     "cutting_joints",
     "horizon_block",
     "joint_horizon",
@@ -164,7 +165,7 @@ def joint_horizon(
         ``q_min >= q_max``, ``qd_min > qd_max``, or a braking deceleration that is not
         positive.
     """
-    dt = _check_horizon(horizon)
+    dt = check_horizon("horizon", horizon)
     if q is None or qd is None:
         missing = "q" if q is None else "qd"
         raise InputError(
@@ -272,14 +273,14 @@ def moving_dynamics(robot: Any, q: Array, qd: Array) -> Dynamics:
     return robot.dynamics(q, qd)
 
 
-def _check_horizon(horizon: object) -> float:
-    """``horizon`` as a positive finite float, or an InputError naming it."""
+def check_horizon(name: str, horizon: object) -> float:
+    """``horizon`` as a positive finite float, or an InputError naming ``name``."""
     if isinstance(horizon, bool) or not isinstance(horizon, int | float | np.integer | np.floating):
-        raise InputError("horizon", "a control period in seconds, e.g. 0.001", repr(horizon))
+        raise InputError(name, "a control period in seconds, e.g. 0.001", repr(horizon))
     value = float(horizon)
     if not (math.isfinite(value) and value > 0.0):
         raise InputError(
-            "horizon",
+            name,
             "a positive, finite control period in seconds",
             repr(horizon),
             "leave it out (None) for the set without joint position and velocity limits.",

@@ -26,7 +26,6 @@ __all__ = [
     "cap_points",
     "cap_share",
     "cap_union_share",
-    "estimate",
 ]
 
 
@@ -371,8 +370,8 @@ def cap_union_share(
     run in a fixed order, without BLAS.  The estimate is the mean of the replicates'
     estimates, each unbiased, and its standard error the standard error of that mean;
     where every replicate gave the same value, half a point's worth of each pair's slab
-    and of the ball's three-cap points (as :func:`estimate`): an estimate never reads as
-    exact.
+    and of the ball's three-cap points (the binomial error of the pooled points with half
+    a point added): an estimate never reads as exact.
 
     Parameters
     ----------
@@ -502,7 +501,7 @@ def _union_share(
     value = np.clip((total - known) - replicate.mean(axis=-1), 0.0, 1.0)
     error = replicate.std(axis=-1, ddof=1) / np.sqrt(replicates)
     # every replicate the same (nothing sampled varied): half a point of each pair's
-    # slab, as estimate() does, and of the ball where three caps meet
+    # slab, and of the ball where three caps meet
     if np.any(error == 0.0):
         pooled = points * replicates
         slab = np.maximum(0.0, _beyond(low, r) - _beyond(high, r))
@@ -583,25 +582,3 @@ def _triple_term(
         share = share + (holding - 1.0) * (holding - 2.0) / 2.0 * ends[:, 0]
     sums = np.bincount(rays // count, weights=share, minlength=replicates)
     return sums / count, int(np.count_nonzero(share > 0.0))
-
-
-def estimate(counts: NDArray[np.int64], samples: int) -> tuple[float, float]:
-    """The share of points inside and its standard error, from each replicate's count.
-
-    The standard error of the replicate means; where every replicate counted the same
-    (no point, or every point, fell outside), the binomial error of the pooled count with
-    half a point added, ``sqrt(p (1 - p) / N)``, ``p = (k + 1/2) / (N + 1)``: an estimate
-    never reads as exact (standard error 0).
-    """
-    values = as_floats("counts", counts)
-    samples = check_integer("samples", samples, 1, 2**62)
-    if values.ndim != 1 or len(values) < 2:
-        raise InputError("counts", "one count per replicate, at least 2", f"shape {values.shape}")
-    shares = values / samples
-    replicates = len(values)
-    stderr = float(shares.std(ddof=1) / np.sqrt(replicates))
-    if stderr == 0.0:
-        total = samples * replicates
-        p = (float(values.sum()) + 0.5) / (total + 1.0)
-        stderr = float(np.sqrt(p * (1.0 - p) / total))
-    return float(shares.mean()), stderr

@@ -19,7 +19,7 @@ from __future__ import annotations
 import copy
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, cast
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -52,10 +52,6 @@ BUILT_IN_SCORED_KINDS: tuple[str, ...] = tuple(
 _POLYTOPE = "polytope_"
 #: Where :func:`to_long` keeps what :func:`to_wide` needs to give the wide frame back.
 _WIDE = "wide"
-_FIX_KINDS = (
-    "pass kinds=[...] with the candidates' names (the built-in kinds are matched without "
-    "it), or keep the frame's attrs: pe.sweep records its kinds there and Parquet keeps them"
-)
 
 
 def wide_attrs(capacity: str, kinds: Sequence[str], scores: Sequence[str]) -> dict[str, Any]:
@@ -173,10 +169,11 @@ def score_columns(
     >>> found.columns
     {'chiacchio': {'coverage': 'chiacchio_coverage'}, 'my_arm': {'coverage': 'my_arm_coverage'}}
     """
+    import pandas as pd
+
     attrs: Mapping[str, Any] = {}
-    if _is_frame(frame):
-        attrs = cast("pd.DataFrame", frame).attrs
-        names = [str(column) for column in cast("pd.DataFrame", frame).columns]
+    if isinstance(frame, pd.DataFrame):
+        attrs, names = frame.attrs, [str(column) for column in frame.columns]
     elif isinstance(frame, str | bytes) or not isinstance(frame, Iterable):
         raise InputError(
             "frame",
@@ -190,7 +187,11 @@ def score_columns(
         if wrong:
             raise InputError("frame", "column names (str)", f"a column {wrong[0]!r}"[:120])
     extra = [] if kinds is None else _names("kinds", kinds)
-    recorded_capacity = _recorded_capacity(attrs)
+    recorded_capacity = (
+        check_capacity(attrs["capacity"], "frame.attrs['capacity']")
+        if "capacity" in attrs
+        else None
+    )
     if capacity is not None:
         capacity = check_capacity(capacity)
         if recorded_capacity is not None and recorded_capacity != capacity:
@@ -201,7 +202,7 @@ def score_columns(
                 "leave capacity out, or pass the frame of that capacity.",
             )
     capacity = recorded_capacity if capacity is None else capacity
-    recorded = _recorded_kinds(attrs)
+    recorded = _names("frame.attrs['kinds']", attrs["kinds"]) if "kinds" in attrs else None
     if recorded is not None:
         known = [*recorded, *extra]
     else:
@@ -410,13 +411,11 @@ def to_wide(long: pd.DataFrame, *, capacity: str | None = None) -> pd.DataFrame:
             f"keys {sorted(record)}"[:120],
             "pass the frame pe.to_long returned, or delete long.attrs['wide'].",
         )
-    if capacity in long.index.unique("capacity"):
-        part = long.xs(capacity, level="capacity")
-    else:  # no rows
-        part = long.droplevel("capacity")
+    present = capacity in long.index.unique("capacity")  # (or no rows)
+    part = long.xs(capacity, level="capacity") if present else long.droplevel("capacity")
     part.attrs = {}  # (pandas copies attrs along every step below)
-    if len(held) > 1:  # the other capacities' per-configuration columns are not this one's
-        part = part.dropna(axis=1, how="all") if record is None else part
+    if len(held) > 1 and record is None:  # the other capacities' own columns are not this one's
+        part = part.dropna(axis=1, how="all")
     keys = part.index.droplevel("kind")
     first = ~keys.duplicated()
     order = keys[first]
@@ -507,12 +506,6 @@ def _shown(key: Any) -> str:
     return repr(key.item() if isinstance(key, np.generic) else key)
 
 
-def _is_frame(value: object) -> bool:
-    import pandas as pd
-
-    return isinstance(value, pd.DataFrame)
-
-
 def _names(argument: str, value: object) -> list[str]:
     """A list of distinct non-empty names from a sequence of str (one str: a list of one)."""
     if isinstance(value, str):
@@ -543,18 +536,6 @@ def _score_names(argument: str, value: object) -> list[str]:
     if unknown:
         raise InputError(argument, f"score names among {list(SCORE_NAMES)}", repr(unknown[0]))
     return names
-
-
-def _recorded_capacity(attrs: Mapping[str, Any]) -> str | None:
-    if "capacity" not in attrs:
-        return None
-    return check_capacity(attrs["capacity"], "frame.attrs['capacity']")
-
-
-def _recorded_kinds(attrs: Mapping[str, Any]) -> list[str] | None:
-    if "kinds" not in attrs:
-        return None
-    return _names("frame.attrs['kinds']", attrs["kinds"])
 
 
 def _capacity_of(columns: Mapping[str, Any]) -> str | None:
@@ -626,7 +607,9 @@ def _long_block(
             argument,
             "columns that are a known kind's <kind>_<score> or per configuration",
             f"{shown}{more}: named like a score of an ellipsoid it does not know",
-            _FIX_KINDS + "; or rename a column that is not a score",
+            "pass kinds=[...] with the candidates' names (the built-in kinds are matched "
+            "without it), or keep the frame's attrs: pe.sweep records its kinds there and "
+            "Parquet keeps them; or rename a column that is not a score",
         )
     if not layout.columns:
         raise InputError(
@@ -778,12 +761,11 @@ def _wide_index(record: Mapping[str, Any], configuration: Any, count: int) -> pd
     """The wide frame's index: its configurations (to_row frames) or its RangeIndex."""
     import pandas as pd
 
-    span = record.get("range")
+    name, span = record.get("index_name"), record.get("range")
+    kept = None if span is None else pd.RangeIndex(*span, name=name)  # the frame's own
+    if kept is not None and len(kept) != count:
+        kept = None
     if record.get("configuration") == "index":
-        index = pd.Index(configuration, name=record.get("index_name"))
-        if span is not None and len(range(*span)) == count and index.equals(pd.RangeIndex(*span)):
-            return pd.RangeIndex(*span, name=record.get("index_name"))
-        return index
-    if span is not None and len(range(*span)) == count:
-        return pd.RangeIndex(*span, name=record.get("index_name"))
-    return pd.RangeIndex(count, name=record.get("index_name"))
+        index = pd.Index(configuration, name=name)
+        return kept if kept is not None and index.equals(kept) else index
+    return pd.RangeIndex(count, name=name) if kept is None else kept

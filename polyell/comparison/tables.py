@@ -35,7 +35,6 @@ from polyell.comparison.latex_text import (
 )
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.printable import PrintTable
-from polyell.comparison.write_markdown import markdown_grid
 from polyell.errors import InputError
 from polyell.validation import check_frame, check_instance
 
@@ -58,7 +57,6 @@ __all__ = [
     "format_limits_table",
     "format_scores_table",
     "latex_unit",
-    "render_table",
     "render_tables",
     "score_display",
     "set_label",
@@ -289,61 +287,3 @@ def format_limits_table(
     tables = limits_print_tables(frame, layout)
     caption = _caption(caption, layout, "limits")
     return render_tables(tables, style, layout.digits, caption, label, layout=layout)
-
-
-def render_table(
-    table: pd.DataFrame,
-    style: Literal["markdown", "latex"],
-    caption: str | None = None,
-    label: str | None = None,
-    *,
-    markup: Mapping[str, str] | None = None,
-) -> str:
-    """Render a table of preformatted strings: Markdown, or LaTeX with booktabs rules.
-
-    The index is the first (left-aligned) column, every other column is right-aligned.
-    Every header, row label, cell and the caption are plain text, escaped here (the one
-    place tables are escaped); ``markup`` maps a row label to trusted LaTeX written instead.
-
-    Parameters
-    ----------
-    table : DataFrame
-        Strings (or values shown with ``str``); index: the row labels.
-    style : {"markdown", "latex"}
-    caption : str, optional
-        LaTeX caption (plain text, escaped); Markdown tables have none.
-    label : str, optional
-        LaTeX label key (:func:`check_latex_label`).
-    markup : mapping of str to str, optional
-        LaTeX of some row labels (the fixed score labels), written as is.
-
-    Raises
-    ------
-    InputError
-        For a style other than the two, a caption or label that cannot be written, or text
-        with control characters (:func:`check_text`).
-    """
-    if style not in ("markdown", "latex"):
-        raise InputError("style", "'markdown' or 'latex'", repr(style))
-    header = ["score" if style == "markdown" else "", *map(str, table.columns)]
-    body = [
-        [str(name), *map(str, values)]
-        for name, values in zip(table.index, table.to_numpy().tolist(), strict=True)
-    ]
-    if style == "markdown":
-        return markdown_grid(header, body)
-    markup = markup or {}
-    lines = [r"\begin{table}", r"\centering"]
-    if caption is not None:
-        lines.append(rf"\caption{{{escape_latex(caption, 'caption')}}}")
-    if label is not None:
-        lines.append(rf"\label{{{check_latex_label(label)}}}")
-    lines += [rf"\begin{{tabular}}{{l{'r' * table.shape[1]}}}", r"\toprule"]
-    lines.append(" & ".join(escape_latex(text, "column") for text in header) + r" \\")
-    lines.append(r"\midrule")
-    for name, *cells in body:
-        first = markup.get(name) or escape_latex(name, "row")
-        first = "{}" + first if first.startswith("[") else first  # not \\'s optional argument
-        lines.append(" & ".join([first, *(escape_latex(c, "cell") for c in cells)]) + r" \\")
-    lines += [r"\bottomrule", r"\end{tabular}", r"\end{table}"]
-    return "\n".join(lines) + "\n"

@@ -5,16 +5,12 @@ Each table sits in a box that scrolls sideways rather than overflowing the page.
 
 from __future__ import annotations
 
-import html
 from collections.abc import Sequence
+from html import escape as _text  # quotes too
 
 from polyell.comparison.printable import PrintTable
 
 __all__ = ["html_tables"]
-
-
-def _text(text: str) -> str:
-    return html.escape(text, quote=True)
 
 
 def html_tables(tables: Sequence[PrintTable], digits: int, caption: str | None = None) -> str:

@@ -45,9 +45,6 @@ __all__ = [
     "text_width",
 ]
 
-#: The category of the warning that a table is wider than the page.
-_WIDTH_WARNING: type[Warning] = TableWidthWarning
-
 
 def _stacked(label: Label, align: str) -> str:
     """A header: its LaTeX, or its lines in a nested tabular aligned like its column."""
@@ -239,11 +236,6 @@ def text_width(tex: str) -> float:
         elif token not in "{}":
             width += _EM.get(token, 0.5)
     return width
-
-
-def _label_em(label: Label) -> float:
-    lines = label.lines if len(label.lines) >= 2 else (label.latex,)
-    return max(text_width(line) for line in lines)
 
 
 def table_width(lines: Sequence[str]) -> float:
@@ -522,7 +514,7 @@ def _check_width(
         "or scores (TableLayout(sets=..., scores=...)), shorten labels (labels=...), keep the "
         "default orientation (transpose=False), or set text_width to your page's (None: no "
         "check).",
-        _WIDTH_WARNING,
+        TableWidthWarning,
         stacklevel=_outside_polyell(),
     )
 

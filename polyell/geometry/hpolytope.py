@@ -210,45 +210,37 @@ class HPolytope(ConvexSet):
             if walk is None and svd.rank == m and len(array) <= 52:
                 # a few rows: cddlib's vertices where they are certainly all (a simple
                 # polytope whose every vertex has its m neighbours among them), faster
-                bounded = _bounded_description(array.tolist(), array)
+                bounded = _bounded_description(array)
                 if bounded is not None and bounded[2]:
-                    self._bounded_from(bounded[0], bounded[1][:, 1:], S, U1, unit, origin)
+                    self._vertices_and_facets(bounded[0], bounded[1][:, 1:], S, U1, unit, origin)
                     return
             if walk is None:
                 walk = _walk_polyhedron(V1, array[:, 0])
             if walk is not None:
                 self._from_walk(walk, array, S, U1, unit, origin, lines)
                 return
-        listed = array.tolist()
         # Where a decision of the walk is too close to call, or the set has no interior
         # point: cddlib, in floating point.  Where the set is full-dimensional with the
         # origin strictly inside, its answer is checked (no vertex missed, not empty) and
         # replaced by an enumeration of every r rows where it fails (_complete).
-        solid = svd.rank == m and float(shifted.min()) > 0
-        bounded = _bounded_description(listed, array) if svd.rank == m else None
-        if bounded is not None:  # every row of points a vertex [1 | y]; no rays, no lines
-            rows, points, closed = bounded
-            if not closed:  # not simple (or a vertex missed): the hull decides
-                self._volume_y = _hull_if_complete(points[:, 1:], V1, array[:, 0])
-            if closed or self._volume_y is not None or not solid:
-                self._bounded_from(rows, points[:, 1:], S, U1, unit, origin)
-                return
-        description = _double_description(listed, array)
-        if solid:
+        description = _double_description(array)
+        if svd.rank == m and float(shifted.min()) > 0:  # solid: the walk's decision was close
             complete, self._volume_y = _checked(description, V1, array[:, 0])
             if not complete:
                 rows, points, self._volume_y = _complete(array[:, 0], V1)
-                self._bounded_from(rows, points, S, U1, unit, origin)
+                self._vertices_and_facets(rows, points, S, U1, unit, origin)
                 return
         if description is None:
             self._empty = True
             return
         rows, linear, points, paired_rows = description
         is_vertex = _is_point(points)
-        self._whitened = (points[is_vertex, 1:] / points[is_vertex, :1], unit / S)
-        self._vertices = origin + unit * (self._whitened[0] / S) @ U1.T
-        if m == 2 and len(self._vertices) > 2:  # counter-clockwise, as a zonotope's
-            self._vertices = order_polygon(self._vertices)
+        # Facets: the inequality rows of the canonical form, a_y . y <= b_y, that is
+        # (U1 S a_y) . (x - origin) <= unit b_y; equalities: its linearity.
+        inequality = np.ones(len(rows), dtype=bool)
+        inequality[linear] = False
+        y = points[is_vertex, 1:] / points[is_vertex, :1]
+        self._vertices_and_facets(rows[inequality], y, S, U1, unit, origin)
         directions = (points[~is_vertex, 1:] / S) @ U1.T
         norms = np.linalg.norm(directions, axis=1)
         directions = directions / np.where(norms > 0, norms, 1.0)[:, None]
@@ -256,18 +248,13 @@ class HPolytope(ConvexSet):
         paired[paired_rows] = True
         pairs = np.vstack([directions[paired[~is_vertex]], lines.T])
         self._rays = np.vstack([directions, pairs, -pairs])
-        # Facets: the inequality rows of the canonical form, a_y . y <= b_y, that is
-        # (U1 S a_y) . (x - origin) <= unit b_y; equalities: its linearity.
-        inequality = np.ones(len(rows), dtype=bool)
-        inequality[linear] = False
-        self._facets_from_rows(rows[inequality], S, U1, unit, origin)
         if linear:
             normals = rank_revealing_svd(U1 @ (-rows[linear, 1:] * S).T).U1  # (m, e)
             e = normals.shape[1]  # the complement's rank is m - e exactly (not its noise's)
             complement = rank_revealing_svd(np.eye(m) - normals @ normals.T, rank=m - e).U1
             self.affine_set = AffineSubspace(origin, complement, normals)
 
-    def _bounded_from(
+    def _vertices_and_facets(
         self,
         rows: NDArray[np.float64],
         y: NDArray[np.float64],
@@ -276,10 +263,10 @@ class HPolytope(ConvexSet):
         unit: float,
         origin: NDArray[np.float64],
     ) -> None:
-        """A polytope's vertices from whitened points ``y`` and its facets from ``rows``."""
+        """The vertices from whitened points ``y`` and the facets from ``rows``."""
         self._whitened = (y, unit / S)
         self._vertices = origin + unit * (y / S) @ U1.T
-        if self.ambient_dim == 2 and len(self._vertices) > 2:  # counter-clockwise
+        if self.ambient_dim == 2 and len(self._vertices) > 2:  # counter-clockwise, as a zonotope's
             self._vertices = order_polygon(self._vertices)
         self._facets_from_rows(rows, S, U1, unit, origin)
 
@@ -646,9 +633,7 @@ def _analytic_center(
     return x if decrement < 0.25 else start
 
 
-def _double_description(
-    listed: list[list[float]], array: NDArray[np.float64]
-) -> Description | None:
+def _double_description(array: NDArray[np.float64]) -> Description | None:
     """The double description of ``{y : normals y <= offsets}``; None if it is empty.
 
     Irredundant rows ``[b | -a]``, the indices of its equalities, generators ``[1 | v]``
@@ -656,7 +641,7 @@ def _double_description(
     cddlib in floating point; where it reports a numerical inconsistency (a thin set in
     6-D), Qhull's half-space intersection about the interior point y = 0 (offsets > 0).
     """
-    matrix = cdd.matrix_from_array(listed, rep_type=cdd.RepType.INEQUALITY)
+    matrix = cdd.matrix_from_array(array.tolist(), rep_type=cdd.RepType.INEQUALITY)
     offsets, normals = array[:, 0], -array[:, 1:]
     r = normals.shape[1]
     try:
@@ -685,7 +670,7 @@ _OFF_PLANE = 1e-6
 
 
 def _bounded_description(
-    listed: list[list[float]], array: NDArray[np.float64]
+    array: NDArray[np.float64],
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], bool] | None:
     """The facet rows and the points ``[1 | y]`` of a clearly full-dimensional polytope.
 
@@ -707,7 +692,7 @@ def _bounded_description(
     try:
         generators = cdd.copy_generators(
             cdd.polyhedron_from_matrix(
-                cdd.matrix_from_array(listed, rep_type=cdd.RepType.INEQUALITY)
+                cdd.matrix_from_array(array.tolist(), rep_type=cdd.RepType.INEQUALITY)
             )
         )
     except RuntimeError:
@@ -895,12 +880,11 @@ def _hull_if_complete(
     """The volume of the hull of ``points`` (V, r) if it is all of ``{y : normals y <= offsets}``.
 
     The points must satisfy every row (to :data:`CERTIFIED`), so that their hull lies in
-    the set; the set lies in the hull
-    when every facet of the hull is (to :data:`CERTIFIED`) the plane of a row, since the
-    set is on the inner side of every row.  A vertex a floating-point enumeration missed
-    leaves a facet of the hull across the set, on no row's plane: None then (and when the
-    points do not span r dimensions).  Qhull computes the hull (joggled where its exact
-    merging fails, a "dupridge" in 6-D).
+    the set; the set lies in the hull when every facet of the hull is (to
+    :data:`CERTIFIED`) the plane of a row, since the set is on the inner side of every
+    row.  A vertex a floating-point enumeration missed leaves a facet of the hull across
+    the set, on no row's plane: None then (and when the points do not span r dimensions).
+    Qhull computes the hull (joggled where its exact merging fails, a "dupridge" in 6-D).
     """
     from scipy.spatial import ConvexHull, QhullError
 
@@ -910,15 +894,7 @@ def _hull_if_complete(
     unit, reach = normals[kept] / norms[kept, None], offsets[kept] / norms[kept]
     if len(points) and float((points @ unit.T - reach).max()) > CERTIFIED:
         return None  # a point outside a row: not a vertex of this set
-    if r == 1:
-        ends = [float(points.max()), -float(points.min())]
-        sides = [unit[:, 0] > 0, unit[:, 0] < 0]
-        ok = all(
-            np.any(side & (np.abs(reach - end) <= CERTIFIED))
-            for end, side in zip(ends, sides, strict=True)
-        )
-        return float(points.max() - points.min()) if ok and len(points) >= 2 else None
-    if len(points) < r + 1:
+    if r < 2 or len(points) < r + 1:  # (an interval is always walked: never checked here)
         return None
     try:
         hull = ConvexHull(points)
@@ -1022,7 +998,7 @@ def _complete(
 # extreme rays of its tangent cone {d : N_T d <= 0} (T: the rows through it): the columns of
 # -N_T^-1 at a simple vertex (r rows), and at a degenerate one every r - 1 of its rows tried,
 # or cddlib's rays checked (each facet of their cone on the plane of a row through the
-# vertex), or the same walk one dimension down, on a slice of the cone.
+# vertex); beyond that, the decision is cddlib's for the whole set.
 
 #: A row passes through a point y when its slack is at most this times (the largest offset
 #: + |y|): relative to the set's size, so that scaling A or b changes nothing but the scale.
@@ -1033,7 +1009,7 @@ WALK_ON_PLANE = 1e-9
 #: ``RANK_RTOL`` of the largest.
 FAR_RATIO = 1.0 / RANK_RTOL
 #: Subsets of r - 1 rows (or rays) that the exact enumeration (or the check) of one
-#: tangent cone may try; beyond, cddlib or the walk on a slice of the cone.
+#: tangent cone may try; beyond, cddlib decides for the whole set.
 MAX_CONE_SUBSETS = 20_000
 #: Up to this many subsets, every r - 1 rows are tried first (cheaper than cddlib then).
 FEW_CONE_SUBSETS = 64
@@ -1122,7 +1098,7 @@ def _walk(normals: NDArray[np.float64], offsets: NDArray[np.float64]) -> _Walk:
     while len(frontier):  # breadth first, one frontier of vertices at a time
         here = np.array([points[i] for i in frontier])
         through = np.array([tights[i] for i in frontier])
-        owners, directions = _edges_at(n, here, through)
+        owners, directions = _edges_at(n, through)
         origin = here[owners]
         rate = directions @ n.T
         blocking = (rate > 0) & ~through[owners]  # the rows through a vertex stay behind
@@ -1248,9 +1224,9 @@ def _polish(
 
 
 def _edges_at(
-    n: NDArray[np.float64], points: NDArray[np.float64], tight: NDArray[np.bool_]
+    n: NDArray[np.float64], tight: NDArray[np.bool_]
 ) -> tuple[NDArray[np.int_], NDArray[np.float64]]:
-    """The edge directions (unit) at vertices (V, r): owners (E,) and directions (E, r)."""
+    """The edge directions (unit) at vertices on the rows ``tight`` (V, k): owners, directions."""
     r = n.shape[1]
     count = tight.sum(axis=1)
     simple = np.flatnonzero(count == r)
@@ -1264,24 +1240,19 @@ def _edges_at(
         owners.append(np.repeat(simple, r))
         directions.append(D / np.sqrt((D * D).sum(axis=1))[:, None])
     for v in np.flatnonzero(count > r):
-        D = _cone_rays(n[tight[v]], -points[v])
+        D = _cone_rays(n[tight[v]])
         owners.append(np.full(len(D), v))
         directions.append(D)
     return np.concatenate(owners), np.vstack(directions)
 
 
-def _cone_rays(
-    normals: NDArray[np.float64], inside: NDArray[np.float64] | None = None
-) -> NDArray[np.float64]:
+def _cone_rays(normals: NDArray[np.float64]) -> NDArray[np.float64]:
     """The extreme rays (unit) of the pointed cone ``{d : normals d <= 0}``.
 
     Parameters
     ----------
     normals : ndarray, shape (t, r)
         Unit rows of rank r.
-    inside : ndarray, shape (r,), optional
-        A direction strictly inside (``normals @ inside < 0``), for the slice fallback;
-        by default one from a linear program where needed.
 
     Returns
     -------
@@ -1289,8 +1260,8 @@ def _cone_rays(
         Every r - 1 rows tried where they are few (exact: a ray is on r - 1 independent
         rows and inside); else cddlib's rays where they are certainly all of them
         (:func:`_simple_and_closed`, or every facet of their cone on a row's plane,
-        :func:`_cone_is`); else every r - 1 rows up to :data:`MAX_CONE_SUBSETS`; else the
-        vertices of the slice ``{d : c . d = -1}`` by :func:`_walk`.
+        :func:`_cone_is`); else every r - 1 rows up to :data:`MAX_CONE_SUBSETS`; beyond,
+        :class:`_Ambiguous` (the caller's fallback: cddlib, or the hull of a sum's pairs).
     """
     t, r = normals.shape
     subsets = math.comb(t, r - 1)
@@ -1311,7 +1282,7 @@ def _cone_rays(
             return D
     if subsets <= MAX_CONE_SUBSETS:
         return _cone_rays_by_subsets(normals)
-    return _cone_rays_by_slice(normals, inside)
+    raise _Ambiguous  # too many rows through one point to try every r - 1 of them
 
 
 def _simple_and_closed(rays: NDArray[np.float64], normals: NDArray[np.float64]) -> bool:
@@ -1400,42 +1371,6 @@ def _cone_is(rays: NDArray[np.float64], normals: NDArray[np.float64]) -> bool:
         return False
     facets, _ = _supporting(rays, rays)
     return bool(len(facets)) and bool(((facets @ normals.T).max(axis=1) >= 1 - WALK_ON_PLANE).all())
-
-
-def _cone_rays_by_slice(
-    normals: NDArray[np.float64], inside: NDArray[np.float64] | None
-) -> NDArray[np.float64]:
-    """Extreme rays of ``{d : normals d <= 0}`` as the vertices of a slice, by :func:`_walk`.
-
-    The slice ``{d : c . d = -1}`` with ``c`` the sum of the rows (inside the polar cone:
-    ``c . d < 0`` on the cone but at 0) is a polytope of dimension r - 1 with the point
-    along ``inside`` strictly inside (by default ``normals d <= -1`` solved by HiGHS).
-    """
-    r = normals.shape[1]
-    if inside is None:
-        from scipy.optimize import linprog
-
-        found = linprog(
-            np.zeros(r), normals, -np.ones(len(normals)), bounds=[(None, None)] * r, method="highs"
-        )
-        if found.status != 0:
-            raise _Ambiguous  # no interior: the cone is not full-dimensional
-        inside = np.asarray(found.x, dtype=float)
-    c = normals.sum(axis=0)
-    c = c / np.linalg.norm(c)
-    centre = inside / -float(c @ inside)
-    if not float(c @ inside) < 0:
-        raise _Ambiguous
-    basis = np.linalg.svd(c[None, :], full_matrices=True)[2][1:].T  # (r, r - 1)
-    rows, offsets = normals @ basis, -(normals @ centre)
-    if not float(offsets.min()) > 0:
-        raise _Ambiguous
-    keep = np.sqrt((rows * rows).sum(axis=1)) > RANK_RTOL  # rows along c hold no edge
-    slice_ = _walk(rows[keep], offsets[keep])
-    if len(slice_.rays):
-        raise _Ambiguous
-    D = centre[None, :] + slice_.points @ basis.T
-    return D / np.sqrt((D * D).sum(axis=1))[:, None]
 
 
 def _unique_directions(D: NDArray[np.float64]) -> NDArray[np.float64]:

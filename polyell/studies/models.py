@@ -30,6 +30,7 @@ from pydantic_core import PydanticUndefined, core_schema
 
 from polyell import robots
 from polyell.capacities import CAPACITIES
+from polyell.capacities.horizon import check_horizon
 from polyell.comparison.comparison import (
     MAX_SAMPLES,
     MAX_SEED,
@@ -166,28 +167,16 @@ def _title(value: object) -> str:
     return check_title(title, "")
 
 
-def _file_name(value: object) -> str:
-    name = _string(value)
-    if not POINT_NAME.fullmatch(name):
-        raise InputError(
-            "",
-            "1-64 letters, digits, '_', '.' or '-', not starting with '.' (it names files)",
-            repr(name),
-            "no '/' or '..': nothing a study says may write outside the output folder.",
-        )
-    return name
+def _name(pattern: re.Pattern[str], expected: str, fix: str) -> Check:
+    """A string that ``pattern`` matches in full (a name that becomes part of file names)."""
 
+    def check(value: object) -> str:
+        name = _string(value)
+        if not pattern.fullmatch(name):
+            raise InputError("", expected, repr(name), fix)
+        return name
 
-def _robot_name(value: object) -> str:
-    name = _string(value)
-    if not ROBOT_NAME.fullmatch(name):
-        raise InputError(
-            "",
-            "1-32 letters, digits, '_' or '-' (it prefixes file names: sets_<robot>.<point>)",
-            repr(name),
-            'e.g. name = "panda".',
-        )
-    return name
+    return Check(check, {"type": "string", "pattern": f"^{pattern.pattern}$"}, "string")
 
 
 def _library(value: object) -> str:
@@ -319,7 +308,9 @@ def _per_robot(value: object) -> tuple[float, ...] | dict[str, tuple[float, ...]
     return _numbers(value)
 
 
-def _choices(valid: tuple[str, ...]) -> Callable[[object], tuple[str, ...]]:
+def Choices(valid: tuple[str, ...]) -> Check:
+    """A list of strings among ``valid``."""
+
     def check(value: object) -> tuple[str, ...]:
         if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
             raise InputError("", "a list of strings", _describe(value), f"among {list(valid)}.")
@@ -331,7 +322,7 @@ def _choices(valid: tuple[str, ...]) -> Callable[[object], tuple[str, ...]]:
             )
         return tuple(value)
 
-    return check
+    return Check(check, {"type": "array", "items": {"enum": list(valid)}}, "list of strings")
 
 
 def Integer(low: int, high: int) -> Check:
@@ -343,6 +334,11 @@ def Integer(low: int, high: int) -> Check:
     )
 
 
+#: A seed of ``numpy.random.default_rng``; how many configurations a study may hold.
+Seed = Annotated[int, Integer(0, MAX_SEED)]
+Count = Annotated[int, Integer(1, MAX_STUDY_CONFIGURATIONS)]
+
+
 def _grid_value(value: object) -> float | RangeTable:
     if isinstance(value, dict):
         return validate(RangeTable, value)
@@ -350,6 +346,14 @@ def _grid_value(value: object) -> float | RangeTable:
 
 
 Number = Annotated[float, Check(lambda value: evaluate("", value), _NUMBER_SCHEMA, "number")]
+Horizon = Annotated[
+    float,
+    Check(
+        lambda value: check_horizon("", value),
+        {"type": "number", "exclusiveMinimum": 0},
+        "positive number of seconds",
+    ),
+]
 Numbers = Annotated[tuple[float, ...], Check(_numbers, _NUMBERS_SCHEMA, _NUMBERS)]
 String = Annotated[str, Check(_string, {"type": "string"}, "string")]
 Strings = Annotated[
@@ -358,10 +362,20 @@ Strings = Annotated[
 ]
 Title = Annotated[str, Check(_title, {"type": "string"}, "string")]
 FileName = Annotated[
-    str, Check(_file_name, {"type": "string", "pattern": f"^{POINT_NAME.pattern}$"}, "string")
+    str,
+    _name(
+        POINT_NAME,
+        "1-64 letters, digits, '_', '.' or '-', not starting with '.' (it names files)",
+        "no '/' or '..': nothing a study says may write outside the output folder.",
+    ),
 ]
 RobotName = Annotated[
-    str, Check(_robot_name, {"type": "string", "pattern": f"^{ROBOT_NAME.pattern}$"}, "string")
+    str,
+    _name(
+        ROBOT_NAME,
+        "1-32 letters, digits, '_' or '-' (it prefixes file names: sets_<robot>.<point>)",
+        'e.g. name = "panda".',
+    ),
 ]
 Library = Annotated[str, Check(_library, {"type": "string", "enum": robots.names()}, "string")]
 Task = Annotated[
@@ -497,12 +511,6 @@ TableLabels = Annotated[
 ]
 
 
-def Choices(valid: tuple[str, ...]) -> Check:
-    """A list of strings among ``valid``."""
-    schema = {"type": "array", "items": {"enum": list(valid)}}
-    return Check(_choices(valid), schema, "list of strings")
-
-
 _GRID_SCHEMA: dict[str, Any] = {
     "type": "object",
     "patternProperties": {
@@ -560,8 +568,14 @@ def key(
     default_text: str | None = None,
     factory: Callable[[], Any] | None = None,
 ) -> Any:
-    """A key of a table: its meaning, a TOML example of its value and how its default reads."""
+    """A key of a table: its meaning, a TOML example of its value and how its default reads.
+
+    A key without a default value of its own (None, or a table made by ``factory``) reads
+    ``—`` unless ``default_text`` says more.
+    """
     extra: dict[str, Any] = {"x-example": example}
+    if default_text is None and (default is None or factory is not None):
+        default_text = "—"
     if default_text is not None:
         extra["x-default"] = default_text
     if factory is not None:
@@ -695,39 +709,29 @@ name = "p"
 q = [0.1, 0.2, 0.3]"""
 
     tau_stall: Numbers | None = key(
-        None,
-        what="Linear derating: the stall torque of each joint [N m].",
-        example="[150, 40, 6]",
-        default_text="—",
+        None, what="Linear derating: the stall torque of each joint [N m].", example="[150, 40, 6]"
     )
     qd_no_load: Numbers | None = key(
-        None,
-        what="Linear derating: the no-load speed of each joint [rad/s].",
-        example="[4, 5, 8]",
-        default_text="—",
+        None, what="Linear derating: the no-load speed of each joint [rad/s].", example="[4, 5, 8]"
     )
     speeds: NumbersOrRows | None = key(
         None,
         what="Tabulated curves: speeds from 0, increasing [rad/s]; one list for all "
         "joints, or one per joint.",
         example="[0, 2, 4]",
-        default_text="—",
     )
     torques: Rows | None = key(
         None,
         what="Tabulated curves: one row per joint, the torque in the direction of motion "
         "at each speed [N m], not increasing.",
         example="[[150, 120, 0], [40, 30, 0], [6, 5, 0]]",
-        default_text="—",
     )
 
     @model_validator(mode="after")
     def _one_form(self) -> TorqueSpeedTable:
         linear = [k for k in ("tau_stall", "qd_no_load") if getattr(self, k) is not None]
         table = [k for k in ("speeds", "torques") if getattr(self, k) is not None]
-        if not (sorted(linear) == ["qd_no_load", "tau_stall"] and not table) and not (
-            sorted(table) == ["speeds", "torques"] and not linear
-        ):
+        if {len(linear), len(table)} != {0, 2}:  # both keys of one form, none of the other
             raise InputError(
                 "",
                 "either tau_stall and qd_no_load (linear derating), or speeds and torques "
@@ -774,19 +778,11 @@ q = [0, -0.5, 0, -2, 0, 1.6, 0.8]"""
         None,
         what="Names the robot in outputs (`panda/home`); required in `[[robots]]`.",
         example='"panda"',
-        default_text="—",
     )
-    library: Library | None = key(
-        None, what="A robot of `pe.robots.names()`.", example='"panda"', default_text="—"
-    )
-    planar: PlanarTable | None = key(
-        None, what="A planar arm: see `[robot.planar]`.", default_text="—"
-    )
+    library: Library | None = key(None, what="A robot of `pe.robots.names()`.", example='"panda"')
+    planar: PlanarTable | None = key(None, what="A planar arm: see `[robot.planar]`.")
     urdf: String | None = key(
-        None,
-        what="A URDF file, relative to the study file.",
-        example='"arm.urdf"',
-        default_text="—",
+        None, what="A URDF file, relative to the study file.", example='"arm.urdf"'
     )
     tip: String | None = key(
         None, what="The task frame of a URDF.", example='"tool0"', default_text="required with urdf"
@@ -807,16 +803,10 @@ q = [0, -0.5, 0, -2, 0, 1.6, 0.8]"""
         default_text="[0, 0, -9.81]",
     )
     weights: Numbers | None = key(
-        None,
-        what="Per task row, to mix linear and angular rows.",
-        example="[1, 1, 0.2]",
-        default_text="—",
+        None, what="Per task row, to mix linear and angular rows.", example="[1, 1, 0.2]"
     )
     payload: PayloadTable | None = key(
-        None,
-        what="A load at the tip: see `[robot.payload]`.",
-        example="{ mass = 1.0 }",
-        default_text="—",
+        None, what="A load at the tip: see `[robot.payload]`.", example="{ mass = 1.0 }"
     )
     tau_max: Numbers | None = key(
         None,
@@ -845,7 +835,6 @@ q = [0, -0.5, 0, -2, 0, 1.6, 0.8]"""
         None,
         what="Torque-speed curves of the joints: see `[robot.torque_speed]`.",
         example="{ tau_stall = [150, 40, 6], qd_no_load = [4, 5, 8] }",
-        default_text="—",
     )
 
     @model_validator(mode="after")
@@ -915,7 +904,6 @@ inverse_at = "lo"'''
         None,
         what="One unit direction: the same as `directions = [direction]` (kept for older files).",
         example='["-1/2", "sqrt(3)/2"]',
-        default_text="—",
     )
     inverse_at: Literal["lo", "hi"] = key(
         "hi", what='End of the interval mapped back: "lo" or "hi".', example='"lo"'
@@ -944,9 +932,7 @@ class RangeTable(Table):
 
     start: Number = key(what="First value [rad].", example='"-pi"')
     stop: Number = key(what="Last value [rad].", example='"pi"')
-    num: Annotated[int, Integer(1, MAX_STUDY_CONFIGURATIONS)] = key(
-        what="How many values.", example="61"
-    )
+    num: Count = key(what="How many values.", example="61")
 
 
 class RandomTable(Table):
@@ -964,12 +950,8 @@ seed = 1
 low = [-1, -1, -1]
 high = [1, 1, 1]"""
 
-    count: Annotated[int, Integer(1, MAX_STUDY_CONFIGURATIONS)] = key(
-        what="How many.", example="300"
-    )
-    seed: Annotated[int, Integer(0, MAX_SEED)] = key(
-        0, what="Seed of the generator.", example="2000"
-    )
+    count: Count = key(what="How many.", example="300")
+    seed: Seed = key(0, what="Seed of the generator.", example="2000")
     low: Numbers | None = key(
         None,
         what="Lower joint bounds [rad].",
@@ -1044,7 +1026,7 @@ outer = false"""
     count: Annotated[int, Integer(2, MAX_COUNT)] = key(
         200, what=f"Postures sampled, 2 to {MAX_COUNT:,}.", example="200"
     )
-    seed: Annotated[int, Integer(0, MAX_SEED)] = key(
+    seed: Seed = key(
         0,
         what="Seed of the sampling (a manifold of dimension > 1) and of the targets.",
         example="0",
@@ -1099,11 +1081,28 @@ capacities = ["acceleration", "force"]"""
         "2 to 4194304 (2^22), in every kind of study.",
         example="4096",
     )
-    seed: Annotated[int, Integer(0, MAX_SEED)] = key(
-        0, what="Seed of those estimates, 0 or more.", example="3"
-    )
+    seed: Seed = key(0, what="Seed of those estimates, 0 or more.", example="3")
     chunk: Annotated[int, Integer(1, 10_000_000)] = key(
         20_000, what="Configurations per chunk of a sweep.", example="5000"
+    )
+    horizon: Horizon | None = key(
+        None,
+        what="A control period [s]: the acceleration set becomes the accelerations that also "
+        "keep every joint within its position limits over the period and within its "
+        "velocity limits at its end (`pe.analyze(..., horizon=)`), from the state: a point's "
+        "`q` and `qd`, a trajectory's samples (their `qd` then also gives the Coriolis "
+        "terms), every other configuration at rest. The limits are the robot's own (a URDF "
+        "robot's; a planar arm has none). Only the acceleration capacity takes it; the "
+        "ellipsoids ignore these limits, which is what the comparison then measures.",
+        example="0.001",
+        default_text="none: the sets without joint position and velocity limits",
+    )
+    braking: Number | None = key(
+        None,
+        what="With `horizon`: the deceleration [rad/s^2] every joint can still brake with "
+        "after the period (viability: it can stop before its position limit).",
+        example="50",
+        default_text="none",
     )
     capacities: Annotated[tuple[str, ...], Choices(CAPACITIES)] = key(
         ("acceleration",),
@@ -1142,16 +1141,12 @@ center = [0, -9.81]"""
 
     name: String = key(what="Lower-case identifier; prefixes its columns.", example='"heavy_wrist"')
     weighting: Matrix | None = key(
-        None,
-        what="W of normalized torques: tau_n^T W tau_n <= 1 (n x n).",
-        example="[1, 1, 4]",
-        default_text="—",
+        None, what="W of normalized torques: tau_n^T W tau_n <= 1 (n x n).", example="[1, 1, 4]"
     )
     core: Matrix | None = key(
         None,
         what="N of {(x - c)^T N (x - c) <= 1} [(m/s^2)^-2] (m x m).",
         example="[[1e-3, 0], [0, 2e-3]]",
-        default_text="—",
     )
     center: Numbers | None = key(
         None,
@@ -1339,38 +1334,25 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
         None, what="The robot: see `[robot]`.", default_text="one of robot and robots"
     )
     robots: list[RobotTable] | None = key(
-        None,
-        what="Several robots compared side by side: `[robot]` tables with a `name`.",
-        default_text="—",
+        None, what="Several robots compared side by side: `[robot]` tables with a `name`."
     )
-    points: list[PointTable] | None = key(
-        None, what="Named configurations: `[[points]]`.", default_text="—"
-    )
+    points: list[PointTable] | None = key(None, what="Named configurations: `[[points]]`.")
     grid: Grid | None = key(
         None,
         what="A grid over the joints: one key per joint, `q1` to `qn`: a fixed value, or a "
         "range `{ start, stop, num }` (all three keys; `num` evenly spaced values, ends "
         "included); several robots need the same joint count.",
         example='{ q1 = "pi/2", q2 = { start = "-pi", stop = "pi", num = 61 } }',
-        default_text="—",
     )
-    random: RandomTable | None = key(
-        None, what="Random configurations: `[random]`.", default_text="—"
-    )
-    trajectory: TrajectoryTable | None = key(
-        None, what="A path from a file: `[trajectory]`.", default_text="—"
-    )
+    random: RandomTable | None = key(None, what="Random configurations: `[random]`.")
+    trajectory: TrajectoryTable | None = key(None, what="A path from a file: `[trajectory]`.")
     posture: PostureTable | None = key(
-        None, what="The choice among a redundant arm's postures: `[posture]`.", default_text="—"
+        None, what="The choice among a redundant arm's postures: `[posture]`."
     )
-    compare: CompareTable = key(
-        factory=CompareTable, what="Comparison settings: `[compare]`.", default_text="—"
-    )
-    candidates: list[CandidateTable] = key(
-        factory=list, what="Your ellipsoids: `[[candidates]]`.", default_text="—"
-    )
+    compare: CompareTable = key(factory=CompareTable, what="Comparison settings: `[compare]`.")
+    candidates: list[CandidateTable] = key(factory=list, what="Your ellipsoids: `[[candidates]]`.")
     output: OutputTable = key(
-        factory=OutputTable, what="Formats, figures, table layout: `[output]`.", default_text="—"
+        factory=OutputTable, what="Formats, figures, table layout: `[output]`."
     )
 
     @property
@@ -1503,24 +1485,36 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
                         repr(name),
                         did_you_mean([name], valid) or f"valid: {valid}.",
                     )
-        for name in output.sets or ():
-            if name not in (*LAYOUT_SETS, *candidates):
-                valid = [*LAYOUT_SETS, *candidates]
+        for field in ("sets", "scores"):
+            values = getattr(output, field)
+            if values is not None and len(set(values)) != len(values):
+                raise InputError(f"output.{field}", "distinct names", f"{list(values)}")
+            if values is not None and not values:
+                raise InputError(
+                    f"output.{field}", "a non-empty list", "[]", "leave the key out for all."
+                )
+        # each set is some compared capacity's or a candidate, and each capacity's tables
+        # show one of its own
+        known = ["polytope", *candidates, *(kind for kind in compared if kind not in candidates)]
+        unknown = [name for name in output.sets or () if name not in known]
+        if unknown:
+            raise InputError(
+                "output.sets",
+                f"sets among {known} (the compared capacities' ellipsoids and the candidates)",
+                repr(unknown),
+                did_you_mean(unknown, known)
+                or "check the spelling, or add the capacity to [compare] capacities.",
+            )
+        for capacity in self.compare.capacities if output.sets else ():
+            own = [*compared_kinds(capacity), *candidates]
+            if not any(name in own for name in output.sets or ()):
                 raise InputError(
                     "output.sets",
-                    f"set names among {valid}",
-                    repr(name),
-                    did_you_mean([name], valid) or "a candidate is named in [[candidates]].",
+                    f"at least one set of each compared capacity (the {capacity} capacity's "
+                    f"are {list(compared_kinds(capacity))})",
+                    repr(list(output.sets or ())),
+                    f"add one of them, or leave {capacity!r} out of [compare] capacities.",
                 )
-        if output.sets is not None or output.scores is not None:
-            for field in ("sets", "scores"):
-                values = getattr(output, field)
-                if values is not None and len(set(values)) != len(values):
-                    raise InputError(f"output.{field}", "distinct names", f"{list(values)}")
-                if values is not None and not values:
-                    raise InputError(
-                        f"output.{field}", "a non-empty list", "[]", "leave the key out for all."
-                    )
 
 
 #: The optima a study computes on request, by their [compare] key.

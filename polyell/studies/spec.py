@@ -408,8 +408,6 @@ class StudySpec:
         A grid's (the last joint fastest), the robot's random ones, or a trajectory's, as
         one array (:meth:`configuration_set` makes them on demand instead).
         """
-        if self.trajectory is not None:
-            return self.trajectory.q
         return np.asarray(self.configuration_set(robot))
 
     def configuration_set(self, robot: int = 0) -> ConfigurationSet | NDArray[np.float64]:
@@ -594,20 +592,17 @@ def _grid(table: dict[str, Any], robots_: tuple[Robot, ...]) -> tuple[GridAxis, 
 
     n = _same_joint_count(robots_, "grid", "a grid's q1..qn are shared")
     names = tuple(f"q{i + 1}" for i in range(n))
-    unknown = sorted(set(table) - set(names))
-    if unknown:
+    if set(table) != set(names):
+        unknown = sorted(set(table) - set(names))
+        missing = [name for name in names if name not in table]
         raise InputError(
             "grid",
-            f"keys among {list(names)}",
-            f"unknown key(s) {unknown}",
+            f"keys among {list(names)} (a value or range for every joint)",
+            f"unknown key(s) {unknown}" if unknown else f"no {missing[0]}",
             did_you_mean(unknown, names) or f"the robot has {n} joints.",
         )
     axes = []
     for name in names:
-        if name not in table:
-            raise InputError(
-                "grid", f"a value or range for every joint {list(names)}", f"no {name}"
-            )
         value = table[name]
         if isinstance(value, float):
             values = np.array([value])
@@ -767,14 +762,12 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
     study = parse_study(table, Path(path).name)
     folder = Path(path).parent
     several = study.robots is not None
-    robots_: tuple[Robot, ...]
-    if study.robot is not None:
-        robots_ = (_build_robot(study.robot, "robot", folder),)
+    if study.robots is None:
+        assert study.robot is not None
+        listed = {"robot": study.robot}
     else:
-        assert study.robots is not None
-        robots_ = tuple(
-            _build_robot(table, f"robots[{i}]", folder) for i, table in enumerate(study.robots)
-        )
+        listed = {f"robots[{i}]": table for i, table in enumerate(study.robots)}
+    robots_ = tuple(_build_robot(table, where, folder) for where, table in listed.items())
     rows = {robot.name: _rows(robot.model) for robot in robots_}
     units = {name: task_unit(task) for name, task in rows.items()}
     if len(set(units.values())) > 1:
@@ -820,30 +813,6 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
             f"candidates beside compare.capacities = {list(compare.capacities)}",
             "compare the candidates in a study of the capacity they describe.",
         )
-    if output.sets is not None:  # each set is some compared capacity's, or a candidate
-        from polyell.comparison.comparison import compared_kinds
-
-        known = ["polytope", *(c.name for c in candidates)]
-        for capacity in compare.capacities:
-            known += [kind for kind in compared_kinds(capacity) if kind not in known]
-        unknown = [name for name in output.sets if name not in known]
-        if unknown:
-            raise InputError(
-                "output.sets",
-                f"sets among {known} (the compared capacities' ellipsoids and the candidates)",
-                repr(unknown),
-                "check the spelling, or add the capacity to [compare] capacities.",
-            )
-        for capacity in compare.capacities:  # each capacity's tables need one of its sets
-            own = [*compared_kinds(capacity), *(c.name for c in candidates)]
-            if not any(name in own for name in output.sets):
-                raise InputError(
-                    "output.sets",
-                    f"at least one set of each compared capacity (the {capacity} capacity's "
-                    f"are {list(compared_kinds(capacity))})",
-                    repr(list(output.sets)),
-                    f"add one of them, or leave {capacity!r} out of [compare] capacities.",
-                )
     if any("qd_max" in capacity_class(c).limit_keywords for c in compare.capacities):
         # every robot needs its joint velocity limits
         for number, robot in enumerate(robots_):

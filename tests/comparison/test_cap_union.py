@@ -18,9 +18,36 @@ import numpy as np
 import pytest
 
 import polyell as pe
-from polyell.comparison.caps import cap_share, cap_union_share, estimate
+from polyell.comparison.caps import cap_share, cap_union_share
 from polyell.comparison.metrics import overlap
 from reference import qmc_count_inside, slacks
+
+
+def estimate(counts: np.ndarray, samples: int) -> tuple[float, float]:
+    """The uniform estimate's share of points inside and its standard error, from each
+    replicate's count (the estimator cap_union_share replaced, kept as a reference).
+
+    The standard error of the replicate means; where every replicate counted the same
+    (no point, or every point, fell outside), the binomial error of the pooled count with
+    half a point added, ``sqrt(p (1 - p) / N)``, ``p = (k + 1/2) / (N + 1)``.
+    """
+    values = np.asarray(counts, dtype=float)
+    shares = values / samples
+    replicates = len(values)
+    stderr = float(shares.std(ddof=1) / np.sqrt(replicates))
+    if stderr == 0.0:
+        total = samples * replicates
+        p = (float(values.sum()) + 0.5) / (total + 1.0)
+        stderr = float(np.sqrt(p * (1.0 - p) / total))
+    return float(shares.mean()), stderr
+
+
+def test_the_reference_estimate_is_never_reported_as_exact():
+    """Replicates that all count the same (no point outside) still give a standard error."""
+    share, stderr = estimate(np.full(8, 2**13), 2**13)
+    assert share == 1.0 and 0.0 < stderr < 1e-4
+    share, stderr = estimate(np.zeros(8, dtype=np.int64), 2**13)
+    assert share == 0.0 and 0.0 < stderr < 1e-4
 
 
 def old_stderr(W: np.ndarray, t: np.ndarray) -> float:

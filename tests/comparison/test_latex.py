@@ -28,8 +28,8 @@ from polyell.comparison.tables import (
     escape_latex,
     escape_markdown,
     format_scores_table,
-    render_table,
 )
+from polyell.comparison.write_markdown import markdown_grid
 from polyell.errors import InputError
 from reference import PAPER_Q_REDUNDANT, PAPER_Q_SINGULAR, paper_analysis
 
@@ -106,7 +106,8 @@ def test_escape_latex_round_trips_or_refuses(text):
 @given(st.text(alphabet=st.characters(blacklist_categories=("Cc", "Cs")), max_size=30))
 def test_markdown_rows_keep_their_columns(text):
     frame = pd.DataFrame([[text, "1"], ["2", text]], index=[text, "b"], columns=[text, "c"])
-    table = render_table(frame, "markdown")
+    body = [[name, *row] for name, row in zip(frame.index, frame.to_numpy().tolist(), strict=True)]
+    table = markdown_grid(["score", *frame.columns], body)
     lines = table.splitlines()
     assert len(lines) == 2 + len(frame)  # header, rule, one line per row
     for line in lines:  # 3 columns: 4 unescaped pipes on every line

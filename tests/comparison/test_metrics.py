@@ -163,13 +163,6 @@ def test_cap_share_against_sampling(r):
 
 
 def test_an_estimate_is_never_reported_as_exact():
-    """Replicates that all count the same (no point outside) still give a standard error."""
-    from polyell.comparison.caps import estimate
-
-    share, stderr = estimate(np.full(8, 2**13), 2**13)
-    assert share == 1.0 and 0.0 < stderr < 1e-4
-    share, stderr = estimate(np.zeros(8, dtype=np.int64), 2**13)
-    assert share == 0.0 and 0.0 < stderr < 1e-4
     # A thin set and a disc that reaches past it.  Uniform points of the disc could not
     # tell its coverage (1e-5 of them land in the set); the share outside is the union of
     # the disc's caps, whose overlaps are known exactly here (the caps beyond the long
@@ -187,5 +180,5 @@ def test_an_estimate_is_never_reported_as_exact():
     # where overlaps are sampled, a standard error (cap_union_share falls back on half a
     # point when every replicate agrees)
     W, t = np.eye(3), np.full(3, 0.2)
-    share, stderr = cap_union_share(W, t)
+    _, stderr = cap_union_share(W, t)
     assert stderr > 0.0
