@@ -17,13 +17,14 @@ import sys
 import warnings
 from collections.abc import Iterator, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import numpy as np
 from numpy.typing import NDArray
 
 from polyell import __version__, robots
-from polyell.capacities import Analysis, analyze, capacity_class, check_capacity
+from polyell.capacities import Analysis, analyze, capacity_class, check_capacity, takes_horizon
+from polyell.capacities.horizon import check_horizon, robot_horizon
 from polyell.comparison import compare
 from polyell.comparison.directions import named_direction
 from polyell.errors import InputError, PolyellError, ProjectedInputWarning
@@ -137,6 +138,21 @@ def _parser() -> argparse.ArgumentParser:
         default=None,
         help="URDF robots in motion: joint velocities [rad/s, or deg/s with --deg]; the "
         "torque limits are taken at them (the robot's torque-speed curves)",
+    )
+    run.add_argument(
+        "--horizon",
+        type=float,
+        default=None,
+        help="accelerations: a control period [s]; the set then also keeps every joint within "
+        "the robot's position limits over it and its velocity limits at its end, from the "
+        "state (--q, --qd)",
+    )
+    run.add_argument(
+        "--braking",
+        type=float,
+        default=None,
+        help="with --horizon: the deceleration [rad/s^2] every joint can still brake with "
+        "after the period (viability)",
     )
     run.add_argument("--tau-max", type=_floats, help="[N m], default: the robot's own")
     run.add_argument("--tau-min", type=_floats, help="[N m], default -tau-max (or the robot's own)")
@@ -337,6 +353,15 @@ def _analyze(args: argparse.Namespace) -> list[str]:
     capacity = check_capacity(args.capacity, "--capacity")
     cls = capacity_class(capacity)
     qd, moving = _velocities(args, robot, cls)
+    if (args.horizon is not None or args.braking is not None) and not takes_horizon(capacity):
+        raise InputError(
+            "--horizon" if args.horizon is not None else "--braking",
+            "a horizon only for accelerations",
+            f"--capacity {capacity}",
+            "leave --horizon and --braking out.",
+        )
+    if args.braking is not None and args.horizon is None:
+        raise InputError("--braking", "--braking only with --horizon", "no --horizon")
     if "qd_max" in cls.limit_keywords:  # joint velocity limits: --qd-max, --qd-min
         if args.tau_max is not None or args.tau_min is not None:
             raise InputError(
@@ -358,8 +383,16 @@ def _analyze(args: argparse.Namespace) -> list[str]:
         tau_max, tau_min = robot.torque_limits(qd)
         model = robot.model
         dynamics = model.dynamics(q, qd) if isinstance(model, UrdfRobot) else model.dynamics(q)
-        analysis = analyze(dynamics, tau_max, tau_min, capacity=capacity)
+        within: dict[str, Any] = {}
+        if args.horizon is not None:  # the state's joint limits over the period
+            state = robot_horizon(model, _horizon(args.horizon), braking=args.braking)
+            within = {"horizon": args.horizon, "q": q, "qd": np.zeros_like(q) if qd is None else qd}
+            within |= {"q_min": state.q_min, "q_max": state.q_max, "qd_min": state.qd_min}
+            within |= {"qd_max": state.qd_max, "braking": state.braking}
+        analysis = analyze(dynamics, tau_max, tau_min, capacity=capacity, **within)
     direction, label, notes = _direction(args, analysis.task)
+    if args.horizon is not None:
+        notes = [*notes, _horizon_note(analysis)]
     comparison = compare(analysis, mvie=not args.no_mvie, outer=not args.no_outer)
     if args.mesh is not None:
         from polyell.export import export_comparison
@@ -384,6 +417,22 @@ def _analyze(args: argparse.Namespace) -> list[str]:
         )
     _emit(text)
     return notes
+
+
+def _horizon(value: float) -> float:
+    """``--horizon``, checked (a positive number of seconds)."""
+    return check_horizon("--horizon", value)
+
+
+def _horizon_note(analysis: Any) -> str:
+    """What the horizon did: the joints that cut the set, or why it is empty."""
+    period = f"over the next {analysis.state.horizon:g} s"
+    if analysis.empty_reason:
+        return f"within the joint limits {period}: no acceleration ({analysis.empty_reason})"
+    cut = [str(j + 1) for j in np.flatnonzero(analysis.cut)]
+    if not cut:
+        return f"within the joint limits {period}: no joint's limits cut the set"
+    return f"within the joint limits {period}: joints {', '.join(cut)} cut the set"
 
 
 def _study(args: argparse.Namespace) -> None:

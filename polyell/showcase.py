@@ -68,6 +68,7 @@ SHOWCASE_STUDIES = (
     ShowcaseStudy("two_robots", robots=True),
     ShowcaseStudy("posture_paper"),
     ShowcaseStudy("posture_panda", robots=True),
+    ShowcaseStudy("panda_horizon", robots=True),
 )
 _BY_NAME = {study.name: study for study in SHOWCASE_STUDIES}
 #: A generated paragraph of the page: ``<!-- showcase:NAME -->`` ... ``<!-- /showcase:NAME -->``.
@@ -213,6 +214,37 @@ def showcase_numbers(out: str | Path) -> dict[str, float]:
     for name in ("posture_paper", "posture_panda"):
         if (out / name / "posture_choice.csv").is_file():
             numbers |= _posture_numbers(out / name, name)
+    if (out / "panda_horizon" / "results.csv").is_file():
+        numbers |= _horizon_numbers(out / "panda_horizon" / "results.csv")
+    return numbers
+
+
+def _horizon_numbers(results: Path) -> dict[str, float]:
+    """What the page quotes of the Panda approaching its elbow limit (``panda_horizon``).
+
+    The set's volume at the last sample against the first, and against the set at the
+    same state without the horizon (recomputed here); each ellipsoid's overreach (the
+    share of it beyond the set) at the first and the last sample.
+    """
+    import pandas as pd
+
+    from polyell import robots
+
+    frame = pd.read_csv(results)
+    first, last = frame.iloc[0], frame.iloc[-1]
+    q = last[[f"q{i}" for i in range(1, 8)]].to_numpy(dtype=float)
+    path = pd.read_csv(Path(__file__).parents[1] / "studies" / "panda_horizon_path.csv")
+    qd = path.iloc[-1][[f"qd{i}" for i in range(1, 8)]].to_numpy(dtype=float)
+    unlimited = robots.load("panda").analyze(q, qd).polytope.volume
+    numbers = {
+        "panda_horizon.samples": float(len(frame)),
+        "panda_horizon.volume_change": 100.0
+        * (last["polytope_volume"] / first["polytope_volume"] - 1),
+        "panda_horizon.volume_share": 100.0 * last["polytope_volume"] / unlimited,
+    }
+    for kind in ("chiacchio", "yoshikawa"):
+        numbers[f"panda_horizon.{kind}.first"] = 100.0 * first[f"{kind}_overreach"]
+        numbers[f"panda_horizon.{kind}.last"] = 100.0 * last[f"{kind}_overreach"]
     return numbers
 
 
@@ -285,6 +317,25 @@ def render_blocks(numbers: Mapping[str, float]) -> dict[str, str]:
                 f"{_rho(n[q + '.yoshikawa.spearman'])}), the Chiacchio ellipsoid's "
                 f"{_percent(n[q + '.chiacchio.regret'])} (rho "
                 f"{_rho(n[q + '.chiacchio.spearman'])}).",
+            ]
+        )
+    if "panda_horizon.samples" in n:
+        h = "panda_horizon"
+        blocks[h] = "\n".join(
+            [
+                f"{n[h + '.samples']:.0f} samples, 10 ms apart: at the limit the set within "
+                "the joint limits over the next 20 ms",
+                f"holds {_percent(n[h + '.volume_share'])} of the volume of the torque-limited "
+                f"set at the same state, and {_percent(abs(n[h + '.volume_change']))} "
+                f"{'less' if n[h + '.volume_change'] < 0 else 'more'} than at the start of the "
+                "path. The classic ellipsoid's",
+                f"overreach (its share beyond the set) grows from "
+                f"{_percent(n[h + '.yoshikawa.first'])} to "
+                f"{_percent(n[h + '.yoshikawa.last'])}, the new ellipsoid's",
+                f"from {_percent(n[h + '.chiacchio.first'])} to "
+                f"{_percent(n[h + '.chiacchio.last'])}: neither knows the joint limits",
+                "([`summary.md`](showcase/panda_horizon/summary.md), every sample in "
+                "[`results.csv`](showcase/panda_horizon/results.csv)).",
             ]
         )
     return blocks

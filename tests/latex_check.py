@@ -29,6 +29,7 @@ _TEXT_COMMANDS = {
     r"\&": "&",
     r"\%": "%",
     r"\#": "#",
+    "\\ ": " ",  # a control space (after an abbreviation's full stop: "vol.\ / MVIE vol.")
     r"\_": "_",
     r"$\pm$": "\N{PLUS-MINUS SIGN}",
     r"$\times$": "\N{MULTIPLICATION SIGN}",

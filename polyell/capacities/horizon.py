@@ -91,7 +91,7 @@ class JointHorizon:
     q, qd : ndarray, shape (n,) or (K, n)
         Joint positions [rad or m] and velocities [rad/s or m/s].
     q_min, q_max : ndarray, shape (n,)
-        Joint position limits.
+        Joint position limits (``-inf`` and ``inf`` for a joint that turns freely).
     qd_min, qd_max : ndarray, shape (n,)
         Joint velocity limits.
     braking : ndarray, shape (n,), or None
@@ -187,7 +187,13 @@ def joint_horizon(
                 "pass q_min=, q_max=, qd_max= (qd_min default -qd_max), or use "
                 "robot.analyze(q, qd, horizon=dt), which takes the robot's own.",
             )
-        limits[name] = check_array(name, value, (n,), what="joint limits")
+        if name.startswith("q_"):  # a joint that turns freely: -inf or inf
+            bound = np.asarray(value, dtype=float) if _numeric(value) else value
+            free = np.isinf(bound) & (np.sign(bound) == (1 if name == "q_max" else -1))
+            limits[name] = check_array(name, np.where(free, 0.0, bound), (n,), what="joint limits")
+            limits[name][free] = bound[free]
+        else:
+            limits[name] = check_array(name, value, (n,), what="joint limits")
     for low, high, strict in (("q_min", "q_max", True), ("qd_min", "qd_max", False)):
         bad = limits[low] >= limits[high] if strict else limits[low] > limits[high]
         if bad.any():
@@ -231,12 +237,14 @@ def robot_horizon(
 ) -> JointHorizon:
     """A robot's horizon template (at q = qd = 0; :meth:`JointHorizon.at` moves it).
 
-    The limits given, or the robot's own: ``robot.position_limits`` and
+    The limits given, or the robot's own: ``robot.position_limits`` (none for a robot
+    without, a :class:`~polyell.PlanarArm`: its joints turn freely) and
     ``robot.velocity_limits()``; ``qd_min`` defaults to ``-qd_max``.
     """
     n = int(robot.n)
-    if q_min is None and q_max is None and hasattr(robot, "position_limits"):
-        q_min, q_max = robot.position_limits
+    if q_min is None and q_max is None:  # a robot without limits turns freely (a planar arm)
+        free = (np.full(n, -np.inf), np.full(n, np.inf))
+        q_min, q_max = getattr(robot, "position_limits", free)
     if qd_max is None and qd_min is None and getattr(robot, "qd_max", None) is not None:
         qd_max, qd_min = robot.velocity_limits()
     elif qd_max is not None and qd_min is None:
@@ -271,6 +279,15 @@ def moving_dynamics(robot: Any, q: Array, qd: Array) -> Dynamics:
             "leave qd out (at rest), or load the robot from its URDF.",
         )
     return robot.dynamics(q, qd)
+
+
+def _numeric(value: object) -> bool:
+    """Whether ``value`` converts to a float array (else check_array says why not)."""
+    try:
+        np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        return False
+    return True
 
 
 def check_horizon(name: str, horizon: object) -> float:

@@ -1063,7 +1063,9 @@ outer = false
 samples = 4096
 seed = 3
 chunk = 5000
-capacities = ["acceleration", "force"]"""
+capacities = ["acceleration", "force"]
+horizon = 0.01
+braking = 50"""
 
     directions: Annotated[int, Integer(1, MAX_DIRECTIONS)] | None = key(
         None,
@@ -1091,8 +1093,9 @@ capacities = ["acceleration", "force"]"""
         "keep every joint within its position limits over the period and within its "
         "velocity limits at its end (`pe.analyze(..., horizon=)`), from the state: a point's "
         "`q` and `qd`, a trajectory's samples (their `qd` then also gives the Coriolis "
-        "terms), every other configuration at rest. The limits are the robot's own (a URDF "
-        "robot's; a planar arm has none). Only the acceleration capacity takes it; the "
+        "terms), every other configuration at rest. The limits are the robot's own (a planar "
+        "arm's joints turn freely: velocity limits only). Only the acceleration capacity "
+        "takes it; the "
         "ellipsoids ignore these limits, which is what the comparison then measures.",
         example="0.001",
         default_text="none: the sets without joint position and velocity limits",

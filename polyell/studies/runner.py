@@ -17,7 +17,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from polyell.capacities import analyze, capacity_class
+from polyell.capacities import analyze, capacity_class, takes_horizon
+from polyell.capacities.horizon import robot_horizon
 from polyell.comparison.comparison import SCORE_NAMES, Comparison, compare, compared_kinds
 from polyell.comparison.labels import ellipsoid_label
 from polyell.comparison.latex_text import markdown_text
@@ -140,7 +141,21 @@ def _analyze_point(spec: StudySpec, point: Point, capacity: str) -> Analysis:
     else:  # (no points in motion in a study of velocities: checked at load)
         assert isinstance(robot.model, UrdfRobot)  # checked at load
         dynamics = robot.model.dynamics(point.q, point.qd)
+    within = _horizon(spec, capacity)
+    if within:  # the state's joint position and velocity limits over the horizon
+        state = robot_horizon(robot.model, **within)
+        qd = np.zeros_like(point.q) if point.qd is None else point.qd
+        limits |= {"q": point.q, "qd": qd, "q_min": state.q_min, "q_max": state.q_max}
+        limits |= {"qd_min": state.qd_min, "qd_max": state.qd_max, **within}
     return analyze(dynamics, capacity=capacity, **limits)
+
+
+def _horizon(spec: StudySpec, capacity: str) -> dict[str, Any]:
+    """``[compare] horizon`` and ``braking`` for a capacity that takes them, else none."""
+    compare = spec.file.compare
+    if compare.horizon is None or not takes_horizon(capacity):
+        return {}
+    return {"horizon": compare.horizon, "braking": compare.braking}
 
 
 def _run_points_capacity(
@@ -300,6 +315,7 @@ def _posture_outputs(
     }
     # velocities: the robot's own joint velocity limits; the others its torque limits
     limits = cls.limit_arguments(*cls.robot_limits(robot))
+    options |= _horizon(spec, capacity)
     choice = posture_choice(robot.model, configurations, **limits, **options)
     along = f"along {posture.label}"
     layout = _layout(spec, capacity)
@@ -1125,6 +1141,7 @@ def _sweep(
         chunk=spec.file.compare.chunk,
         progress=progress,
         out=out,
+        **_horizon(spec, capacity),
     )
     seconds["sweep"] = seconds.get("sweep", 0.0) + time.perf_counter() - started
     return Path(dataset)
@@ -1289,7 +1306,9 @@ def _run_trajectory_capacity(
             if tangent:  # what the capacity allows along the path, where the arm moves
                 assert trajectory.qd is not None
                 piece = Trajectory(trajectory.q[start:stop], trajectory.qd[start:stop])
-                along_path = tangent_limits(model, piece, capacity=capacity, **limits)
+                along_path = tangent_limits(
+                    model, piece, capacity=capacity, **limits, **_horizon(spec, capacity)
+                )
                 frame = frame.assign(**along_path)
             if handle is not None:
                 write_csv(frame, handle, header=index == 0)

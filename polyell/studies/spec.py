@@ -26,6 +26,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from polyell import robots
 from polyell.capacities import capacity_class
+from polyell.capacities.horizon import robot_horizon
 from polyell.comparison.candidates import Candidate, check_candidates
 from polyell.comparison.directions import named_direction
 from polyell.errors import InputError
@@ -825,6 +826,19 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
                     "add qd_max = [...] to the robot table (a URDF's velocity limits are read "
                     "when every joint has one).",
                 )
+    if compare.horizon is not None:  # the robots' own position and velocity limits
+        for number, robot in enumerate(robots_):
+            where = "robot" if len(robots_) == 1 else f"robots[{number}]"
+            try:
+                robot_horizon(robot.model, compare.horizon, braking=compare.braking)
+            except InputError as error:
+                raise InputError(
+                    "compare.horizon",
+                    "robots with joint velocity limits (the horizon's; position limits too "
+                    "where the robot has them)",
+                    f"{where} without {error.argument}",
+                    "add qd_max = [...] to the robot table, or drop horizon.",
+                ) from None
     return StudySpec(
         study, Path(path), robots_, candidates, points, grid, random_q, trajectory, posture
     )

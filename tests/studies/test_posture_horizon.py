@@ -32,14 +32,16 @@ def test_values_equal_the_analysis_of_each_posture():
     assert cut >= 3
 
 
-def test_a_planar_arm_needs_its_position_limits():
+def test_a_planar_arm_turns_freely_within_its_velocity_limits():
+    """No position limits (a planar arm's joints turn freely): only qd_max over dt binds."""
     arm = pe.robots.load("chiacchio2000")
     motion = pe.self_motion(arm, [np.pi / 2, -np.pi / 2, -np.pi / 2], count=10)
+    options = {"direction": "x", "mvie": False, "outer": False, "horizon": 0.01}
+    free = pe.posture_choice(arm, motion, **options)
+    wide = pe.posture_choice(arm, motion, **options, q_min=[-1e3] * 3, q_max=[1e3] * 3)
+    np.testing.assert_allclose(free.values.to_numpy(), wide.values.to_numpy(), rtol=1e-12)
+    tight = pe.posture_choice(arm, motion, **options, qd_max=[0.01] * 3)
+    assert (tight.values[("polytope", "volume")] < free.values[("polytope", "volume")]).all()
     with pytest.raises(InputError) as error:
-        pe.posture_choice(arm, motion, direction="x", mvie=False, outer=False, horizon=0.01)
-    assert error.value.argument in ("q_min", "qd_max")
-    choice = pe.posture_choice(
-        arm, motion, direction="x", mvie=False, outer=False, horizon=0.01,
-        q_min=[-4.0] * 3, q_max=[4.0] * 3, qd_max=[3.0] * 3,
-    )  # fmt: skip
-    assert np.isfinite(choice.values[("polytope", "volume")]).all()
+        pe.posture_choice(arm, motion, **options, q_min=[1.0] * 3, q_max=[-1.0] * 3)
+    assert error.value.argument == "q_min"
