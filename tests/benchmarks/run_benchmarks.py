@@ -636,6 +636,7 @@ def merge(old: str, new: list[str]) -> str:
 
 def main() -> None:
     from capacities_bench import SECTIONS as CAPACITY_SECTIONS
+    from horizon_bench import SECTIONS as HORIZON_SECTIONS
     from posture_bench import SECTIONS as POSTURE_SECTIONS
     from robots_bench import SECTIONS as ROBOT_SECTIONS
     from speed_defaults import SECTIONS as DEFAULT_SECTIONS
@@ -645,6 +646,7 @@ def main() -> None:
     parser_sections["along"] = bench_along
     parser_sections["startup"] = bench_startup
     parser_sections |= DEFAULT_SECTIONS | POSTURE_SECTIONS | CAPACITY_SECTIONS | ROBOT_SECTIONS
+    parser_sections |= HORIZON_SECTIONS
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--repeats", type=int, default=7)
     parser.add_argument("--memory", type=int, nargs="*", default=[100_000, 1_000_000])
