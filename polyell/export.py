@@ -24,8 +24,8 @@ from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope, require_drawable
 from polyell.geometry.polytope import Polytope
-from polyell.storage import write_text_atomically
-from polyell.validation import check_integer
+from polyell.storage import as_path, write_text_atomically
+from polyell.validation import as_floats, check_integer
 
 __all__ = [
     "MAX_RESOLUTION",
@@ -258,7 +258,41 @@ def _check_meshes(meshes: object) -> dict[str, Mesh]:
             )
         if not isinstance(item, Mesh):
             raise InputError(f"meshes[{name!r}]", "a pe.export.Mesh", type(item).__name__)
+        _check_mesh(f"meshes[{name!r}]", item)
     return dict(meshes)
+
+
+def _check_mesh(name: str, item: Mesh) -> None:
+    """Refuse a mesh whose arrays are not finite vertices (V, 3) and indices into them."""
+    vertices = as_floats(f"{name}.vertices", item.vertices)
+    if vertices.ndim != 2 or vertices.shape[1] != 3 or not np.isfinite(vertices).all():
+        raise InputError(
+            f"{name}.vertices",
+            "finite points of shape (V, 3)",
+            f"shape {vertices.shape}" + ("" if np.isfinite(vertices).all() else " with NaN or inf"),
+        )
+    for field, width in (("faces", 3), ("lines", 2)):
+        try:
+            indices = np.asarray(getattr(item, field))
+        except ValueError:  # a ragged list
+            raise InputError(
+                f"{name}.{field}", f"integer indices of shape (k, {width})", "a ragged list"
+            ) from None
+        if indices.size == 0:
+            continue
+        integral = indices.dtype.kind in "iu"
+        if not integral or indices.ndim != 2 or indices.shape[1] != width:
+            raise InputError(
+                f"{name}.{field}",
+                f"integer indices of shape (k, {width})",
+                f"{indices.dtype} of shape {indices.shape}",
+            )
+        if indices.min() < 0 or indices.max() >= len(vertices):
+            raise InputError(
+                f"{name}.{field}",
+                f"indices of its {len(vertices)} vertices (0 to {len(vertices) - 1})",
+                f"indices from {indices.min()} to {indices.max()}",
+            )
 
 
 def write_obj(
@@ -288,6 +322,7 @@ def write_obj(
     Path
         The file, written atomically.
     """
+    path = as_path("path", path)
     lines = [f"# {text}" for text in _header(unit, task, capacity)]
     offset = 1  # OBJ indices start at 1 and run over the whole file
     for name, item in _check_meshes(meshes).items():
@@ -315,6 +350,11 @@ def write_ply(
     ``name``, ``unit``, ``task`` and ``capacity`` are written in its header, as in
     :func:`write_obj`.
     """
+    path = as_path("path", path)
+    if not isinstance(name, str):
+        raise InputError("name", "a one-line name such as 'polytope'", repr(name)[:80])
+    if not isinstance(item, Mesh):
+        raise InputError("item", "a pe.export.Mesh", type(item).__name__)
     (item,) = _check_meshes({name: item}).values()
     header = ["ply", "format ascii 1.0"]
     header += [f"comment {text}" for text in [f"set: {name}", *_header(unit, task, capacity)]]

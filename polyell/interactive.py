@@ -26,8 +26,8 @@ from polyell.comparison.summary import result_kinds, split_column
 from polyell.comparison.tables import ellipsoid_label, score_display
 from polyell.errors import InputError
 from polyell.export import mesh, polytope_edges
-from polyell.storage import write_text_atomically
-from polyell.validation import check_instance
+from polyell.storage import as_path, write_text_atomically
+from polyell.validation import check_instance, check_integer
 
 if TYPE_CHECKING:  # plotly and pandas are imported where they are used (start-up time)
     import pandas as pd
@@ -84,6 +84,19 @@ def _plain_label(row: str) -> str:
     return row[0] + "\u0308" + row[1:]
 
 
+def _plot_title(title: object) -> str | None:
+    """A figure's title as plotly shows it: text, not markup (``<``, ``&`` escaped).
+
+    Plotly reads a subset of HTML in titles (``<b>``, ``<a href=...>``); a title is plain
+    text here, its line breaks kept (as ``<br>``).
+    """
+    if title is None:
+        return None
+    if not isinstance(title, str):
+        raise InputError("title", "a str or None", f"{type(title).__name__} {title!r:.60}")
+    return "<br>".join(html.escape(line) for line in title.splitlines()) if title else None
+
+
 def _plotly() -> Any:
     """Plotly's graph objects, imported on first use."""
     import plotly.graph_objects as go
@@ -136,6 +149,7 @@ def interactive_sets(
         For a task space other than 2-D or 3-D.
     """
     check_instance("comparison", comparison, Comparison, "pass pe.compare(analysis).")
+    title = _plot_title(title)
     go = _plotly()
     analysis = comparison.analysis
     m = analysis.m
@@ -332,8 +346,23 @@ def interactive_map(
         "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
     )
     capacity = check_capacity(capacity)
+    title = _plot_title(title)
     go = _plotly()
-    mapped = [columns] if isinstance(columns, str) else list(columns)
+    if isinstance(columns, str):
+        mapped = [columns]
+    elif isinstance(columns, Sequence) and columns and all(isinstance(c, str) for c in columns):
+        mapped = list(columns)
+    else:
+        raise InputError(
+            "columns",
+            "a score column or a non-empty list of them, e.g. 'chiacchio_coverage'",
+            repr(columns)[:80],
+        )
+    for label, value in (("x", x), ("y", y)):
+        if not isinstance(value, str):
+            raise InputError(label, "the name of a joint column such as 'q2'", repr(value)[:80])
+    if x == y:
+        raise InputError("y", f"a joint column other than x = {x!r}", repr(y))
     for name in (*mapped, x, y):
         if name not in results:
             raise InputError("results", f"a column {name!r}", f"columns {list(results)[:8]}...")
@@ -349,8 +378,20 @@ def interactive_map(
     split = {c: parts for c in table.columns if (parts := split_column(c)) is not None}
     scores = list(split)
     shown = common + scores
-    # float32: the hover shows 4 digits, and the page is half the size
-    data = table[shown].to_numpy(dtype=np.float32).reshape(len(ys), len(xs), len(shown))
+    for column in (*shown, x, y):
+        numbers = pd.to_numeric(table[column], errors="coerce")
+        if bool((numbers.isna() & table[column].notna()).any()):
+            raise InputError(
+                f"results[{column!r}]", "numbers", f"{table[column][numbers.isna()].iloc[0]!r}"
+            )
+    values64 = table[shown].to_numpy(dtype=float)
+    finite = np.abs(values64[np.isfinite(values64)])
+    # float32: the hover shows 4 digits, and the page is half the size (float64 where a
+    # value is beyond float32's range, which would overflow to inf)
+    small = not finite.size or float(finite.max()) <= float(np.finfo(np.float32).max)
+    data = (values64.astype(np.float32) if small else values64).reshape(
+        len(ys), len(xs), len(shown)
+    )
 
     def hover(column: str) -> str:
         kind = split[column][0]
@@ -415,6 +456,16 @@ def interactive_map(
 
 def _kinds_with(results: pd.DataFrame, score: str, kinds: Sequence[str] | None) -> list[str]:
     """The ellipsoids (``kinds``, default all) with a ``<kind>_<score>`` column."""
+    if not isinstance(score, str):
+        raise InputError("score", f"a score name, one of {list(SCORE_NAMES)}", repr(score)[:80])
+    if kinds is not None and (
+        isinstance(kinds, str)
+        or not isinstance(kinds, Sequence)
+        or not all(isinstance(kind, str) for kind in kinds)
+    ):
+        raise InputError(
+            "kinds", "a list of ellipsoid names such as ['chiacchio']", repr(kinds)[:80]
+        )
     chosen = [k for k in (kinds or result_kinds(results.columns)) if f"{k}_{score}" in results]
     if not chosen:
         raise InputError(
@@ -454,6 +505,7 @@ def interactive_histogram(
         "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
     )
     capacity = check_capacity(capacity)
+    title = _plot_title(title)
     go = _plotly()
     chosen = _kinds_with(results, score, kinds)
     label, factor = score_display(score, capacity)
@@ -532,11 +584,17 @@ class SeriesDecimator:
     def __init__(
         self, total: int, traces: Sequence[str], buckets: int = DECIMATION_BUCKETS
     ) -> None:
-        self.total = int(total)
+        self.total = check_integer("total", total, 0, 2**62)
+        if isinstance(traces, str) or not isinstance(traces, Sequence):
+            raise InputError("traces", "a list of column names", repr(traces)[:80])
         self.traces = list(traces)
+        if not all(isinstance(trace, str) for trace in self.traces):
+            raise InputError("traces", "column names (str)", repr(self.traces)[:80])
+        buckets = check_integer("buckets", buckets, 1, 2**62)
         self.bucket = 1 if self.total <= 2 * buckets else -(-self.total // buckets)
         self._carry: pd.DataFrame | None = None
         self._kept: list[pd.DataFrame] = []
+        self._columns: pd.DataFrame | None = None  # an empty frame of the series' columns
 
     def _keep(self, frame: pd.DataFrame) -> None:
         if self.bucket == 1:
@@ -549,6 +607,12 @@ class SeriesDecimator:
         """The next rows of the series, in order."""
         import pandas as pd
 
+        check_instance("frame", frame, pd.DataFrame, "pass the next rows of the series.")
+        missing = [trace for trace in self.traces if trace not in frame]
+        if missing:
+            raise InputError("frame", f"the columns {self.traces}", f"none named {missing}")
+        if self._columns is None:
+            self._columns = frame.iloc[:0]
         if self._carry is not None:
             frame = pd.concat([self._carry, frame], ignore_index=True)
         whole = len(frame) // self.bucket * self.bucket
@@ -563,7 +627,10 @@ class SeriesDecimator:
             self._keep(self._carry)
         self._carry = None
         frames = [frame for frame in self._kept if len(frame)]
-        return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+        if frames:
+            return pd.concat(frames, ignore_index=True)
+        # nothing kept: no rows, but the series' columns
+        return pd.DataFrame() if self._columns is None else self._columns.reset_index(drop=True)
 
 
 def decimate_series(
@@ -585,6 +652,8 @@ def decimate_series(
 
 def decimation_note(total: int, shown: int) -> str:
     """The sentence a page shows under a decimated series."""
+    total = check_integer("total", total, 0, 2**62)
+    shown = check_integer("shown", shown, 0, 2**62)
     if shown >= total:
         return f"{total:,} samples, all shown."
     return (
@@ -636,10 +705,11 @@ def interactive_series(
         "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
     )
     capacity = check_capacity(capacity)
+    title = _plot_title(title)
     go = _plotly()
     chosen = _kinds_with(results, score, kinds)
     label, factor = score_display(score, capacity)
-    total = len(results) if total is None else int(total)
+    total = len(results) if total is None else check_integer("total", total, 0, 2**62)
     results = decimate_series(results, [f"{kind}_{score}" for kind in chosen])
     x = results["t"] if "t" in results else results["configuration"]
     figure = go.Figure()
@@ -715,9 +785,13 @@ def write_report(path: str | Path, title: str, sections: Sequence[tuple[str, Any
 
     if not isinstance(title, str):
         raise InputError("title", "a str (the page's heading)", f"{type(title).__name__}")
-    if isinstance(sections, str | bytes) or not all(
-        isinstance(item, tuple | list) and len(item) == 2 and isinstance(item[0], str)
-        for item in sections
+    if (
+        isinstance(sections, str | bytes)
+        or not isinstance(sections, Sequence)
+        or not all(
+            isinstance(item, tuple | list) and len(item) == 2 and isinstance(item[0], str)
+            for item in sections
+        )
     ):
         raise InputError(
             "sections",
@@ -763,4 +837,4 @@ def write_report(path: str | Path, title: str, sections: Sequence[tuple[str, Any
         f"<title>{html.escape(title)}</title><style>{style}</style></head><body>"
         f"<h1>{html.escape(title)}</h1>{''.join(parts)}</body></html>\n"
     )
-    return write_text_atomically(Path(path), page)
+    return write_text_atomically(as_path("path", path), page)

@@ -229,13 +229,16 @@ def _horizon_numbers(results: Path) -> dict[str, float]:
     import pandas as pd
 
     from polyell import robots
+    from polyell.models import UrdfRobot
 
     frame = pd.read_csv(results)
     first, last = frame.iloc[0], frame.iloc[-1]
     q = last[[f"q{i}" for i in range(1, 8)]].to_numpy(dtype=float)
     path = pd.read_csv(Path(__file__).parents[1] / "studies" / "panda_horizon_path.csv")
     qd = path.iloc[-1][[f"qd{i}" for i in range(1, 8)]].to_numpy(dtype=float)
-    unlimited = robots.load("panda").analyze(q, qd).polytope.volume
+    panda = robots.load("panda")
+    assert isinstance(panda, UrdfRobot)
+    unlimited = panda.analyze(q, qd).polytope.volume
     numbers = {
         "panda_horizon.samples": float(len(frame)),
         "panda_horizon.volume_change": 100.0

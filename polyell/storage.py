@@ -23,9 +23,11 @@ from pathlib import Path
 from typing import IO, Any
 
 from polyell.errors import InputError, StorageError
+from polyell.validation import check_frame, check_integer
 
 __all__ = [
     "DATASET_FILES",
+    "as_path",
     "dataset_lock",
     "existing_parts",
     "folder_lock",
@@ -48,9 +50,21 @@ _NAME_MAX = 255
 _TEMPORARY = re.compile(r"\.(?P<name>.+)\.[a-z0-9_]{8}\.tmp")
 
 
+def as_path(name: str, value: object) -> Path:
+    """``value`` (a str or an os.PathLike) as a Path, or an InputError naming ``name``."""
+    if isinstance(value, bytes) or not isinstance(value, str | os.PathLike) or not str(value):
+        raise InputError(
+            name, "a path (a str or a pathlib.Path)", f"{type(value).__name__} {value!r:.80}"
+        )
+    if "\x00" in str(value):
+        raise InputError(name, "a path without NUL characters", repr(str(value))[:80])
+    return Path(value)
+
+
 def part_path(folder: Path, index: int) -> Path:
-    """The file of chunk ``index``."""
-    return folder / f"part-{index:06d}.parquet"
+    """The file of chunk ``index`` (from 0 to 999,999)."""
+    index = check_integer("index", index, 0, 999_999)
+    return as_path("folder", folder) / f"part-{index:06d}.parquet"
 
 
 def write_atomically(path: Path, write: Callable[[str], Any]) -> Path:
@@ -65,7 +79,12 @@ def write_atomically(path: Path, write: Callable[[str], Any]) -> Path:
         If the file cannot be written (a full disk, a file size limit, permissions); no
         partial file is left behind.
     """
+    path = as_path("path", path)
+    if not callable(write):
+        raise InputError("write", "a function of the temporary file name", repr(write)[:80])
     name = path.name
+    if not name or name in (".", ".."):
+        raise InputError("path", "the path of a file", repr(str(path)), "name the file.")
     while len(os.fsencode(f".{name}.XXXXXXXX.tmp")) > _NAME_MAX and len(name) > 1:
         name = name[:-1]  # a name near the limit: the temporary name gets a shorter prefix
     temporary = ""
@@ -110,6 +129,8 @@ def _umask() -> int:
 
 def write_text_atomically(path: Path, text: str) -> Path:
     """:func:`write_atomically` for UTF-8 text."""
+    if not isinstance(text, str):
+        raise InputError("text", "a str", f"{type(text).__name__} {text!r:.80}")
     return write_atomically(path, lambda name: Path(name).write_text(text, encoding="utf-8"))
 
 
@@ -123,6 +144,11 @@ def write_csv(frame: Any, handle: Any, header: bool = True) -> None:
     import pyarrow as pa
     import pyarrow.csv as pa_csv
 
+    check_frame("frame", frame)
+    if not callable(getattr(handle, "write", None)):
+        raise InputError("handle", "a file open for binary writing", repr(handle)[:80])
+    if not isinstance(header, bool):
+        raise InputError("header", "True or False", repr(header)[:80])
     table = pa.Table.from_pandas(frame, preserve_index=False)
     options = pa_csv.WriteOptions(include_header=header, quoting_style="needed")
     pa_csv.write_csv(table, handle, options)
@@ -130,11 +156,12 @@ def write_csv(frame: Any, handle: Any, header: bool = True) -> None:
 
 def read_metadata(path: Path) -> dict[str, Any]:
     """Read ``_sweep.json``; a torn or foreign file is an error that says how to recover."""
+    path = as_path("path", path)
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
         if not isinstance(data, dict) or not {"fingerprint", "chunks"} <= set(data):
             raise ValueError("missing keys")
-    except (ValueError, UnicodeDecodeError) as exn:
+    except (ValueError, UnicodeDecodeError, OSError, RecursionError) as exn:
         raise InputError(
             "out",
             "a sweep dataset with a readable _sweep.json",
@@ -147,7 +174,7 @@ def read_metadata(path: Path) -> dict[str, Any]:
 def existing_parts(folder: Path) -> dict[int, Path]:
     """The part files of a dataset folder, by chunk index."""
     parts = {}
-    for path in folder.glob("part-*.parquet"):
+    for path in as_path("folder", folder).glob("part-*.parquet"):
         match = _PART.fullmatch(path.name)
         if match is None:
             raise InputError(
@@ -164,6 +191,8 @@ def part_is_complete(path: Path, rows: int) -> bool:
     """Whether a part's Parquet footer reads and holds ``rows`` rows."""
     import pyarrow.parquet as pq
 
+    path = as_path("path", path)
+    rows = check_integer("rows", rows, 0, 2**62)
     try:
         return bool(pq.read_metadata(path).num_rows == rows)
     except (OSError, ValueError):  # pyarrow's ArrowInvalid is a ValueError
@@ -194,6 +223,9 @@ def remove_stale_temporaries(folder: Path, names: re.Pattern[str]) -> list[Path]
     StorageError
         If one of them cannot be removed.
     """
+    folder = as_path("folder", folder)
+    if not isinstance(names, re.Pattern):
+        raise InputError("names", "a compiled regular expression (re.compile)", repr(names)[:80])
     removed = []
     try:
         entries = list(os.scandir(folder))
@@ -242,6 +274,12 @@ def folder_lock(folder: Path, name: str, what: str) -> Iterator[None]:
     """
     import fcntl
 
+    folder = as_path("folder", folder)
+    for label, text in (("name", name), ("what", what)):
+        if not isinstance(text, str) or not text:
+            raise InputError(label, "a non-empty str", repr(text)[:80])
+    if Path(name).name != name:
+        raise InputError("name", "a file name without folders", repr(name)[:80])
     path = folder / name
     refusal = InputError(
         "out",

@@ -187,8 +187,8 @@ def joint_horizon(
                 "pass q_min=, q_max=, qd_max= (qd_min default -qd_max), or use "
                 "robot.analyze(q, qd, horizon=dt), which takes the robot's own.",
             )
-        if name.startswith("q_"):  # a joint that turns freely: -inf or inf
-            bound = np.asarray(value, dtype=float) if _numeric(value) else value
+        if name.startswith("q_") and _numeric(value):  # a joint that turns freely: inf
+            bound = np.asarray(value, dtype=float)
             free = np.isinf(bound) & (np.sign(bound) == (1 if name == "q_max" else -1))
             limits[name] = check_array(name, np.where(free, 0.0, bound), (n,), what="joint limits")
             limits[name][free] = bound[free]
@@ -393,6 +393,9 @@ class HorizonAnalysis(AccelerationAnalysis):
     empty_reason : str or None
         Why no acceleration is feasible; None when some is.
     """
+
+    #: Not the paper's set (eq. 15): reports name the capacity and print every matrix.
+    paper = False
 
     def __init__(
         self,

@@ -7,7 +7,7 @@ A directional limit is an interval along a line: the limits along ``-x`` are tho
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from typing import cast
 
 import numpy as np
@@ -114,12 +114,15 @@ def named_direction(
         Naming ``argument``: a name with a row the task does not have (or one twice), a
         vector of the wrong size, of non-unit length or with non-finite entries.
     """
-    task = tuple(task)
+    task = _task_rows(task)
     if isinstance(spec, str):
         return _from_name(spec, task, argument)
     if isinstance(spec, bool | int | float | np.number) or spec is None:
         raise InputError(argument, _name_expected(task), repr(spec))
-    size = np.shape(spec) if not isinstance(spec, str) else ()
+    try:
+        size = np.shape(spec)
+    except ValueError:  # a ragged list
+        raise InputError(argument, _name_expected(task), repr(spec)[:80]) from None
     if len(size) == 1 and size[0] != len(task):
         raise InputError(
             argument,
@@ -131,6 +134,19 @@ def named_direction(
     if vector.ndim != 1:
         raise InputError(argument, _name_expected(task), f"shape {vector.shape}")
     return vector, _vector_label(vector)
+
+
+def _task_rows(task: object) -> tuple[str, ...]:
+    """The task's row names: a non-empty sequence of non-empty strings, or an InputError."""
+    rows = () if isinstance(task, str) or not isinstance(task, Iterable) else tuple(task)
+    if not rows or not all(isinstance(row, str) and row for row in rows):
+        raise InputError(
+            "task",
+            "the task's row names, such as ('x', 'y', 'z')",
+            repr(task)[:80],
+            "pass analysis.task (or S.task).",
+        )
+    return rows
 
 
 def _plain(directions: object) -> object:
@@ -195,7 +211,7 @@ def direction_vectors(
     array([[ 0. ,  0. , -1. ],
            [ 0.6,  0.8,  0. ]])
     """
-    task = tuple(task)
+    task = _task_rows(task)
     directions = cast("ArrayLike | Sequence[DirectionSpec]", _plain(directions))
     if isinstance(directions, str):
         return named_direction(directions, task, argument)[0]
@@ -215,7 +231,7 @@ def axis_directions(task: Sequence[str]) -> list[tuple[NDArray[np.float64], str]
     A line's interval holds both ends (the limits along ``-x`` are those along ``x``
     negated and swapped), so ``x, y, z`` cover the six half-axes.
     """
-    task = tuple(task)
+    task = _task_rows(task)
     return [(row_vector, name) for row_vector, name in zip(np.eye(len(task)), task, strict=True)]
 
 
@@ -230,6 +246,7 @@ def resolve_directions(
         Naming ``argument[k]`` for a bad entry, ``argument`` for an empty or non-list
         value and for two entries with the same label.
     """
+    task = _task_rows(task)
     if directions is None:
         return axis_directions(task)
     if isinstance(directions, str) or not isinstance(directions, Sequence | np.ndarray):

@@ -326,4 +326,16 @@ def intersection(P1: Set, P2: Set) -> HPolytope:
     P1, P2 = _check_pair(P1, P2)
     A1, b1 = _halfspaces(P1)
     A2, b2 = _halfspaces(P2)
+    # A bounded set inside the other is the intersection: its own description, not one
+    # with the other's rows, which may be far larger (units of two arms) and redundant.
+    for inner, other in ((P1, P2), (P2, P1)):
+        if _bounded(inner) and bool(np.all(other.contains(inner.vertices))):
+            return HPolytope(*_halfspaces(inner))
     return HPolytope(np.vstack([A1, A2]), np.concatenate([b1, b2]))
+
+
+def _bounded(P: Set) -> bool:
+    """Whether P is a non-empty bounded set (its vertices are all of it)."""
+    if isinstance(P, HPolytope):
+        return not P.is_empty and P.is_bounded
+    return True

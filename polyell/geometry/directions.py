@@ -7,9 +7,12 @@ from numpy.typing import NDArray
 
 from polyell.errors import InputError
 from polyell.geometry.subspace import AffineSubspace
-from polyell.validation import MAX_DIRECTIONS
+from polyell.validation import MAX_DIRECTIONS, check_instance, check_integer
 
 __all__ = ["default_direction_count", "directions_in", "sphere_directions"]
+
+#: Largest dimension of a direction set (Sobol' points beyond it are not balanced).
+MAX_DIMENSION = 1000
 
 _GOLDEN_ANGLE = np.pi * (3.0 - np.sqrt(5.0))
 
@@ -25,6 +28,7 @@ def default_direction_count(r: int) -> int:
     count (a few per cent below at 256, about one per cent at 1,000): pass more directions
     when it matters.
     """
+    r = check_integer("r", r, 0, MAX_DIMENSION)
     return {0: 0, 1: 2, 2: 360, 3: 256}.get(r, 2000)
 
 
@@ -51,6 +55,7 @@ def sphere_directions(k: int, r: int) -> NDArray[np.float64]:
         raise InputError(
             "directions", f"a positive number of directions, at most {MAX_DIRECTIONS:,}", repr(k)
         )
+    r = check_integer("r", r, 0, MAX_DIMENSION)
     if r == 0:
         return np.zeros((0, 0))
     if r == 1:
@@ -92,8 +97,10 @@ def directions_in(affine_set: AffineSubspace, k: int | None = None) -> NDArray[n
     -------
     ndarray, shape (k, m)
     """
+    check_instance("affine_set", affine_set, AffineSubspace, "pass a set's affine_set.")
     r = affine_set.dim
     count = default_direction_count(r) if k is None else k
-    if r == 0:
+    if r == 0:  # a point has no directions: k checked all the same (0 allowed)
+        check_integer("directions", count, 0, MAX_DIRECTIONS)
         return np.zeros((0, affine_set.ambient_dim))
     return sphere_directions(count, r) @ affine_set.basis.T

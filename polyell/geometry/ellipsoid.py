@@ -38,6 +38,15 @@ def canonical_axes(
     mapped into it (the quasi-Monte-Carlo points of a coverage) do not depend on how its
     axes were computed.  Works on one ellipsoid or a batch.
     """
+    axes = _as_float_array("axes", axes, "an array of axes, shape (..., m, r)", 2)
+    semi_axes = _as_float_array("semi_axes", semi_axes, "an array of semi-axes, shape (..., r)", 1)
+    if axes.shape[:-2] + axes.shape[-1:] != semi_axes.shape:
+        raise InputError(
+            "semi_axes",
+            f"shape {axes.shape[:-2] + axes.shape[-1:]} (one per column of axes {axes.shape})",
+            f"shape {semi_axes.shape}",
+            "give one semi-axis per axis.",
+        )
     if axes.size == 0:
         return axes, semi_axes
     order = np.argsort(-semi_axes, axis=-1, kind="stable")
@@ -48,8 +57,26 @@ def canonical_axes(
     return axes * np.where(pivots < 0, -1.0, 1.0), semi_axes
 
 
+def _as_float_array(name: str, value: object, expected: str, ndim: int) -> NDArray[np.float64]:
+    """``value`` as a float array of at least ``ndim`` dimensions (NaN kept), or an InputError."""
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(name, expected, f"{type(value).__name__} {value!r:.80}") from None
+    if array.ndim < ndim:
+        raise InputError(name, expected, f"shape {array.shape}")
+    return array
+
+
 def unit_ball_volume(r: int) -> float:
-    """Volume of the unit ball in R^r: ``pi^(r/2) / Gamma(r/2 + 1)``."""
+    """Volume of the unit ball in R^r: ``pi^(r/2) / Gamma(r/2 + 1)``.
+
+    Parameters
+    ----------
+    r : int
+        Dimension, from 0 (a point: 1) to 1,000,000.
+    """
+    r = check_integer("r", r, 0, MAX_DIRECTIONS)
     return float(np.exp(0.5 * r * np.log(np.pi) - gammaln(0.5 * r + 1)))
 
 

@@ -23,12 +23,43 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from polyell.errors import InputError
+from polyell.validation import as_floats
+
 __all__ = ["BISECTION_STEPS", "ellipsoid_origin_radius"]
 
 Array = NDArray[np.float64]
 
 #: Bisection steps: the bracket [0, s_min^2] shrinks below one unit in the last place.
 BISECTION_STEPS = 80
+
+
+def _checked(center: object, axes: object, semi_axes: object) -> tuple[Array, Array, Array]:
+    """The three arrays as floats of shapes (K, m), (K, m, m), (K, m), finite or NaN."""
+    arrays = []
+    for name, value, ndim, shape in (
+        ("center", center, 2, "(K, m)"),
+        ("axes", axes, 3, "(K, m, m)"),
+        ("semi_axes", semi_axes, 2, "(K, m)"),
+    ):
+        array = as_floats(name, value)
+        if array.ndim != ndim:
+            raise InputError(name, f"an array of shape {shape}", f"shape {array.shape}")
+        if np.isinf(array).any():
+            raise InputError(name, "finite values (NaN marks an unknown ellipsoid)", "inf")
+        arrays.append(array)
+    c, U, s = arrays
+    K, m = c.shape
+    if U.shape != (K, m, m) or s.shape != (K, m):
+        raise InputError(
+            "axes" if U.shape != (K, m, m) else "semi_axes",
+            f"axes of shape {(K, m, m)} and semi-axes of shape {(K, m)} for centres {c.shape}",
+            f"axes {U.shape} and semi-axes {s.shape}",
+            "give full-dimensional ellipsoids, one per centre.",
+        )
+    if (s <= 0).any():
+        raise InputError("semi_axes", "strictly positive lengths", f"{s[s <= 0][0]:.3g}")
+    return c, U, s
 
 
 def ellipsoid_origin_radius(center: Array, axes: Array, semi_axes: Array) -> Array:
@@ -47,7 +78,13 @@ def ellipsoid_origin_radius(center: Array, axes: Array, semi_axes: Array) -> Arr
     -------
     ndarray, shape (K,)
         The distance from the origin to each ellipsoid's boundary [task units]; 0 where
-        the origin is outside (or on the boundary); NaN where a semi-axis is NaN.
+        the origin is outside (or on the boundary); NaN where an entry of the ellipsoid is
+        NaN (an unknown one).
+
+    Raises
+    ------
+    InputError
+        For arrays of other shapes, infinite entries or semi-axes that are not positive.
 
     Examples
     --------
@@ -56,6 +93,13 @@ def ellipsoid_origin_radius(center: Array, axes: Array, semi_axes: Array) -> Arr
     >>> round(float(r[0]), 9)  # 4/sqrt(5): the nearest boundary point is off the axes
     1.788854382
     """
+    center, axes, semi_axes = _checked(center, axes, semi_axes)
+    unknown = np.asarray(
+        np.isnan(center).any(axis=-1) | np.isnan(axes).any(axis=(-2, -1)), dtype=bool
+    )
+    center = np.where(unknown[:, None], 0.0, center)
+    axes = np.where(unknown[:, None, None], np.eye(axes.shape[-1]), axes)
+    semi_axes = np.where(unknown[:, None], np.nan, semi_axes)
     z = -np.einsum("kmr,km->kr", axes, center)  # the origin in each ellipsoid's frame
     s = semi_axes
     inside = ((z / s) ** 2).sum(axis=-1) <= 1.0

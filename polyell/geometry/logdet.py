@@ -30,7 +30,8 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from polyell.errors import MissingDependencyError, SolverError, install_hint
+from polyell.errors import InputError, MissingDependencyError, SolverError, install_hint
+from polyell.validation import as_floats, check_array, check_integer
 
 __all__ = ["CentredEllipsoid", "centred_mvee", "centred_mvee_batch", "centred_mvee_by_cvxpy"]
 
@@ -86,6 +87,7 @@ def centred_mvee(
     -----
     :func:`centred_mvee_batch` for one problem (the same arithmetic as in a sweep).
     """
+    points = check_array("points", points, (None, None))
     shapes, gaps, iterations = centred_mvee_batch(
         points[None], gap=gap, max_iterations=max_iterations
     )
@@ -121,6 +123,7 @@ def centred_mvee_by_cvxpy(points: Array, what: str) -> Array:
             'method="cvxpy" needs cvxpy and Clarabel. Fix: ' + install_hint("lp") + "."
         ) from exn
 
+    points = check_array("points", points, (None, None))
     r = points.shape[1]
     S = cp.Variable((r, r), PSD=True)
     problem = cp.Problem(cp.Maximize(cp.log_det(S)), [cp.norm(S @ points.T, axis=0) <= 1])
@@ -182,6 +185,9 @@ def centred_mvee_batch(
     ------
     SolverError
         If the points of a problem do not span R^r.
+    InputError
+        For points of another shape or with infinite entries (a problem with NaN entries
+        is left uncertified: its gap is inf and its shape NaN).
 
     Notes
     -----
@@ -197,7 +203,21 @@ def centred_mvee_batch(
     the Lagrangian bound with the best scaling of :math:`\lambda`:
     :math:`r \log\big((1 - \min_i s_i)(1 + \lambda^T s / r)\big) \le \lambda^T s`.
     """
+    points = as_floats("points", points)
+    if points.ndim != 3 or points.shape[-1] == 0 or np.isinf(points).any():
+        raise InputError(
+            "points",
+            "an array of shape (K, N, r >= 1), finite (NaN: a problem left uncertified)",
+            f"shape {points.shape}" + (" with inf" if np.isinf(points).any() else ""),
+        )
     K, _, r = points.shape
+    if not (
+        isinstance(gap, int | float | np.integer | np.floating)
+        and not isinstance(gap, bool)
+        and 0 < float(gap) < np.inf
+    ):
+        raise InputError("gap", "a positive number (a gap in log det X)", repr(gap))
+    check_integer("max_iterations", max_iterations, 0, 10_000)
     basis = _symmetric_basis(r)
     Phi = np.einsum("Kia,kab,Kib->Kik", points, basis, points)  # (K, N, d)
     # Start: lambda = kappa on every point, kappa twice the largest leverage c_i^T (C^T C)^-1

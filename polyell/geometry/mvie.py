@@ -30,6 +30,7 @@ from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.logdet import centred_mvee, centred_mvee_by_cvxpy
 from polyell.geometry.polytope import Polytope
 from polyell.geometry.zonotope import zonotope_facets
+from polyell.validation import check_instance, check_spd
 
 __all__ = [
     "MVIE_GAP",
@@ -46,6 +47,13 @@ MVIE_GAP = 1e-8
 #: :func:`~polyell.geometry.logdet.centred_mvee` (the default); ``"cvxpy"``: the same
 #: program through cvxpy and Clarabel (a cross-check).
 MVIE_METHODS = ("logdet", "cvxpy")
+
+
+def check_method(method: object) -> str:
+    """A method of :data:`MVIE_METHODS`, or an InputError naming ``method``."""
+    if not isinstance(method, str) or method not in MVIE_METHODS:
+        raise InputError("method", f"one of {MVIE_METHODS}", repr(method)[:80])
+    return method
 
 
 def max_volume_inscribed_ellipsoid(
@@ -72,8 +80,8 @@ def max_volume_inscribed_ellipsoid(
     SolverError
         If the solver does not certify an optimum.
     """
-    if method not in MVIE_METHODS:
-        raise InputError("method", f"one of {MVIE_METHODS}", repr(method))
+    check_method(method)
+    check_instance("P", P, (Polytope, HPolytope), "pass a set, such as analysis.polytope.")
     if isinstance(P, HPolytope):  # no centre of symmetry: the free-centre programs
         from polyell.geometry.free_center import free_center_mvie
 
@@ -103,6 +111,9 @@ def _mvie(P: Polytope, method: str) -> Ellipsoid:
 
 def log_det_shape(points: NDArray[np.float64], method: str, what: str) -> NDArray[np.float64]:
     """The shape X of the centred log-det program on ``points`` (N, r) by ``method``."""
+    check_method(method)
+    if not isinstance(what, str):
+        raise InputError("what", "a description of the problem (str)", repr(what)[:80])
     if method == "logdet":
         return centred_mvee(points, gap=MVIE_GAP).shape
     return centred_mvee_by_cvxpy(points, what)
@@ -113,6 +124,12 @@ def ellipsoid_from_shape(P: Polytope, X: NDArray[np.float64], power: float, kind
 
     Axes and semi-axes from the SVD of ``Sigma X^power``.
     """
+    check_instance("P", P, Polytope, "pass a zonotope, such as analysis.polytope.")
+    X = check_spd("X", X, P.dim, fix="X is the whitened shape of an ellipsoid (positive definite).")
+    if isinstance(power, bool) or not isinstance(power, int | float) or not np.isfinite(power):
+        raise InputError("power", "a finite real exponent (1/2: MVIE, -1/2: outer)", repr(power))
+    if not isinstance(kind, str):
+        raise InputError("kind", "the name of the ellipsoid (str)", repr(kind)[:80])
     eigenvalues, eigenvectors = np.linalg.eigh(X)
     root = (eigenvectors * eigenvalues**power) @ eigenvectors.T
     W, semi_axes, _ = np.linalg.svd(P.svd.sigma[:, None] * root)

@@ -24,11 +24,11 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope
-from polyell.geometry.mvie import MVIE_METHODS, ellipsoid_from_shape, log_det_shape
+from polyell.geometry.mvie import check_method, ellipsoid_from_shape, log_det_shape
 from polyell.geometry.polytope import Polytope
+from polyell.validation import check_instance
 
 __all__ = ["min_volume_enclosing_ellipsoid", "whitened_vertices"]
 
@@ -55,8 +55,8 @@ def min_volume_enclosing_ellipsoid(
     SolverError
         If the solver does not certify an optimum.
     """
-    if method not in MVIE_METHODS:
-        raise InputError("method", f"one of {MVIE_METHODS}", repr(method))
+    check_method(method)
+    check_instance("P", P, (Polytope, HPolytope), "pass a set, such as analysis.polytope.")
     if isinstance(P, HPolytope):  # no centre of symmetry: the free-centre programs
         from polyell.geometry.free_center import free_center_mvee
 
@@ -83,6 +83,7 @@ def whitened_vertices(P: Polytope) -> NDArray[np.float64]:
 
     ``y = Sigma^-1 U1^T (v - xg)``: the vertices of the zonotope of ``V1^T``.
     """
+    check_instance("P", P, Polytope, "pass a zonotope, such as analysis.polytope.")
     svd = P.svd
     y = ((P.vertices - P.center) @ svd.U1) / svd.sigma
     # Vertices come in pairs +-y (none is 0): keep the half on one side of a generic plane.

@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from polyell.errors import DeratingWarning, InputError
 from polyell.models.task import check_task
-from polyell.validation import array_ndim, check_array, check_spd
+from polyell.validation import array_ndim, as_floats, check_array, check_spd
 
 __all__ = [
     "MOTION_LIMIT_RTOL",
@@ -237,6 +237,18 @@ class Dynamics:
         )
 
 
+def _limits_like(name: str, value: ArrayLike, shape: tuple[int, ...]) -> NDArray[np.float64]:
+    """Torque limits as floats of ``shape`` (or broadcast to it), NaN refused; inf is no limit."""
+    array = as_floats(name, value)
+    try:
+        array = np.broadcast_to(array, shape)
+    except ValueError:
+        raise InputError(name, f"torque limits of shape {shape}", f"shape {array.shape}") from None
+    if np.isnan(array).any():
+        raise InputError(name, "torque limits without NaN", f"{array}")
+    return array
+
+
 def check_motion_limits(
     dynamics: object, tau_max: ArrayLike, tau_min: ArrayLike, *, stacklevel: int = 1
 ) -> None:
@@ -274,8 +286,10 @@ def check_motion_limits(
     motion = getattr(dynamics, "motion", None)
     if not isinstance(motion, MotionLimits):
         return
-    upper = np.broadcast_to(np.asarray(tau_max, dtype=float), motion.tau_max.shape)
-    lower = np.broadcast_to(np.asarray(tau_min, dtype=float), motion.tau_min.shape)
+    upper, lower = (
+        _limits_like(name, value, motion.tau_max.shape)
+        for name, value in (("tau_max", tau_max), ("tau_min", tau_min))
+    )
     tol = MOTION_LIMIT_RTOL * (1.0 + np.maximum(abs(motion.rated_max), abs(motion.rated_min)))
     over = upper - motion.tau_max > tol  # (n,) or (K, n)
     under = motion.tau_min - lower > tol

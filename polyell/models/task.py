@@ -8,14 +8,17 @@ its sets are then in weighted units.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 
 from polyell.errors import InputError
+from polyell.validation import check_integer
 
 __all__ = ["ANGULAR_ROWS", "LINEAR_ROWS", "check_task", "default_task", "row_label", "task_unit"]
 
 LINEAR_ROWS = ("x", "y", "z")
 ANGULAR_ROWS = ("wx", "wy", "wz")
+#: Most rows a task may have (a name per row; far beyond any robot).
+MAX_TASK_ROWS = 10_000
 _UNITS = {
     "acceleration": {"linear": ("m/s^2", r"m/s$^2$"), "angular": ("rad/s^2", r"rad/s$^2$")},
     "velocity": {"linear": ("m/s", "m/s"), "angular": ("rad/s", "rad/s")},
@@ -35,6 +38,7 @@ def default_task(m: int) -> tuple[str, ...]:
     ``x, y, z`` up to three rows (linear, as the paper's), the six rows of a frame
     Jacobian for m = 6, and ``x1 .. xm`` (linear) otherwise.
     """
+    m = check_integer("m", m, 0, MAX_TASK_ROWS)
     if m <= 3:
         return LINEAR_ROWS[:m]
     if m == 6:
@@ -44,11 +48,13 @@ def default_task(m: int) -> tuple[str, ...]:
 
 def check_task(task: Sequence[str] | None, m: int) -> tuple[str, ...]:
     """Validate row names: m distinct non-empty strings (default :func:`default_task`)."""
+    m = check_integer("m", m, 0, MAX_TASK_ROWS)
     if task is None:
         return default_task(m)
-    if isinstance(task, str) or not all(isinstance(row, str) and row for row in task):
-        raise InputError("task", f"{m} row names such as ('x', 'z')", repr(task))
-    rows = tuple(task)
+    usable = not isinstance(task, str) and isinstance(task, Iterable)
+    rows = tuple(task) if usable else ()
+    if not usable or not all(isinstance(row, str) and row for row in rows):
+        raise InputError("task", f"{m} row names such as ('x', 'z')", repr(task)[:80])
     if len(rows) != m or len(set(rows)) != m:
         raise InputError(
             "task",
@@ -57,6 +63,11 @@ def check_task(task: Sequence[str] | None, m: int) -> tuple[str, ...]:
             "name every task row once, e.g. ('x', 'z') for a vertical plane.",
         )
     return rows
+
+
+def _check_capacity(capacity: object) -> None:
+    if not isinstance(capacity, str) or capacity not in _UNITS:
+        raise InputError("capacity", f"one of {tuple(_UNITS)}", repr(capacity)[:80])
 
 
 def _kind(row: str) -> str:
@@ -69,7 +80,15 @@ def task_unit(task: Sequence[str], tex: bool = False, capacity: str = "accelerat
     ``m/s^2`` and ``rad/s^2`` (acceleration), ``m/s`` and ``rad/s`` (velocity), ``N`` and
     ``N m`` (force).
     """
-    kinds = {_kind(row) for row in task}
+    _check_capacity(capacity)
+    if not isinstance(tex, bool):
+        raise InputError("tex", "True or False", repr(tex)[:80])
+    if isinstance(task, str) or not isinstance(task, Iterable):
+        raise InputError("task", "a sequence of row names such as ('x', 'z')", repr(task)[:80])
+    rows = list(task)
+    if not all(isinstance(row, str) and row for row in rows):
+        raise InputError("task", "non-empty row names such as ('x', 'z')", repr(rows)[:80])
+    kinds = {_kind(row) for row in rows}
     if len(kinds) != 1:
         return "weighted units"
     return _UNITS[capacity][kinds.pop()][int(tex)]
@@ -80,6 +99,9 @@ def row_label(row: str, capacity: str = "acceleration") -> str:
 
     Velocities read ``$\dot x$`` and ``$\omega_x$``, forces ``$f_x$`` and ``$\mu_x$``.
     """
+    _check_capacity(capacity)
+    if not isinstance(row, str) or not row:
+        raise InputError("row", "a non-empty row name such as 'x' or 'wz'", repr(row)[:80])
     linear, angular = _SYMBOLS[capacity]
     if row in ANGULAR_ROWS:
         return rf"${angular}_{row[1]}$"

@@ -706,7 +706,7 @@ class UrdfRobot(JointLimits):
                 "leave qd out, or analyse accelerations or forces of the robot in motion.",
             )
         limits = cls.limit_arguments(*cls.robot_limits(self, qd if cls.in_motion else None))
-        tolerances = {
+        tolerances: dict[str, Any] = {
             name: value
             for name, value in (("rank_rtol", rank_rtol), ("affine_rtol", affine_rtol))
             if value is not None

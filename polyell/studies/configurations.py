@@ -54,6 +54,20 @@ def uniform_rows(
     count : int
         Rows.
     """
+    if not isinstance(rng, np.random.Generator):
+        raise InputError(
+            "rng",
+            "a numpy.random.Generator",
+            type(rng).__name__,
+            "pass np.random.default_rng(seed).",
+        )
+    low = check_array("low", low, (None,))
+    if not low.size:
+        raise InputError("low", "a bound for at least one joint", "an empty array")
+    high = check_array("high", high, (low.size,))
+    count = check_integer("count", count, 0, MAX_AXIS_VALUES)
+    if np.any(low > high):
+        raise InputError("high", "bounds with low <= high", f"high {high} below low {low}")
     with np.errstate(over="ignore"):
         wide = not np.all(np.isfinite(high - low))
     if not wide:

@@ -19,6 +19,7 @@ from polyell.comparison.printable import Cell, Label, PrintTable, given_label, t
 from polyell.comparison.tables import escape_latex, escape_markdown, render_tables
 from polyell.errors import InputError
 from polyell.storage import write_text_atomically
+from polyell.validation import check_frame
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -44,6 +45,16 @@ _COLUMNS = {
 }
 #: Significant digits of the values (regret, correlations, the criteria's values).
 DIGITS = 3
+
+
+def _number(value: object, column: str) -> float:
+    """A cell of the choice table as a float, or an InputError naming its column."""
+    if isinstance(value, str | bytes):
+        raise InputError(f"table[{column!r}]", "numbers", repr(value)[:80])
+    try:
+        return float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise InputError(f"table[{column!r}]", "numbers", repr(value)[:80]) from None
 
 
 def _print_table(table: pd.DataFrame, layout: TableLayout) -> PrintTable:
@@ -76,7 +87,7 @@ def _print_table(table: pd.DataFrame, layout: TableLayout) -> PrintTable:
             value = (
                 math.nan
                 if record[column] is None or record[column] is NA
-                else float(record[column])
+                else _number(record[column], column)
             )
             kind_of = _COLUMNS[column][1]
             cells.append(Cell(value, 2 if kind_of == "share" else 0, count=kind_of == "index"))
@@ -114,6 +125,7 @@ def format_posture_table(
         Its ``sets`` (the rows shown, in that order) and ``digits``, as in a study's
         ``[output]``; default every set at :data:`DIGITS` digits.
     """
+    check_frame("table", table, "pass PostureChoice.table or PostureChoiceOverTargets.summary.")
     table, digits = _laid_out(table, layout)
     layout = layout or TableLayout()
     if style not in ("latex", "markdown", "csv"):
@@ -179,7 +191,7 @@ def write_posture_tables(
         For a table of another shape, a folder that does not exist, a stem with a path
         separator, text that cannot be written.
     """
-    if not isinstance(folder, str | os.PathLike) or not Path(folder).is_dir():
+    if not isinstance(folder, str | os.PathLike) or not str(folder) or not Path(folder).is_dir():
         raise InputError("folder", "an existing folder", repr(folder), "create it first.")
     if not isinstance(stem, str) or not stem or "/" in stem or "\\" in stem or stem[0] == ".":
         raise InputError("stem", "a file name without a path", repr(stem))

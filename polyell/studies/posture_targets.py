@@ -136,6 +136,12 @@ def posture_choice_over_targets(
     SolverError
         If too few random starts have a self-motion to sample.
     """
+    if not (hasattr(robot, "dynamics") and hasattr(robot, "n")) or isinstance(robot, type):
+        raise InputError(
+            "robot",
+            "a redundant robot (pe.PlanarArm, pe.UrdfRobot, pe.robots.load(...))",
+            type(robot).__name__,
+        )
     if (starts is None) == (count is None):
         raise InputError(
             "starts",

@@ -40,16 +40,16 @@ import zlib
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from tokenize import TokenError
-from typing import IO, Any
+from typing import IO, Any, cast
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from polyell.capacities import capacity_class, joint_limits_of
 from polyell.errors import InputError
 from polyell.studies.along import limits_along
 from polyell.studies.configurations import ConfigurationSet
-from polyell.validation import check_integer
+from polyell.validation import check_array, check_integer
 
 __all__ = [
     "MAX_JOINT_VALUE",
@@ -72,6 +72,25 @@ MAX_JOINT_VALUE = 1e8
 _READ_BLOCK = 1 << 16
 #: A CSV cell: a decimal number (also nan/inf, refused afterwards with its row).
 _NUMBER = re.compile(rb"[+-]?(?:\d+\.?\d*(?:[eE][+-]?\d+)?|\.\d+(?:[eE][+-]?\d+)?|nan|inf)", re.I)
+
+
+def _float_rows(name: str, value: object, shape: tuple[int, ...] | None) -> NDArray[np.float64]:
+    """A float64 array (kept as is when it is one: no copy of a long path) of ``shape``.
+
+    ``shape`` None: any (K, n) with n >= 1.  Values are checked by :func:`load_trajectory`;
+    other arrays are checked here (finite).
+    """
+    if type(value) is np.ndarray and value.dtype == np.float64:
+        array: NDArray[np.float64] = value
+    else:
+        array = check_array(
+            name, cast(ArrayLike, value), (None,) * (2 if shape is None else len(shape))
+        )
+    wrong = array.ndim != 2 or array.shape[1] == 0 if shape is None else array.shape != shape
+    if wrong:
+        expected = "shape (K, n)" if shape is None else f"shape {shape}"
+        raise InputError(name, f"an array of {expected}", f"shape {array.shape}")
+    return array
 
 
 class Trajectory(ConfigurationSet):
@@ -98,6 +117,11 @@ class Trajectory(ConfigurationSet):
         t: NDArray[np.float64] | None = None,
         source: str = "trajectory",
     ) -> None:
+        if not isinstance(source, str):
+            raise InputError("source", "the name of the file (str)", repr(source)[:80])
+        q = _float_rows("q", q, None)
+        qd = None if qd is None else _float_rows("qd", qd, q.shape)
+        t = None if t is None else _float_rows("t", t, q.shape[:1])
         self.q, self.qd, self.t, self.source = q, qd, t, source
         self.n = q.shape[1]
 
@@ -681,6 +705,8 @@ def tangent_limits(
     capacity: str = "acceleration",
     qd_max: Any = None,
     qd_min: Any = None,
+    horizon: float | None = None,
+    braking: Any = None,
 ) -> dict[str, NDArray[np.float64]]:
     """What a capacity allows along the path's tangent ``J q̇ / |J q̇|``, per sample.
 
@@ -702,6 +728,11 @@ def tangent_limits(
         As in :func:`polyell.limits_along`.
     qd_max, qd_min : array-like, optional
         Joint velocity limits [rad/s] of the velocity capacity; default the robot's own.
+    horizon, braking : optional
+        A control period [s] and viability's braking decelerations: the polytope's limits
+        within the robot's joint position and velocity limits over the period, from each
+        sample's state ``(q, qd)`` (the dynamics then in motion), as
+        ``limits_along(..., horizon=)``.
 
     Returns
     -------
@@ -710,9 +741,28 @@ def tangent_limits(
         ellipsoids (:func:`polyell.limits_along`); NaN where the task velocity is zero
         (``|J qd| <= TANGENT_RTOL |J| max|qd|``: no tangent) or the line misses the set.
     """
+    if not (hasattr(source, "dynamics") and hasattr(source, "n")) or isinstance(source, type):
+        raise InputError(
+            "source",
+            "a robot (pe.PlanarArm, pe.UrdfRobot, pe.robots.load(...))",
+            type(source).__name__,
+        )
+    if not isinstance(trajectory, Trajectory):
+        raise InputError(
+            "trajectory",
+            "a Trajectory (polyell.studies.load_trajectory)",
+            type(trajectory).__name__,
+        )
     if trajectory.qd is None:
         raise InputError(
             "trajectory", "joint velocities qd1..qdn for the tangent", f"{trajectory!r}"
+        )
+    if trajectory.q.shape[1] != source.n:
+        raise InputError(
+            "trajectory",
+            f"{source.n} joint positions per sample (the robot's joints)",
+            f"{trajectory.q.shape[1]}",
+            "load the trajectory with the robot's number of joints.",
         )
     # The direction does not depend on the speed's scale: divide by the path's largest
     # speed first, so that velocities up to 1e308 do not overflow in J qd.
@@ -733,7 +783,14 @@ def tangent_limits(
         moving = (speed > TANGENT_RTOL * size) if scale > 0 else np.zeros(len(speed), bool)
         T = np.where(moving[:, None], velocity / np.where(moving, speed, 1.0)[:, None], 0.0)
         T[~moving, 0] = 1.0  # a placeholder direction; its rows are NaN below
-        limits = limits_along(dyn, None, T, capacity=capacity, **cls.limit_arguments(upper, lower))
+        arguments = cls.limit_arguments(upper, lower)
+        if horizon is None:
+            limits = limits_along(dyn, None, T, capacity=capacity, **arguments)
+        else:  # the state's limits over the horizon: the robot's, at the samples' velocities
+            states = (trajectory.q[start:stop], trajectory.qd[start:stop])
+            limits = limits_along(
+                source, states[0], T, **arguments, horizon=horizon, qd=states[1], braking=braking
+            )
         for name, (lo, hi) in limits.items():
             for end, values in ((f"tangent_{name}_lo", lo), (f"tangent_{name}_hi", hi)):
                 if end not in columns:
