@@ -54,6 +54,13 @@ MAIN_OUTPUTS = {
     "limits.md": "the directional limits along each point's directions (also .tex, .csv)",
     "summary.md": "the scores' statistics over all configurations (also .tex, .csv)",
     "results.csv": "one row of scores per configuration",
+    "posture_choice.md": "the posture each index picks, its joint angles (also .tex, .csv)",
+    "posture_targets.md": "each index's regret over random targets (also .tex, .csv)",
+    "posture_values.csv": "one row per posture: its joint angles and every set's values",
+    **{
+        f"posture_indices.{extension}": "the figure of every index over the postures"
+        for extension in ("pdf", "png", "svg")
+    },
     "report.html": "the interactive report (open it in a browser; works offline)",
     "manifest.json": "every file written",
 }

@@ -8,7 +8,8 @@ machines without a display.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+import os
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -28,7 +29,7 @@ from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import require_drawable
 from polyell.models.task import row_label
 from polyell.storage import write_atomically
-from polyell.validation import check_array, check_instance
+from polyell.validation import check_array, check_instance, check_integer
 
 __all__ = [
     "STYLES",
@@ -49,6 +50,7 @@ __all__ = [
 _FIX_ANALYSIS = "pass an analysis (pe.analyze(...)); of a comparison, its .analysis."
 _FIX_RESULTS = "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv))."
 _FIX_FIGURE = "pass a matplotlib Figure (the plot_* functions return one)."
+_FIX_ELLIPSOID = "pass an ellipsoid: analysis.ellipsoid('chiacchio'), comparison.mvie, ..."
 
 #: Line styles per set: distinct in greyscale (dash pattern, width and grey level).
 STYLES = {
@@ -62,6 +64,11 @@ STYLES = {
 #: Largest resolution of a saved figure: a 6-inch figure at 2400 dpi is 14400 pixels wide
 #: (about 0.6 GB of RGBA pixels for a square one), beyond any journal's requirement.
 MAX_DPI = 2400
+#: Smallest resolution of a saved figure (a study's too): below it FreeType cannot render
+#: the figures' smallest text (legends, subscripts) in a raster format.
+MIN_DPI = 10
+#: Most bins of a histogram (a figure 5 inches wide shows far fewer).
+MAX_BINS = 10_000
 #: Styles of user-defined candidates, in the order they are drawn.
 CANDIDATE_STYLES = (
     {"color": "0.15", "linestyle": (0, (1, 1)), "linewidth": 1.8},
@@ -124,6 +131,52 @@ def _check_texts(**texts: object) -> None:
             check_title(text, argument)
 
 
+def _check_kinds(kinds: object) -> list[str]:
+    """Names of the sets to draw: a sequence of str (one str's letters are no names)."""
+    if isinstance(kinds, Iterable) and not isinstance(kinds, str | bytes):
+        names = list(kinds)
+        if all(isinstance(name, str) for name in names):
+            return names
+    raise InputError(
+        "kinds",
+        "a sequence of set names such as ('chiacchio', 'yoshikawa')",
+        f"{type(kinds).__name__} {kinds!r:.80}",
+        "pass a list or tuple of names, e.g. kinds=['chiacchio'].",
+    )
+
+
+def _check_ellipsoid(argument: str, E: Ellipsoid, m: int) -> None:
+    """Refuse what is not an ellipsoid of the m-D task space (``mvie=``, ``extra=``)."""
+    check_instance(argument, E, Ellipsoid, _FIX_ELLIPSOID)
+    if E.center.size != m:
+        raise InputError(
+            argument, f"an ellipsoid of the {m}-D task space", f"one of {E.center.size}-D"
+        )
+
+
+def _check_pair(
+    argument: str, value: object, expected: str, *, finite: bool = True
+) -> tuple[float, float]:
+    """Two real numbers (a tuple, list or array of two; finite if ``finite``), as floats."""
+    items = value.tolist() if isinstance(value, np.ndarray) else value
+    if (
+        isinstance(items, tuple | list)
+        and len(items) == 2
+        and all(
+            isinstance(v, int | float | np.integer | np.floating) and not isinstance(v, bool)
+            for v in items
+        )
+        and (not finite or bool(np.all(np.isfinite(items))))
+    ):
+        return float(items[0]), float(items[1])
+    raise InputError(argument, expected, f"{type(value).__name__} {value!r:.80}")
+
+
+def _check_view(view: object) -> tuple[float, float]:
+    """The ``(elevation, azimuth)`` of a 3-D view, as floats."""
+    return _check_pair("view", view, "(elevation, azimuth) in degrees, two finite numbers")
+
+
 def _style(
     kind: str, kinds: Sequence[str] = (), capacity: str = "acceleration", labels: Labels = None
 ) -> dict[str, object]:
@@ -162,12 +215,17 @@ def _ellipsoids(
 ) -> dict[str, Ellipsoid]:
     """The ellipsoids to draw: ``kinds`` (default the capacity's own), then ``extra``."""
     require_drawable(analysis.polytope, "analysis")
-    if kinds is None:
-        kinds = analysis.ellipsoid_kinds
-    found: dict[str, Ellipsoid] = {}
-    for name in extra or {}:
+    if mvie is not None:  # checked even when kinds leave it out: never silently ignored
+        _check_ellipsoid("mvie", mvie, analysis.m)
+    if extra is not None and not isinstance(extra, Mapping):
+        got = f"{type(extra).__name__} {extra!r:.80}"
+        fix = "e.g. extra={'outer': comparison.outer}."
+        raise InputError("extra", "a mapping of set names to ellipsoids", got, fix)
+    for name, E in (extra or {}).items():
         check_title(name, "extra")  # drawn as a legend entry
-    for kind in kinds:
+        _check_ellipsoid(f"extra[{name!r}]", E, analysis.m)
+    found: dict[str, Ellipsoid] = {}
+    for kind in analysis.ellipsoid_kinds if kinds is None else _check_kinds(kinds):
         if kind == "mvie":
             if mvie is None:
                 raise InputError("kinds", "an 'mvie' ellipsoid passed as mvie=", "None")
@@ -241,8 +299,10 @@ def plot_sets(
         raise InputError("analysis", "a 2-D task space", f"m = {analysis.m}", "use plot_sets_3d.")
     _check_texts(unit=unit, title=title)
     labels = _check_labels(labels)
+    drawn = _ellipsoids(analysis, kinds, mvie, extra)  # checked before drawing on ax
     if ax is None:
         ax = Figure(figsize=(4.8, 5.2), layout="constrained").add_subplot()
+    check_instance("ax", ax, Axes, "pass a matplotlib Axes (figure.add_subplot()), or no ax.")
     P = analysis.polytope
     vertices = P.vertices if P.dim < 2 else np.vstack([P.vertices, P.vertices[:1]])
     # Segments (a singular configuration) lie on one line: the polytope is drawn wide and
@@ -257,7 +317,6 @@ def plot_sets(
     polytope = _style("polytope", (), analysis.capacity, labels)
     ax.plot(*vertices.T, **(polytope | segment))  # type: ignore[arg-type]
     widths = {"chiacchio": 3.2, "yoshikawa": 2.0, "mvie": 1.3}
-    drawn = _ellipsoids(analysis, kinds, mvie, extra)
     for kind, E in drawn.items():
         ends: dict[str, object] = {}
         if E.rank < 2:
@@ -338,6 +397,7 @@ def ellipsoid_outline(
         axes), none otherwise.
     """
     check_instance("E", E, Ellipsoid, "pass an ellipsoid, e.g. analysis.ellipsoid('chiacchio').")
+    view = _check_view(view)
     if E.rank < 3:
         curve = E.boundary_curve(180, closed=True) if E.rank > 0 else E.center[None]
         return curve, []
@@ -384,14 +444,7 @@ def plot_sets_3d(
         raise InputError("analysis", "a 3-D task space", f"m = {analysis.m}", "use plot_sets.")
     _check_texts(unit=unit, title=title)
     labels = _check_labels(labels)
-    if (
-        not isinstance(view, tuple | list)
-        or len(view) != 2
-        or not all(isinstance(v, int | float | np.integer | np.floating) for v in view)
-        or not np.all(np.isfinite(view))
-    ):
-        raise InputError("view", "(elevation, azimuth) in degrees, two finite numbers", repr(view))
-    view = (float(view[0]), float(view[1]))
+    view = _check_view(view)
     figure = Figure(figsize=(5.5, 5.0), layout="constrained")
     ax = figure.add_subplot(projection="3d", proj_type="ortho")
     P = analysis.polytope
@@ -550,9 +603,15 @@ def plot_score_map(
         raise InputError(
             "values", f"shape (len(y), len(x)) = {(len(y), len(x))}", f"shape {values.shape}"
         )
+    if not values.size:
+        raise InputError(
+            "values", "a grid of one value or more", f"shape {values.shape}", "give x and y values."
+        )
+    vmin, vmax = (None, None)
+    if limits is not None:  # NaN or infinite limits are accepted, as before
+        vmin, vmax = _check_pair("limits", limits, "(low, high), two numbers", finite=False)
     figure = Figure(figsize=(5.0, 4.0), layout="constrained")
     ax = figure.add_subplot()
-    vmin, vmax = limits if limits is not None else (None, None)
     mesh = ax.pcolormesh(
         x, y, np.ma.masked_invalid(values), cmap="cividis", shading="nearest", vmin=vmin, vmax=vmax
     )
@@ -563,6 +622,32 @@ def plot_score_map(
     if title:
         ax.set_title(title, fontsize="medium")
     return figure
+
+
+def _score_columns(
+    results: pd.DataFrame, score: str, kinds: object
+) -> dict[str, NDArray[np.float64]]:
+    """The ``<kind>_<score>`` columns of ``results`` there are, of ``kinds``, as floats."""
+    present = [kind for kind in _check_kinds(kinds) if f"{kind}_{score}" in results]
+    if not present:
+        raise InputError(
+            "score", f"a score with columns in the results, e.g. {list(results)[:4]}", repr(score)
+        )
+    columns = {}
+    for kind in present:
+        column = results[f"{kind}_{score}"]
+        try:
+            columns[kind] = column.to_numpy(dtype=float)
+        except (TypeError, ValueError):
+            bad = column[pd.to_numeric(column, errors="coerce").isna() & column.notna()]
+            raise InputError(
+                f"results[{column.name!r}]",
+                "numbers (NaN where undefined)",
+                f"{bad.iloc[0]!r} in row {bad.index[0]!r}" if len(bad) else str(column.dtype),
+                f"make the column numeric: pd.to_numeric(results[{column.name!r}], "
+                "errors='coerce') (text becomes NaN).",
+            ) from None
+    return columns
 
 
 def _bin_edges(data: NDArray[np.float64], bins: int) -> list[float]:
@@ -615,19 +700,19 @@ def plot_score_histogram(
     capacity = check_capacity(capacity)
     _check_texts(title=title)
     labels = _check_labels(labels)
-    present = [kind for kind in kinds if f"{kind}_{score}" in results]
-    if not present:
-        raise InputError(
-            "score", f"a score with columns in the results, e.g. {list(results)[:4]}", repr(score)
-        )
+    bins = check_integer("bins", bins, 1, MAX_BINS)
+    columns = _score_columns(results, score, kinds)
+    present = list(columns)
     name, factor = score_display(score, capacity, labels)
-    values = [factor * results[f"{kind}_{score}"].to_numpy(dtype=float) for kind in present]
+    values = [factor * column for column in columns.values()]
     finite = [v[np.isfinite(v)] for v in values]
     edges = _bin_edges(np.concatenate(finite), bins)
     figure = Figure(figsize=(5.0, 3.6), layout="constrained")
     ax = figure.add_subplot()
     for kind, data in zip(present, finite, strict=True):
         style = _style(kind, present, capacity, labels)
+        # an all-NaN column (undefined everywhere) is named, without bars or median
+        median = f"median {np.median(data):.3g}" if data.size else "no finite value"
         ax.hist(
             data,
             bins=edges,
@@ -635,7 +720,7 @@ def plot_score_histogram(
             color=str(style["color"]),
             linestyle=style["linestyle"],
             linewidth=1.6,
-            label=f"{style['label']} (median {np.median(data):.3g})",
+            label=f"{style['label']} ({median})",
         )
     ax.set_xlabel(name)
     ax.set_ylabel("configurations")
@@ -679,11 +764,8 @@ def plot_score_series(
     capacity = check_capacity(capacity)
     _check_texts(title=title)
     labels = _check_labels(labels)
-    present = [kind for kind in kinds if f"{kind}_{score}" in results]
-    if not present:
-        raise InputError(
-            "score", f"a score with columns in the results, e.g. {list(results)[:4]}", repr(score)
-        )
+    columns = _score_columns(results, score, kinds)
+    present = list(columns)
     x = results["t"] if "t" in results else results["configuration"]
     name, factor = score_display(score, capacity, labels)
     figure = Figure(figsize=(6.0, 3.2), layout="constrained")
@@ -692,7 +774,7 @@ def plot_score_series(
         style = _style(kind, present, capacity, labels)
         ax.plot(
             x,
-            factor * results[f"{kind}_{score}"],
+            factor * columns[kind],
             color=str(style["color"]),
             linestyle=style["linestyle"],
             label=style["label"],
@@ -880,7 +962,7 @@ def save_figure(
         Formats, each written as ``stem.<format>``; default ``("pdf", "png")``, or the
         suffix of ``stem`` when it is a figure format.  Empty: nothing is written.
     dpi : int, optional
-        Dots per inch of the raster formats (1 to :data:`MAX_DPI`).
+        Dots per inch of the raster formats (:data:`MIN_DPI` to :data:`MAX_DPI`).
 
     Returns
     -------
@@ -891,14 +973,22 @@ def save_figure(
     ------
     InputError
         For a name with a figure suffix together with ``formats`` that are not exactly
-        that format (ambiguous: ``"x.png"`` with ``("pdf", "png")``), unknown formats, or
-        a ``dpi`` out of range.
+        that format (ambiguous: ``"x.png"`` with ``("pdf", "png")``), a name without a
+        file's name (``""``, ``"out/"``: hidden files ``.pdf``), unknown formats, or a
+        ``dpi`` out of range.
     StorageError
         If a file cannot be written.
     """
     check_instance("figure", figure, Figure, _FIX_FIGURE)
     if not isinstance(stem, str | Path):
         raise InputError("stem", "a file name without extension (str or Path)", repr(stem))
+    if str(stem).replace(os.sep, "/").rsplit("/", 1)[-1] in ("", ".", ".."):
+        raise InputError(
+            "stem",
+            "a file name, e.g. 'sets' or 'out/sets'",
+            repr(stem),
+            "name the file: a folder alone would write hidden files such as '.pdf'.",
+        )
     supported = sorted(figure.canvas.get_supported_filetypes())
     if formats is not None and (
         isinstance(formats, str) or not all(fmt in supported for fmt in formats)
@@ -924,9 +1014,9 @@ def save_figure(
     if (
         isinstance(dpi, bool)
         or not isinstance(dpi, int | float | np.integer | np.floating)
-        or not 1 <= dpi <= MAX_DPI
+        or not MIN_DPI <= dpi <= MAX_DPI
     ):
-        raise InputError("dpi", f"dots per inch from 1 to {MAX_DPI}", repr(dpi))
+        raise InputError("dpi", f"dots per inch from {MIN_DPI} to {MAX_DPI}", repr(dpi))
     paths = []
     for path, fmt in targets:
         metadata = {"CreationDate": None} if fmt == "pdf" else None

@@ -60,13 +60,14 @@ Array = NDArray[np.float64]
 CRITERIA = ("limit", "radius", "volume")
 #: The per-posture quantities of each set: the interval along d, then the criteria.
 QUANTITIES = ("lo", "hi", *CRITERIA)
-#: The columns of a choice table.
+#: The columns of a choice table (with the postures, ``q1 .. qn`` follow ``picked``; with
+#: the unit, ``unit`` follows ``true_best``).
 TABLE_COLUMNS = ("picked", "true_at_pick", "true_best", "regret", "spearman", "kendall")
 #: Fewest postures a choice compares (a rank correlation needs two).
 MIN_POSTURES = 2
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class PostureChoice:
     """Every index of every set over a set of postures, and what choosing by each costs.
 
@@ -77,10 +78,13 @@ class PostureChoice:
         ``yoshikawa``, ``mvie``, ``outer`` and the candidates' names (those computed),
         criterion in :data:`CRITERIA`.  Columns: ``picked`` (the row of
         ``configurations`` the index maximises; <NA> if it is undefined everywhere),
-        ``true_at_pick`` (the polytope's value of the criterion there), ``true_best``
-        (its maximum over the postures), ``regret`` (``1 - true_at_pick / true_best``,
-        in [0, 1]; 0 when the truth is 0 everywhere or the pick is the best, an unbounded
-        force set's infinite volume included; 1 for a finite pick beside it),
+        ``q1`` .. ``qn`` (that posture's joint positions [rad, or m for a prismatic joint];
+        NaN without a pick), ``true_at_pick`` (the polytope's value of the criterion there),
+        ``true_best`` (its maximum over the postures), ``unit`` (theirs: :attr:`unit` for
+        ``limit`` and ``radius``, its m-th power ``(unit)^m`` for ``volume``), ``regret``
+        (``1 - true_at_pick / true_best``, in [0, 1]; 0 when the truth is 0 everywhere or
+        the pick is the best, an unbounded force set's infinite volume included; 1 for a
+        finite pick beside it),
         ``spearman`` and ``kendall`` (rank correlations of the index with the truth over
         the postures where both are defined; NaN when either is constant).
     values : DataFrame
@@ -93,7 +97,10 @@ class PostureChoice:
     configurations : ndarray, shape (k, n)
         The postures [rad or m].
     unit : str
-        The task's acceleration unit (m/s^2, rad/s^2 or weighted units).
+        The capacity's task unit (``m/s^2`` or ``rad/s^2`` for accelerations, ``m/s`` or
+        ``rad/s`` for velocities, ``N`` or ``N m`` for forces, or ``weighted units``): the
+        unit of the limit and the radius; the volume's is its m-th power (the table's
+        ``unit`` column).
     """
 
     table: pd.DataFrame
@@ -101,6 +108,17 @@ class PostureChoice:
     direction: Array
     configurations: Array
     unit: str
+
+    def __repr__(self) -> str:
+        """A line: the capacity, the postures, the sets, the direction and the unit."""
+        kinds = list(dict.fromkeys(self.values.columns.get_level_values(0)))
+        direction = np.array2string(np.asarray(self.direction), precision=4, separator=", ")
+        capacity = self.table.attrs.get("capacity", "acceleration")
+        k, n = np.shape(self.configurations)
+        return (
+            f"PostureChoice(capacity={capacity!r}, postures={k}, joints={n}, "
+            f"sets={kinds}, direction={direction}, unit={self.unit!r})"
+        )
 
 
 def _check_flag(name: str, value: object) -> bool:
@@ -292,13 +310,14 @@ def posture_choice(
     )
     frame.columns = pd.MultiIndex.from_tuples(frame.columns, names=["kind", "quantity"])
     frame.index.name = "posture"
-    table = choice_table(frame)
-    frame.attrs["capacity"] = table.attrs["capacity"] = capacity  # the sets' labels
     from polyell.models.task import task_unit
 
+    unit = task_unit(dyn.task, capacity=capacity)
+    table = choice_table(frame, configurations=q, unit=unit, dimension=m)
+    frame.attrs["capacity"] = table.attrs["capacity"] = capacity  # the sets' labels
     q.flags.writeable = False
     d.flags.writeable = False
-    return PostureChoice(table, frame, d, q, task_unit(dyn.task, capacity=capacity))
+    return PostureChoice(table, frame, d, q, unit)
 
 
 def _block_values(
@@ -399,13 +418,37 @@ def _ellipsoid(analysis: Any, kind: str, candidates: tuple[Candidate, ...]) -> E
     return next(c for c in candidates if c.name == kind).ellipsoid(analysis)
 
 
-def choice_table(values: pd.DataFrame) -> pd.DataFrame:
+def criterion_units(unit: str, dimension: int) -> dict[str, str]:
+    """The unit of each criterion's values: the task's, and its m-th power for the volume.
+
+    >>> criterion_units("m/s^2", 3)
+    {'limit': 'm/s^2', 'radius': 'm/s^2', 'volume': '(m/s^2)^3'}
+    """
+    volume = unit if dimension == 1 else f"({unit})^{dimension}"
+    return {"limit": unit, "radius": unit, "volume": volume}
+
+
+def choice_table(
+    values: pd.DataFrame,
+    *,
+    configurations: ArrayLike | None = None,
+    unit: str | None = None,
+    dimension: int | None = None,
+) -> pd.DataFrame:
     """The choice table of per-posture values (the ``values`` of a :class:`PostureChoice`).
 
     Parameters
     ----------
     values : DataFrame
         One row per posture, columns (kind, criterion) with at least the ``polytope``'s.
+    configurations : array-like, shape (k, n), optional
+        The postures of ``values``' rows: the table then gives the picked posture's joint
+        positions, columns ``q1`` .. ``qn`` after ``picked``.
+    unit : str, optional
+        The task's unit (:attr:`PostureChoice.unit`): the table then has a ``unit`` column
+        after ``true_best``, the unit of each row's values (:func:`criterion_units`).
+    dimension : int, optional
+        With ``unit``: the task's dimension m, the power of the volume's unit.
 
     Returns
     -------
@@ -413,6 +456,20 @@ def choice_table(values: pd.DataFrame) -> pd.DataFrame:
         Indexed by (kind, criterion), the columns of :attr:`PostureChoice.table`.
     """
     check_frame("values", values, "pass choice.values of pe.posture_choice.")
+    q = None
+    if configurations is not None:
+        q = check_array(
+            "configurations", configurations, (len(values), "n"), what="joint positions"
+        )
+    units = None
+    if unit is not None:
+        if not isinstance(unit, str) or not unit:
+            raise InputError("unit", "the task's unit, such as 'm/s^2'", repr(unit)[:80])
+        if isinstance(dimension, bool) or not isinstance(dimension, int | np.integer):
+            raise InputError("dimension", "the task's dimension m (an integer)", repr(dimension))
+        if dimension < 1:
+            raise InputError("dimension", "the task's dimension m, at least 1", repr(dimension))
+        units = criterion_units(unit, int(dimension))
     import pandas as pd
     from scipy import stats
 
@@ -442,4 +499,15 @@ def choice_table(values: pd.DataFrame) -> pd.DataFrame:
             records.append((kind, criterion, picked, at_pick, best, regret, spearman, kendall))
     table = pd.DataFrame.from_records(records, columns=["kind", "criterion", *TABLE_COLUMNS])
     table["picked"] = table["picked"].astype("Int64")
+    if q is not None:  # the picked posture's joint positions, beside its row number
+        rows = table["picked"].to_numpy(dtype=float, na_value=np.nan)
+        joints = np.full((len(table), q.shape[1]), np.nan)
+        chosen = ~np.isnan(rows)
+        joints[chosen] = q[rows[chosen].astype(int)]
+        at = table.columns.get_loc("picked") + 1
+        for j in range(q.shape[1]):
+            table.insert(at + j, f"q{j + 1}", joints[:, j])
+    if units is not None:
+        at = table.columns.get_loc("true_best") + 1
+        table.insert(at, "unit", [units[criterion] for criterion in table["criterion"]])
     return table.set_index(["kind", "criterion"])

@@ -10,10 +10,11 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from polyell.comparison.latex_text import markdown_text
+from polyell.comparison.latex_text import latex_unit, markdown_text
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.printable import Cell, Label, PrintTable, given_label, text_label
 from polyell.comparison.tables import escape_latex, escape_markdown, render_tables
@@ -45,6 +46,53 @@ _COLUMNS = {
 }
 #: Significant digits of the values (regret, correlations, the criteria's values).
 DIGITS = 3
+#: A joint position column of a choice table (``q1`` .. ``qn``: the picked posture).
+_JOINT = re.compile(r"q([1-9][0-9]*)")
+#: The unit of the joint position columns' headers.
+JOINT_UNIT = "rad"
+
+
+def _shown(column: object) -> bool:
+    """Whether a column of the table is shown: a known column or a joint position."""
+    return column in _COLUMNS or (isinstance(column, str) and bool(_JOINT.fullmatch(column)))
+
+
+def _header(column: str) -> Label:
+    """A column's header: its lines (stacked in LaTeX), or ``q1 [rad]`` for a joint."""
+    joint = _JOINT.fullmatch(column)
+    if joint:
+        symbol = f"$q_{{{joint.group(1)}}}$"
+        return Label(
+            f"{column} [{JOINT_UNIT}]", f"{symbol} [{JOINT_UNIT}]", (symbol, f"[{JOINT_UNIT}]")
+        )
+    lines = _COLUMNS[column][0]
+    plain = " ".join(lines).replace("- ", "")
+    if len(lines) == 1:
+        return Label(plain, escape_latex(plain, "column"))
+    return Label(
+        plain,
+        escape_latex(plain, "column"),
+        tuple(escape_latex(line, "column") for line in lines),
+    )
+
+
+def _criterion(criterion: str, unit: object) -> Label:
+    """A criterion's row label, with the unit of its values in brackets (``limit [m/s^2]``).
+
+    ``unit`` is the table's ``unit`` cell (:func:`polyell.studies.posture.criterion_units`:
+    ``m/s^2``, ``(m/s^2)^3``); none (a table without units, a summary over targets): the
+    criterion alone.
+    """
+    from pandas import NA
+
+    if unit is None or unit is NA or (isinstance(unit, float) and math.isnan(unit)):
+        return text_label(criterion, "criterion")  # (a row without a unit)
+    if not isinstance(unit, str) or not unit:
+        raise InputError("table['unit']", "units such as 'm/s^2'", repr(unit)[:80])
+    power = re.fullmatch(r"\((.+)\)\^([0-9]+)", unit)  # the volume's: (m/s^2)^3
+    latex = latex_unit(power.group(1), power.group(2)) if power else latex_unit(unit)
+    head = escape_latex(criterion, "criterion")
+    return Label(f"{criterion} [{unit}]", f"{head} [{latex}]")
 
 
 def _number(value: object, column: str) -> float:
@@ -66,16 +114,11 @@ def _print_table(table: pd.DataFrame, layout: TableLayout) -> PrintTable:
             f"an index of {table.index.nlevels} levels",
             "pass PostureChoice.table or PostureChoiceOverTargets.summary.",
         )
-    columns = [c for c in table.columns if c in _COLUMNS]
-    if not columns:
+    columns = [c for c in table.columns if _shown(c)]
+    if not any(c in _COLUMNS for c in columns):
         raise InputError("table", f"columns among {list(_COLUMNS)}", f"{list(table.columns)}")
-    headers = []
-    for column in columns:
-        lines = _COLUMNS[column][0]
-        plain = " ".join(lines).replace("- ", "")
-        headers.append(Label(plain, escape_latex(plain, "column"), tuple(
-            escape_latex(line, "column") for line in lines
-        )) if len(lines) > 1 else Label(plain, escape_latex(plain, "column")))  # fmt: skip
+    headers = [_header(column) for column in columns]
+    units = "unit" in table.columns
     from pandas import NA
 
     capacity = table.attrs.get("capacity", "acceleration")  # set by posture_choice
@@ -89,11 +132,11 @@ def _print_table(table: pd.DataFrame, layout: TableLayout) -> PrintTable:
                 if record[column] is None or record[column] is NA
                 else _number(record[column], column)
             )
-            kind_of = _COLUMNS[column][1]
+            kind_of = _COLUMNS[column][1] if column in _COLUMNS else "value"
             cells.append(Cell(value, 2 if kind_of == "share" else 0, count=kind_of == "index"))
         stub = (
             given_label(layout.set_text(str(kind), capacity), "sets"),
-            text_label(str(criterion), "criterion"),
+            _criterion(str(criterion), record["unit"] if units else None),
         )
         rows.append((stub, tuple(cells)))
     stub_head = (Label("set", "set"), Label("criterion", "criterion"))
@@ -110,7 +153,10 @@ def format_posture_table(
     """A choice table as ``"latex"`` (booktabs, a ``table`` float), ``"markdown"`` or ``"csv"``.
 
     Written by the package's table writers (the same labels and rounding as every table:
-    a line per set, :data:`DIGITS` significant digits, regret in percent).
+    a line per set, :data:`DIGITS` significant digits, regret in percent).  A choice table's
+    picked posture is its row number and its joint positions (``q1 [rad]`` ..; not in LaTeX,
+    whose table keeps to a one-column page), and each criterion's cell carries the unit of
+    its values (``limit [m/s^2]``, ``volume [(m/s^2)^3]``: the table's ``unit`` column).
 
     Parameters
     ----------
@@ -130,6 +176,8 @@ def format_posture_table(
     layout = layout or TableLayout()
     if style not in ("latex", "markdown", "csv"):
         raise InputError("style", "'latex', 'markdown' or 'csv'", repr(style))
+    if style == "latex":  # a one-column page's width: the angles are in the .md and .csv
+        table = table.drop(columns=[c for c in table.columns if re.fullmatch(r"q\d+", str(c))])
     printable = _print_table(table, layout)
     if style == "markdown":
         heading = f"# {markdown_text(escape_markdown(title, 'title'))}\n\n" if title else ""
@@ -183,7 +231,8 @@ def write_posture_tables(
     -------
     dict of str to Path
         ``{"latex": ..., "markdown": ..., "csv": ...}``.  The CSV holds the full-precision
-        values (regret as a fraction).
+        values (regret as a fraction, the joint positions ``q1`` .. ``qn``) and the
+        ``unit`` column.
 
     Raises
     ------

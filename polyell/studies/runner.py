@@ -269,7 +269,8 @@ def _run_posture(spec: StudySpec, folder: Path) -> list[Path]:
     """A posture study: the self-motion through q0, the choice of each index, the figure.
 
     The postures are sampled once; for each capacity of ``[compare] capacities`` writes
-    ``posture_choice.{tex,md,csv}`` (:func:`polyell.write_posture_tables`),
+    ``posture_choice.{tex,md,csv}`` (:func:`polyell.write_posture_tables`: each pick's row,
+    its joint angles and the truth there, in each criterion's unit),
     ``posture_values.csv`` (one row per posture: its joint angles, its position along the
     manifold and every set's values), ``posture_indices.<format>`` and, with ``targets``,
     ``posture_targets.{tex,md,csv}`` (the choice aggregated over random targets); the

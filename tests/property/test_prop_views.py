@@ -11,6 +11,7 @@ to a temporary folder.  Seeded (derandomized).
 from __future__ import annotations
 
 import contextlib
+import re
 import tempfile
 import warnings
 from collections.abc import Callable
@@ -235,7 +236,7 @@ def test_write_report_writes_a_page_or_refuses(tmp_path_factory, title, sections
     assert Path(page).resolve().is_relative_to(path.resolve())
 
 
-# --- polyell.figures (called only; figures.py is not changed here: its defects are xfails)
+# --- polyell.figures (called only: the figures are not looked at)
 
 
 @settings(max_examples=25)
@@ -288,19 +289,9 @@ def test_score_map(shape, limits):
         assert shape != "wrong" and len(figure.axes) >= 1
 
 
-@st.composite
-def numeric_results(draw: st.DrawFn) -> pd.DataFrame:
-    """results_frames without the inputs figures.py still fails on (see the xfails)."""
-    frame = draw(results_frames())
-    for column in SCORES:
-        if column in frame and (frame[column].dtype == object or frame[column].isna().all()):
-            frame[column] = RESULTS[column]
-    return frame
-
-
 @settings(max_examples=30)
 @given(
-    frame=numeric_results(),
+    frame=results_frames(),
     function=st.sampled_from(["plot_score_histogram", "plot_score_series"]),
     score=st.sampled_from(["coverage", "inscribed_scale", "volume", "nothing"]),
     kinds=st.sampled_from([("chiacchio", "yoshikawa"), ("chiacchio",), ("nothing",), ()]),
@@ -334,7 +325,7 @@ def test_save_figure(tmp_path_factory, formats, dpi, stem):
 
 @given(value=st.sampled_from([None, "x", b"x", {}, True, object(), -3, np.nan]))
 def test_figure_functions_refuse_junk(value):
-    """Each of these figure arguments replaced by junk: a refusal (see the xfails for more)."""
+    """Each of these figure arguments replaced by junk: a refusal."""
     calls = {
         "plot_sets_3d view": lambda v: figures.plot_sets_3d(SPATIAL, view=v),
         "plot_directional_limits": lambda v: figures.plot_directional_limits(
@@ -345,6 +336,20 @@ def test_figure_functions_refuse_junk(value):
         "ellipsoid_outline": lambda v: figures.ellipsoid_outline(v),
         "save_figure": lambda v: figures.save_figure(v, "never"),
         "plot_sets unit": lambda v: figures.plot_sets(ANALYSIS, unit=v),
+        "plot_sets ax": lambda v: figures.plot_sets(ANALYSIS, v),
+        "plot_sets mvie": lambda v: figures.plot_sets(ANALYSIS, mvie=v),
+        "ellipsoid_outline view": lambda v: figures.ellipsoid_outline(
+            SPATIAL.ellipsoid("chiacchio"), v
+        ),
+        "plot_score_map limits": lambda v: figures.plot_score_map(
+            np.ones((2, 2)), [0, 1], [0, 1], xlabel="a", ylabel="b", label="c", limits=v
+        ),
+        "plot_score_histogram bins": lambda v: figures.plot_score_histogram(
+            RESULTS, "coverage", bins=v
+        ),
+        "save_figure dpi": lambda v: _in_a_temporary_folder(
+            lambda: figures.save_figure(figures.plot_sets(ANALYSIS), "f", ["png"], v)
+        ),
     }
     for name, call in calls.items():
         result = outcome(lambda c=call: c(value), None)
@@ -370,62 +375,87 @@ def _all_nan(column: str) -> pd.DataFrame:
     return frame
 
 
-#: Defects of polyell/figures.py this suite found (not owned here): each a raw exception
-#: (or a numpy warning) where a PolyellError naming the argument is due.
-FIGURE_DEFECTS = {
-    "plot_sets kinds=5": lambda: figures.plot_sets(ANALYSIS, kinds=5),
-    "plot_sets ax='x'": lambda: figures.plot_sets(ANALYSIS, "x"),
-    "plot_sets extra='x'": lambda: figures.plot_sets(ANALYSIS, extra="x"),
-    "plot_sets extra=1+2j": lambda: figures.plot_sets(ANALYSIS, extra=1 + 2j),
-    "plot_score_map limits='x'": lambda: figures.plot_score_map(
-        np.ones((2, 2)), [0, 1], [0, 1], xlabel="a", ylabel="b", label="c", limits="x"
+#: Defects of polyell/figures.py this suite found, fixed: each was a raw exception (or a
+#: numpy warning, or an argument silently ignored) where an InputError naming the argument
+#: is due.  Case: (the argument the message names, the call).
+FIGURE_DEFECTS: dict[str, tuple[str, Callable[[], Any]]] = {
+    "plot_sets kinds=5": ("kinds", lambda: figures.plot_sets(ANALYSIS, kinds=5)),
+    "plot_sets ax='x'": ("ax", lambda: figures.plot_sets(ANALYSIS, "x")),
+    "plot_sets extra='x'": ("extra", lambda: figures.plot_sets(ANALYSIS, extra="x")),
+    "plot_sets extra=1+2j": ("extra", lambda: figures.plot_sets(ANALYSIS, extra=1 + 2j)),
+    "plot_score_map limits='x'": (
+        "limits",
+        lambda: figures.plot_score_map(
+            np.ones((2, 2)), [0, 1], [0, 1], xlabel="a", ylabel="b", label="c", limits="x"
+        ),
     ),
-    "plot_score_map empty": lambda: figures.plot_score_map(
-        np.zeros((0, 0)), [], [], xlabel="a", ylabel="b", label="c"
+    "plot_score_map empty": (
+        "values",
+        lambda: figures.plot_score_map(np.zeros((0, 0)), [], [], xlabel="a", ylabel="b", label="c"),
     ),
-    "plot_score_histogram bins=-1": lambda: figures.plot_score_histogram(
-        RESULTS, "coverage", bins=-1
+    "plot_score_histogram bins=-1": (
+        "bins",
+        lambda: figures.plot_score_histogram(RESULTS, "coverage", bins=-1),
     ),
-    "plot_score_histogram bins=2.5": lambda: figures.plot_score_histogram(
-        RESULTS, "coverage", bins=2.5
+    "plot_score_histogram bins=2.5": (
+        "bins",
+        lambda: figures.plot_score_histogram(RESULTS, "coverage", bins=2.5),
     ),
-    "plot_score_histogram all-NaN column": lambda: figures.plot_score_histogram(
-        _all_nan("chiacchio_coverage"), "coverage"
+    "plot_score_histogram text cell": (
+        "results['chiacchio_coverage']",
+        lambda: figures.plot_score_histogram(_frame_with("chiacchio_coverage", "abc"), "coverage"),
     ),
-    "plot_score_histogram text cell": lambda: figures.plot_score_histogram(
-        _frame_with("chiacchio_coverage", "abc"), "coverage"
+    "plot_score_series text cell": (
+        "results['chiacchio_coverage']",
+        lambda: figures.plot_score_series(_frame_with("chiacchio_coverage", "abc"), "coverage"),
     ),
-    "plot_score_series text cell": lambda: figures.plot_score_series(
-        _frame_with("chiacchio_coverage", "abc"), "coverage"
+    "ellipsoid_outline view=None": (
+        "view",
+        lambda: figures.ellipsoid_outline(SPATIAL.ellipsoid("chiacchio"), None),
     ),
-    "ellipsoid_outline view=None": lambda: figures.ellipsoid_outline(
-        SPATIAL.ellipsoid("chiacchio"), None
+    "ellipsoid_outline view=[]": (
+        "view",
+        lambda: figures.ellipsoid_outline(SPATIAL.ellipsoid("chiacchio"), []),
     ),
-    "ellipsoid_outline view=[]": lambda: figures.ellipsoid_outline(
-        SPATIAL.ellipsoid("chiacchio"), []
+    "save_figure dpi=2.5": (  # was a FreeType error: no text at 2.5 dots per inch
+        "dpi",
+        lambda: figures.save_figure(figures.plot_sets(ANALYSIS), "f", ["png"], 2.5),
     ),
-    "save_figure dpi=2.5": lambda: _in_a_temporary_folder(
-        lambda: figures.save_figure(figures.plot_sets(ANALYSIS), "f", ["png"], 2.5)
+    "save_figure stem=''": (  # wrote hidden files .pdf and .png into the current folder
+        "stem",
+        lambda: figures.save_figure(figures.plot_sets(ANALYSIS), ""),
     ),
-    "save_figure stem=''": lambda: _in_a_temporary_folder(
-        lambda: figures.save_figure(figures.plot_sets(ANALYSIS), "")  # writes .pdf, .png
+    "plot_sets mvie='x' (ignored, not refused)": (
+        "mvie",
+        lambda: figures.plot_sets(ANALYSIS, mvie="x"),
     ),
-    "plot_sets mvie='x' (ignored, not refused)": lambda: figures.plot_sets(ANALYSIS, mvie="x"),
 }
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="polyell/figures.py (not owned here) raises raw TypeError/ValueError/"
-    "AttributeError/RuntimeError or a numpy RuntimeWarning, or accepts the argument, "
-    "where a PolyellError naming it is due",
-)
 @pytest.mark.parametrize("case", sorted(FIGURE_DEFECTS))
 def test_figure_defects(case):
+    """Called in a temporary folder: a refusal naming the argument, and no file written."""
+    argument, call = FIGURE_DEFECTS[case]
+    with warnings.catch_warnings(), tempfile.TemporaryDirectory() as folder:
+        warnings.simplefilter("error")
+        try:
+            with contextlib.chdir(folder), pytest.raises(pe.InputError) as refusal:
+                call()
+            assert refusal.value.argument == argument
+            assert re.search(r"expected .+, got .+", str(refusal.value))
+            assert not list(Path(folder).iterdir())  # nothing written, hidden or not
+        finally:
+            plt.close("all")
+
+
+def test_histogram_of_a_score_undefined_everywhere_says_so():
+    """An all-NaN column (a set undefined at every configuration): a figure, no numpy warning."""
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         try:
-            with pytest.raises(pe.PolyellError):
-                FIGURE_DEFECTS[case]()
+            figure = figures.plot_score_histogram(_all_nan("chiacchio_coverage"), "coverage")
+            legend = [text.get_text() for text in figure.axes[0].get_legend().get_texts()]
         finally:
             plt.close("all")
+    assert legend[0] == "Chiacchio (no finite value)"
+    assert legend[1].startswith("Yoshikawa (median ")

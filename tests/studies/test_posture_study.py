@@ -379,7 +379,8 @@ def test_the_posture_tables_follow_output_sets_and_digits(tmp_path):
     assert rows == ["Chiacchio"] * 3 + ["polytope"] * 3, rows  # in the order asked
     assert "heavy_wrist" not in markdown and "Yoshikawa" not in markdown
     first = next(line for line in markdown.splitlines() if line.startswith("| Chiacchio"))
-    truth = [cell.strip() for cell in first.split("|")][4]  # the truth at the pick
+    # the truth at the pick, after the row number and the picked posture's q1 .. q3
+    truth = [cell.strip() for cell in first.split("|")][7]
     assert len(truth.replace(".", "").replace("-", "").lstrip("0")) == 6, truth
     full = pd.read_csv(out / "posture_choice.csv")  # every set, full precision
     assert "heavy_wrist" in set(full.iloc[:, 0])
