@@ -63,9 +63,9 @@ def swept(name: str, capacity: str) -> tuple[pd.DataFrame, int]:
     module = sys.modules["polyell.studies.sweep"]  # (shadowed by the function pe.sweep)
     scalar_rows, count = module._scalar_rows, [0]
 
-    def counted(dyn, rows, job):
+    def counted(dyn, rows, job, state=None):
         count[0] += int(np.count_nonzero(rows))
-        return scalar_rows(dyn, rows, job)
+        return scalar_rows(dyn, rows, job, state)
 
     module._scalar_rows = counted
     try:
