@@ -55,6 +55,7 @@ class BoundedLP(NamedTuple):
     iterations: int
 
 
+@np.errstate(all="ignore")  # finished and singular rows may divide by zero
 def dual_simplex(
     d: NDArray[np.float64],
     G: NDArray[np.float64],
@@ -88,20 +89,6 @@ def dual_simplex(
     -------
     BoundedLP
     """
-    with np.errstate(all="ignore"):  # finished and singular rows may divide by zero
-        return _dual_simplex(d, G, lower, upper, basis, side, max_iterations)
-
-
-def _dual_simplex(
-    d: NDArray[np.float64],
-    G: NDArray[np.float64],
-    lower: NDArray[np.float64],
-    upper: NDArray[np.float64],
-    basis: NDArray[np.int_],
-    side: NDArray[np.float64],
-    max_iterations: int | None,
-) -> BoundedLP:
-    """:func:`dual_simplex` without the floating-point warnings."""
     K, R, n = G.shape
     cap = 4 * R if max_iterations is None else max_iterations
     u = np.full((K, n), np.nan)

@@ -151,16 +151,13 @@ def random_case(seed, m=3, n=7, where="near"):
         q[j], qd[j] = q_max[j], 0.0
     elif where == "far":
         q, qd = 0.0 * q, 0.0 * qd
-    state = {
-        "horizon": dt,
-        "q": q,
-        "qd": qd,
-        "q_min": q_min,
-        "q_max": q_max,
-        "qd_min": qd_min,
-        "qd_max": qd_max,
-    }
-    return pe.Dynamics(J, B, g), tau_max, state
+    return pe.Dynamics(J, B, g), tau_max, _state(dt, q, qd, q_min, q_max, qd_min, qd_max)
+
+
+def _state(horizon, q, qd, q_min, q_max, qd_min, qd_max):
+    """The keyword arguments of ``pe.analyze(..., horizon=)``."""
+    names = ("horizon", "q", "qd", "q_min", "q_max", "qd_min", "qd_max")
+    return dict(zip(names, (horizon, q, qd, q_min, q_max, qd_min, qd_max), strict=True))
 
 
 def panda_case(seed, where="near"):
@@ -177,15 +174,7 @@ def panda_case(seed, where="near"):
     elif where == "at":
         j = int(rng.integers(7))
         q[j], qd[j] = q_max[j], 0.0
-    state = {
-        "horizon": dt,
-        "q": q,
-        "qd": qd,
-        "q_min": q_min,
-        "q_max": q_max,
-        "qd_min": qd_min,
-        "qd_max": qd_max,
-    }
+    state = _state(dt, q, qd, q_min, q_max, qd_min, qd_max)
     return panda.dynamics(q, qd), panda.tau_max, state
 
 
