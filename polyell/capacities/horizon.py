@@ -42,7 +42,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linprog
-from scipy.spatial import ConvexHull
+from scipy.spatial import ConvexHull, QhullError
 
 from polyell.capacities.acceleration import AccelerationAnalysis
 from polyell.capacities.base import centre_and_half_range
@@ -66,11 +66,15 @@ __all__ = [
     "joint_map",
     "line_limits",
     "moving_dynamics",
+    "refuse_without_horizon",
     "robot_horizon",
 ]
 
 Array = NDArray[np.float64]
 
+#: The longest horizon [s]: a control period (beyond, t^2 / 2 of the position bound loses
+#: the digits of the limits).
+MAX_HORIZON = 1e3
 #: A joint's interval cuts the torque set when the set reaches beyond it by more than this
 #: share of the set's own reach along that joint (below it the cut changes nothing that
 #: floating point can show, and the zonotope, exact, is kept).
@@ -206,7 +210,8 @@ def joint_horizon(
             )
     brake = None
     if braking is not None:
-        brake = check_array("braking", np.broadcast_to(braking, (n,)), (n,))
+        scalar = _numeric(braking) and np.ndim(braking) == 0
+        brake = check_array("braking", np.full(n, braking) if scalar else braking, (n,))
         if not (brake > 0).all():
             raise InputError(
                 "braking",
@@ -224,6 +229,19 @@ def joint_horizon(
         limits["qd_max"],
         brake,
     )
+
+
+def refuse_without_horizon(horizon: object, **given: object) -> None:
+    """An InputError naming the first of ``given`` that is set while ``horizon`` is None."""
+    if horizon is None:
+        for name, value in given.items():
+            if value is not None:
+                raise InputError(
+                    name,
+                    f"{name} only with a horizon (a state's joint limits over a period)",
+                    f"{name} without horizon=",
+                    "pass horizon=dt [s], or leave it out.",
+                )
 
 
 def robot_horizon(
@@ -295,10 +313,10 @@ def check_horizon(name: str, horizon: object) -> float:
     if isinstance(horizon, bool) or not isinstance(horizon, int | float | np.integer | np.floating):
         raise InputError(name, "a control period in seconds, e.g. 0.001", repr(horizon))
     value = float(horizon)
-    if not (math.isfinite(value) and value > 0.0):
+    if not (math.isfinite(value) and 0.0 < value <= MAX_HORIZON):
         raise InputError(
             name,
-            "a positive, finite control period in seconds",
+            f"a positive control period in seconds, at most {MAX_HORIZON:g}",
             repr(horizon),
             "leave it out (None) for the set without joint position and velocity limits.",
         )
@@ -392,6 +410,17 @@ class HorizonAnalysis(AccelerationAnalysis):
         eq. 15 is the set).
     empty_reason : str or None
         Why no acceleration is feasible; None when some is.
+
+    Parameters
+    ----------
+    dynamics : Dynamics
+        The robot's matrices at the state (``qd`` included: ``robot.dynamics(q, qd)``).
+    tau_max, tau_min : array-like, shape (n,)
+        Torque limits [N m] (``tau_min`` default ``-tau_max``).
+    state : JointHorizon
+        The state, its limits and the horizon (:func:`joint_horizon`).
+    rank_rtol, affine_rtol : float, optional
+        As in :func:`polyell.analyze`.
     """
 
     #: Not the paper's set (eq. 15): reports name the capacity and print every matrix.
@@ -414,7 +443,13 @@ class HorizonAnalysis(AccelerationAnalysis):
         self.qdd_lo, self.qdd_hi = state.interval()
         self.W, self.a0 = joint_map(dynamics.B, self.half_range, self._gravity_bias)
         self.cut = cutting_joints(self.W, self.a0, self.qdd_lo, self.qdd_hi)
-        self.empty_reason = _joint_reason(state, self.qdd_lo, self.qdd_hi)
+        self._reason = _joint_reason(state, self.qdd_lo, self.qdd_hi)
+
+    @property
+    def empty_reason(self) -> str | None:
+        """Why no acceleration is feasible (the set is empty); None when some is."""
+        self.polytope  # noqa: B018 (decides the torques' part of it)
+        return self._reason
 
     def matrices(self) -> dict[str, NDArray[np.float64]]:
         """``xg`` (eq. 8), ``M`` (eq. 14) and the joint interval ``qdd_lo``, ``qdd_hi``."""
@@ -428,13 +463,13 @@ class HorizonAnalysis(AccelerationAnalysis):
         support points (:func:`cut_set`, an :class:`~polyell.HPolytope`), empty (with
         :attr:`empty_reason`) where no torque gives an acceleration within the interval.
         """
-        if self.empty_reason is None and not self.cut.any():
+        if self._reason is None and not self.cut.any():
             return super().polytope
         polytope = None
-        if self.empty_reason is None:
+        if self._reason is None:
             polytope = cut_set(self.M, self.xg, self.W, self.a0, self.qdd_lo, self.qdd_hi, self.svd)
         if polytope is None:
-            self.empty_reason = self.empty_reason or (
+            self._reason = self._reason or (
                 "the torque limits give no joint acceleration within the interval "
                 "[qdd_lo, qdd_hi] that keeps the joints within their position and velocity "
                 "limits over the horizon"
@@ -522,6 +557,9 @@ def _empty(m: int) -> HPolytope:
 #: A support point beyond a facet of the hull built so far by more than this share of the
 #: hull's extent is a new vertex (:func:`cut_set`); closer, the facet is the set's.
 SUPPORT_RTOL = 1e-11
+#: A set is flat along a direction where its support points lie within this share of the
+#: zonotope's reach of one another (:func:`cut_set`): a joint pinned by its interval.
+FLAT_RTOL = 1e-9
 #: Rounds of :func:`cut_set` at most (each adds every vertex beyond the current facets).
 MAX_ROUNDS = 64
 
@@ -537,8 +575,9 @@ def cut_set(
     normal; a point beyond the facet is a new vertex, and when none is, every facet of the
     hull supports the set, so the hull is the set (the convex hull method of Lassez and
     Lassez, 1992).  The vertices are LP vertices, solved from n rows each: exact to
-    rounding.  In the coordinates of the affine set of the points (flat where M is
-    singular or the interval pins a joint).
+    rounding.  In the coordinates of the set's affine hull (flat where M is singular, or
+    where the intervals pin joints so that the rest cannot span the task), found the same
+    way: the support along each normal of the points' hull, both ways, until none leaves it.
 
     Returns
     -------
@@ -557,9 +596,22 @@ def cut_set(
         if (status == INFEASIBLE).any():
             return None
         points = (u @ M.T) @ frame  # the support points in the frame's coordinates
-    origin = points.mean(axis=0)
-    _, sigma, Vt = np.linalg.svd(points - origin, full_matrices=False)
-    flat = int(np.count_nonzero(sigma > 1e-9 * sigma.max(initial=0.0)))
+    # The affine hull of the points is the set's once the support along each of its
+    # normals, both ways, lies on it (else that support point is added and it grows).
+    size = float(np.abs(M).sum(axis=1).max(initial=0.0))  # the zonotope's reach
+    for _ in range(r + 1):
+        origin = points.mean(axis=0)
+        _, sigma, Vt = np.linalg.svd(points - origin, full_matrices=True)
+        flat = int(np.count_nonzero(sigma > FLAT_RTOL * size))
+        if flat == r:
+            break
+        normals = Vt[flat:]  # (r - flat, r) in the frame's coordinates
+        u, _ = _support(M, W, a0, lo, hi, np.vstack([normals, -normals]) @ frame.T)
+        found = (u @ M.T) @ frame
+        off = np.abs((found - origin) @ normals.T).max(axis=1) > FLAT_RTOL * size
+        if not off.any():
+            break
+        points = np.vstack([points, found[off]])
     inner = Vt[:flat].T  # (r, flat): the points' own affine set in the frame
     basis = frame @ inner  # (m, flat) in the task space
     x0 = xg + frame @ origin
@@ -588,13 +640,33 @@ def cut_set(
     return HPolytope(np.vstack(rows), np.concatenate(bounds), center=center)
 
 
+def _convex_hull(z: Array) -> ConvexHull:
+    """Qhull's hull of points, again allowing wide merges where its merges fail.
+
+    Nearly degenerate points in 5-D and 6-D can make Qhull's merges fail; with ``Q12`` the
+    support queries of :func:`cut_set` then certify the facets.  A SolverError if that fails
+    too.
+    """
+    try:
+        return ConvexHull(z)
+    except QhullError:
+        pass
+    try:
+        return ConvexHull(z, qhull_options="Qc Qx Q12")
+    except QhullError as error:
+        raise SolverError(
+            f"the hull of {len(z)} support points in {z.shape[1]}-D failed in Qhull "
+            f"({str(error).splitlines()[0]}); report this configuration."
+        ) from None
+
+
 def _facets(z: Array) -> tuple[Array, Array, NDArray[np.int_]]:
     """The hull of points: its distinct facet planes ``a . z <= b`` and its vertices' indices.
 
     Qhull's triangles of one facet share its plane to rounding: planes equal to 1e-9 (of the
     unit normal, and of the offset relative to the points' extent) are one.
     """
-    hull = ConvexHull(z)
+    hull = _convex_hull(z)
     equations = hull.equations
     extent = float(np.abs(z).max(initial=0.0)) or 1.0
     keys = np.round(np.hstack([equations[:, :-1], equations[:, -1:] / extent]), 9)
@@ -612,7 +684,7 @@ def _grow_hull(
     ``basis`` (m, flat).
     """
     for _ in range(MAX_ROUNDS):
-        hull = ConvexHull(z)
+        hull = _convex_hull(z)
         normals = np.unique(np.round(hull.equations[:, :-1], 12), axis=0)
         normals /= np.linalg.norm(normals, axis=1, keepdims=True)
         u, _ = _support(M, W, a0, lo, hi, normals @ basis.T)

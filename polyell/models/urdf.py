@@ -711,7 +711,12 @@ class UrdfRobot(JointLimits):
             for name, value in (("rank_rtol", rank_rtol), ("affine_rtol", affine_rtol))
             if value is not None
         }
-        if horizon is not None:
+        if horizon is not None or braking is not None:
+            from polyell.capacities import state_of
+
+            if horizon is None:
+                raise InputError("braking", "braking only with a horizon", f"{braking!r}")
+            state_of(cls, horizon)  # accelerations only
             q_min, q_max = self.position_limits
             qd_max, qd_min = self.velocity_limits()
             state = {"q": q, "qd": np.zeros(self.nq) if qd is None else qd, "braking": braking}

@@ -36,6 +36,7 @@ from polyell.capacities.horizon import (
     horizon_block,
     line_limits,
     moving_dynamics,
+    refuse_without_horizon,
     robot_horizon,
 )
 from polyell.capacities.zonotope import ZonotopeAnalysis
@@ -146,6 +147,7 @@ def limits_along(
     cls = capacity_class(capacity)
     rank_rtol = check_fraction("rank_rtol", rank_rtol)
     state = None
+    refuse_without_horizon(horizon, qd=qd, q_min=q_min, q_max=q_max, braking=braking)
     if horizon is not None:
         state = _state(source, configurations, qd, horizon, q_min, q_max, qd_min, qd_max, braking)
         state_of(cls, horizon)  # refuses a capacity without a horizon

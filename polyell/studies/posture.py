@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from polyell.capacities import capacity_class, check_capacity, joint_limits_of, state_of
-from polyell.capacities.horizon import horizon_block, robot_horizon
+from polyell.capacities.horizon import horizon_block, refuse_without_horizon, robot_horizon
 from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.comparison.candidates import Candidate, check_candidates
 from polyell.comparison.directions import named_direction
@@ -253,6 +253,7 @@ def posture_choice(
     capacity = check_capacity(capacity)
     cls = capacity_class(capacity)
     state, within = None, cast(dict[str, Any], {})
+    refuse_without_horizon(horizon, q_min=q_min, q_max=q_max, braking=braking)
     if horizon is not None:  # at rest in each posture
         state_of(cls, horizon)
         state = robot_horizon(robot, horizon, q_min, q_max, qd_min, qd_max, braking)

@@ -36,6 +36,7 @@ from polyell.capacities.horizon import (
     JointHorizon,
     horizon_block,
     moving_dynamics,
+    refuse_without_horizon,
     robot_horizon,
 )
 from polyell.comparison.candidates import Candidate, check_candidates
@@ -664,6 +665,7 @@ def sweep(
         )
     capacity = check_capacity(capacity)
     limits = None
+    refuse_without_horizon(horizon, q_min=q_min, q_max=q_max, braking=braking)
     if horizon is not None:  # the velocity limits are the horizon's
         state_of(capacity_class(capacity), horizon)
         limits = {"horizon": horizon, "q_min": q_min, "q_max": q_max, "braking": braking}

@@ -495,3 +495,90 @@ def test_robot_analyze_takes_its_own_limits():
     np.testing.assert_allclose(mine.polytope.vertices, given.polytope.vertices, rtol=0, atol=1e-9)
     at_rest = panda.analyze(q, horizon=0.01)
     assert (at_rest.state.qd == 0).all()
+
+
+# --- found by the independent check of issue 34 ---------------------------------------
+
+#: States whose first support points (along the axes of Im M) were affinely dependent: the
+#: set came back flat (dimension 2) though it is full-dimensional.
+FLAT_LOOKING = [
+    (
+        "kinova",
+        0.009511144940178712,
+        [-0.7673869865745409, 1.4608849457831723, 0.3340061586581751, 3.1407998921375087,
+         2.2746104395282982, -0.21979590670503857],
+        [0.0510503109713431, 0.2421306934282036, -0.18720659208017212, 0.1452310166439305,
+         -0.27016691545907945, 0.36566337254869646],
+        [1.0, 0.0, 0.0],
+    ),
+    (
+        "panda",
+        0.022694348846815326,
+        [1.2466516896313116, -1.3963301688767384, -2.157407089864799, -0.44404899580592794,
+         -1.8231494918264475, 2.7278369433630907, 0.7463793482195684],
+        [-0.826215119515976, -0.8886083757982964, -0.8580185087373605, 0.27019711158524506,
+         -0.3710680059083361, 0.5510908119641693, -1.153547677209642],
+        [-0.5202074319069807, -0.07447837530841141, -0.850786224265628],
+    ),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(("name", "horizon", "q", "qd", "t"), FLAT_LOOKING)
+def test_a_set_is_flat_only_where_its_support_says_so(name, horizon, q, qd, t):
+    robot = pe.robots.load(name)
+    q, qd, t = np.array(q), np.array(qd), np.array(t)
+    analysis = robot.analyze(q, qd, horizon=horizon)
+    assert analysis.polytope.dim == 3
+    q_min, q_max = robot.position_limits
+    qd_max, qd_min = robot.velocity_limits()
+    state = _state(horizon, q, qd, q_min, q_max, qd_min, qd_max)
+    t = t / np.linalg.norm(t)
+    dyn = robot.dynamics(q, qd)
+    expected = reference_limits(dyn, analysis.tau_max, analysis.tau_min, state, t)
+    size = float(np.abs(analysis.xg).max() + np.abs(analysis.M).sum(axis=1).max())
+    got = analysis.polytope.limits(t)
+    np.testing.assert_allclose([got.lo, got.hi], expected, rtol=0, atol=RTOL_LIMITS * size)
+
+
+def test_a_six_dimensional_cut_set_is_built_or_refused_by_name():
+    """6-D sets whose support points are nearly degenerate: Qhull's wide merges allowed."""
+    rng = np.random.default_rng(12)
+    built = 0
+    for _ in range(6):
+        dyn, tau_max, state = random_case(int(rng.integers(1000)), m=6, where="near")
+        analysis = analysis_of(dyn, tau_max, state)
+        try:
+            P = analysis.polytope
+        except pe.PolyellError:
+            continue
+        built += 1
+        assert P.dim == 6 and (P.is_empty or P.volume > 0)
+    assert built >= 4
+
+
+def test_empty_reason_is_known_before_the_set_is_built():
+    dyn, tau_max, state = random_case(2, where="far")
+    state["q"], state["qd"] = state["q"].copy(), state["qd"].copy()
+    state["horizon"] = 0.001
+    state["q"][0] = state["q_max"][0] - 1e-4
+    state["qd"][0] = 0.5
+    assert "torque limits" in analysis_of(dyn, tau_max, state).empty_reason
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda robot, q: robot.analyze(q, capacity="velocity", horizon=0.01),
+        lambda robot, q: robot.analyze(q, braking=5.0),
+        lambda robot, q: robot.analyze(q, horizon=0.01, braking=np.ones(3)),
+        lambda robot, q: robot.analyze(q, horizon=1e160),
+        lambda robot, q: pe.limits_along(robot, q[None], [[1.0, 0.0, 0.0]], braking=5.0),
+        lambda robot, q: pe.limits_along(robot, q[None], [[1.0, 0.0, 0.0]], qd=q[None]),
+        lambda robot, q: pe.sweep(robot, q[None], braking=5.0),
+    ],
+)
+def test_arguments_of_a_horizon_are_refused_by_name(call):
+    panda = pe.robots.load("panda")
+    q = np.array([0.0, -0.5, 0.0, -2.0, 0.0, 1.6, 0.8])
+    with pytest.raises(InputError):
+        call(panda, q)
