@@ -117,7 +117,12 @@ class HPolytope(ConvexSet):
         Solved in units of the median offset, so that HiGHS's absolute tolerances are
         relative to the set; the origin for an empty set (never used).  The cap, twice the
         largest offset, never binds on a bounded set (its inradius is at most a convex
-        combination of offsets: the normals of its rows positively span R^m).
+        combination of offsets: the normals of its rows positively span R^m).  Where the
+        radius found is below :data:`CENTER_RESOLVED` of those units (the median is no
+        size of the set: redundant rows far beyond it, or a thin set), solved again about
+        that centre in units of that radius (where it is 0, of the distance to the
+        (m + 1)-th nearest row), up to :data:`CENTER_PASSES` times; a centre replaces the
+        one before only where its ball (its least slack) is larger.
         """
         from scipy.optimize import linprog
 
@@ -128,12 +133,29 @@ class HPolytope(ConvexSet):
         cost = np.zeros(m + 1)
         cost[-1] = -1.0
         A_ub = np.hstack([self._A_in, np.ones((len(self._A_in), 1))])
-        cap = 2.0 * float(np.abs(self._b_in).max()) / scale
-        bounds = [(None, None)] * m + [(0.0, max(cap, 1.0))]
-        result = linprog(cost, A_ub, self._b_in / scale, bounds=bounds, method="highs")
-        if result.status != 0:  # infeasible: an empty set
-            return np.zeros(m)
-        center: NDArray[np.float64] = scale * result.x[:m]
+        point, center, radius = np.zeros(m), np.zeros(m), -np.inf
+        for _ in range(CENTER_PASSES):
+            offsets = self._b_in - self._A_in @ point
+            cap = 2.0 * float(np.abs(offsets).max()) / scale
+            bounds = [(None, None)] * m + [(0.0, max(cap, 1.0))]
+            result = linprog(cost, A_ub, offsets / scale, bounds=bounds, method="highs")
+            if result.status != 0:  # infeasible: an empty set (or no better centre)
+                break
+            point = point + scale * result.x[:m]
+            reach = float((self._b_in - self._A_in @ point).min())
+            if reach > radius + CENTER_RESOLVED * abs(radius) or not math.isfinite(radius):
+                center, radius = point, reach
+            found = float(result.x[m])
+            if not found < CENTER_RESOLVED:
+                break
+            # in units of the radius found, or where it is 0 to the tolerances (the set
+            # thinner than they are), of the distance to the (m + 1)-th nearest row
+            distances = np.sort(np.abs(self._b_in - self._A_in @ point))
+            nearest = float(distances[min(m, len(distances) - 1)])
+            smaller = scale * found if found > 0 else nearest
+            if not 0.0 < smaller < CENTER_RESOLVED * scale:
+                break
+            scale = smaller
         return center
 
     def _interior_point(self) -> NDArray[np.float64]:
@@ -622,7 +644,13 @@ def _analytic_center(
         weights = 1.0 / slack
         gradient = A.T @ weights
         hessian = (A * weights[:, None] ** 2).T @ A
-        step = -np.linalg.lstsq(hessian, gradient, rcond=None)[0]
+        # scaled to a unit diagonal first: slacks of very different sizes (a far row, or
+        # a recession direction) must not leave a direction below lstsq's cut-off, which
+        # would stop the steps along it (a false convergence, far out along a ray)
+        diagonal = np.sqrt(np.diag(hessian))
+        diagonal = np.where(diagonal > 0, diagonal, 1.0)
+        scaled = hessian / diagonal[:, None] / diagonal[None, :]
+        step = -np.linalg.lstsq(scaled, gradient / diagonal, rcond=None)[0] / diagonal
         decrement = float(np.sqrt(max(0.0, -gradient @ step)))
         if decrement < 1e-10:
             return x
@@ -655,6 +683,12 @@ def _double_description(array: NDArray[np.float64]) -> Description | None:
         return None
     return rows, sorted(matrix.lin_set), points, sorted(generators.lin_set)
 
+
+#: A Chebyshev radius below this in the units of its linear program (the median offset)
+#: is solved again in units of that radius, up to :data:`CENTER_PASSES` linear programs:
+#: HiGHS's absolute tolerances (1e-7) then resolve a set far smaller than its far rows.
+CENTER_RESOLVED = 1e-3
+CENTER_PASSES = 6
 
 #: Rows closer to the interior point than this times the farthest one are whitened by
 #: their distances (a thin set, :meth:`HPolytope._generators`).
@@ -1000,8 +1034,10 @@ def _complete(
 # or cddlib's rays checked (each facet of their cone on the plane of a row through the
 # vertex); beyond that, the decision is cddlib's for the whole set.
 
-#: A row passes through a point y when its slack is at most this times (the largest offset
-#: + |y|): relative to the set's size, so that scaling A or b changes nothing but the scale.
+#: A row passes through a point y when its slack is at most this times (the row's own offset
+#: + |y|), the size of the terms the slack is computed from: relative to the set's size, so
+#: that scaling A or b changes nothing but the scale, and to each row's, so that a redundant
+#: row however far (whose offset is no scale of the set) widens no other row's plane.
 WALK_ON_PLANE = 1e-9
 #: A step (or a generator of cddlib) reaching farther than this times the set's scale (its
 #: farthest row from the interior point, plus the point's own size) is a direction: the
@@ -1073,9 +1109,16 @@ def _unit_rows(
     return normals / lengths[:, None], offsets / lengths
 
 
-def _on_plane(scale: float, points: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The slack under which a row passes through each point (V, r): (V,)."""
-    return WALK_ON_PLANE * (scale + np.abs(points).max(axis=1, initial=0.0))
+def _on_plane(offsets: NDArray[np.float64], points: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The slack under which each row (offsets (k,)) passes through each point (V, r): (V, k).
+
+    Each row's own offset and not the largest: a vertex is on r rows whose offsets are at
+    most its norm, so that the tolerance is about ``WALK_ON_PLANE |y|`` where it matters,
+    whereas a far redundant row's offset (1e9 times the set's size) would make it the
+    size of the set and put every row through every point.
+    """
+    size = np.abs(points).max(axis=1, initial=0.0)
+    return WALK_ON_PLANE * (np.abs(offsets)[None, :] + size[:, None])
 
 
 def _keys(tight: NDArray[np.bool_]) -> list[bytes]:
@@ -1088,8 +1131,8 @@ def _walk(normals: NDArray[np.float64], offsets: NDArray[np.float64]) -> _Walk:
     r = n.shape[1]
     scale = float(o.max())
     if r == 1:
-        return _walk_line(n[:, 0], o, scale)
-    first, first_tight = _polish(n, o, _some_vertex(n, o, scale)[None, :], scale)
+        return _walk_line(n[:, 0], o)
+    first, first_tight = _polish(n, o, _some_vertex(n, o, scale)[None, :])
     points, tights = [first[0]], [first_tight[0]]
     index = {_keys(first_tight)[0]: 0}
     edges: set[tuple[int, int]] = set()
@@ -1109,13 +1152,11 @@ def _walk(normals: NDArray[np.float64], offsets: NDArray[np.float64]) -> _Walk:
         bounded = step <= FAR_RATIO * (scale + np.abs(origin).max(axis=1))
         rays.extend(directions[~bounded])
         ends = origin[bounded] + step[bounded, None] * directions[bounded]
-        ids = np.array(
-            [index.get(key, -1) for key in _keys(_slack_tight(n, o, ends, scale))], dtype=int
-        )
+        ids = np.array([index.get(key, -1) for key in _keys(_slack_tight(n, o, ends))], dtype=int)
         before = len(points)
         unknown = np.flatnonzero(ids < 0)
         if len(unknown):  # solved again on their rows, known by those rows
-            found, found_tight = _polish(n, o, ends[unknown], scale)
+            found, found_tight = _polish(n, o, ends[unknown])
             for j, y, row, key in zip(unknown, found, found_tight, _keys(found_tight), strict=True):
                 if key not in index:
                     index[key] = len(points)
@@ -1138,13 +1179,13 @@ def _walk(normals: NDArray[np.float64], offsets: NDArray[np.float64]) -> _Walk:
 
 
 def _slack_tight(
-    n: NDArray[np.float64], o: NDArray[np.float64], points: NDArray[np.float64], scale: float
+    n: NDArray[np.float64], o: NDArray[np.float64], points: NDArray[np.float64]
 ) -> NDArray[np.bool_]:
     """The rows through each point (V, r), by :data:`WALK_ON_PLANE`: (V, k)."""
-    return (o[None, :] - points @ n.T) <= _on_plane(scale, points)[:, None]
+    return (o[None, :] - points @ n.T) <= _on_plane(o, points)
 
 
-def _walk_line(n: NDArray[np.float64], o: NDArray[np.float64], scale: float) -> _Walk:
+def _walk_line(n: NDArray[np.float64], o: NDArray[np.float64]) -> _Walk:
     """The one-dimensional case: an interval, a half-line (its ray) or nothing pointed."""
     up, down = n > 0, n < 0
     ends, rays = [], []
@@ -1161,7 +1202,7 @@ def _walk_line(n: NDArray[np.float64], o: NDArray[np.float64], scale: float) -> 
     points = np.array(ends).reshape(-1, 1)
     R = np.array(rays).reshape(-1, 1)
     edges = np.array([[0, 1]]) if len(points) == 2 else np.zeros((0, 2), dtype=int)
-    tight = _slack_tight(n[:, None], o, points, scale)
+    tight = _slack_tight(n[:, None], o, points)
     return _Walk(points, R, tight, np.zeros((len(R), len(n)), dtype=bool), edges)
 
 
@@ -1196,16 +1237,16 @@ def _some_vertex(
         else:
             raise _Ambiguous  # a line through the point, to rounding
         y = y + step * sign * d
-        tight = _slack_tight(n, o, y[None, :], scale)[0]
+        tight = _slack_tight(n, o, y[None, :])[0]
     raise _Ambiguous
 
 
 def _polish(
-    n: NDArray[np.float64], o: NDArray[np.float64], points: NDArray[np.float64], scale: float
+    n: NDArray[np.float64], o: NDArray[np.float64], points: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Points (V, r) solved again on the rows through them; those rows after, (V, k)."""
     r = n.shape[1]
-    tight = _slack_tight(n, o, points, scale)
+    tight = _slack_tight(n, o, points)
     count = tight.sum(axis=1)
     if count.min(initial=r) < r:
         raise _Ambiguous  # not a vertex
@@ -1217,10 +1258,10 @@ def _polish(
     for j in np.flatnonzero(~simple):
         out[j] = np.linalg.lstsq(n[tight[j]], o[tight[j]], rcond=None)[0]
     slack = o[None, :] - out @ n.T
-    on = _on_plane(scale, out)
-    if (slack.min(axis=1) < -on).any():
+    on = _on_plane(o, out)
+    if (slack < -on).any():
         raise _Ambiguous  # outside a row once solved
-    return out, slack <= on[:, None]
+    return out, slack <= on
 
 
 def _edges_at(
@@ -1444,10 +1485,10 @@ def _known_walk(
     y = S * ((vertices - origin) @ U1) / unit
     n, o = _unit_rows(-array[:, 1:], array[:, 0])
     slack = o[None, :] - y @ n.T
-    on = _on_plane(float(o.max()), y)
-    if bool((slack.min(axis=1) < -on).any()):
+    on = _on_plane(o, y)
+    if bool((slack < -on).any()):
         return None
-    tight = slack <= on[:, None]
+    tight = slack <= on
     if int(tight.sum(axis=1).min()) < r:
         return None
     return _Walk(y, np.zeros((0, r)), tight, np.zeros((0, len(o)), dtype=bool), edges)

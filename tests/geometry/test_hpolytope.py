@@ -278,3 +278,47 @@ def test_thin_sets_about_a_poorly_placed_interior_point():
     x, y = x[order], y[order]
     area = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
     assert an.polytope.is_bounded and an.polytope.volume == pytest.approx(area, rel=1e-7)
+
+
+@pytest.mark.parametrize("m", [2, 3, 4, 5, 6])
+@pytest.mark.parametrize("distance", [1e3, 1e6, 1e9, 1e12, 1e15])
+def test_far_redundant_rows_leave_the_set_as_it_is(m, distance):
+    # Redundant rows `distance` times the set's size away, more of them than the set's
+    # rows, about a set off the origin.  Two defects: the walk's tolerance was relative to
+    # the largest offset (a far row's: every row through every point, a triangle for a
+    # hexagon), and the Chebyshev centre, solved in units of the median offset (a far
+    # row's), left the set (a point of volume 1 and no facets).
+    rng = np.random.default_rng(m)
+    cuts = rng.normal(size=(m + 2, m))
+    A = np.vstack([np.eye(m), -np.eye(m), cuts / np.linalg.norm(cuts, axis=1)[:, None]])
+    centre = 10.0 * rng.normal(size=m)
+    b = rng.uniform(0.5, 1.5, len(A)) + A @ centre
+    reference = pe.HPolytope(A, b)
+    far = rng.normal(size=(len(A) + 3, m))
+    far /= np.linalg.norm(far, axis=1)[:, None]
+    size = float(np.linalg.norm(reference.vertices - centre, axis=1).max())
+    offsets = far @ centre + distance * size * rng.uniform(1, 3, len(far))
+    P = pe.HPolytope(np.vstack([A, far]), np.concatenate([b, offsets]))
+    assert np.all(A @ P.center < b)
+    assert P.volume == pytest.approx(reference.volume, rel=1e-9)
+    assert len(P.vertices) == len(reference.vertices) and len(P.b) == len(reference.b)
+    gap = np.abs(P.vertices[:, None, :] - reference.vertices[None, :, :]).max(axis=2)
+    assert gap.min(axis=1).max() <= 1e-9 * np.abs(centre).max()
+    gap = np.abs(P.A[:, None, :] - reference.A[None, :, :]).max(axis=2)
+    gap += np.abs(P.b[:, None] - reference.b[None, :]) / np.abs(b).max()
+    assert gap.min(axis=1).max() <= 1e-9
+
+
+@pytest.mark.parametrize("distance", [1e3, 1e9, 1e15])
+def test_far_redundant_rows_leave_an_unbounded_set_as_it_is(distance):
+    # A strip |x| <= 1, y >= 0 open upwards, and rows far below it: the analytic centre
+    # (taken for rows at so different distances) has none, and its Newton steps stopped
+    # 4e7 up the strip where lstsq cut the Hessian's small direction off; the whitening
+    # from there moved the corners by 0.09.
+    A = np.array([[0.0, -1.0], [1.0, 0.0], [-1.0, 0.0]])
+    b = np.array([0.0, 1.0, 1.0])
+    P = pe.HPolytope(np.vstack([A, [[0.3, -1.0], [-0.2, -1.0]]]), np.r_[b, distance, distance])
+    assert not P.is_bounded and len(P.b) == 3
+    corners = P.vertices[np.argsort(P.vertices[:, 0])]
+    np.testing.assert_allclose(corners, [[-1.0, 0.0], [1.0, 0.0]], atol=1e-12)
+    np.testing.assert_allclose(P.rays, [[0.0, 1.0]], atol=1e-12)

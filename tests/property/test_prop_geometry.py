@@ -235,16 +235,63 @@ def test_intersection_with_a_far_larger_set_is_the_smaller_set():
     assert np.all(hexagon().contains(inter.vertices)) and len(inter.vertices) == 6
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="polyell/geometry/hpolytope.py (not owned here): redundant rows with offsets 1e9 "
-    "times the set's size drop facets of the set (3 vertices, volume 1.8 instead of 2.7)",
-)
 def test_hpolytope_keeps_its_facets_beside_far_redundant_rows():
+    # The walk's tolerance was relative to the largest offset: two redundant rows at 1e9
+    # (1e-9 of it: the size of the set) put every row through every point (a triangle of
+    # volume 1.8).
     H = hexagon()
     A = np.vstack([H.A, [[1.0, 0.3], [-1.0, 0.2]]])
     b = np.concatenate([H.b, [1e9, 1e9]])
-    assert pe.HPolytope(A, b).volume == pytest.approx(2.7, rel=1e-9)
+    P = pe.HPolytope(A, b)
+    assert P.volume == pytest.approx(2.7, rel=1e-9)
+    assert len(P.vertices) == 6 and len(P.b) == 6
+
+
+def box_and_cuts(rng: np.random.Generator, m: int) -> tuple[np.ndarray, np.ndarray]:
+    """A bounded set about a point off the origin: a box cut by 2m random rows."""
+    cuts = rng.normal(size=(2 * m, m))
+    A = np.vstack([np.eye(m), -np.eye(m), cuts / np.linalg.norm(cuts, axis=1)[:, None]])
+    centre = rng.normal(size=m) * rng.choice([0.0, 10.0])
+    return A, rng.uniform(0.5, 1.5, len(A)) + A @ centre
+
+
+def same_rows(A, b, A_ref, b_ref, tol):
+    """Each row of (A, b) is one of (A_ref, b_ref) and the other way round."""
+    gap = np.abs(A[:, None, :] - A_ref[None, :, :]).max(axis=2)
+    gap = gap + np.abs(b[:, None] - b_ref[None, :]) / max(1.0, float(np.abs(b_ref).max()))
+    return bool((gap.min(axis=1) <= tol).all() and (gap.min(axis=0) <= tol).all())
+
+
+@settings(max_examples=40)
+@given(
+    m=st.integers(2, 6),
+    seed=st.integers(0, 2**16),
+    exponent=st.integers(3, 15),
+    far=st.integers(1, 12),
+)
+def test_far_redundant_rows_change_nothing(m, seed, exponent, far):
+    # Rows 1e3 to 1e15 times the set's size away, up to twice as many as the set's: the
+    # vertices, facets and volume of the set without them, to rounding.  (Also found: the
+    # Chebyshev centre, solved in units of the median offset, left the set where most rows
+    # were far.)
+    rng = np.random.default_rng(seed)
+    A, b = box_and_cuts(rng, m)
+    reference = pe.HPolytope(A, b)
+    normals = rng.normal(size=(far, m))
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    size = float(np.abs(reference.vertices - reference.center).max()) * np.sqrt(m)
+    offsets = normals @ reference.center + 10.0**exponent * size * rng.uniform(1, 3, far)
+    P = pe.HPolytope(np.vstack([A, normals]), np.concatenate([b, offsets]))
+    assert P.volume == pytest.approx(reference.volume, rel=1e-9)
+    assert len(P.vertices) == len(reference.vertices) and len(P.b) == len(reference.b)
+    assert same_rows(
+        P.vertices,
+        np.zeros(len(P.vertices)),
+        reference.vertices,
+        np.zeros(len(reference.vertices)),
+        1e-9 * (size + np.abs(b).max()),
+    )
+    assert same_rows(P.A, P.b, reference.A, reference.b, 1e-9)
 
 
 # --- geometry.ellipsoid helpers
