@@ -271,7 +271,8 @@ FILES = [
         "unknown compare key",
         lambda t: load_study(toml(t, STUDY + "[compare]\nsample = 3\n")),
         pe.InputError,
-        "keys among ['directions', 'mvie', 'outer', 'samples', 'seed', 'chunk', 'horizon', 'braking', 'capacities']",
+        "keys among ['directions', 'mvie', 'outer', 'samples', 'seed', 'chunk', 'horizon', "
+        "'braking', 'capacities']",
     ),
     (
         "unknown output key",
