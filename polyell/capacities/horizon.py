@@ -405,6 +405,9 @@ class HorizonAnalysis(AccelerationAnalysis):
     qdd_lo, qdd_hi : ndarray, shape (n,)
         The joint accelerations the position and velocity limits allow
         (:func:`acceleration_interval`) [rad/s^2].
+    W, a0 : ndarray, shape (n, n) and (n,)
+        The joint accelerations ``a0 + W u`` of the normalized torques ``u`` of eq. (13):
+        ``W = B^-1 L``, ``a0 = -B^-1 (g - tau_c)`` [rad/s^2].
     cut : ndarray of bool, shape (n,)
         The joints whose interval cuts the torque-limited set (none: the zonotope of
         eq. 15 is the set).
