@@ -730,6 +730,19 @@ def plot_score_histogram(
     return figure
 
 
+def _abscissa(results: pd.DataFrame) -> pd.Series:
+    """A path's time ``t`` [s], or else its ``configuration`` index; an InputError without."""
+    for name in ("t", "configuration"):
+        if name in results:
+            return results[name]
+    raise InputError(
+        "results",
+        "a results frame with a column 't' (time) or 'configuration' (the sample index)",
+        f"columns {list(results.columns)[:8]}",
+        "pass the frame of pe.sweep or of a trajectory study (pd.read_csv(results.csv)).",
+    )
+
+
 def plot_score_series(
     results: pd.DataFrame,
     score: str,
@@ -766,7 +779,7 @@ def plot_score_series(
     labels = _check_labels(labels)
     columns = _score_columns(results, score, kinds)
     present = list(columns)
-    x = results["t"] if "t" in results else results["configuration"]
+    x = _abscissa(results)
     name, factor = score_display(score, capacity, labels)
     figure = Figure(figsize=(6.0, 3.2), layout="constrained")
     ax = figure.add_subplot()
@@ -809,7 +822,7 @@ def plot_tangent_limits(
     capacity = check_capacity(capacity)
     _check_texts(unit=unit)
     labels = _check_labels(labels)
-    x = results["t"] if "t" in results else results["configuration"]
+    x = _abscissa(results)
     figure = Figure(figsize=(6.0, 3.4), layout="constrained")
     ax = figure.add_subplot()
     for name in ("polytope", *capacity_class(capacity).ellipsoid_kinds):

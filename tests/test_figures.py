@@ -305,3 +305,19 @@ def test_every_force_ellipsoid_has_its_own_line():
     ]
     assert len(set(drawn)) == len(kinds)
     assert _style("static", kinds, "force")["label"] == "static (no gravity)"
+
+
+def test_series_without_an_abscissa_are_refused_by_name():
+    """A frame with neither 't' nor 'configuration': an InputError naming results."""
+    import pandas as pd
+
+    from polyell.figures import plot_score_series, plot_tangent_limits
+
+    frame = pd.DataFrame({"chiacchio_coverage": [0.5, 0.6], "tangent_polytope_lo": [-1.0, -2.0]})
+    for call in (
+        lambda: plot_score_series(frame, "coverage"),
+        lambda: plot_tangent_limits(frame),
+    ):
+        with pytest.raises(pe.InputError) as error:
+            call()
+        assert error.value.argument == "results"
