@@ -177,3 +177,24 @@ def test_a_refused_norm_is_printed_in_full():
         P.limits([1.0003, 0.0])
     with pytest.raises(pe.InputError, match=r"norm 0\.9 \(1 - 0\.1\)"):
         P.limits([0.9, 0.0])
+
+
+def test_a_force_direction_typed_along_a_line_of_the_set_is_the_line():
+    """Issue 33: at a singular posture the force set is a line along Ker J^T; a direction
+    typed to a few digits along it has infinite limits (with a warning), as rounded input
+    has for an affine set, not those of a line 1e-5 off it (1e6 N and more)."""
+    arm = pe.robots.load("chiacchio2000")
+    P = pe.analyze(arm.dynamics([np.pi / 6, 0.0, 0.0]), arm.tau_max, capacity="force").polytope
+    line = P.rays[0]
+    for digits in (4, 5, 7, 9):
+        t = np.round(line, digits)
+        t /= np.linalg.norm(t)
+        with pytest.warns(pe.ProjectedInputWarning, match="line"):
+            lo, hi = P.limits(t)
+        assert lo == -np.inf and hi == np.inf
+    # beyond affine_rtol a direction is the user's own: large, finite limits, no warning
+    off = np.array([line[0] - 1e-2 * line[1], line[1] + 1e-2 * line[0]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        lo, hi = P.limits(off / np.linalg.norm(off))
+    assert np.isfinite([lo, hi]).all() and hi - lo > 100 * P.half_widths.max(initial=1.0)

@@ -14,6 +14,7 @@ close to call.
 from __future__ import annotations
 
 import math
+import warnings
 from functools import cached_property, lru_cache
 from typing import NamedTuple
 
@@ -21,8 +22,8 @@ import cdd
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from polyell.errors import InputError, SolverError
-from polyell.geometry.convex_set import ConvexSet
+from polyell.errors import InputError, ProjectedInputWarning, SolverError
+from polyell.geometry.convex_set import PROJECTION_NOTICE, ConvexSet
 from polyell.geometry.limits import facet_slack, line_interval_in_halfspaces, rounding_floor
 from polyell.geometry.subspace import (
     RANK_RTOL,
@@ -206,6 +207,7 @@ class HPolytope(ConvexSet):
         # posture) are U2, by the rank decision and not by cddlib's epsilon.
         svd = rank_revealing_svd(self._A_in.T, rank=self._rank)
         U1, S, V1, lines = svd.U1, svd.sigma, svd.V1, svd.U2
+        self._lines = lines.T  # (l, m): the directions along which the set is a line
         if svd.rank < len(svd.singular_values):  # a unit line meets rows at slopes below it
             self._line_slope = float(svd.singular_values[svd.rank])
         if svd.rank and 0 < float(shifted.min()) < POLAR_RATIO * unit:
@@ -601,6 +603,7 @@ class HPolytope(ConvexSet):
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         if self.is_empty:
             return np.full(len(lines), np.nan), np.full(len(lines), np.nan)
+        lines = self._rounded_to_lines(lines)
         reach = 2.0 * (float(np.linalg.norm(self.center)) + self._size())
         slack = facet_slack(self.half_widths, reach, self._terms)
         floor = rounding_floor(reach, self._terms)
@@ -609,6 +612,34 @@ class HPolytope(ConvexSet):
         eps = float(np.finfo(float).eps)
         slope_floor = 0.0 if self.is_bounded else max(self._terms * eps, 2.0 * self._line_slope)
         return line_interval_in_halfspaces(self.A, self.b, lines, slack, floor, slope_floor)
+
+    def _rounded_to_lines(self, directions: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Directions within :attr:`affine_rtol` of the set's lines, taken as along them.
+
+        A direction typed to a few digits along a line of the set (a force polytope at a
+        singular posture, unbounded along Ker J^T) is the line itself, as rounded input
+        is for a singular configuration's affine set: it is projected onto the lines' span,
+        with a :class:`~polyell.ProjectedInputWarning`, and has infinite limits there,
+        not those of a line 1e-5 off it (1e6 times the set's size).
+        """
+        if not len(self._lines):
+            return directions
+        along = directions @ self._lines.T @ self._lines
+        off = np.linalg.norm(directions - along, axis=1)
+        rounded = (off <= self.affine_rtol) & (off > 0.0)
+        if not rounded.any():
+            return directions
+        if off[rounded].max() > PROJECTION_NOTICE:  # (not for the line's own rounding)
+            warnings.warn(
+                f"directions: {np.count_nonzero(rounded)} direction(s) up to "
+                f"{off[rounded].max():.2g} off the line(s) of this unbounded set were taken as "
+                f"rounded and projected onto them (affine_rtol = {self.affine_rtol:g}).",
+                ProjectedInputWarning,
+                stacklevel=5,
+            )
+        snapped = directions.copy()
+        snapped[rounded] = along[rounded] / np.linalg.norm(along[rounded], axis=1, keepdims=True)
+        return snapped
 
 
 def require_drawable(S: object, argument: str) -> None:
