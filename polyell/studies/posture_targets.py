@@ -63,6 +63,15 @@ class PostureChoiceOverTargets:
     starts: Array
     targets: Array
 
+    def __repr__(self) -> str:
+        """A line: how many targets, joints and task rows, and the sets compared."""
+        kinds = list(dict.fromkeys(self.summary.index.get_level_values(0)))
+        k, n = np.shape(self.starts)
+        return (
+            f"PostureChoiceOverTargets(targets={k}, joints={n}, "
+            f"task_rows={np.shape(self.targets)[-1]}, sets={kinds})"
+        )
+
 
 def _random_starts(robot: Any, count: int, rng: np.random.Generator) -> Array:
     """Seeded configurations within the joint limits, away from singular postures."""

@@ -335,6 +335,10 @@ def test_over_targets_aggregates_each_targets_choice():
     np.testing.assert_allclose(result.summary["worst_regret"], both.max(axis=1))
     assert (result.summary["targets"] == 2).all()
     np.testing.assert_allclose(result.targets[1], ARM.forward_kinematics(starts[1]))
+    assert repr(result) == (  # one line, no arrays
+        "PostureChoiceOverTargets(targets=2, joints=3, task_rows=2, "
+        "sets=['polytope', 'chiacchio', 'yoshikawa'])"
+    )
 
 
 def test_random_targets_are_seeded():
