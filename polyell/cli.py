@@ -393,9 +393,7 @@ def _analyze(args: argparse.Namespace) -> list[str]:
         within: dict[str, Any] = {}
         if args.horizon is not None:  # the state's joint limits over the period
             state = robot_horizon(model, _horizon(args.horizon), braking=args.braking)
-            within = {"horizon": args.horizon, "q": q, "qd": np.zeros_like(q) if qd is None else qd}
-            within |= {"q_min": state.q_min, "q_max": state.q_max, "qd_min": state.qd_min}
-            within |= {"qd_max": state.qd_max, "braking": state.braking}
+            within = state.at(q, np.zeros_like(q) if qd is None else qd).arguments()
         analysis = analyze(dynamics, tau_max, tau_min, capacity=capacity, **within)
     direction, label, notes = _direction(args, analysis.task)
     if args.horizon is not None:

@@ -220,8 +220,6 @@ def _state(
         )
     state_of(cls, horizon)
     n = int(np.shape(getattr(dyn, "J", np.zeros((0, 0))))[-1])
-    if qd_max is not None and qd_min is None:
-        qd_min = -np.asarray(qd_max, dtype=float)
     return joint_horizon(
         horizon,
         n,

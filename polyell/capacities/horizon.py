@@ -125,6 +125,11 @@ class JointHorizon:
             self.braking,
         )
 
+    def arguments(self) -> dict[str, Any]:
+        """The keyword arguments of ``pe.analyze(..., horizon=)`` for this (one) state."""
+        names = ("horizon", "q", "qd", "q_min", "q_max", "qd_min", "qd_max", "braking")
+        return {name: getattr(self, name) for name in names}
+
     def at(self, q: ArrayLike, qd: ArrayLike) -> JointHorizon:
         """The same limits and horizon at other states ``q``, ``qd`` (n,) or (K, n), checked."""
         n = len(self.q_min)
@@ -181,6 +186,8 @@ def joint_horizon(
     shape: tuple[str | int, ...] = ("K", n) if array_ndim(q) == 2 else (n,)
     positions = check_array("q", q, shape, what="joint positions [rad or m]")
     velocities = check_array("qd", qd, positions.shape, what="joint velocities [rad/s or m/s]")
+    if qd_max is not None and qd_min is None:  # symmetric velocity limits
+        qd_min = -np.asarray(qd_max, dtype=float) if _numeric(qd_max) else qd_max
     limits = {}
     for name, value in (("q_min", q_min), ("q_max", q_max), ("qd_min", qd_min), ("qd_max", qd_max)):
         if value is None:
@@ -257,7 +264,7 @@ def robot_horizon(
 
     The limits given, or the robot's own: ``robot.position_limits`` (none for a robot
     without, a :class:`~polyell.PlanarArm`: its joints turn freely) and
-    ``robot.velocity_limits()``; ``qd_min`` defaults to ``-qd_max``.
+    ``robot.velocity_limits()``; ``qd_min`` defaults to ``-qd_max`` (:func:`joint_horizon`).
     """
     n = int(robot.n)
     if q_min is None and q_max is None:  # a robot without limits turns freely (a planar arm)
@@ -265,8 +272,6 @@ def robot_horizon(
         q_min, q_max = getattr(robot, "position_limits", free)
     if qd_max is None and qd_min is None and getattr(robot, "qd_max", None) is not None:
         qd_max, qd_min = robot.velocity_limits()
-    elif qd_max is not None and qd_min is None:
-        qd_min = -np.asarray(qd_max, dtype=float)
     zero = np.zeros(n)
     return joint_horizon(
         horizon,

@@ -716,12 +716,11 @@ class UrdfRobot(JointLimits):
 
             if horizon is None:
                 raise InputError("braking", "braking only with a horizon", f"{braking!r}")
+            from polyell.capacities.horizon import robot_horizon
+
             state_of(cls, horizon)  # accelerations only
-            q_min, q_max = self.position_limits
-            qd_max, qd_min = self.velocity_limits()
-            state = {"q": q, "qd": np.zeros(self.nq) if qd is None else qd, "braking": braking}
-            tolerances |= {"horizon": horizon, "q_min": q_min, "q_max": q_max}
-            tolerances |= {"qd_max": qd_max, "qd_min": qd_min, **state}
+            moving = np.zeros(self.nq) if qd is None else qd
+            tolerances |= robot_horizon(self, horizon, braking=braking).at(q, moving).arguments()
         analysis: Analysis = analyze(dynamics, capacity=cls.capacity, **limits, **tolerances)
         return analysis
 

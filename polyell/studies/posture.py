@@ -258,8 +258,8 @@ def posture_choice(
         state_of(cls, horizon)
         state = robot_horizon(robot, horizon, q_min, q_max, qd_min, qd_max, braking)
         state = state.at(q, np.zeros_like(q))
-        within = {"horizon": horizon, "q_min": state.q_min, "q_max": state.q_max}
-        within |= {"qd_min": state.qd_min, "qd_max": state.qd_max, "braking": state.braking}
+        within = state.arguments()
+        del within["q"]  # (the postures themselves)
         qd_max = qd_min = None
     upper, lower = joint_limits_of(capacity, tau_max, tau_min, qd_max, qd_min)
     dyn = robot.dynamics(q)

@@ -143,10 +143,8 @@ def _analyze_point(spec: StudySpec, point: Point, capacity: str) -> Analysis:
         dynamics = robot.model.dynamics(point.q, point.qd)
     within = _horizon(spec, capacity)
     if within:  # the state's joint position and velocity limits over the horizon
-        state = robot_horizon(robot.model, **within)
         qd = np.zeros_like(point.q) if point.qd is None else point.qd
-        limits |= {"q": point.q, "qd": qd, "q_min": state.q_min, "q_max": state.q_max}
-        limits |= {"qd_min": state.qd_min, "qd_max": state.qd_max, **within}
+        limits |= robot_horizon(robot.model, **within).at(point.q, qd).arguments()
     return analyze(dynamics, capacity=capacity, **limits)
 
 
