@@ -637,8 +637,10 @@ def cut_set(
             )  # fmt: skip
     elif flat == 1:
         normals, offsets = np.array([[1.0], [-1.0]]), np.array([z.max(), -z.min()])
-    else:
+    else:  # one point: the origin where it lies there to the rounding of the reach
         normals, offsets = np.zeros((0, 0)), np.zeros(0)
+        if np.linalg.norm(x0) <= FLAT_RTOL * size:
+            x0 = np.zeros(m)
     complement = np.linalg.svd(basis, full_matrices=True)[0][:, flat:] if flat < m else None
     rows, bounds = [normals @ basis.T], [offsets + normals @ basis.T @ x0]
     if complement is not None:

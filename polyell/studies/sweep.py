@@ -49,7 +49,13 @@ from polyell.comparison.comparison import (
     compared_kinds,
 )
 from polyell.comparison.long_form import wide_attrs
-from polyell.errors import InputError, MissingDependencyError, StorageError, install_hint
+from polyell.errors import (
+    InputError,
+    MissingDependencyError,
+    SolverError,
+    StorageError,
+    install_hint,
+)
 from polyell.geometry.directions import default_direction_count, sphere_directions
 from polyell.geometry.subspace import RANK_RTOL
 from polyell.models.dynamics import Dynamics
@@ -159,13 +165,13 @@ class _Job:
             dyn = moving_dynamics(self.source, q, state.qd)
         if dyn.m > dyn.n:  # singular everywhere: the scalar path
             scalar = np.ones(len(dyn), dtype=bool)
-            values = _scalar_rows(dyn, scalar, self, state)
+            values = _scalar_rows(dyn, scalar, self, state, start)
         else:
             values, scalar = _batch(dyn, self)
             if state is not None:  # a set cut by the joints' intervals: the exact path
                 scalar |= horizon_block(dyn, state, self.tau_max, self.tau_min).cut
             if scalar.any():
-                for name, column in _scalar_rows(dyn, scalar, self, state).items():
+                for name, column in _scalar_rows(dyn, scalar, self, state, start).items():
                     values[name][scalar] = column[scalar]
         import pandas as pd
 
@@ -233,9 +239,18 @@ def _batch(dyn: Dynamics, job: _Job) -> tuple[dict[str, NDArray[np.float64]], ND
 
 
 def _scalar_rows(
-    dyn: Dynamics, rows: NDArray[np.bool_], job: _Job, state: JointHorizon | None = None
+    dyn: Dynamics,
+    rows: NDArray[np.bool_],
+    job: _Job,
+    state: JointHorizon | None = None,
+    first: int = 0,
 ) -> dict[str, NDArray[np.float64]]:
-    """``compare(analyze(...)).to_row()`` for the flagged rows (NaN elsewhere)."""
+    """``compare(analyze(...)).to_row()`` for the flagged rows (NaN elsewhere).
+
+    A set no solver builds (a SolverError: a 6-D set cut by the joints' intervals with
+    thousands of vertices) leaves its row NaN, ``polytope_dim`` included, and is logged as
+    a warning naming the configuration (``first``: the chunk's first); the sweep goes on.
+    """
     values = {name: np.full(len(dyn), np.nan) for name in job.columns}
     options = job.options
     for k in np.flatnonzero(rows):
@@ -248,15 +263,19 @@ def _scalar_rows(
             options.rank_rtol,
             None if state is None else state[int(k)],
         )
-        row = compare(
-            analysis,
-            job.scalar_directions,
-            samples=options.samples,
-            seed=options.seed,
-            mvie=options.mvie,
-            outer=options.outer,
-            candidates=options.candidates,
-        ).to_row()
+        try:
+            row = compare(
+                analysis,
+                job.scalar_directions,
+                samples=options.samples,
+                seed=options.seed,
+                mvie=options.mvie,
+                outer=options.outer,
+                candidates=options.candidates,
+            ).to_row()
+        except SolverError as exn:  # one set the solvers cannot build: NaN, said, not fatal
+            _log.warning("configuration %d: every score NaN (%s)", first + k, exn)
+            continue
         for name in job.columns:
             values[name][k] = row[name]
     return values

@@ -382,6 +382,36 @@ def test_singular_configuration_gives_a_flat_set():
     np.testing.assert_allclose([got.lo, got.hi], expected, atol=RTOL_LIMITS * size, rtol=0)
 
 
+@pytest.mark.parametrize("free", [(), (0,), (0, 3)])
+def test_pinned_joints_give_a_point_or_flat_set_through_the_origin(free):
+    """Joints whose velocity limits are 0 at rest are pinned (qdd = 0 is their only choice).
+
+    All pinned: the set is the one point ``J 0 + Jdot 0 = 0`` (computed as ``xg + M u``,
+    which cancels to rounding): its limits along any line are [0, 0], not NaN.  Some free:
+    the set holds the origin (every free joint may stay at rest), and along the image of a
+    free joint's column the limits are those of the LP.
+    """
+    panda = pe.robots.load("panda")
+    q = np.array([0.0, -0.5, 0.0, -2.0, 0.0, 1.6, 0.8])
+    low, high = panda.position_limits
+    qd_max = np.zeros(7)
+    qd_max[list(free)] = 2.0
+    dyn = panda.dynamics(q)
+    state = {"horizon": 0.01, "q": q, "qd": np.zeros(7), "q_min": low, "q_max": high,
+             "qd_min": -qd_max, "qd_max": qd_max}  # fmt: skip
+    P = pe.analyze(dyn, panda.tau_max, **state).polytope
+    assert P.dim == len(free)
+    directions = np.random.default_rng(4).normal(size=(5, 3))
+    if free:
+        directions[0] = dyn.J[:, free[0]]
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    for direction in directions[: 1 if free else 5]:
+        got = P.limits(direction)
+        expected = reference_limits(dyn, panda.tau_max, -panda.tau_max, state, direction)
+        assert got.lo <= 0.0 <= got.hi
+        np.testing.assert_allclose([got.lo, got.hi], expected, rtol=0, atol=1e-9 * 100.0)
+
+
 # --- empty sets and bad input ---------------------------------------------------------
 
 

@@ -61,3 +61,32 @@ def test_bad_input():
     with pytest.raises(InputError) as error:
         pe.sweep(panda, path, horizon=0.0)
     assert error.value.argument == "horizon"
+
+
+def test_a_set_no_solver_builds_is_a_nan_row_and_a_warning(monkeypatch, caplog):
+    """A SolverError in one cut row (a 6-D set with thousands of vertices) leaves that row
+    NaN and names it in the log; the other rows are computed as before."""
+    from polyell.capacities import horizon
+
+    panda, path = _approach(4)
+    expected = pe.sweep(panda, path, horizon=0.01, directions=16)
+    built = horizon.cut_set
+    calls = []
+
+    def failing_once(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 2:
+            raise pe.SolverError("the hull did not close (test)")
+        return built(*args, **kwargs)
+
+    monkeypatch.setattr(horizon, "cut_set", failing_once)
+    with caplog.at_level(logging.WARNING, logger="polyell"):
+        frame = pe.sweep(panda, path, horizon=0.01, directions=16)
+    scores = [c for c in frame.columns if c.startswith(("polytope_", "chiacchio_", "yoshikawa_"))]
+    failed = frame["polytope_dim"].isna().to_numpy()
+    assert failed.sum() == 1 and frame.loc[failed, scores].isna().all(axis=None)
+    k = int(np.flatnonzero(failed)[0])
+    assert f"configuration {k}: every score NaN" in caplog.text and "(test)" in caplog.text
+    np.testing.assert_array_equal(
+        frame.loc[~failed, scores].to_numpy(), expected.loc[~failed, scores].to_numpy()
+    )
