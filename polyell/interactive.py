@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import html
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -22,12 +22,14 @@ from numpy.typing import NDArray
 
 from polyell.capacities import check_capacity
 from polyell.comparison.comparison import SCORE_NAMES, Comparison
+from polyell.comparison.labels import Labels, check_labels, label_text
+from polyell.comparison.layout import TableLayout
 from polyell.comparison.summary import result_kinds, split_column
-from polyell.comparison.tables import ellipsoid_label, score_display
+from polyell.comparison.tables import score_display
 from polyell.errors import InputError
 from polyell.export import mesh, polytope_edges
 from polyell.storage import as_path, write_text_atomically
-from polyell.validation import check_instance, check_integer
+from polyell.validation import _describe, check_instance, check_integer
 
 if TYPE_CHECKING:  # plotly and pandas are imported where they are used (start-up time)
     import pandas as pd
@@ -97,6 +99,38 @@ def _plot_title(title: object) -> str | None:
     return "<br>".join(html.escape(line) for line in title.splitlines()) if title else None
 
 
+def _labels(labels: object) -> Labels:
+    """The names of sets and scores a figure shows: as a table layout's ``labels``.
+
+    A :class:`~polyell.comparison.layout.TableLayout` (its ``labels``), a preset's name, a
+    mapping of set and score names to labels (plain text, or ``(plain, latex)``: a figure
+    shows the plain text) or None (the defaults); checked as the layout checks them, every
+    message naming ``labels``.
+    """
+    if isinstance(labels, TableLayout):
+        return labels.labels
+    if labels is not None and not isinstance(labels, str | Mapping):
+        raise InputError(
+            "labels",
+            "a pe.TableLayout, a mapping of set or score names to labels, or a preset's name",
+            _describe(labels),
+            'e.g. labels={"chiacchio": "DME", "coverage": "share covered"}, or the '
+            "layout of your tables.",
+        )
+    return check_labels(labels, "labels")
+
+
+def _name(kind: str, capacity: str, labels: Labels) -> str:
+    """A set's label as plotly shows it (a legend entry, a title): its text, not markup."""
+    return html.escape(label_text(kind, capacity, labels).plain, quote=False)
+
+
+def _score(score: str, capacity: str, labels: Labels) -> tuple[str, float]:
+    """A score's label as plotly shows it (:func:`score_display`), and its factor."""
+    name, factor = score_display(score, capacity, labels)
+    return html.escape(name, quote=False), factor
+
+
 def _plotly() -> Any:
     """Plotly's graph objects, imported on first use."""
     import plotly.graph_objects as go
@@ -112,20 +146,25 @@ def _color(kind: str, kinds: Sequence[str]) -> str:
     return _CANDIDATE_COLORS[index % len(_CANDIDATE_COLORS)]
 
 
-def _hover_text(kind: str, comparison: Comparison, unit: str) -> str:
+def _hover_text(kind: str, comparison: Comparison, unit: str, labels: Labels) -> str:
     record = comparison[kind]
-    lines = [f"<b>{html.escape(ellipsoid_label(kind, comparison.analysis.capacity))}</b>"]
+    capacity = comparison.analysis.capacity
+    lines = [f"<b>{_name(kind, capacity, labels)}</b>"]
     lines.append(f"volume {record.volume:.4g} ({unit})^{int(record.dimension)}")
     for score in _HOVER_SCORES:
         value = getattr(record, score)
         if np.isfinite(value):
-            name, factor = score_display(score, comparison.analysis.capacity)
+            name, factor = _score(score, capacity, labels)
             lines.append(f"{name} {factor * value:.4g}")
     return "<br>".join(lines)
 
 
 def interactive_sets(
-    comparison: Comparison, kinds: Sequence[str] | None = None, *, title: str | None = None
+    comparison: Comparison,
+    kinds: Sequence[str] | None = None,
+    *,
+    title: str | None = None,
+    labels: Labels | TableLayout = None,
 ) -> go.Figure:
     """The polytope and the ellipsoids of a comparison, rotatable (3-D) or zoomable (2-D).
 
@@ -137,6 +176,11 @@ def interactive_sets(
         Which ellipsoids; default every defined one (both definitions, the MVIE, the outer
         ellipsoid, candidates).
     title : str, optional
+    labels : str, mapping or TableLayout, optional
+        The names of the sets (legend, hover) and of the scores (hover), as a table
+        layout's ``labels`` (:class:`polyell.TableLayout`: a mapping of set and score
+        names to labels, plain text or ``(plain, latex)``, or a preset's name), or a
+        layout whose labels these are; default one name per set.
 
     Returns
     -------
@@ -146,9 +190,11 @@ def interactive_sets(
     Raises
     ------
     InputError
-        For a task space other than 2-D or 3-D.
+        For a task space other than 2-D or 3-D, or labels that are not labels (naming
+        ``labels``).
     """
     check_instance("comparison", comparison, Comparison, "pass pe.compare(analysis).")
+    labels = _labels(labels)
     title = _plot_title(title)
     go = _plotly()
     analysis = comparison.analysis
@@ -157,14 +203,15 @@ def interactive_sets(
         raise InputError("comparison", "a 2-D or 3-D task space", f"m = {m}")
     chosen = [k for k in (kinds or comparison.kinds) if comparison[k].defined]
     unit = analysis.unit()
-    labels = [_plain_label(row) for row in analysis.task]
+    rows = [_plain_label(row) for row in analysis.task]
     P = analysis.polytope
     figure = go.Figure()
     vertex_text = [
-        "<br>".join(f"{label} {value:.4g} {unit}" for label, value in zip(labels, v, strict=True))
+        "<br>".join(f"{label} {value:.4g} {unit}" for label, value in zip(rows, v, strict=True))
         for v in P.vertices
     ]
-    polytope_name = f"{analysis.polytope_label}, volume {P.volume:.4g} ({unit})^{P.dim}"
+    polytope = _name("polytope", analysis.capacity, labels)
+    polytope_name = f"{polytope}, volume {P.volume:.4g} ({unit})^{P.dim}"
     if m == 2:
         outline = P.vertices if P.dim < 2 else np.vstack([P.vertices, P.vertices[:1]])
         figure.add_trace(
@@ -223,7 +270,7 @@ def interactive_sets(
                 z=P.vertices[:, 2],
                 mode="markers",
                 marker={"size": 3, "color": POLYTOPE_EDGE_COLOR},
-                name="polytope vertices",
+                name=f"{polytope} vertices",
                 legendgroup="polytope",
                 showlegend=False,
                 text=vertex_text,
@@ -232,8 +279,8 @@ def interactive_sets(
         )
     for kind in chosen:
         E = comparison.ellipsoid(kind)
-        color, text = _color(kind, chosen), _hover_text(kind, comparison, unit)
-        name = ellipsoid_label(kind, comparison.analysis.capacity)
+        color, text = _color(kind, chosen), _hover_text(kind, comparison, unit, labels)
+        name = _name(kind, analysis.capacity, labels)
         if m == 2 or E.rank < 3:
             curve = E.boundary_curve(240, closed=True)
             if m == 2:
@@ -275,9 +322,7 @@ def interactive_sets(
             )
         )
         figure.update_yaxes(scaleanchor="x", scaleratio=1)
-        figure.update_layout(
-            xaxis_title=f"{labels[0]} [{unit}]", yaxis_title=f"{labels[1]} [{unit}]"
-        )
+        figure.update_layout(xaxis_title=f"{rows[0]} [{unit}]", yaxis_title=f"{rows[1]} [{unit}]")
     else:
         figure.add_trace(
             go.Scatter3d(
@@ -292,9 +337,9 @@ def interactive_sets(
         figure.update_layout(
             scene={
                 "aspectmode": "data",
-                "xaxis_title": f"{labels[0]} [{unit}]",
-                "yaxis_title": f"{labels[1]} [{unit}]",
-                "zaxis_title": f"{labels[2]} [{unit}]",
+                "xaxis_title": f"{rows[0]} [{unit}]",
+                "yaxis_title": f"{rows[1]} [{unit}]",
+                "zaxis_title": f"{rows[2]} [{unit}]",
                 # farther than plotly's default (1.25, 1.25, 1.25): the axis titles whole
                 "camera": {"eye": {"x": 1.6, "y": 1.6, "z": 1.2}},
             },
@@ -315,6 +360,7 @@ def interactive_map(
     *,
     title: str | None = None,
     capacity: str = "acceleration",
+    labels: Labels | TableLayout = None,
 ) -> go.Figure:
     """Heat maps of scores over a grid of two joints, the configuration and scores on hover.
 
@@ -328,8 +374,10 @@ def interactive_map(
     x, y : str
         The joint columns along the horizontal and vertical axes (e.g. ``"q3"``, ``"q2"``).
     capacity : {"acceleration", "velocity", "force"}, optional
-        Whose ellipsoids the scores are: their names (a force ``"chiacchio"`` is "with
-        gravity").
+        Whose ellipsoids the scores are.
+    labels : str, mapping or TableLayout, optional
+        The names of the sets and scores in the titles, the menu and the colour bar, as
+        :func:`interactive_sets` takes them.
 
     Returns
     -------
@@ -346,6 +394,7 @@ def interactive_map(
         "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
     )
     capacity = check_capacity(capacity)
+    labels = _labels(labels)
     title = _plot_title(title)
     go = _plotly()
     if isinstance(columns, str):
@@ -403,14 +452,14 @@ def interactive_map(
         if column not in split:
             raise InputError("columns", "score columns <ellipsoid>_<score>", repr(column))
         kind, score = split[column]
-        label, factor = score_display(score, capacity)
+        label, factor = _score(score, capacity, labels)
         same = [c for c in mapped if split[c][1] == score]
         values = factor * table[same].to_numpy(dtype=float)
         finite = values[np.isfinite(values)]
         low, high = (finite.min(), finite.max()) if finite.size else (0.0, 1.0)
         z = factor * table[column].to_numpy(dtype=float).reshape(len(ys), len(xs))
         views.append(
-            (f"{ellipsoid_label(kind, capacity)}: {label}", z, low, high, label, hover(column))
+            (f"{_name(kind, capacity, labels)}: {label}", z, low, high, label, hover(column))
         )
     name, z, low, high, label, template = views[0]
     figure = go.Figure(
@@ -488,13 +537,15 @@ def interactive_histogram(
     *,
     title: str | None = None,
     capacity: str = "acceleration",
+    labels: Labels | TableLayout = None,
 ) -> go.Figure:
     """Overlaid histograms of one score over a study, one per ellipsoid (toggle in the legend).
 
     The counts are binned here, on bins shared by every ellipsoid (numpy's ``"auto"`` rule,
     at most :data:`HISTOGRAM_BINS`), so that the figure's size does not grow with the
-    number of configurations.  ``capacity`` names the ellipsoids, as in
-    :func:`interactive_map`.
+    number of configurations.  ``capacity`` says whose ellipsoids the scores are, as in
+    :func:`interactive_map`; ``labels`` name the sets (legend) and the score (axis), as
+    :func:`interactive_sets` takes them.
     """
     import pandas as pd
 
@@ -505,10 +556,11 @@ def interactive_histogram(
         "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
     )
     capacity = check_capacity(capacity)
+    labels = _labels(labels)
     title = _plot_title(title)
     go = _plotly()
     chosen = _kinds_with(results, score, kinds)
-    label, factor = score_display(score, capacity)
+    label, factor = _score(score, capacity, labels)
     values = {}
     for kind in chosen:
         column = factor * results[f"{kind}_{score}"].to_numpy(dtype=float)
@@ -526,7 +578,7 @@ def interactive_histogram(
                     x=0.5 * (edges[:-1] + edges[1:]),
                     y=counts,
                     width=np.diff(edges),
-                    name=ellipsoid_label(kind, capacity),
+                    name=_name(kind, capacity, labels),
                     opacity=0.6,
                     marker_color=_color(kind, chosen),
                 )
@@ -671,6 +723,7 @@ def interactive_series(
     title: str | None = None,
     capacity: str = "acceleration",
     total: int | None = None,
+    labels: Labels | TableLayout = None,
 ) -> go.Figure:
     """One score of each ellipsoid along a trajectory (against ``t``, or the sample index).
 
@@ -688,6 +741,9 @@ def interactive_series(
         gravity").
     total : int, optional
         The number of samples ``results`` was decimated from.
+    labels : str, mapping or TableLayout, optional
+        The names of the sets (legend) and of the score (axis), as
+        :func:`interactive_sets` takes them.
 
     Returns
     -------
@@ -705,10 +761,11 @@ def interactive_series(
         "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
     )
     capacity = check_capacity(capacity)
+    labels = _labels(labels)
     title = _plot_title(title)
     go = _plotly()
     chosen = _kinds_with(results, score, kinds)
-    label, factor = score_display(score, capacity)
+    label, factor = _score(score, capacity, labels)
     total = len(results) if total is None else check_integer("total", total, 0, 2**62)
     results = decimate_series(results, [f"{kind}_{score}" for kind in chosen])
     x = results["t"] if "t" in results else results["configuration"]
@@ -719,7 +776,7 @@ def interactive_series(
                 x=x,
                 y=factor * results[f"{kind}_{score}"],
                 mode="lines",
-                name=ellipsoid_label(kind, capacity),
+                name=_name(kind, capacity, labels),
                 line={"color": _color(kind, chosen)},
             )
         )

@@ -49,8 +49,9 @@ LIMIT_QUANTITIES = ("lower", "upper", "lower_error", "upper_error")
 SPLITS = ("posture", "combined")
 #: Significant digits a table may print (a float64 holds 17).
 MAX_DIGITS = 17
-#: The tables a layout's ``captions`` may name.
-CAPTION_TABLES = ("comparison", "limits", "summary")
+#: The tables a layout's ``captions`` may name: a points study's two, a sweep's summary and
+#: a posture study's choice and its aggregate over random targets.
+CAPTION_TABLES = ("comparison", "limits", "summary", "posture_choice", "posture_targets")
 #: The text width [pt] of a one-column page: LaTeX's ``article`` class at 10 pt (letter or
 #: A4 paper).  Two-column journals: about 240-260 pt (``\columnwidth``).
 TEXT_WIDTH = 345.0
@@ -142,10 +143,11 @@ class TableLayout:
         study).  Units are added to a score's label (``[%]``).  ``None``: one name per set
         that fits any robot (:data:`~polyell.comparison.labels.SET_LABELS`).
     captions : mapping, optional
-        Captions by table (``"comparison"``, ``"limits"``, ``"summary"``), plain text or
+        Captions by table (``"comparison"``, ``"limits"``, ``"summary"``,
+        ``"posture_choice"``, ``"posture_targets"``: :data:`CAPTION_TABLES`), plain text or
         ``(plain, latex)``, used where a table is written without an explicit caption
-        (a study's files, ``write_point_tables``).  ``None``: each writer's default, which
-        does not start with the study's title.
+        (a study's files, ``write_point_tables``, ``write_posture_tables``).  ``None``:
+        each writer's default, which does not start with the study's title.
     siunitx : bool, optional
         Number columns as siunitx ``S`` columns (``\usepackage{siunitx}``, version 3):
         bare numbers that siunitx typesets (its minus sign, powers of ten), every header

@@ -29,15 +29,17 @@ import sys
 import warnings
 from collections.abc import Sequence
 from dataclasses import replace
+from decimal import ROUND_HALF_EVEN, Decimal, localcontext
 
 from polyell.comparison.labels import LabelText, check_markup
 from polyell.comparison.latex_text import check_latex_label, check_text, escape_latex
-from polyell.comparison.printable import Cell, Label, PrintTable
+from polyell.comparison.printable import Cell, Label, PrintTable, rounded_text
 from polyell.errors import TableWidthWarning
 
 __all__ = [
     "PAGE_LINES",
     "SMALL_ROWS",
+    "estimate_text",
     "latex_cell",
     "latex_number",
     "latex_tables",
@@ -81,16 +83,62 @@ def latex_number(text: str, siunitx: bool = False) -> str:
     return ("$-$" if sign else "") + mantissa + power
 
 
+def estimate_text(value: str, stderr: float, shift: int = 0) -> str:
+    r"""An estimate and its standard error in LaTeX, the error at the value's last digit.
+
+    ``value`` is the estimate as the table rounds it (``60.7``, ``1.23e-05``); the
+    standard error ``stderr * 10**shift`` is written at most to that last digit, with at
+    most 2 significant digits (round half to even), and in the value's power of ten:
+    ``{60.7 $\pm$ 0.3}``, ``{(1.23 $\pm$ 0.05)$\times 10^{-5}$}``.  An error below half a
+    unit of that digit reads less than one unit (``{60.7 $\pm$ \textless{}0.1}``): the
+    digits shown are the estimate's to within rounding.  A value of 0 has no last digit:
+    its error keeps 2 significant digits.  Without it, a tiny error written in a power of
+    ten of its own (``5.2$\times 10^{-5}$``) widened a force comparison table to about
+    363 pt, past a one-column page.
+
+    Examples
+    --------
+    >>> estimate_text("60.7", 5.2e-7, 2), estimate_text("74.3", 0.0026, 2)
+    ('{60.7 $\\pm$ \\textless{}0.1}', '{74.3 $\\pm$ 0.3}')
+    >>> estimate_text("1.23e-05", 4.6e-7)
+    '{(1.23 $\\pm$ 0.05)$\\times 10^{-5}$}'
+    """
+    match = _NUMBER.fullmatch(value)
+    error = Decimal(repr(stderr)).scaleb(shift)
+    if match is None or not error.is_finite() or error <= 0:
+        return f"{{{latex_number(value)}}}"
+    sign, mantissa, fraction, exponent = match.groups()
+    if Decimal(mantissa) == 0:  # no last digit: the error to 2 significant digits
+        return f"{{0 $\\pm$ {latex_number(rounded_text(stderr, 2, shift))}}}"
+    power = int(exponent) if exponent else 0
+    last = power - len(fraction or "")  # the value's last digit: 10**last
+    step = max(last, error.adjusted() - 1)  # at most 2 significant digits of the error
+    with localcontext() as context:
+        context.rounding = ROUND_HALF_EVEN
+        rounded = error.quantize(Decimal(1).scaleb(step))
+    places = max(power - step, 0)  # decimals of the error in the value's power of ten
+    if rounded == 0:
+        shown = r"\textless{}" + format(
+            Decimal(1).scaleb(last - power), f".{max(power - last, 0)}f"
+        )
+    else:
+        shown = format(rounded.scaleb(-power), f".{places}f")
+    body = f"{sign and '$-$'}{mantissa} $\\pm$ {shown}"
+    if exponent:
+        return f"{{({body})$\\times 10^{{{power}}}$}}"
+    return f"{{{body}}}"
+
+
 def latex_cell(cell: Cell, digits: int, siunitx: bool = False) -> str:
     r"""A cell: a number as :func:`latex_number` writes it; anything else braced.
 
     A braced cell is text to an ``S`` column of siunitx and prints as it is in an ``r``
-    column: an estimate with its standard error (``{12.3 $\pm$ 0.05}``), the infinities,
-    ``n/a`` and ``empty``.
+    column: an estimate with its standard error (``{12.3 $\pm$ 0.1}``,
+    :func:`estimate_text`), the infinities, ``n/a`` and ``empty``.
     """
     number = cell.number(digits)
     if cell.has_error():
-        return f"{{{latex_number(number)} $\\pm$ {latex_number(cell.error(digits))}}}"
+        return estimate_text(number, cell.stderr, cell.shift)
     if number in ("inf", "-inf"):
         return r"{$\infty$}" if number == "inf" else r"{$-\infty$}"
     if _NUMBER.fullmatch(number):
@@ -511,9 +559,9 @@ def _check_width(
     warnings.warn(
         f"The LaTeX table {name} is about {found:.0f} pt wide, {found - width:.0f} pt wider "
         f"than the text width {width:g} pt: it will overflow the page. Fix: leave out sets "
-        "or scores (TableLayout(sets=..., scores=...)), shorten labels (labels=...), keep the "
-        "default orientation (transpose=False), or set text_width to your page's (None: no "
-        "check).",
+        "or scores (TableLayout(sets=..., scores=...); a study's [output] sets, scores), "
+        "shorten labels (labels=...), keep the default orientation (transpose=False), or set "
+        "text_width to your page's (None, a study's text_width = false: no check).",
         TableWidthWarning,
         stacklevel=_outside_polyell(),
     )

@@ -38,7 +38,15 @@ from polyell.comparison.comparison import (
     SCORE_NAMES,
     compared_kinds,
 )
-from polyell.comparison.layout import LAYOUT_SETS, LIMIT_QUANTITIES, MAX_DIGITS, TableLayout
+from polyell.comparison.layout import (
+    CAPTION_TABLES,
+    LAYOUT_SETS,
+    LIMIT_QUANTITIES,
+    MAX_DIGITS,
+    MAX_TEXT_WIDTH,
+    TEXT_WIDTH,
+    TableLayout,
+)
 from polyell.errors import InputError
 from polyell.expressions import evaluate, evaluate_list
 from polyell.models.self_motion import MAX_COUNT
@@ -507,6 +515,124 @@ TableLabels = Annotated[
             ]
         },
         "table of labels, or a preset's name",
+    ),
+]
+
+
+#: The suffixes of another capacity's tables (``comparison_force``): a caption's key may
+#: carry one (the acceleration tables' names have none).
+_CAPTION_SUFFIXES = ("_velocity", "_force")
+#: A caption's key: a table's file name without its extension.
+CAPTION_KEY = re.compile(rf"(?:{'|'.join(CAPTION_TABLES)})(?:{'|'.join(_CAPTION_SUFFIXES)})?")
+
+
+def _table_captions(value: object) -> Mapping[str, str | tuple[str, str]]:
+    """A table of captions by table file name (``comparison``, ``summary_force``).
+
+    Each caption is plain text or ``[plain, latex]``, checked as
+    :class:`~polyell.comparison.layout.TableLayout` checks its ``captions``; that the
+    study writes the table is checked with the study (:class:`StudyFile`).
+    """
+    from polyell.comparison.labels import _label_value
+
+    names = [f"{table}{suffix}" for suffix in ("", *_CAPTION_SUFFIXES) for table in CAPTION_TABLES]
+    if not isinstance(value, dict):
+        raise InputError(
+            "",
+            "a table of captions by table name",
+            _describe(value),
+            'e.g. captions = { limits = "Limits of the Panda.", comparison_force = '
+            '["Force scores.", "Force scores, $F$."] }.',
+        )
+    checked: dict[str, str | tuple[str, str]] = {}
+    for name, caption in value.items():
+        if not CAPTION_KEY.fullmatch(name):
+            raise InputError(
+                f".{name}",
+                f"a key that names a table: {', '.join(CAPTION_TABLES)}, with an optional "
+                f"capacity suffix ({', '.join(_CAPTION_SUFFIXES)})",
+                repr(name),
+                did_you_mean([name], names)
+                or "a key is the table's file name (limits.tex: limits).",
+            )
+        pair = isinstance(caption, list) and len(caption) == 2
+        if not isinstance(caption, str) and not (pair and all(isinstance(c, str) for c in caption)):
+            raise InputError(
+                f".{name}",
+                "a caption: text, or a pair [plain text, LaTeX]",
+                _describe(caption),
+                f'e.g. {name} = "Limits of the Panda." or {name} = ["Limits along x+z.", '
+                '"Limits along $x + z$."].',
+            )
+        blank = [k for k, text in enumerate(caption if pair else [caption]) if not text.strip()]
+        if blank:
+            where = f".{name}[{blank[0]}]" if pair else f".{name}"
+            raise InputError(
+                where,
+                "a caption that is not blank",
+                repr(caption),
+                "write the caption, or leave the key out for the table's default caption.",
+            )
+        text = _label_value(f".{name}", tuple(caption) if pair else caption)
+        checked[name] = text.plain if text.latex is None else (text.plain, text.latex)
+    return types.MappingProxyType(checked)
+
+
+TableCaptions = Annotated[
+    Mapping[str, str | tuple[str, str]],
+    Check(
+        _table_captions,
+        {"type": "object", "additionalProperties": _LABEL_SCHEMA},
+        "table of captions",
+    ),
+]
+
+
+def _siunitx(value: object) -> bool:
+    if not isinstance(value, bool):
+        raise InputError(
+            "",
+            "true or false",
+            _describe(value),
+            "siunitx = true: S columns (the document needs \\usepackage{siunitx}); false: r "
+            "columns, booktabs only.",
+        )
+    return value
+
+
+SiunitxChoice = Annotated[bool, Check(_siunitx, {"type": "boolean"}, "boolean")]
+
+
+def _text_width(value: object) -> float | bool:
+    if value is False:
+        return False
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int | float)
+        or not math.isfinite(value)
+        or not 0 < value <= MAX_TEXT_WIDTH
+    ):
+        raise InputError(
+            "",
+            f"a width in pt above 0 and up to {MAX_TEXT_WIDTH:g}, or false (no check)",
+            _describe(value),
+            f"e.g. {TEXT_WIDTH:g} (a one-column article) or 252 (a two-column journal's "
+            "column); LaTeX prints it with \\showthe\\textwidth.",
+        )
+    return float(value)
+
+
+TextWidth = Annotated[
+    float | bool,
+    Check(
+        _text_width,
+        {
+            "oneOf": [
+                {"type": "number", "exclusiveMinimum": 0, "maximum": MAX_TEXT_WIDTH},
+                {"const": False},
+            ]
+        },
+        "number (pt), or false",
     ),
 ]
 
@@ -1162,7 +1288,7 @@ center = [0, -9.81]"""
 class OutputTable(Table):
     """What is written besides the tables, and how the tables are laid out.
 
-    `sets` to `labels` lay out the tables for print (`polyell.comparison.layout`). A grid,
+    `sets` to `text_width` lay out the tables for print (`pe.TableLayout`). A grid,
     random or trajectory study keeps its results in a Parquet dataset, `results/` (one
     part per chunk: a killed study resumes), and reads it back one part at a time, so that
     its memory does not grow with its configurations: `results.csv` is written from the
@@ -1192,6 +1318,9 @@ split = "posture"
 digits = 4
 percent = false
 labels = { chiacchio = "DME", coverage = "share covered" }
+captions = { summary = ["Coverage over the grid.", "Coverage over the grid of $q_2$, $q_3$."] }
+siunitx = true
+text_width = 252
 csv = true"""
 
     formats: Annotated[tuple[str, ...], Choices(FORMATS)] = key(
@@ -1249,6 +1378,36 @@ csv = true"""
         example='{ chiacchio = "DME", coverage = "share covered" }',
         default_text="one name per set",
     )
+    captions: TableCaptions | None = key(
+        None,
+        what="Captions of the LaTeX tables, by the table's file name: "
+        "`comparison` and `limits` (points), `summary` (grid, random, trajectory), "
+        "`posture_choice` and `posture_targets` (posture); another capacity's tables by "
+        "theirs (`comparison_force`, `summary_velocity`): a table left out keeps its default. "
+        "Each is plain text (escaped) or `[plain, latex]` (the LaTeX written as is). A table "
+        "split into several floats (one per posture or robot) adds the posture's or "
+        "robot's name to each; the Markdown of a points or posture study shows the plain text.",
+        example='{ limits = "Limits of the Panda.", comparison_force = ["Force scores.", '
+        '"Scores of the force ellipsoids, $h$ in N."] }',
+        default_text="a default per table, without the study's title",
+    )
+    siunitx: SiunitxChoice = key(
+        False,
+        what="Number columns of the LaTeX tables as siunitx `S` columns (the document needs "
+        "`\\usepackage{siunitx}`, version 3: it typesets the minus signs and powers of ten "
+        "and aligns a column on the decimal marker), or `r` columns (false: no package "
+        "beyond booktabs).",
+        example="true",
+    )
+    text_width: TextWidth = key(
+        TEXT_WIDTH,
+        what="The page's text width [pt] the LaTeX tables are checked against: a wider table "
+        "is set in a smaller size, then written with a warning that names its width. 345 "
+        "is a one-column `article` at 10 pt; a two-column journal's column is about "
+        "240-260; false: no check.",
+        example="252",
+        default_text=f"{TEXT_WIDTH:g}",
+    )
     csv: CsvChoice = key(
         "auto",
         what="Grid, random and trajectory studies: write `results.csv` (every configuration "
@@ -1260,7 +1419,19 @@ csv = true"""
 
     @property
     def layout(self) -> TableLayout:
-        """The tables' layout of ``sets`` to ``percent`` and ``labels``."""
+        """The tables' layout: ``sets`` to ``text_width``, the acceleration tables' captions."""
+        return self.layout_of("")
+
+    def layout_of(self, suffix: str = "") -> TableLayout:
+        """The layout of the tables whose file names end in ``suffix`` (``"_force"``).
+
+        Their captions are those of ``captions`` whose keys are a table's name with this
+        suffix (``comparison_force``), by the table's name (``comparison``).
+        """
+        captions = None
+        if self.captions:
+            tables = [table for table in CAPTION_TABLES if f"{table}{suffix}" in self.captions]
+            captions = {table: self.captions[f"{table}{suffix}"] for table in tables}
         return TableLayout(
             sets=self.sets,
             scores=self.scores,
@@ -1269,6 +1440,9 @@ csv = true"""
             digits=self.digits,
             percent=self.percent,
             labels=self.labels,
+            captions=captions or None,
+            siunitx=self.siunitx,
+            text_width=None if self.text_width is False else float(self.text_width),
         )
 
     def writes_csv(self, configurations: int) -> bool:
@@ -1488,6 +1662,8 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
                         repr(name),
                         did_you_mean([name], valid) or f"valid: {valid}.",
                     )
+        if output.captions:
+            self._check_captions()
         for field in ("sets", "scores"):
             values = getattr(output, field)
             if values is not None and len(set(values)) != len(values):
@@ -1517,6 +1693,31 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
                     f"are {list(compared_kinds(capacity))})",
                     repr(list(output.sets or ())),
                     f"add one of them, or leave {capacity!r} out of [compare] capacities.",
+                )
+
+    def _check_captions(self) -> None:
+        """Each caption names a table this study writes (its kind and its capacities)."""
+        from polyell.capacities import capacity_class
+
+        if self.points is not None:
+            kind, tables = "a study of points", ["comparison", "limits"]
+        elif self.posture is not None:
+            kind, tables = "a posture study", ["posture_choice"]
+            if self.posture.targets is not None:
+                tables.append("posture_targets")
+        else:
+            kind, tables = "a grid, random or trajectory study", ["summary"]
+        suffixes = [capacity_class(c).output_suffix for c in self.compare.capacities]
+        written = [f"{table}{suffix}" for suffix in suffixes for table in tables]
+        for name in self.output.captions or ():
+            if name not in written:
+                raise InputError(
+                    f"output.captions.{name}",
+                    f"a table that {kind} with [compare] capacities = "
+                    f"{list(self.compare.capacities)} writes: one of {written}",
+                    repr(name),
+                    did_you_mean([name], written)
+                    or f"drop it, or give the caption of one of {written}.",
                 )
 
 

@@ -11,13 +11,14 @@ from __future__ import annotations
 import math
 import os
 import re
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from polyell.comparison.latex_text import latex_unit, markdown_text
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.printable import Cell, Label, PrintTable, given_label, text_label
-from polyell.comparison.tables import escape_latex, escape_markdown, render_tables
+from polyell.comparison.tables import Caption, escape_latex, escape_markdown, render_tables
 from polyell.errors import InputError
 from polyell.storage import write_text_atomically
 from polyell.validation import check_frame
@@ -25,7 +26,13 @@ from polyell.validation import check_frame
 if TYPE_CHECKING:
     import pandas as pd
 
-__all__ = ["POSTURE_TABLE_STEM", "format_posture_table", "write_posture_tables"]
+__all__ = [
+    "JOINT_UNITS",
+    "POSTURE_TABLE_STEM",
+    "format_posture_table",
+    "joint_units",
+    "write_posture_tables",
+]
 
 #: File names of the written tables: ``<stem>.tex``, ``<stem>.md``, ``<stem>.csv``.
 POSTURE_TABLE_STEM = "posture_choice"
@@ -48,8 +55,68 @@ _COLUMNS = {
 DIGITS = 3
 #: A joint position column of a choice table (``q1`` .. ``qn``: the picked posture).
 _JOINT = re.compile(r"q([1-9][0-9]*)")
-#: The unit of the joint position columns' headers.
+#: The unit of a revolute joint's position column header, and of a prismatic joint's.
 JOINT_UNIT = "rad"
+PRISMATIC_UNIT = "m"
+#: The units a joint position may have.
+JOINT_UNITS = (JOINT_UNIT, PRISMATIC_UNIT)
+#: Pinocchio's models of a prismatic joint (``JointModelPX``, ``JointModelPrismaticUnaligned``).
+_PRISMATIC = re.compile(r"JointModelP[XYZ]|JointModelPrismatic\w*")
+
+
+def joint_units(robot: object) -> tuple[str, ...]:
+    """The unit of each joint's position: ``"rad"`` (revolute) or ``"m"`` (prismatic).
+
+    A URDF robot (:class:`polyell.UrdfRobot`) by the kinds of its Pinocchio joints, after
+    its locked joints are removed; a planar arm's joints are revolute.
+
+    Examples
+    --------
+    >>> import polyell as pe
+    >>> joint_units(pe.robots.load("chiacchio2000"))
+    ('rad', 'rad', 'rad')
+    """
+    n = getattr(robot, "n", None)
+    if not isinstance(n, int) or n < 1:
+        raise InputError(
+            "robot", "a robot model (pe.PlanarArm or pe.UrdfRobot)", type(robot).__name__
+        )
+    units = [JOINT_UNIT] * n
+    model = getattr(robot, "model", None)  # a URDF robot's Pinocchio model
+    for joint in list(getattr(model, "joints", ()))[1:]:  # (the first is the universe)
+        if _PRISMATIC.fullmatch(str(joint.shortname())) and 0 <= joint.idx_v < n:
+            units[joint.idx_v] = PRISMATIC_UNIT
+    return tuple(units)
+
+
+def _joint_units(units: object, table: pd.DataFrame) -> tuple[str, ...] | None:
+    """``joint_units`` as given (or the table's ``attrs``), checked against its columns."""
+    if units is None:
+        units = table.attrs.get("joint_units")
+        if units is None:
+            return None
+    joints = [c for c in table.columns if isinstance(c, str) and _JOINT.fullmatch(c)]
+    if (
+        isinstance(units, str)
+        or not isinstance(units, list | tuple)
+        or not all(isinstance(unit, str) and unit in JOINT_UNITS for unit in units)
+    ):
+        raise InputError(
+            "joint_units",
+            f"a unit per joint, each among {list(JOINT_UNITS)}",
+            repr(units)[:80],
+            "pass polyell.studies.posture_tables.joint_units(robot), or None (every joint "
+            "revolute).",
+        )
+    highest = max((int(c[1:]) for c in joints), default=0)
+    if len(units) < highest:
+        raise InputError(
+            "joint_units",
+            f"a unit for each of the table's {highest} joints",
+            f"{len(units)} units",
+            "pass one unit per joint of the robot: joint_units(robot).",
+        )
+    return tuple(units)
 
 
 def _shown(column: object) -> bool:
@@ -57,14 +124,13 @@ def _shown(column: object) -> bool:
     return column in _COLUMNS or (isinstance(column, str) and bool(_JOINT.fullmatch(column)))
 
 
-def _header(column: str) -> Label:
-    """A column's header: its lines (stacked in LaTeX), or ``q1 [rad]`` for a joint."""
+def _header(column: str, units: tuple[str, ...] | None = None) -> Label:
+    """A column's header: its lines (stacked in LaTeX), or ``q1 [rad]`` (``[m]``) for a joint."""
     joint = _JOINT.fullmatch(column)
     if joint:
         symbol = f"$q_{{{joint.group(1)}}}$"
-        return Label(
-            f"{column} [{JOINT_UNIT}]", f"{symbol} [{JOINT_UNIT}]", (symbol, f"[{JOINT_UNIT}]")
-        )
+        unit = JOINT_UNIT if units is None else units[int(joint.group(1)) - 1]
+        return Label(f"{column} [{unit}]", f"{symbol} [{unit}]", (symbol, f"[{unit}]"))
     lines = _COLUMNS[column][0]
     plain = " ".join(lines).replace("- ", "")
     if len(lines) == 1:
@@ -105,7 +171,9 @@ def _number(value: object, column: str) -> float:
         raise InputError(f"table[{column!r}]", "numbers", repr(value)[:80]) from None
 
 
-def _print_table(table: pd.DataFrame, layout: TableLayout) -> PrintTable:
+def _print_table(
+    table: pd.DataFrame, layout: TableLayout, units: tuple[str, ...] | None = None
+) -> PrintTable:
     """The choice table laid out by the package's table writers: a line per set."""
     if table.index.nlevels != 2:
         raise InputError(
@@ -117,8 +185,8 @@ def _print_table(table: pd.DataFrame, layout: TableLayout) -> PrintTable:
     columns = [c for c in table.columns if _shown(c)]
     if not any(c in _COLUMNS for c in columns):
         raise InputError("table", f"columns among {list(_COLUMNS)}", f"{list(table.columns)}")
-    headers = [_header(column) for column in columns]
-    units = "unit" in table.columns
+    headers = [_header(column, units) for column in columns]
+    with_units = "unit" in table.columns
     from pandas import NA
 
     capacity = table.attrs.get("capacity", "acceleration")  # set by posture_choice
@@ -136,11 +204,12 @@ def _print_table(table: pd.DataFrame, layout: TableLayout) -> PrintTable:
             cells.append(Cell(value, 2 if kind_of == "share" else 0, count=kind_of == "index"))
         stub = (
             given_label(layout.set_text(str(kind), capacity), "sets"),
-            _criterion(str(criterion), record["unit"] if units else None),
+            _criterion(str(criterion), record["unit"] if with_units else None),
         )
         rows.append((stub, tuple(cells)))
     stub_head = (Label("set", "set"), Label("criterion", "criterion"))
-    return PrintTable(stub_head, tuple(headers), tuple(rows), grouped=True)
+    # mixed: a column holds each criterion's values, in its own unit (siunitx: unaligned)
+    return PrintTable(stub_head, tuple(headers), tuple(rows), grouped=True, mixed=True)
 
 
 def format_posture_table(
@@ -149,6 +218,9 @@ def format_posture_table(
     title: str = "",
     label: str | None = None,
     layout: TableLayout | None = None,
+    *,
+    caption: Caption | None = None,
+    joint_units: Sequence[str] | None = None,
 ) -> str:
     """A choice table as ``"latex"`` (booktabs, a ``table`` float), ``"markdown"`` or ``"csv"``.
 
@@ -164,25 +236,52 @@ def format_posture_table(
         :attr:`PostureChoice.table` or :attr:`PostureChoiceOverTargets.summary`.
     style : {"latex", "markdown", "csv"}
     title : str, optional
-        The LaTeX caption, or a Markdown heading line (plain text, escaped).
+        The LaTeX caption (unless ``caption`` or the layout's caption is given), or a
+        Markdown heading line (plain text, escaped).
     label : str, optional
         A LaTeX label (letters, digits and ``:-_.``).
     layout : TableLayout, optional
-        Its ``sets`` (the rows shown, in that order) and ``digits``, as in a study's
-        ``[output]``; default every set at :data:`DIGITS` digits.
+        Its ``sets`` (the rows shown, in that order), ``digits``, ``labels``, ``siunitx``
+        and ``text_width`` (the LaTeX table is checked against it), as in a study's
+        ``[output]``, and its caption of ``"posture_choice"`` (a choice table) or
+        ``"posture_targets"`` (a summary over targets); default every set at
+        :data:`DIGITS` digits.
+    caption : str or (str, str), optional
+        The LaTeX caption: plain text, or ``(plain, latex)`` with the LaTeX as is; default
+        the layout's caption of this table, else ``title``.
+    joint_units : sequence of str, optional
+        The unit of each joint's position, ``"rad"`` or ``"m"`` (a prismatic joint):
+        :func:`joint_units` of the robot; default the table's ``attrs["joint_units"]``,
+        else ``"rad"`` for every joint.
     """
     check_frame("table", table, "pass PostureChoice.table or PostureChoiceOverTargets.summary.")
+    units = _joint_units(joint_units, table)
+    name = "posture_choice" if "picked" in table.columns else "posture_targets"
     table, digits = _laid_out(table, layout)
-    layout = layout or TableLayout()
+    layout = layout or TableLayout(digits=DIGITS)
     if style not in ("latex", "markdown", "csv"):
         raise InputError("style", "'latex', 'markdown' or 'csv'", repr(style))
     if style == "latex":  # a one-column page's width: the angles are in the .md and .csv
         table = table.drop(columns=[c for c in table.columns if re.fullmatch(r"q\d+", str(c))])
-    printable = _print_table(table, layout)
-    if style == "markdown":
+    printable = _print_table(table, layout, units)
+    if caption is None:
+        own = layout.caption(name)
+        caption = (own.plain, own.latex) if own is not None else None
+    if style == "markdown":  # the heading, and the caption given (if any) under it
         heading = f"# {markdown_text(escape_markdown(title, 'title'))}\n\n" if title else ""
+        if caption is not None:
+            plain = caption[0] if isinstance(caption, tuple) else caption
+            heading += f"{markdown_text(escape_markdown(plain, 'caption'))}\n\n"
         return heading + render_tables([printable], "markdown", digits)
-    return render_tables([printable], style, digits, title or None, label)  # type: ignore[arg-type]
+    caption = caption if caption is not None else (title or None)
+    return render_tables(
+        [printable],
+        style,  # type: ignore[arg-type]
+        digits,
+        caption,
+        label,
+        layout=layout,
+    )
 
 
 def _laid_out(table: pd.DataFrame, layout: TableLayout | None) -> tuple[pd.DataFrame, int]:
@@ -208,6 +307,8 @@ def write_posture_tables(
     label: str | None = None,
     stem: str = POSTURE_TABLE_STEM,
     layout: TableLayout | None = None,
+    caption: Caption | None = None,
+    joint_units: Sequence[str] | None = None,
 ) -> dict[str, Path]:
     """Write a choice table as ``<stem>.tex``, ``<stem>.md`` and ``<stem>.csv`` in ``folder``.
 
@@ -224,8 +325,14 @@ def write_posture_tables(
     stem : str, optional
         The file names' stem.
     layout : TableLayout, optional
-        The sets and digits of the LaTeX and Markdown tables (:func:`format_posture_table`);
-        the CSV holds every set.
+        The sets, digits and labels of the LaTeX and Markdown tables, the LaTeX's caption,
+        ``siunitx`` and ``text_width`` (:func:`format_posture_table`); the CSV holds every
+        set.
+    caption : str or (str, str), optional
+        The LaTeX caption (default the layout's, else ``title``).
+    joint_units : sequence of str, optional
+        ``"rad"`` or ``"m"`` per joint (:func:`joint_units`): the Markdown headers
+        ``q1 [rad]``, ``q2 [m]``.
 
     Returns
     -------
@@ -244,9 +351,14 @@ def write_posture_tables(
         raise InputError("folder", "an existing folder", repr(folder), "create it first.")
     if not isinstance(stem, str) or not stem or "/" in stem or "\\" in stem or stem[0] == ".":
         raise InputError("stem", "a file name without a path", repr(stem))
+    units = joint_units
     texts = {
-        "latex": format_posture_table(table, "latex", title, label, layout),
-        "markdown": format_posture_table(table, "markdown", title, layout=layout),
+        "latex": format_posture_table(
+            table, "latex", title, label, layout, caption=caption, joint_units=units
+        ),
+        "markdown": format_posture_table(
+            table, "markdown", title, layout=layout, caption=caption, joint_units=units
+        ),
         "csv": table.to_csv(),
     }
     paths = {}

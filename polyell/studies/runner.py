@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import html
 import json
 import logging
 import math
@@ -20,8 +19,7 @@ from numpy.typing import NDArray
 from polyell.capacities import analyze, capacity_class, takes_horizon
 from polyell.capacities.horizon import robot_horizon
 from polyell.comparison.comparison import SCORE_NAMES, Comparison, compare, compared_kinds
-from polyell.comparison.labels import ellipsoid_label
-from polyell.comparison.latex_text import markdown_text
+from polyell.comparison.latex_text import escape_latex, markdown_text
 from polyell.comparison.limits import limits_table
 from polyell.comparison.point_tables import write_point_tables
 from polyell.comparison.summary import (
@@ -32,6 +30,7 @@ from polyell.comparison.summary import (
     summarize,
 )
 from polyell.comparison.tables import (
+    Caption,
     format_comparison_table,
     format_limits_table,
     score_display,
@@ -103,8 +102,11 @@ def _layout(spec: StudySpec, capacity: str) -> TableLayout:
 
     A set of another compared capacity (``static`` beside accelerations) is left out of
     this capacity's tables; that every set exists in some capacity is checked at load.
+    The captions are those ``[output] captions`` gives this capacity's tables
+    (``comparison_force`` for the force capacity's ``comparison``); ``siunitx`` and
+    ``text_width`` are the study's.
     """
-    layout = spec.file.output.layout
+    layout = spec.file.output.layout_of(capacity_class(capacity).output_suffix)
     if layout.sets is None:
         return layout
     own = {"polytope", *compared_kinds(capacity), *(c.name for c in spec.candidates)}
@@ -212,9 +214,7 @@ def _run_points_capacity(
 
             drawable = analysis.m in (2, 3) and getattr(analysis.polytope, "is_bounded", True)
             if drawable and not getattr(analysis.polytope, "is_empty", False):
-                report.append(
-                    (heading, _relabeled(interactive_sets(cmp), layout, capacity, cmp.kinds))
-                )
+                report.append((heading, interactive_sets(cmp, labels=layout)))
             limits = limits_table(cmp, directions[point.label])
             for name, text in (
                 ("scores", format_comparison_table(cmp, "html", layout=layout)),
@@ -390,17 +390,24 @@ def _posture_tables(
     """``<stem>.{tex,md,csv}`` of a posture table (:func:`polyell.write_posture_tables`).
 
     The LaTeX caption is ``what`` alone (a paper's table has its own context: no study
-    title before it); the Markdown file's heading starts with the study's title, as every
-    Markdown file of a study does.
+    title before it), or the study's own (``[output] captions``, through ``layout``); the
+    Markdown file's heading starts with the study's title, as every Markdown file of a
+    study does.  The joint positions are headed in each joint's unit (``[m]`` for a
+    prismatic joint).
     """
-    from polyell.studies.posture_tables import format_posture_table, write_posture_tables
+    from polyell.studies.posture_tables import (
+        format_posture_table,
+        joint_units,
+        write_posture_tables,
+    )
 
     label = "tab:" + stem.replace("_", "-")  # tab:posture-choice-force
+    units = joint_units(spec.robots[0].model)  # (a posture study has one robot)
     written = write_posture_tables(
-        table, folder, _sentence(what), label=label, stem=stem, layout=layout
+        table, folder, _sentence(what), label=label, stem=stem, layout=layout, joint_units=units
     )
     heading = f"{spec.title}: {what}"
-    markdown = format_posture_table(table, "markdown", heading, layout=layout)
+    markdown = format_posture_table(table, "markdown", heading, layout=layout, joint_units=units)
     written["markdown"] = write_text_atomically(folder / f"{stem}.md", markdown)
     return list(written.values())
 
@@ -1172,10 +1179,14 @@ def _write_summary(
     markdown = _heading(spec, f"{spec.title}: {what} over {count} configurations")
     # The captions do not repeat the study's title (a paper's table has its own context);
     # the layout's own caption (captions["summary"]) replaces them.
-    own = layout.caption("summary") is not None
+    own = layout.caption("summary")
+    if own is not None:  # the Markdown shows it under its heading, as a points study's does
+        markdown += f"{markdown_text(own.plain)}\n\n"
     if list(summaries) == [""]:
         summary = summaries[""]
-        caption = None if own else f"Summary of the {scores} over {count} configurations."
+        caption = (
+            None if own is not None else f"Summary of the {scores} over {count} configurations."
+        )
         latex = format_summary_table(
             summary, "latex", caption=caption, label=f"tab:summary{tag}", **options
         )
@@ -1184,12 +1195,13 @@ def _write_summary(
     else:
         latex_tables, markdown_tables = [], []
         for robot, summary in summaries.items():
-            caption = (
-                None if own else f"Summary of the {scores} of {robot} over its configurations."
-            )
+            named: Caption = f"Summary of the {scores} of {robot} over its configurations."
+            if own is not None:  # the user's, with the robot's name: one caption per float
+                text = own.latex if own.latex is not None else escape_latex(own.plain, "caption")
+                named = (f"{own.plain} ({robot})", f"{text} ({escape_latex(robot, 'robot')})")
             latex_tables.append(
                 format_summary_table(
-                    summary, "latex", caption=caption, label=f"tab:summary{tag}-{robot}", **options
+                    summary, "latex", caption=named, label=f"tab:summary{tag}-{robot}", **options
                 )
             )
             table = format_summary_table(summary, "markdown", **options)
@@ -1374,12 +1386,12 @@ def _run_trajectory_capacity(
 
         for score, frame in shown.items():
             drawn = [kind for kind in kinds if f"{kind}_{score}" in frame]
-            figure = interactive_series(frame, score, drawn, total=count, capacity=capacity)
-            figure = _relabeled(figure, layout, capacity, drawn)
+            figure = interactive_series(
+                frame, score, drawn, total=count, capacity=capacity, labels=layout
+            )
             sections.append((by + score_display(score, capacity, layout.labels)[0], figure))
         for score in spec.file.output.histograms:
-            figure = interactive_histogram(rows, score, measured, capacity=capacity)
-            figure = _relabeled(figure, layout, capacity, measured)
+            figure = interactive_histogram(rows, score, measured, capacity=capacity, labels=layout)
             name = score_display(score, capacity, layout.labels)[0]
             sections.append((by + name + (f" ({sampled})" if sampled else ""), figure))
         text = format_summary_table(summary, "html", layout=layout, capacity=capacity)
@@ -1410,14 +1422,14 @@ def _many_report(
     grid = stream.report_map
     layout = _layout(spec, capacity)
     if grid is not None and maps:  # one figure, a menu over the maps
-        figure = interactive_map(grid.frame(), maps, grid.x.name, grid.y.name, capacity=capacity)
-        figure = _relabeled(figure, layout, capacity, stream.kinds)
+        figure = interactive_map(
+            grid.frame(), maps, grid.x.name, grid.y.name, capacity=capacity, labels=layout
+        )
         shown = f"; {grid.note()}" if grid.decimated else ""
         sections.append((f"{by}Heat maps (choose the score in the menu{shown})", figure))
     for score in spec.file.output.histograms:
         assert sample is not None
-        figure = interactive_histogram(sample, score, measured, capacity=capacity)
-        figure = _relabeled(figure, layout, capacity, measured)
+        figure = interactive_histogram(sample, score, measured, capacity=capacity, labels=layout)
         name = score_display(score, capacity, layout.labels)[0]
         sections.append((by + name + (f" ({sampled})" if sampled else ""), figure))
     text = format_summary_table(summary, "html", layout=layout, capacity=capacity)
@@ -1454,79 +1466,6 @@ def _along_directions(analysis: Analysis, point: Point, layout: TableLayout) -> 
     ]
     marker = f"\nAchievable {analysis.quantity} along "
     return "\n".join([texts[0], *(text[text.index(marker) :] for text in texts[1:])])
-
-
-def _relabeled(figure: Any, layout: TableLayout, capacity: str, kinds: Sequence[str] = ()) -> Any:
-    """An interactive figure of :mod:`polyell.interactive` with the study's labels.
-
-    Those functions name the sets and scores by the defaults
-    (:data:`~polyell.comparison.labels.SET_LABELS`); a study whose ``[output] labels``
-    renames them gets its names in the legends, the hover texts, the menus and the titles
-    of its report too, as in its tables and figures.  Only whole labels are replaced: a
-    trace name equal to a set's default label or starting with it and ``", "`` (the
-    polytope's ``"polytope, volume ..."``), a hover line's bold set name, a title or menu
-    entry ``"<set>: <score>"``, an axis title equal to a score's label.
-    """
-    if layout.labels is None:
-        return figure
-    sets: dict[str, str] = {}
-    for kind in ("polytope", *kinds):
-        default, own = ellipsoid_label(kind, capacity), layout.set_label(kind, capacity)
-        if default != own:
-            sets[default] = own
-    scores: dict[str, str] = {}
-    for score in SCORE_NAMES:
-        default = score_display(score, capacity)[0]
-        own = score_display(score, capacity, layout.labels)[0]
-        if default != own:
-            scores[default] = own
-    if not sets and not scores:
-        return figure
-
-    def title(text: str | None) -> str | None:
-        """``"<set>: <score>"``, a set's or a score's label, with the study's labels."""
-        if text is None:
-            return None
-        head, colon, tail = text.partition(": ")
-        if colon:
-            return f"{sets.get(head, head)}: {scores.get(tail, tail)}"
-        return scores.get(text, sets.get(text, text))
-
-    def hover(text: Any) -> Any:
-        if isinstance(text, str):
-            for default, own in sets.items():
-                text = text.replace(f"<b>{html.escape(default)}</b>", f"<b>{html.escape(own)}</b>")
-            for default, own in scores.items():
-                text = text.replace(f"<br>{default} ", f"<br>{own} ")
-            return text
-        if isinstance(text, list | tuple):
-            return [hover(item) for item in text]
-        return text
-
-    for trace in figure.data:
-        name = trace.name
-        if isinstance(name, str):
-            head, comma, tail = name.partition(", ")
-            trace.name = f"{sets.get(head, head)}{comma}{tail}"
-        for key in ("text", "hovertext"):
-            if key in trace and trace[key] is not None:
-                trace[key] = hover(trace[key])
-        if "colorbar" in trace and trace.colorbar.title.text is not None:
-            trace.colorbar.title.text = title(trace.colorbar.title.text)
-    figure.layout.title.text = title(figure.layout.title.text)
-    for axis in ("xaxis", "yaxis"):
-        shown = figure.layout[axis].title.text
-        figure.layout[axis].title.text = scores.get(shown, shown) if shown else shown
-    for menu in figure.layout.updatemenus:
-        for button in menu.buttons:
-            button.label = title(button.label)
-            if len(button.args) > 1 and "title.text" in button.args[1]:
-                update, relayout = button.args[0], dict(button.args[1])
-                relayout["title.text"] = title(relayout["title.text"])
-                if "colorbar.title.text" in update:
-                    update = {**update, "colorbar.title.text": title(update["colorbar.title.text"])}
-                button.args = [update, relayout]
-    return figure
 
 
 def _robot_of(spec: StudySpec, name: str) -> Robot:

@@ -15,12 +15,13 @@ import warnings
 
 import numpy as np
 import pytest
+from latex_check import engine, fit_warnings
 
 import polyell as pe
 from polyell.comparison.labels import QUANTITIES
 from polyell.comparison.layout import TEXT_WIDTH
 from polyell.comparison.tables import format_comparison_table
-from polyell.comparison.write_latex import table_width
+from polyell.comparison.write_latex import estimate_text, table_width
 from polyell.errors import TableWidthWarning
 
 
@@ -55,8 +56,9 @@ def _latex_fits(comparison: pe.Comparison) -> float:
 
 
 #: A coverage estimated by Monte Carlo whose standard error prints in powers of ten
-#: ("60.7 $\pm$ 5.2$\times 10^{-5}$"): the one cell still too wide for five force sets
-#: (its format is the table writers', outside the labels).
+#: ("60.7 $\pm$ 5.2$\times 10^{-5}$"): the cell that widened a force table of five sets to
+#: about 363 pt.  The LaTeX writes the error at the value's last digit now
+#: (:func:`~polyell.comparison.write_latex.estimate_text`): never in a power of its own.
 _STDERR_POWER = re.compile(r"\$\\pm\$ [0-9.]+\$\\times 10\^")
 
 
@@ -70,18 +72,54 @@ def test_the_issues_force_table_and_the_papers_fit_a_page():
         assert _latex_fits(comparison) <= TEXT_WIDTH, comparison.analysis.capacity
 
 
-def test_seeded_configurations_fit_but_for_a_standard_error_in_powers_of_ten():
+def _seeded() -> list[pe.Comparison]:
+    """Seeded random configurations of the paper's arm: a force table was 362.8 pt wide."""
     rng = np.random.default_rng(32)
-    arm = pe.robots.load("chiacchio2000")
-    comparisons = _comparisons(arm, rng.uniform(-2.5, 2.5, (4, 3)))
+    return _comparisons(pe.robots.load("chiacchio2000"), rng.uniform(-2.5, 2.5, (4, 3)))
+
+
+def test_seeded_configurations_fit_with_their_standard_errors():
     estimated = 0
-    for comparison in comparisons:
-        tex, width = _latex(comparison)
-        if _STDERR_POWER.search(tex):
-            continue  # (reported: the writers' format of a tiny standard error)
-        estimated += "$\\pm$" in tex  # Monte Carlo coverages that fit all the same
+    for comparison in _seeded():
+        tex = format_comparison_table(comparison, "latex", label="tab:c")
+        assert not _STDERR_POWER.search(tex)
+        width = _latex_fits(comparison)  # no TableWidthWarning
+        estimated += "$\\pm$" in tex  # Monte Carlo coverages, with their errors
         assert width <= TEXT_WIDTH, (comparison.analysis.capacity, width)
-    assert estimated >= 1
+    assert estimated >= 3
+
+
+def test_the_force_table_of_the_issue_fits_a_page_in_pdflatex(tmp_path):
+    force = [c for c in _seeded() if c.analysis.capacity == "force"][1]
+    tex, width = _latex(force)
+    assert "{60.7 $\\pm$ \\textless{}0.1}" in tex  # (was 60.7 $\pm$ 5.2$\times 10^{-5}$)
+    assert 330.0 < width <= TEXT_WIDTH  # (was 362.8 pt)
+    program = engine("pdflatex")
+    if program is None:
+        pytest.skip("pdflatex is not installed; the width estimate was the check")
+    assert fit_warnings(program, [tex], tmp_path) == []
+
+
+@pytest.mark.parametrize(
+    ("value", "stderr", "shift", "expected"),
+    [
+        ("60.7", 5.2e-7, 2, "{60.7 $\\pm$ \\textless{}0.1}"),  # below half the last digit
+        ("74.3", 0.0026, 2, "{74.3 $\\pm$ 0.3}"),  # at the value's last digit
+        ("74.3", 0.0126, 2, "{74.3 $\\pm$ 1.3}"),
+        ("74.3", 0.126, 2, "{74.3 $\\pm$ 13}"),  # at most 2 significant digits
+        ("-1.5", 0.26, 0, "{$-$1.5 $\\pm$ 0.3}"),
+        ("0.500", 0.0004, 0, "{0.500 $\\pm$ \\textless{}0.001}"),
+        ("100", 0.013, 2, "{100 $\\pm$ 1}"),  # never finer than the value's last digit
+        ("100", 0.003, 2, "{100 $\\pm$ \\textless{}1}"),
+        ("1.23e-05", 4.6e-7, 0, "{(1.23 $\\pm$ 0.05)$\\times 10^{-5}$}"),  # the value's power
+        ("-2.5e-05", 3e-7, 0, "{($-$2.5 $\\pm$ \\textless{}0.1)$\\times 10^{-5}$}"),
+        ("6.80e+05", 2.5e3, 0, "{(6.80 $\\pm$ 0.02)$\\times 10^{5}$}"),
+        ("0", 0.01, 0, "{0 $\\pm$ 0.010}"),  # no last digit: 2 significant digits
+    ],
+)
+def test_a_standard_error_is_written_at_the_values_last_digit(value, stderr, shift, expected):
+    assert estimate_text(value, stderr, shift) == expected
+    assert "e-" not in expected and "e+" not in expected
 
 
 @pytest.mark.skipif(importlib.util.find_spec("pinocchio") is None, reason="extra robots")
