@@ -12,6 +12,7 @@ percentage is the fraction's digits with the decimal point moved two places (nev
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 from decimal import ROUND_HALF_EVEN, Decimal, localcontext
 
@@ -25,6 +26,7 @@ __all__ = [
     "Label",
     "PrintTable",
     "decimal_text",
+    "estimate_parts",
     "given_label",
     "quantity_label",
     "rounded_text",
@@ -168,6 +170,53 @@ def decimal_text(value: float, shift: int = 0) -> str:
     return _g(Decimal(repr(value)).scaleb(shift), 17)
 
 
+_NUMBER = re.compile(r"(-?)([0-9]+(?:\.([0-9]+))?)(?:e([+-]?[0-9]+))?")
+
+
+def estimate_parts(
+    value: str, stderr: float, shift: int = 0
+) -> tuple[str, str, bool, int | None] | None:
+    """An estimate's digits and its standard error at the value's last digit.
+
+    ``value`` is the estimate as a table rounds it (``60.7``, ``1.23e-05``); the standard
+    error ``stderr * 10**shift`` is written at most to that last digit, with at most 2
+    significant digits (round half to even), and in the value's power of ten.  An error
+    below half a unit of that digit is "less than one unit" (``below``): the digits shown
+    are the estimate's to within rounding.  A value of 0 has no last digit: its error keeps
+    2 significant digits.
+
+    Returns
+    -------
+    (number, error, below, power) or None
+        The value's sign and mantissa, the error's digits (in ``10**power`` where
+        ``power`` is not None), whether it is an upper bound; None where ``value`` is not a
+        number or the error not positive and finite.
+
+    Examples
+    --------
+    >>> estimate_parts("60.7", 5.2e-7, 2), estimate_parts("1.23e-05", 4.6e-7)
+    (('60.7', '0.1', True, None), ('1.23', '0.05', False, -5))
+    """
+    match = _NUMBER.fullmatch(value)
+    error = Decimal(repr(stderr)).scaleb(shift)
+    if match is None or not error.is_finite() or error <= 0:
+        return None
+    sign, mantissa, fraction, exponent = match.groups()
+    if Decimal(mantissa) == 0:  # no last digit: the error to 2 significant digits
+        return "0", rounded_text(stderr, 2, shift), False, None
+    power = int(exponent) if exponent else 0
+    last = power - len(fraction or "")  # the value's last digit: 10**last
+    step = max(last, error.adjusted() - 1)  # at most 2 significant digits of the error
+    with localcontext() as context:
+        context.rounding = ROUND_HALF_EVEN
+        rounded = error.quantize(Decimal(1).scaleb(step))
+    if rounded == 0:
+        shown = format(Decimal(1).scaleb(last - power), f".{max(power - last, 0)}f")
+    else:
+        shown = format(rounded.scaleb(-power), f".{max(power - step, 0)}f")
+    return sign + mantissa, shown, rounded == 0, power if exponent else None
+
+
 @dataclass(frozen=True)
 class Cell:
     """One number of a table, as data: shown rounded, written to CSV in full.
@@ -204,15 +253,19 @@ class Cell:
         """Whether the cell shows a standard error (estimated, finite, positive)."""
         return math.isfinite(self.value) and math.isfinite(self.stderr) and self.stderr > 0
 
-    def error(self, digits: int) -> str:
-        """The standard error as shown: at most 2 significant digits."""
-        return rounded_text(self.stderr, min(2, digits), self.shift)
-
     def text(self, digits: int) -> str:
-        """The value and, if estimated, ``± error``: what Markdown and HTML show."""
-        if self.has_error():
-            return f"{self.number(digits)} ± {self.error(digits)}"
-        return self.number(digits)
+        """The value and, if estimated, ``± error``: what Markdown and HTML show.
+
+        The error as LaTeX writes it (:func:`estimate_parts`): ``60.7 ± 0.3``,
+        ``(1.23 ± 0.05)e-05``, ``60.7 ± <0.1``.
+        """
+        number = self.number(digits)
+        parts = estimate_parts(number, self.stderr, self.shift) if self.has_error() else None
+        if parts is None:
+            return number
+        value, error, below, power = parts
+        body = f"{value} ± {'<' if below else ''}{error}"
+        return body if power is None else f"({body})e{power:+03d}"
 
     def exact(self) -> str:
         """The value at full precision (CSV): :func:`decimal_text`, or the missing text."""

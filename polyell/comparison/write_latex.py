@@ -29,11 +29,10 @@ import sys
 import warnings
 from collections.abc import Sequence
 from dataclasses import replace
-from decimal import ROUND_HALF_EVEN, Decimal, localcontext
 
 from polyell.comparison.labels import LabelText, check_markup
 from polyell.comparison.latex_text import check_latex_label, check_text, escape_latex
-from polyell.comparison.printable import Cell, Label, PrintTable, rounded_text
+from polyell.comparison.printable import Cell, Label, PrintTable, estimate_parts
 from polyell.errors import TableWidthWarning
 
 __all__ = [
@@ -86,15 +85,10 @@ def latex_number(text: str, siunitx: bool = False) -> str:
 def estimate_text(value: str, stderr: float, shift: int = 0) -> str:
     r"""An estimate and its standard error in LaTeX, the error at the value's last digit.
 
-    ``value`` is the estimate as the table rounds it (``60.7``, ``1.23e-05``); the
-    standard error ``stderr * 10**shift`` is written at most to that last digit, with at
-    most 2 significant digits (round half to even), and in the value's power of ten:
-    ``{60.7 $\pm$ 0.3}``, ``{(1.23 $\pm$ 0.05)$\times 10^{-5}$}``.  An error below half a
-    unit of that digit reads less than one unit (``{60.7 $\pm$ \textless{}0.1}``): the
-    digits shown are the estimate's to within rounding.  A value of 0 has no last digit:
-    its error keeps 2 significant digits.  Without it, a tiny error written in a power of
-    ten of its own (``5.2$\times 10^{-5}$``) widened a force comparison table to about
-    363 pt, past a one-column page.
+    :func:`~polyell.comparison.printable.estimate_parts` in LaTeX: ``{60.7 $\pm$ 0.3}``,
+    ``{(1.23 $\pm$ 0.05)$\times 10^{-5}$}``, ``{60.7 $\pm$ \textless{}0.1}``.  Without
+    it, a tiny error written in a power of ten of its own (``5.2$\times 10^{-5}$``) widened
+    a force comparison table to about 363 pt, past a one-column page.
 
     Examples
     --------
@@ -103,28 +97,15 @@ def estimate_text(value: str, stderr: float, shift: int = 0) -> str:
     >>> estimate_text("1.23e-05", 4.6e-7)
     '{(1.23 $\\pm$ 0.05)$\\times 10^{-5}$}'
     """
-    match = _NUMBER.fullmatch(value)
-    error = Decimal(repr(stderr)).scaleb(shift)
-    if match is None or not error.is_finite() or error <= 0:
+    parts = estimate_parts(value, stderr, shift)
+    if parts is None:
         return f"{{{latex_number(value)}}}"
-    sign, mantissa, fraction, exponent = match.groups()
-    if Decimal(mantissa) == 0:  # no last digit: the error to 2 significant digits
-        return f"{{0 $\\pm$ {latex_number(rounded_text(stderr, 2, shift))}}}"
-    power = int(exponent) if exponent else 0
-    last = power - len(fraction or "")  # the value's last digit: 10**last
-    step = max(last, error.adjusted() - 1)  # at most 2 significant digits of the error
-    with localcontext() as context:
-        context.rounding = ROUND_HALF_EVEN
-        rounded = error.quantize(Decimal(1).scaleb(step))
-    places = max(power - step, 0)  # decimals of the error in the value's power of ten
-    if rounded == 0:
-        shown = r"\textless{}" + format(
-            Decimal(1).scaleb(last - power), f".{max(power - last, 0)}f"
-        )
-    else:
-        shown = format(rounded.scaleb(-power), f".{places}f")
-    body = f"{sign and '$-$'}{mantissa} $\\pm$ {shown}"
-    if exponent:
+    number, error, below, power = parts
+    if power is None and number == "0":
+        return f"{{0 $\\pm$ {latex_number(error)}}}"
+    shown = (r"\textless{}" if below else "") + error
+    body = f"{'$-$' if number.startswith('-') else ''}{number.lstrip('-')} $\\pm$ {shown}"
+    if power is not None:
         return f"{{({body})$\\times 10^{{{power}}}$}}"
     return f"{{{body}}}"
 
