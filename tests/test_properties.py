@@ -487,6 +487,7 @@ def test_the_suite_covers_the_public_api():
         "posture_choice_over_targets", "PostureChoiceOverTargets", "write_posture_tables",
         "Kinematics", "HPolytope",  # tests/capacities/test_capacity_properties.py
         "to_long", "to_wide",  # tests/comparison/test_long_form.py
+        "SetComparison", "SetScores",  # tests/comparison/test_compare_sets.py
     }  # fmt: skip
     for name in pe.__all__:
         item = getattr(pe, name)

@@ -31,6 +31,8 @@ from polyell.capacities import ELLIPSOID_KINDS, Analysis
 from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.ellipsoid import Ellipsoid
+from polyell.geometry.hpolytope import HPolytope
+from polyell.geometry.polytope import Polytope
 from polyell.validation import check_points, check_spd
 
 __all__ = ["BUILT_IN_KINDS", "CANDIDATE_NAME", "Candidate", "check_candidates"]
@@ -175,8 +177,8 @@ class Candidate:
 
     def _ellipsoid(self, analysis: Analysis) -> Ellipsoid:
         P = analysis.polytope
-        r, xg, U1 = P.dim, P.center, P.affine_set.basis
         if self.weighting is not None:
+            r, xg = P.dim, P.center
             if not isinstance(analysis, ZonotopeAnalysis):
                 raise UndefinedEllipsoidError(
                     f"candidate {self.name!r}: a weighting of normalized joint quantities "
@@ -187,7 +189,34 @@ class Candidate:
             E = Ellipsoid(xg, U[:, :r], s[:r], kind=self.name)
             E.task = analysis.task
             return E
-        assert self.core is not None
+        E = self.section(P)
+        E.task = analysis.task
+        return E
+
+    def section(self, P: Polytope | HPolytope) -> Ellipsoid:
+        """A core-defined candidate in the affine set of a set ``P`` (its section there).
+
+        The centre defaults to ``P.center`` (``xg`` for an analysis's polytope).  Used by
+        :meth:`ellipsoid` and by :func:`polyell.compare` of a bare set, which has no arm
+        and so no weighting.
+
+        Raises
+        ------
+        InputError
+            For a weighted candidate, a core that does not fit ``P``'s task space or is
+            not positive definite on its affine set in double precision.
+        UndefinedEllipsoidError
+            If the ellipsoid misses ``P``'s affine set.
+        """
+        if self.core is None:
+            raise InputError(
+                f"candidate {self.name!r}",
+                "a core-defined candidate (a bare set has no arm to weight torques of)",
+                "a weighting",
+                "give core= (m x m) and center=, or compare the analysis itself.",
+            )
+        self.check_sizes(P.ambient_dim, 0)
+        r, xg, U1 = P.dim, P.center, P.affine_set.basis
         # The section with {xg + U1 y}: (y - y0)^T A (y - y0) <= rho^2.
         center = xg if self.center is None else self.center
         A = U1.T @ self.core @ U1
@@ -211,7 +240,7 @@ class Candidate:
                 "at this (singular) configuration."
             )
         E = Ellipsoid(xg + U1 @ y0, U1 @ eigenvectors, np.sqrt(rho2 / eigenvalues), kind=self.name)
-        E.task = analysis.task
+        E.affine_rtol, E.task = P.affine_rtol, P.task
         return E
 
 

@@ -6,22 +6,27 @@ import csv
 import dataclasses
 import io
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from polyell.capacities import Analysis, capacity_class
 from polyell.comparison.candidates import BUILT_IN_KINDS, Candidate, check_candidates
-from polyell.comparison.directional import statistics
 from polyell.comparison.directions import DirectionSpec, direction_vectors
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.metrics import check_same_affine_set
-from polyell.comparison.scores import ellipsoid_of, set_of, shape_scores
+from polyell.comparison.set_comparison import (
+    SetComparison,
+    SetScores,
+    check_bare_set,
+    check_given_ellipsoids,
+    score_records,
+)
 from polyell.comparison.tables import format_comparison_table
 from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.directions import directions_in
@@ -29,13 +34,24 @@ from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
 from polyell.geometry.outer import min_volume_enclosing_ellipsoid
+from polyell.geometry.polytope import Polytope
+from polyell.models.task import default_task
 from polyell.storage import write_text_atomically
 from polyell.validation import check_integer
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
 
-__all__ = ["COMPARED_KINDS", "SCORE_NAMES", "Comparison", "Scores", "compare", "compared_kinds"]
+__all__ = [
+    "COMPARED_KINDS",
+    "SCORE_NAMES",
+    "Comparison",
+    "Scores",
+    "SetComparison",
+    "SetScores",
+    "compare",
+    "compared_kinds",
+]
 
 #: The sampling budget of a share estimate (``cap_union_share``): at least 2, at most 2^22
 #: (where three caps meet, ``samples`` directions of r floats per replicate and row).
@@ -56,8 +72,11 @@ def compared_kinds(capacity: str = "acceleration") -> tuple[str, ...]:
 
 
 @dataclass(frozen=True)
-class Scores:
+class Scores(SetScores):
     r"""How well one ellipsoid describes the exact polytope (DESIGN.md section 2).
+
+    The scores of :class:`~polyell.comparison.set_comparison.SetScores` (a bare set's), and
+    the witness of the arm's own inverse map.
 
     Attributes
     ----------
@@ -101,38 +120,13 @@ class Scores:
         Directions that entered the directional statistics.
     witness_torque_max : float
         Max ``|tau_n|_inf`` over E's boundary mapped by the definition's own inverse
-        (eq. 26 for yoshikawa, eq. 33/40 for chiacchio, the MVIE, the outer ellipsoid and
-        candidates); > 1 means that inverse breaks the torque limits somewhere on E.
+        (eq. 26 for yoshikawa, eq. 33/40 for chiacchio, the MVIE, the outer ellipsoid,
+        candidates and given ellipsoids); > 1 means that inverse breaks the torque limits
+        somewhere on E.
     """
 
-    kind: str
-    defined: bool = True
-    reason: str = ""
-    dimension: float = np.nan
-    volume: float = np.nan
-    inscribed_scale: float = np.nan
-    enclosing_scale: float = np.nan
-    coverage: float = np.nan
-    coverage_stderr: float = np.nan
-    overreach: float = np.nan
-    overreach_stderr: float = np.nan
-    mvie_ratio: float = np.nan
-    outer_ratio: float = np.nan
-    direction_error_mean: float = np.nan
-    direction_error_max: float = np.nan
-    direction_error_rms: float = np.nan
-    direction_bias: float = np.nan
-    feasibility_mismatch: int = 0
-    directions_used: int = 0
     witness_torque_max: float = np.nan
 
-    def as_dict(self) -> dict[str, Any]:
-        """The record as a plain dictionary (JSON-friendly except for NaN)."""
-        return dataclasses.asdict(self)
-
-
-#: The scores that count directions (integers).
-_COUNTS = ("feasibility_mismatch", "directions_used")
 
 #: The score attributes, in table order.
 SCORE_NAMES = tuple(
@@ -151,7 +145,8 @@ class Comparison:
     directions : ndarray, shape (k, m)
         The unit directions of the directional statistics.
     kinds : tuple of str
-        The scored ellipsoids: :data:`COMPARED_KINDS`, then the candidates' names.
+        The scored ellipsoids: :data:`COMPARED_KINDS`, the candidates', then the given
+        ellipsoids' names.
     """
 
     def __init__(
@@ -164,6 +159,7 @@ class Comparison:
         mvie: bool = True,
         outer: bool = True,
         candidates: tuple[Candidate, ...] = (),
+        ellipsoids: Mapping[str, Ellipsoid] | None = None,
     ) -> None:
         self.analysis = analysis
         self.directions = directions
@@ -171,7 +167,12 @@ class Comparison:
         self._seed = seed
         self._computed = {"mvie": mvie, "outer": outer}
         self._candidates = {c.name: c for c in candidates}
-        self.kinds: tuple[str, ...] = (*compared_kinds(analysis.capacity), *self._candidates)
+        self._given = dict(ellipsoids or {})
+        self.kinds: tuple[str, ...] = (
+            *compared_kinds(analysis.capacity),
+            *self._candidates,
+            *self._given,
+        )
         self.records: dict[str, Scores] = self._score()
 
     def __getitem__(self, kind: str) -> Scores:
@@ -205,6 +206,8 @@ class Comparison:
             return self.outer
         if kind in self._candidates:
             return self._candidates[kind].ellipsoid(self.analysis)
+        if kind in self._given:
+            return self._given[kind]
         return self.analysis.ellipsoid(kind)
 
     def _undefined(self, kind: str) -> Ellipsoid | str:
@@ -236,25 +239,24 @@ class Comparison:
         """Every kind's scores: the array scorer's batch of one."""
         found = {kind: self._undefined(kind) for kind in self.kinds}
         ellipsoids = {kind: E for kind, E in found.items() if isinstance(E, Ellipsoid)}
-        batch = {}
+        witnesses = {}
         for kind, E in ellipsoids.items():
             torques = self.analysis.witness_map(kind)
-            batch[kind] = ellipsoid_of(E, torques.matrix, torques(E.center))
-        scores: dict[str, Scores] = {}
-        if batch:
-            P = self.analysis.polytope
-            records, _ = shape_scores(set_of(P), batch, self._samples, self._seed)
-            hi_p = self.polytope_limits
-            for kind, E in ellipsoids.items():
-                hi_e = E.limits(self.directions)
-                records[kind] |= statistics(
-                    hi_e.hi[None], hi_e.feasible[None], hi_p.hi[None], hi_p.feasible[None]
-                )
-                values: dict[str, Any] = {
-                    name: int(column[0]) if name in _COUNTS else float(column[0])
-                    for name, column in records[kind].items()
-                }
-                scores[kind] = Scores(kind=kind, **values)
+            witnesses[kind] = (torques.matrix, torques(E.center))
+        records = (
+            score_records(
+                self.analysis.polytope,
+                ellipsoids,
+                self.directions,
+                self.polytope_limits,
+                self._samples,
+                self._seed,
+                witnesses,
+            )
+            if ellipsoids
+            else {}
+        )
+        scores = {kind: Scores(kind=kind, **values) for kind, values in records.items()}
         return {
             kind: Scores(kind=kind, defined=False, reason=E) if isinstance(E, str) else scores[kind]
             for kind, E in found.items()
@@ -378,6 +380,7 @@ class Comparison:
         return text
 
 
+@overload
 def compare(
     analysis: Analysis,
     directions: ArrayLike | int | None = None,
@@ -387,16 +390,58 @@ def compare(
     mvie: bool = True,
     outer: bool = True,
     candidates: Sequence[Candidate] = (),
-) -> Comparison:
-    """Score both ellipsoid definitions, the MVIE, the outer ellipsoid and candidates.
+    ellipsoids: Mapping[str, Ellipsoid] | None = None,
+    unit: str | None = None,
+) -> Comparison: ...
+
+
+@overload
+def compare(
+    analysis: Polytope | HPolytope,
+    directions: ArrayLike | int | None = None,
+    *,
+    samples: int = 2**13,
+    seed: int = 0,
+    mvie: bool = True,
+    outer: bool = True,
+    candidates: Sequence[Candidate] = (),
+    ellipsoids: Mapping[str, Ellipsoid] | None = None,
+    unit: str | None = None,
+) -> SetComparison: ...
+
+
+def compare(
+    analysis: Analysis | Polytope | HPolytope,
+    directions: ArrayLike | int | None = None,
+    *,
+    samples: int = 2**13,
+    seed: int = 0,
+    mvie: bool = True,
+    outer: bool = True,
+    candidates: Sequence[Candidate] = (),
+    ellipsoids: Mapping[str, Ellipsoid] | None = None,
+    unit: str | None = None,
+) -> Comparison | SetComparison:
+    """Score the ellipsoids of an analysis, or of any convex set the library builds.
+
+    Of an :class:`Analysis`: both ellipsoid definitions of its capacity, the MVIE, the
+    outer ellipsoid, candidates and given ellipsoids, each with its torque (or joint
+    velocity) witness: a :class:`Comparison`.  Of a bare set -- a :class:`~polyell.Polytope`
+    or :class:`~polyell.HPolytope` such as the sum or intersection of two arms' sets
+    (:mod:`polyell.geometry.combine`) or an analysis's polytope on its own -- the MVIE, the
+    outer ellipsoid, core-defined candidates and given ellipsoids, with the same scorer:
+    a :class:`~polyell.comparison.set_comparison.SetComparison`, whose records
+    (:class:`~polyell.comparison.set_comparison.SetScores`) and tables have no witness
+    (there is no arm whose joint limits it would test).
 
     Parameters
     ----------
-    analysis : Analysis
-        From :func:`analyze`.
+    analysis : Analysis, Polytope or HPolytope
+        From :func:`analyze`, or a non-empty bounded set of dimension >= 1.
     directions : array-like of shape (k, m), list of names, int, or None
         Unit directions for the directional statistics (vectors, or names of the task's
-        rows such as ``"x"``, ``"-z"``, ``"xy"``), or how many of the default
+        rows such as ``"x"``, ``"-z"``, ``"xy"``; a bare set reads names against its
+        ``task``, else ``x, y, z`` up to three rows), or how many of the default
         deterministic near-uniform set to use.  The default set lies in the polytope's
         affine set (at a singular configuration every other line meets it in one point);
         its default size is 360 in 2-D, 256 in 3-D, 2,000 above
@@ -415,11 +460,28 @@ def compare(
         Whether to compute the minimum-volume enclosing ellipsoid (the same program on the
         vertices); without it the ``"outer"`` record and every ``outer_ratio`` are NaN.
     candidates : sequence of Candidate, optional
-        User-defined ellipsoids, scored after the built-in ones under their names.
+        User-defined ellipsoids, scored after the built-in ones under their names (of a
+        bare set: core-defined ones only, centred at the set's ``center`` unless they
+        give a centre).
+    ellipsoids : mapping of str to Ellipsoid, optional
+        Ellipsoids given as they are, scored last under their names (lower-case
+        identifiers, not a built-in kind); each must span the set's affine set (rank
+        ``P.dim``, centre in its affine hull).  Of an analysis, their witness is the
+        capacity's minimum-norm inverse, as the MVIE's.
+    unit : str, optional
+        The unit of a bare set's coordinates for its tables (e.g. ``"N"``); an analysis
+        knows its own (give None).
 
     Returns
     -------
-    Comparison
+    Comparison or SetComparison
+
+    Raises
+    ------
+    InputError
+        Naming the argument: ``analysis`` of another type, an empty, unbounded or point
+        set; ``directions``, ``candidates``, ``ellipsoids`` (``ellipsoids['name']``),
+        ``samples``, ``seed``, ``mvie``, ``outer``, ``unit``.
 
     Examples
     --------
@@ -429,32 +491,81 @@ def compare(
     >>> cmp = pe.compare(an)
     >>> cmp["chiacchio"].inscribed_scale >= 1.0, cmp["yoshikawa"].witness_torque_max > 1.0
     (True, True)
+
+    A bare set: its MVIE, its outer ellipsoid and an ellipsoid of one's own.
+
+    >>> box = pe.HPolytope([[1, 0], [-1, 0], [0, 1], [0, -1]], [1, 1, 2, 2])
+    >>> disc = pe.Ellipsoid([0.0, 0.0], np.eye(2), [1.0, 1.0])
+    >>> cmp = pe.compare(box, ellipsoids={"disc": disc}, unit="N")
+    >>> cmp.kinds, round(cmp["disc"].inscribed_scale, 12), round(cmp["outer"].coverage, 12)
+    (('mvie', 'outer', 'disc'), 1.0, 1.0)
     """
-    if not isinstance(analysis, Analysis):
-        raise InputError(
-            "analysis", "a polyell.Analysis", type(analysis).__name__, "call pe.analyze first."
-        )
-    affine_set = analysis.polytope.affine_set
     if isinstance(directions, bool | np.bool_):
         raise InputError("directions", "unit directions (k, m), a count or None", repr(directions))
-    if directions is None or isinstance(directions, int | np.integer):
-        T = directions_in(affine_set, None if directions is None else int(directions))
-    else:
-        T = np.atleast_2d(direction_vectors(directions, analysis.task, "directions"))
-    found = check_candidates(candidates)
-    for candidate in found:
-        candidate.check_sizes(analysis.m, analysis.n)
     samples = check_integer("samples", samples, MIN_SAMPLES, MAX_SAMPLES)
     seed = check_integer("seed", seed, 0, MAX_SEED)
     for name, flag in (("mvie", mvie), ("outer", outer)):
         if not isinstance(flag, bool | np.bool_):
             raise InputError(name, "True or False", repr(flag))
+    found = check_candidates(candidates)
+    if not isinstance(analysis, Analysis):
+        P = check_bare_set(analysis)
+        if unit is None:
+            unit = ""
+        if not isinstance(unit, str):
+            raise InputError("unit", "a unit name (str), e.g. 'N'", type(unit).__name__)
+        for candidate in found:
+            if candidate.weighting is not None:
+                raise InputError(
+                    f"candidates ({candidate.name!r})",
+                    "core-defined candidates (a bare set has no arm whose torques a weighting "
+                    "would weigh)",
+                    "a weighted candidate",
+                    "give core= and center=, or compare the analysis itself.",
+                )
+            candidate.check_sizes(P.ambient_dim, 0)
+        given = check_given_ellipsoids(ellipsoids, P, [c.name for c in found])
+        return SetComparison(
+            P,
+            _directions(directions, P, P.task),
+            samples=samples,
+            seed=seed,
+            mvie=bool(mvie),
+            outer=bool(outer),
+            candidates=found,
+            ellipsoids=given,
+            unit=unit,
+        )
+    if unit is not None:
+        raise InputError(
+            "unit",
+            "None for an analysis (it knows its unit)",
+            repr(unit)[:80],
+            "drop unit=; it names the coordinates of a bare set.",
+        )
+    for candidate in found:
+        candidate.check_sizes(analysis.m, analysis.n)
+    taken = [*compared_kinds(analysis.capacity), *(c.name for c in found)]
+    given = check_given_ellipsoids(ellipsoids, analysis.polytope, taken)
     return Comparison(
         analysis,
-        T,
+        _directions(directions, analysis.polytope, analysis.task),
         samples=samples,
         seed=seed,
         mvie=bool(mvie),
         outer=bool(outer),
         candidates=found,
+        ellipsoids=given,
     )
+
+
+def _directions(
+    directions: ArrayLike | int | None,
+    P: Polytope | HPolytope,
+    task: Sequence[str] | None,
+) -> NDArray[np.float64]:
+    """The directions of ``compare``: a count (or None) of the default set, or given ones."""
+    if directions is None or isinstance(directions, int | np.integer):
+        return directions_in(P.affine_set, None if directions is None else int(directions))
+    rows = tuple(task) if task is not None else default_task(P.ambient_dim)
+    return np.atleast_2d(direction_vectors(directions, rows, "directions"))

@@ -1,6 +1,6 @@
 """Geometry: the exact polytopes, ellipsoids, affine sets and directional limits."""
 
-from polyell.geometry.combine import intersection, minkowski_sum
+from polyell.geometry.combine import in_frame, intersection, minkowski_sum
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.limits import DirectionalLimits
@@ -15,6 +15,7 @@ __all__ = [
     "Ellipsoid",
     "HPolytope",
     "Polytope",
+    "in_frame",
     "intersection",
     "minkowski_sum",
     "rank_revealing_svd",

@@ -18,14 +18,23 @@ addition of convex polytopes", J. Symb. Comput. 38, 2004), the extreme rays amon
 its edges (to ``w1 + v2`` or ``v1 + w2``, both for parallel edges) and the extreme rays of
 its normal cone ``{c : c . e <= 0}`` are its facet normals, each with the offset
 ``h1(a) + h2(a)`` (support functions add).
+
+Two arms whose bases differ: each arm's set, computed in its own base frame, is first
+expressed in a common frame by :func:`in_frame` (forces rotate, ``f = R f_base``; the
+moments of a wrench pick up ``p x f`` from the point they are taken about), then added or
+intersected.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import overload
+
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from polyell.errors import InputError
+from polyell.geometry.convex_set import ConvexSet
 from polyell.geometry.hpolytope import (
     WALK_ON_PLANE,
     HPolytope,
@@ -36,8 +45,17 @@ from polyell.geometry.hpolytope import (
 )
 from polyell.geometry.polytope import Polytope
 from polyell.geometry.subspace import RANK_RTOL
+from polyell.validation import check_array
 
-__all__ = ["intersection", "minkowski_sum"]
+__all__ = ["ROTATION_ATOL", "in_frame", "intersection", "minkowski_sum"]
+
+#: Largest ``max |R^T R - I|`` (and ``|det R - 1|``) of a matrix taken as a rotation; the
+#: nearest rotation (its polar factor) is then used.  Rotations computed in double
+#: precision are within 1e-15; one typed to 6 digits is not a rotation here.
+ROTATION_ATOL = 1e-9
+#: The rows :func:`in_frame` knows, as axes of the 3-D frame: forces, then moments.
+_FORCE_ROWS = ("x", "y", "z")
+_MOMENT_ROWS = ("wx", "wy", "wz")
 
 Set = Polytope | HPolytope
 
@@ -339,3 +357,207 @@ def _bounded(P: Set) -> bool:
     if isinstance(P, HPolytope):
         return not P.is_empty and P.is_bounded
     return True
+
+
+@overload
+def in_frame(
+    P: Polytope,
+    rotation: ArrayLike,
+    translation: ArrayLike | None = None,
+    *,
+    task: Sequence[str] | None = None,
+) -> Polytope: ...
+
+
+@overload
+def in_frame(
+    P: HPolytope,
+    rotation: ArrayLike,
+    translation: ArrayLike | None = None,
+    *,
+    task: Sequence[str] | None = None,
+) -> HPolytope: ...
+
+
+def in_frame(
+    P: Set,
+    rotation: ArrayLike,
+    translation: ArrayLike | None = None,
+    *,
+    task: Sequence[str] | None = None,
+) -> Set:
+    r"""A force or wrench set given in an arm's base frame, expressed in a common frame.
+
+    Two arms whose bases differ compute their sets in their own base frames; before they
+    are added (:func:`minkowski_sum`) or intersected, each is expressed in one frame:
+    ``in_frame(P1, R1)``, ``in_frame(P2, R2)``.  A force is a vector, ``f = R f_base``;
+    a wrench ``(f, mu)`` taken about a point at ``p`` (in the common frame) is, about the
+    common frame's origin, ``(R f_base, R mu_base + p x R f_base)`` (the wrench adjoint).
+
+    Parameters
+    ----------
+    P : Polytope or HPolytope
+        The set in the base frame [N; N m for moment rows].  Its rows are named by
+        ``task`` (default ``P.task``, else ``x, y, z`` up to three rows and
+        ``x, y, z, wx, wy, wz`` for six): forces ``x``, ``y``, ``z``, moments ``wx``,
+        ``wy``, ``wz``, in any order and any subset that the pose maps onto itself (a
+        planar wrench ``x, y, wz`` with a rotation about z; not ``x, y, z`` with a
+        translation, whose moments have no rows).
+    rotation : array-like, shape (k, k)
+        The base frame's orientation in the common frame (its columns are the base axes
+        in common coordinates), acting on the axes of the force rows (k of them; of the
+        moment rows for a set of moments only).  Orthonormal with determinant +1 to
+        :data:`ROTATION_ATOL`; the nearest rotation is used.
+    translation : array-like, shape (k,), optional
+        Where the point the set's moments are taken about lies in the common frame,
+        relative to the point the common frame's moments are taken about [m], on the same
+        axes as ``rotation``.  Only for a set with moment rows (forces are free vectors:
+        moving the point they act at changes no force).  Default: the same point (the
+        moments only rotate).  This is the wrench adjoint: a set of twists (velocities)
+        transforms the other way round and is not handled here.
+    task : sequence of str, optional
+        The names of P's rows, if ``P.task`` is not set or differs.
+
+    Returns
+    -------
+    Polytope or HPolytope
+        The same kind of set (a zonotope stays a zonotope, with generators ``T G``; an
+        H-polytope keeps its vertices, edges and volume, mapped: ``|det T| = 1``), with
+        ``P``'s row names.  ``T`` is the (m, m) map of the pose on P's rows.
+
+    Raises
+    ------
+    InputError
+        Naming ``P`` (another type), ``task`` (rows other than forces and moments),
+        ``rotation`` (a shape other than (k, k), not orthonormal, a reflection) or
+        ``translation`` (a shape other than (k,), given for a set without moment rows, or
+        moving a force into a moment row the set does not have).
+
+    Examples
+    --------
+    >>> import numpy as np, polyell as pe
+    >>> from polyell.geometry.combine import in_frame
+    >>> box = pe.HPolytope([[1, 0], [-1, 0], [0, 1], [0, -1]], [2, 2, 1, 1])
+    >>> quarter = np.array([[0.0, -1.0], [1.0, 0.0]])  # base turned 90 degrees about z
+    >>> turned = in_frame(box, quarter)
+    >>> [float(x) for x in turned.limits(["x", "y"]).hi.round(12)]
+    [1.0, 2.0]
+    """
+    if not isinstance(P, Polytope | HPolytope):
+        raise InputError("P", "a pe.Polytope or a pe.HPolytope", type(P).__name__)
+    rows = _pose_rows(P, task)
+    T, T_inverse = _pose_maps(rows, rotation, translation)
+    center = T @ P.center
+    if isinstance(P, Polytope):
+        Z = Polytope(T @ P.generators, center)
+        return _labelled(Z, P, task)
+    A, b = _halfspaces(P)
+    if P.is_empty or not P.is_bounded or P.dim < P.ambient_dim:
+        return _labelled(HPolytope(A @ T_inverse, b, center=center), P, task)
+    volume = P.__dict__.get("volume")  # computed already: the same in the common frame
+    edges = getattr(P, "_edges", None)
+    moved = HPolytope._with_vertices(P.A @ T_inverse, P.b, P.vertices @ T.T, edges, center, volume)
+    return _labelled(moved, P, task)
+
+
+def _labelled(S: ConvexSet, P: ConvexSet, task: Sequence[str] | None) -> Set:
+    """``S`` with the row names and rounding tolerance of ``P`` (or ``task``)."""
+    S.task = task if task is not None else P.task
+    S.affine_rtol = P.affine_rtol
+    assert isinstance(S, Polytope | HPolytope)
+    return S
+
+
+def _pose_rows(P: Set, task: Sequence[str] | None) -> tuple[int, ...]:
+    """Each of P's rows as an axis of the frame: 0..2 forces x, y, z, 3..5 moments."""
+    from polyell.models.task import check_task, default_task  # (models import geometry)
+
+    m = P.ambient_dim
+    if task is not None:
+        rows = check_task(task, m)
+    else:
+        rows = P.task if P.task is not None else default_task(m)
+    known = (*_FORCE_ROWS, *_MOMENT_ROWS)
+    if not all(row in known for row in rows):
+        raise InputError(
+            "task" if task is not None else "P",
+            "a set whose rows are forces x, y, z and moments wx, wy, wz (P.task, or task=)",
+            f"rows {tuple(rows)}",
+            "name the rows, e.g. task=('x', 'y', 'wz') for a planar wrench; a set of "
+            "other quantities has no force frame to change.",
+        )
+    return tuple(known.index(row) for row in rows)
+
+
+def _rotation(rotation: ArrayLike, k: int, axes: str) -> NDArray[np.float64]:
+    """A (k, k) rotation (det +1, to :data:`ROTATION_ATOL`), as its polar factor."""
+    R = check_array("rotation", rotation, (k, k))
+    fix = (
+        "give an exact rotation matrix, e.g. from angles: "
+        "scipy.spatial.transform.Rotation.from_euler('z', 30, degrees=True).as_matrix(), "
+        f"or [[cos a, -sin a], [sin a, cos a]] in a plane (acting on {axes})."
+    )
+    defect = float(np.abs(R.T @ R - np.eye(k)).max(initial=0.0))
+    if not defect <= ROTATION_ATOL:
+        raise InputError(
+            "rotation",
+            f"a rotation of the axes {axes}: orthonormal columns (R^T R = I to {ROTATION_ATOL:g})",
+            f"max |R^T R - I| = {defect:.3g}",
+            fix,
+        )
+    U, _, Vt = np.linalg.svd(R)
+    polar = U @ Vt  # the nearest orthogonal matrix
+    if np.linalg.det(polar) < 0:
+        raise InputError(
+            "rotation",
+            f"a rotation of the axes {axes} (determinant +1)",
+            "a reflection (det -1)",
+            fix,
+        )
+    result: NDArray[np.float64] = polar
+    return result
+
+
+def _pose_maps(
+    rows: tuple[int, ...], rotation: ArrayLike, translation: ArrayLike | None
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The (m, m) map of the pose on the rows, and its inverse (the pose undone)."""
+    forces = [axis for axis in range(3) if axis in rows]
+    moments = [axis - 3 for axis in rows if axis >= 3]
+    axes = forces if forces else sorted(moments)  # the axes the rotation acts on
+    names = _FORCE_ROWS if forces else _MOMENT_ROWS
+    axes_text = ", ".join(names[a] for a in axes)
+    R = _rotation(rotation, len(axes), axes_text)
+    R3 = np.eye(3)
+    R3[np.ix_(axes, axes)] = R
+    p3 = np.zeros(3)
+    if translation is not None:
+        if not moments:
+            raise InputError(
+                "translation",
+                "None for a set without moment rows (forces are free vectors: the point "
+                "they act at changes no force)",
+                "a translation",
+                "drop translation, or give a wrench set (rows x, y, z, wx, wy, wz; "
+                "x, y, wz in a plane).",
+            )
+        p3[axes] = check_array("translation", translation, (len(axes),))
+
+    def adjoint(R3: NDArray[np.float64], p3: NDArray[np.float64]) -> NDArray[np.float64]:
+        cross = np.array([[0.0, -p3[2], p3[1]], [p3[2], 0.0, -p3[0]], [-p3[1], p3[0], 0.0]])
+        return np.block([[R3, np.zeros((3, 3))], [cross @ R3, R3]])
+
+    forward, backward = adjoint(R3, p3), adjoint(R3.T, -R3.T @ p3)
+    index = list(rows)
+    absent = [axis for axis in range(6) if axis not in rows]
+    named = tuple((*_FORCE_ROWS, *_MOMENT_ROWS)[a] for a in rows)
+    for argument, matrix in (("rotation", adjoint(R3, np.zeros(3))), ("translation", forward)):
+        if np.abs(matrix[np.ix_(absent, index)]).max(initial=0.0) > 0:
+            raise InputError(
+                argument,
+                f"a pose that maps the set's rows {named} onto themselves",
+                f"a {argument} that moves part of a row into an axis the set has no row for",
+                "a set in a plane (x, y; x, y, wz) turns about its normal, with a translation "
+                "in the plane; give all six rows (x, y, z, wx, wy, wz) for other poses.",
+            )
+    return forward[np.ix_(index, index)], backward[np.ix_(index, index)]
