@@ -361,6 +361,7 @@ def interactive_map(
     title: str | None = None,
     capacity: str = "acceleration",
     labels: Labels | TableLayout = None,
+    units: tuple[str, str] = ("rad", "rad"),
 ) -> go.Figure:
     """Heat maps of scores over a grid of two joints, the configuration and scores on hover.
 
@@ -378,6 +379,9 @@ def interactive_map(
     labels : str, mapping or TableLayout, optional
         The names of the sets and scores in the titles, the menu and the colour bar, as
         :func:`interactive_sets` takes them.
+    units : (str, str), optional
+        The units of ``x`` and ``y`` on the axes: ``"rad"``, ``"m"`` for a prismatic joint
+        (:func:`~polyell.studies.posture_tables.joint_units`).
 
     Returns
     -------
@@ -412,6 +416,12 @@ def interactive_map(
             raise InputError(label, "the name of a joint column such as 'q2'", repr(value)[:80])
     if x == y:
         raise InputError("y", f"a joint column other than x = {x!r}", repr(y))
+    if not (
+        isinstance(units, tuple | list)
+        and len(units) == 2
+        and all(u in ("rad", "m") for u in units)
+    ):
+        raise InputError("units", 'two joint units, each "rad" or "m"', repr(units)[:80])
     for name in (*mapped, x, y):
         if name not in results:
             raise InputError("results", f"a column {name!r}", f"columns {list(results)[:8]}...")
@@ -496,8 +506,8 @@ def interactive_map(
         figure.update_layout(updatemenus=[{"buttons": buttons, "x": 0.0, "y": 1.15}])
     figure.update_layout(
         title=title or name,
-        xaxis_title=f"{x} [rad]",
-        yaxis_title=f"{y} [rad]",
+        xaxis_title=f"{x} [{units[0]}]",
+        yaxis_title=f"{y} [{units[1]}]",
         template="plotly_white",
     )
     return figure

@@ -1026,6 +1026,7 @@ def _many_outputs(
     written: list[Path] = []
     grid = stream.map
     layout = _layout(spec, capacity)
+    units = _grid_units(spec, robot, grid or stream.report_map)
     for name in maps:
         if grid is None:
             break
@@ -1037,8 +1038,8 @@ def _many_outputs(
             factor * grid.values(name),
             xs,
             ys,
-            xlabel=f"${grid.x.name[0]}_{grid.x.name[1:]}$ [rad]",
-            ylabel=f"${grid.y.name[0]}_{grid.y.name[1:]}$ [rad]",
+            xlabel=f"${grid.x.name[0]}_{grid.x.name[1:]}$ [{units[0]}]",
+            ylabel=f"${grid.y.name[0]}_{grid.y.name[1:]}$ [{units[1]}]",
             label=label,
             title=title + (f"\n({grid.shape_note()})" if grid.decimated else ""),
             limits=scales.get(score),
@@ -1070,7 +1071,7 @@ def _many_outputs(
     sections: list[tuple[str, Any]] = []
     if "html" in spec.file.output.formats:
         sections = _many_report(
-            spec, by, stream, sample, sampled, summary, measured, capacity, maps
+            spec, by, stream, sample, sampled, summary, measured, capacity, maps, units
         )
     return written, sections
 
@@ -1409,6 +1410,7 @@ def _many_report(
     measured: list[str],
     capacity: str,
     maps: list[str],
+    units: tuple[str, str],
 ) -> list[tuple[str, Any]]:
     """The report's sections of one robot's sweep of a capacity (``formats`` "html").
 
@@ -1423,8 +1425,9 @@ def _many_report(
     layout = _layout(spec, capacity)
     if grid is not None and maps:  # one figure, a menu over the maps
         figure = interactive_map(
-            grid.frame(), maps, grid.x.name, grid.y.name, capacity=capacity, labels=layout
-        )
+            grid.frame(), maps, grid.x.name, grid.y.name, capacity=capacity, labels=layout,
+            units=units,
+        )  # fmt: skip
         shown = f"; {grid.note()}" if grid.decimated else ""
         sections.append((f"{by}Heat maps (choose the score in the menu{shown})", figure))
     for score in spec.file.output.histograms:
@@ -1466,6 +1469,17 @@ def _along_directions(analysis: Analysis, point: Point, layout: TableLayout) -> 
     ]
     marker = f"\nAchievable {analysis.quantity} along "
     return "\n".join([texts[0], *(text[text.index(marker) :] for text in texts[1:])])
+
+
+def _grid_units(spec: StudySpec, robot: str, grid: Any) -> tuple[str, str]:
+    """The units of a map's two joints (``"m"`` for a prismatic one), ``rad`` without one."""
+    if grid is None:
+        return ("rad", "rad")
+    from polyell.studies.posture_tables import joint_units
+
+    units = joint_units(_robot_of(spec, robot).model)
+    x, y = (int(axis.name[1:]) - 1 for axis in (grid.x, grid.y))  # "q3": joint 3
+    return (units[x], units[y])
 
 
 def _robot_of(spec: StudySpec, name: str) -> Robot:

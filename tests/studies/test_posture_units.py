@@ -17,6 +17,7 @@ import pandas as pd
 import pytest
 
 import polyell as pe
+from polyell.interactive import interactive_map
 from polyell.studies import load_study, run_study
 from polyell.studies.posture_tables import (
     format_posture_table,
@@ -152,3 +153,61 @@ def test_bad_joint_units_are_refused_by_name(paper_choice, units, message):
     with pytest.raises(pe.InputError, match=message) as raised:
         format_posture_table(paper_choice.table, "markdown", joint_units=units)
     assert raised.value.fix
+
+
+GRID = """
+    title = "Slider grid"
+    [robot]
+    urdf = "slider.urdf"
+    tip = "tool"
+    task = ["x", "z"]
+    [grid]
+    q1 = { start = -0.5, stop = 0.5, num = 3 }
+    q2 = { start = 0.2, stop = 0.8, num = 3 }
+    q3 = 0.9
+    [compare]
+    mvie = false
+    outer = false
+    [output]
+    formats = ["png", "html"]
+    dpi = 20
+    maps = ["chiacchio_coverage"]
+"""
+
+
+@needs_pinocchio
+def test_a_map_over_a_prismatic_joint_has_its_axis_in_metres(tmp_path, monkeypatch):
+    """The heat map of a grid over the carriage: its axis in m, the elbow's in rad."""
+    import polyell.figures as figures
+    import polyell.interactive as interactive
+
+    (tmp_path / "slider.urdf").write_text(SLIDER_URDF)
+    study = tmp_path / "grid.toml"
+    study.write_text(textwrap.dedent(GRID))
+    seen: dict[str, object] = {}
+    drawn, shown = figures.plot_score_map, interactive.interactive_map
+
+    def recording_plot(*args, **kwargs):
+        seen["static"] = (kwargs["xlabel"], kwargs["ylabel"])
+        return drawn(*args, **kwargs)
+
+    def recording_map(*args, **kwargs):
+        figure = shown(*args, **kwargs)
+        seen["report"] = (figure.layout.xaxis.title.text, figure.layout.yaxis.title.text)
+        return figure
+
+    monkeypatch.setattr(figures, "plot_score_map", recording_plot)
+    monkeypatch.setattr(interactive, "interactive_map", recording_map)
+    run_study(load_study(study), tmp_path / "out")
+    # grid axes: rows y (the first varying joint, q1), columns x (q2)
+    assert sorted(seen["static"]) == ["$q_1$ [m]", "$q_2$ [rad]"]
+    assert sorted(seen["report"]) == ["q1 [m]", "q2 [rad]"]
+
+
+def test_interactive_map_refuses_units_by_name():
+    frame = pd.DataFrame({"q1": [0.0, 0.0, 1.0, 1.0], "q2": [0.0, 1.0, 0.0, 1.0],
+                          "chiacchio_coverage": [0.5, 0.6, 0.7, 0.8]})  # fmt: skip
+    with pytest.raises(pe.InputError, match=r"^units: "):
+        interactive_map(frame, "chiacchio_coverage", "q1", "q2", units=("deg", "rad"))
+    figure = interactive_map(frame, "chiacchio_coverage", "q1", "q2", units=("m", "rad"))
+    assert figure.layout.xaxis.title.text == "q1 [m]"
