@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from polyell.errors import InputError
+from polyell.geometry.directions import sphere_directions
 from polyell.validation import as_floats, check_integer
 
 __all__ = [
@@ -511,26 +512,40 @@ def _union_share(
 
 @lru_cache(maxsize=8)
 def _directions(r: int, count: int, replicates: int, seed: int) -> NDArray[np.float64]:
-    """Uniform directions of R^r: scrambled Sobol' points of (0, 1)^r, Gaussian, normalized.
+    """Uniform directions of R^r, ``replicates`` independent sets of ``count``.
 
-    ``replicates`` independent sets of ``count`` (the first of a power-of-two draw), from
-    the stream ``(seed, 2)`` of ``numpy.random.default_rng``.
+    Each set is a low-discrepancy one moved at random so that every point is uniform on
+    the sphere: in 2-D ``count`` equally spaced angles turned by a uniform angle; in 3-D
+    the spherical Fibonacci lattice (:func:`~polyell.geometry.directions.sphere_directions`)
+    turned by a uniform (Haar) rotation; above, scrambled Sobol' points of (0, 1)^r mapped
+    to Gaussians and normalized (scipy.stats, whose import takes half a second, only
+    there).  From the stream ``(seed, 2)`` of ``numpy.random.default_rng``.
 
     Returns
     -------
     ndarray, shape (r, replicates * count)
         The coordinates, replicate after replicate.
     """
-    from scipy.stats import norm, qmc
-
     rng = np.random.default_rng([seed, 2])
-    exponent = max(0, int(count - 1).bit_length())
-    sets = []
-    for _ in range(replicates):
-        sobol = qmc.Sobol(d=r, scramble=True, seed=rng).random_base2(exponent)[:count]
-        sets.append(norm.ppf(np.clip(sobol, 1e-12, 1.0 - 1e-12)))
-    gaussian = np.array(sets)
-    directions = gaussian / np.sqrt(_dot(gaussian, gaussian))[..., None]
+    if r == 2:
+        angles = 2.0 * np.pi * (np.arange(count) + rng.random((replicates, 1))) / count
+        directions = np.stack([np.cos(angles), np.sin(angles)], axis=-1)
+    elif r == 3:
+        lattice = sphere_directions(count, 3)  # (count, 3)
+        # Haar rotations: QR of Gaussian matrices, the signs fixed by R's diagonal
+        Q, R = np.linalg.qr(rng.normal(size=(replicates, 3, 3)))
+        Q = Q * np.sign(np.diagonal(R, axis1=1, axis2=2))[:, None, :]
+        directions = lattice @ np.swapaxes(Q, 1, 2)  # (replicates, count, 3)
+    else:
+        from scipy.stats import norm, qmc
+
+        exponent = max(0, int(count - 1).bit_length())
+        sets = []
+        for _ in range(replicates):
+            sobol = qmc.Sobol(d=r, scramble=True, seed=rng).random_base2(exponent)[:count]
+            sets.append(norm.ppf(np.clip(sobol, 1e-12, 1.0 - 1e-12)))
+        gaussian = np.array(sets)
+        directions = gaussian / np.sqrt(_dot(gaussian, gaussian))[..., None]
     coordinates = np.ascontiguousarray(directions.reshape(-1, r).T)  # one row each
     coordinates.flags.writeable = False
     return coordinates
