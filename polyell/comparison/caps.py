@@ -528,7 +528,7 @@ def _directions(r: int, count: int, replicates: int, seed: int) -> NDArray[np.fl
     """
     rng = np.random.default_rng([seed, 2])
     if r == 2:
-        angles = 2.0 * np.pi * (np.arange(count) + rng.random((replicates, 1))) / count
+        angles = 2.0 * np.pi * (np.arange(count) / count + rng.random((replicates, 1)))
         directions = np.stack([np.cos(angles), np.sin(angles)], axis=-1)
     elif r == 3:
         lattice = sphere_directions(count, 3)  # (count, 3)

@@ -454,3 +454,51 @@ def test_an_estimate_never_claims_more_digits_than_double_precision_keeps():
     grown = pe.Candidate("grown", weighting=np.eye(n) / 1.3**2)
     scores = pe.compare(pe.analyze(dyn, tau_max, tau_min), candidates=[grown])["grown"]
     assert scores.coverage_stderr >= ROUNDING_STDERR and 0.0 < scores.coverage < 1.0
+
+
+@pytest.mark.parametrize("r", [2, 3, 4])
+def test_the_three_cap_directions_are_uniform_unit_vectors(r):
+    """Each point of ``_directions`` is uniform on the sphere: over 400 seeds the mean of a
+    point is 0 and its second moment I / r (within 5 standard errors of the sample), every
+    replicate differs, and the same seed gives the same set."""
+    from polyell.comparison.caps import _directions
+
+    count, replicates = 64, 4
+    sets = np.stack([_directions(r, count, replicates, seed) for seed in range(400)])
+    assert sets.shape == (400, r, replicates * count)
+    np.testing.assert_allclose(np.linalg.norm(sets, axis=1), 1.0, rtol=0, atol=1e-14)
+    first = sets[:, :, 0]  # one point, over the seeds: uniform on the sphere
+    assert np.all(np.abs(first.mean(axis=0)) <= 5.0 * np.sqrt(1.0 / r / 400))
+    second = np.einsum("si,sj->ij", first, first) / 400
+    assert np.all(np.abs(second - np.eye(r) / r) <= 5.0 * np.sqrt(2.0 / r**2 / 400) + 0.01)
+    replicate = sets[0].reshape(r, replicates, count)
+    assert not np.allclose(replicate[:, 0], replicate[:, 1])
+    np.testing.assert_array_equal(sets[7], _directions(r, count, replicates, 7))
+
+
+def test_three_caps_of_a_ball_are_sampled_without_scipy_stats(tmp_path):
+    """Where three caps of a 3-D ball meet (as on force sets), the directions are drawn
+    without scipy.stats, whose import took 0.7-1.3 s of a fresh process's first force
+    compare; ``import polyell`` and a force compare do not import it either."""
+    import subprocess
+    import sys
+
+    script = tmp_path / "first.py"
+    script.write_text(
+        "import sys\n"
+        "import numpy as np\n"
+        "import polyell as pe\n"
+        "from polyell.comparison import caps\n"
+        "calls = []\n"
+        "sample = caps._directions\n"
+        "caps._directions = lambda *a: calls.append(a) or sample(*a)\n"
+        "share, stderr = caps.cap_union_share(np.eye(3), np.full(3, 0.2))\n"
+        "arm = pe.robots.load('chiacchio2000')\n"
+        "pe.compare(pe.analyze(arm.dynamics([0.1, 0.2, 0.3]), arm.tau_max, capacity='force'))\n"
+        "print(len(calls), stderr > 0, 'scipy.stats' in sys.modules)\n"
+    )
+    result = subprocess.run(
+        [sys.executable, str(script)], capture_output=True, text=True, check=True, cwd=tmp_path
+    )
+    calls, sampled, imported = result.stdout.split()
+    assert int(calls) >= 1 and (sampled, imported) == ("True", "False"), result.stdout
