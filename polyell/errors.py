@@ -160,14 +160,17 @@ class TableWidthWarning(PolyellWarning):
 
 
 class JointLimitWarning(PolyellWarning):
-    """Joint positions outside a robot's position limits (its URDF's ``lower``, ``upper``).
+    """Joint positions or velocities outside a robot's limits.
 
-    Issued once per call of :meth:`~polyell.UrdfRobot.dynamics` or
-    :meth:`~polyell.UrdfRobot.tip_kinematics` (a batch of K configurations gives one
-    warning), naming the joints, by how much they are beyond their limits and, where
-    revolute joints are beyond a full turn (``|q| > 2 pi``), that the angles look like
-    degrees.  Continuous joints have no limits and never warn.  The values are computed
-    anyway: a robot is allowed to be evaluated anywhere.
+    Positions beyond its URDF's ``lower``, ``upper``; velocities beyond its velocity
+    limits (``robot.velocity_limits()``).  Issued once per call of
+    :meth:`~polyell.UrdfRobot.dynamics` or :meth:`~polyell.UrdfRobot.tip_kinematics` (a
+    batch of K configurations gives one warning), naming the joints, by how much they are
+    beyond their limits and, where revolute joints are beyond a full turn
+    (``|q| > 2 pi``), that the angles look like degrees (velocities: where they would lie
+    within the limits in radians per second).  Continuous joints have no position limits
+    and never warn for them.  The values are computed anyway: a robot is allowed to be
+    evaluated anywhere.
 
     Attributes
     ----------

@@ -470,6 +470,59 @@ class UrdfRobot(JointLimits):
         )
         warnings.warn(JointLimitWarning(message, tuple(joints), degrees), stacklevel=stacklevel + 1)
 
+    def _check_velocities(self, velocities: NDArray[np.float64], stacklevel: int) -> None:
+        """Warn (JointLimitWarning) once if checked velocities (K, nq) leave the limits.
+
+        The robot's velocity limits (:attr:`qd_max`, :attr:`qd_min`; none known: no
+        check), with the positions' relative slack; where the velocities scaled from
+        degrees per second to radians would lie within them, the message says so.
+        """
+        if self.qd_max is None or self.qd_min is None:
+            return
+        slack = POSITION_LIMIT_TOL * np.maximum(np.abs(self.qd_max), np.abs(self.qd_min))
+        below, above = velocities < self.qd_min - slack, velocities > self.qd_max + slack
+        if not (below.any() or above.any()):
+            return
+        rows, (_, _, _, _, revolute) = len(velocities), self._position_bounds
+        parts, joints = [], []
+        for j in np.flatnonzero(below.any(axis=0) | above.any(axis=0)):
+            excess = np.maximum(
+                self.qd_min[j] - velocities[:, j], velocities[:, j] - self.qd_max[j]
+            )
+            k = int(np.argmax(excess))
+            unit = "rad/s" if revolute[j] else "m/s"
+            within = f"its limits [{self.qd_min[j]:.6g}, {self.qd_max[j]:.6g}] {unit}"
+            bad = int((below[:, j] | above[:, j]).sum())
+            parts.append(
+                f"{self.joint_names[j]} in {bad} of {rows} states (worst: row {k}, "
+                f"qd = {velocities[k, j]:.6g} {unit}, beyond {within})"
+                if rows > 1
+                else f"{self.joint_names[j]} = {velocities[k, j]:.6g} {unit} (beyond {within})"
+            )
+            joints.append(self.joint_names[j])
+        # degrees per second: far beyond the limits (5x or more), within them in radians
+        scaled, bad = np.deg2rad(velocities), below | above
+        reach = np.maximum(np.abs(self.qd_max), np.abs(self.qd_min))
+        degrees = bool(
+            np.all(revolute[bad.any(axis=0)])
+            and np.any(np.abs(velocities) > 5.0 * reach)
+            and np.all((scaled >= self.qd_min - slack) & (scaled <= self.qd_max + slack))
+        )
+        hint = (
+            " In radians these would lie within the limits: they look like degrees per "
+            "second; convert them with np.deg2rad(qd)."
+            if degrees
+            else ""
+        )
+        message = (
+            f"qd: expected joint velocities within the robot's velocity limits, got "
+            f"{'; '.join(parts)}.{hint} The values are computed anyway (the arm cannot "
+            "move that fast: the Coriolis terms and any torque-speed derating are "
+            "extrapolated). Fix: keep qd within robot.velocity_limits(), or silence this "
+            "with warnings.simplefilter('ignore', pe.JointLimitWarning)."
+        )
+        warnings.warn(JointLimitWarning(message, tuple(joints), degrees), stacklevel=stacklevel + 1)
+
     def __repr__(self) -> str:
         return (
             f"UrdfRobot(model={self.model.name!r}, nq={self.nq}, tip={self.tip!r}, "
@@ -604,6 +657,8 @@ class UrdfRobot(JointLimits):
             velocities = None
         if check_limits:
             self._check_positions(np.atleast_2d(positions), stacklevel=stacklevel)
+            if velocities is not None:
+                self._check_velocities(np.atleast_2d(velocities), stacklevel=stacklevel)
         terms = self._terms(
             np.atleast_2d(positions), None if velocities is None else np.atleast_2d(velocities)
         )

@@ -147,6 +147,51 @@ def test_a_batch_warns_once():
     assert records[0].message.joints == ("panda_joint4",)
 
 
+def urdf_velocity_limits(name: str) -> dict[str, float]:
+    """``{joint: velocity}`` of the revolute and prismatic joints, from the XML."""
+    root = ET.parse(pe.robots.urdf_path(name)).getroot()
+    return {
+        joint.get("name"): float(joint.find("limit").get("velocity"))
+        for joint in root.iter("joint")
+        if joint.get("type") in ("revolute", "prismatic") and joint.find("limit") is not None
+    }
+
+
+def test_velocities_in_degrees_per_second_warn_naming_the_joints():
+    """The slip of issue 32's new user: qd = 30 deg/s typed as 30 (rad/s) on two joints."""
+    limits = urdf_velocity_limits("panda")
+    qd = np.zeros(7)
+    qd[[0, 3]] = 30.0
+    records = caught(pe.JointLimitWarning, lambda: PANDA.dynamics(Q, qd))
+    assert len(records) == 1
+    warning = records[0].message
+    assert warning.joints == ("panda_joint1", "panda_joint4") and warning.degrees
+    text = str(warning)
+    assert text.startswith("qd: expected joint velocities within the robot's velocity limits")
+    assert f"panda_joint4 = 30 rad/s (beyond its limits [{-limits['panda_joint4']:.6g}, " in text
+    assert "degrees per second" in text and "np.deg2rad(qd)" in text
+    assert records[0].filename == __file__
+    # robot.analyze and a batch: one warning each, the rows counted
+    assert len(caught(pe.JointLimitWarning, lambda: PANDA.analyze(Q, qd))) == 1
+    batch = np.tile(QD, (50, 1))
+    batch[[4, 9], 5] = -3.0  # joint 6 beyond -2.61 rad/s in 2 rows: a slip, not degrees
+    records = caught(pe.JointLimitWarning, lambda: PANDA.dynamics(np.tile(Q, (50, 1)), batch))
+    assert len(records) == 1 and not records[0].message.degrees
+    assert "panda_joint6 in 2 of 50 states (worst: row 4, qd = -3 rad/s" in str(records[0].message)
+    assert "degrees" not in str(records[0].message)
+
+
+def test_velocities_at_the_limits_do_not_warn():
+    qd_max, qd_min = PANDA.velocity_limits()
+    limits = urdf_velocity_limits("panda")
+    np.testing.assert_array_equal(qd_max, [limits[f"panda_joint{i + 1}"] for i in range(7)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        PANDA.dynamics(np.tile(Q, (2, 1)), np.stack([qd_max, qd_min]))
+        PANDA.dynamics(Q, qd_max * (1 + 1e-9))  # within the tolerance
+        PANDA.dynamics(Q, 100.0 * qd_max, check_limits=False)  # probing on purpose
+
+
 def test_continuous_joints_never_warn():
     continuous = pe.UrdfRobot(planar_urdf(PAPER_ARM, "continuous"), "tip", task="planar")
     far = np.array([100.0, -720.0, 1e4])  # many turns: a continuous joint has no limits
