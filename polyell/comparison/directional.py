@@ -26,7 +26,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from polyell.geometry.limits import snap_to_zero
+from polyell.geometry.limits import PARALLEL_SLOPE, snap_to_zero
 
 __all__ = ["PASS_ELEMENTS", "STATISTICS", "direction_scores", "polytope_far_ends", "statistics"]
 
@@ -152,7 +152,12 @@ def _cut_far_ends(
         o = offsets[rows]
         loose_ends = _rays(normals[rows], o - loose, o + loose, Tt)
         grazing[rows] = missed[rows] & (loose_ends[0] <= loose_ends[1])
-    upper = np.where(grazing, 0.5 * (lower + upper), upper)
+        with np.errstate(invalid="ignore"):
+            middle = 0.5 * (lower[rows] + upper[rows])
+        # a line along a facet's plane just beyond it (within the slack; its strict ends
+        # infinite): the grown set's far end, else the touching point
+        touch = np.where(np.isfinite(middle), middle, loose_ends[1])
+        upper[rows] = np.where(grazing[rows], touch, upper[rows])
     meets = (lower <= upper) | grazing  # False for NaN: 0/0, a line on a facet's boundary
     return np.where(meets, upper, np.nan), meets
 
@@ -167,13 +172,22 @@ def _rays(normals: Array, below: Array, above: Array, Tt: Array) -> tuple[Array,
     lower, upper = np.full((K, k), -np.inf), np.full((K, k), np.inf)
     slopes, bound = np.empty((K, k)), np.empty((K, k))
     with np.errstate(divide="ignore", invalid="ignore"):
-        # s = 0 gives -inf/+inf (no bound) when below < 0 < above, an empty line otherwise.
+        # A line parallel to the pair to rounding (PARALLEL_SLOPE) keeps no bound from it
+        # where below <= 0 <= above (the origin's value, constant along it), else is empty.
         for j in range(normals.shape[1]):
             np.matmul(normals[:, j], Tt, out=slopes)
+            parallel = np.abs(slopes) <= PARALLEL_SLOPE
+            if parallel.any():
+                slopes[parallel] = 0.0
+                keeps = (below[:, j, None] <= 0.0) & (above[:, j, None] >= 0.0)
+                empty = parallel & ~keeps
+                lower[empty], upper[empty] = np.inf, -np.inf
             negative = np.signbit(slopes)
             np.divide(np.where(negative, above[:, j, None], below[:, j, None]), slopes, out=bound)
+            bound[parallel] = -np.inf
             np.maximum(lower, bound, out=lower)  # NaN (0/0) propagates: an empty line
             np.divide(np.where(negative, below[:, j, None], above[:, j, None]), slopes, out=bound)
+            bound[parallel] = np.inf
             np.minimum(upper, bound, out=upper)
     return lower, upper
 

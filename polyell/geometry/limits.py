@@ -9,6 +9,7 @@ from numpy.typing import NDArray
 
 __all__ = [
     "ATOL_RELATIVE",
+    "PARALLEL_SLOPE",
     "DirectionalLimits",
     "facet_slack",
     "line_interval_in_ellipsoids",
@@ -27,6 +28,13 @@ __all__ = [
 #: widened beyond itself (an absolute slack of ``1e-9 * size`` per facet would let the
 #: half-spaces at a tip of angle 1e-8 overlap a tenth of the set's size beyond it).
 ATOL_RELATIVE = 1e-9
+
+#: A unit row and a unit direction whose product ``|a_i . t|`` is at most this are parallel
+#: to rounding (64 eps: the rounding of a product of up to 60-odd terms): the line runs in
+#: the row's plane, bounded there by the other rows.  Without it a line along a facet
+#: through the origin (a force set whose torque limit equals the gravity torque, a velocity
+#: set with ``qd_min = 0``) was cut at ``0 / 1e-17 = 0``, half its interval lost.
+PARALLEL_SLOPE = 64.0 * float(np.finfo(float).eps)
 
 
 def facet_slack(
@@ -85,7 +93,7 @@ def line_interval_in_halfspaces(
     directions: NDArray[np.float64],
     slack: NDArray[np.float64] | float,
     floor: NDArray[np.float64] | float = 0.0,
-    slope_floor: float = 0.0,
+    slope_floor: float = PARALLEL_SLOPE,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The interval ``{a : A (a t) <= b}`` for each direction ``t``.
 
@@ -111,8 +119,10 @@ def line_interval_in_halfspaces(
         that facet), so that a line leaving P across it ends at exactly 0.
     slope_floor : float, optional
         Slopes ``|A_i . t|`` at or below it are taken as 0 (a line parallel to the facet
-        to rounding): an unbounded set then has infinite limits along its rays, not
-        ``b_i / 1e-17``.  0 (the default) for a bounded set, where another facet cuts first.
+        to rounding; at least :data:`PARALLEL_SLOPE`): a line in the plane of a facet
+        through the origin keeps its whole interval in that facet, not ``0 / 1e-17 = 0``
+        at one end, and an unbounded set has infinite limits along its rays (a larger
+        floor, its rank decision), not ``b_i / 1e-17``.
 
     Returns
     -------
@@ -120,8 +130,7 @@ def line_interval_in_halfspaces(
         Interval ends, NaN where the line misses the set.
     """
     slopes = directions @ A.T  # (k, F)
-    if slope_floor:
-        slopes = np.where(np.abs(slopes) <= slope_floor, 0.0, slopes)
+    slopes = np.where(np.abs(slopes) <= max(slope_floor, PARALLEL_SLOPE), 0.0, slopes)
     loose = b + slack
     b = snap_to_zero(b, floor)
     lower, upper = _cut(b, slopes)

@@ -271,6 +271,5 @@ class Polytope(ConvexSet):
         # Points of a line near P are within |xg| + size of the origin: reach twice that.
         h = self._facets[2]
         floor = rounding_floor(2.0 * self._reach, self._terms)
-        return line_interval_in_halfspaces(
-            self.A, self.b, lines, facet_slack(h, 2.0 * self._reach, self._terms), floor
-        )
+        slack = facet_slack(h, 2.0 * self._reach, self._terms)
+        return line_interval_in_halfspaces(self.A, self.b, lines, slack, floor)

@@ -43,6 +43,7 @@ from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.comparison.directions import direction_vectors
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.limits import (
+    PARALLEL_SLOPE,
     DirectionalLimits,
     facet_slack,
     rounding_floor,
@@ -361,8 +362,9 @@ def _line_in_pairs(
     offsets = snap_to_zero(centre - h, floor), snap_to_zero(centre + h, floor)
     with np.errstate(divide="ignore", invalid="ignore"):
         ends = np.stack([offsets[0] / slope, offsets[1] / slope])  # (2, K, C)
-    parallel = slope == 0  # no bound, or an empty line if the origin is beyond the pair
-    inside = np.abs(centre) <= h
+    # parallel to rounding: no bound, or an empty line if the origin is beyond the pair
+    parallel = np.abs(slope) <= PARALLEL_SLOPE
+    inside = (offsets[0] <= 0.0) & (offsets[1] >= 0.0)
     lower_end = np.where(parallel, np.where(inside, -np.inf, np.inf), ends.min(0))
     upper_end = np.where(parallel, np.where(inside, np.inf, -np.inf), ends.max(0))
     return lower_end.max(axis=1), upper_end.min(axis=1)
