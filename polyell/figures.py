@@ -1004,7 +1004,9 @@ def save_figure(
         )
     supported = sorted(figure.canvas.get_supported_filetypes())
     if formats is not None and (
-        isinstance(formats, str) or not all(fmt in supported for fmt in formats)
+        isinstance(formats, str)
+        or not isinstance(formats, Sequence)
+        or not all(fmt in supported for fmt in formats)
     ):
         raise InputError("formats", f"a sequence of formats among {supported}", repr(formats))
     suffix = Path(stem).suffix[1:].lower()

@@ -201,6 +201,15 @@ def interactive_sets(
     m = analysis.m
     if m not in (2, 3):
         raise InputError("comparison", "a 2-D or 3-D task space", f"m = {m}")
+    if kinds is not None and (
+        isinstance(kinds, str)
+        or not isinstance(kinds, Sequence)
+        or not all(isinstance(kind, str) and kind in comparison.kinds for kind in kinds)
+    ):
+        raise InputError(
+            "kinds", f"a list of the comparison's kinds, among {list(comparison.kinds)}",
+            repr(kinds)[:80],
+        )  # fmt: skip
     chosen = [k for k in (kinds or comparison.kinds) if comparison[k].defined]
     unit = analysis.unit()
     rows = [_plain_label(row) for row in analysis.task]
@@ -867,6 +876,14 @@ def write_report(path: str | Path, title: str, sections: Sequence[tuple[str, Any
             'e.g. [("sets", interactive_sets(comparison))].',
         )
     go = _plotly()
+    for heading, content in sections:
+        if not isinstance(content, go.Figure | pd.DataFrame | HtmlTable | str):
+            raise InputError(
+                f"sections[{heading!r}]",
+                "a plotly figure, a pandas DataFrame, an HtmlTable or a str",
+                type(content).__name__,
+                "pass str(value) for a number, or leave the section out.",
+            )
     parts: list[str] = []
     first = True
     for heading, content in sections:

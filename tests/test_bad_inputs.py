@@ -252,7 +252,72 @@ API = [
         pe.InputError,
         "low <= high",
     ),
+    # issue 33's attack, round 3: raw TypeErrors and silently written non-content
+    (
+        "save_figure formats not a sequence",
+        lambda t: _figures().save_figure(_figures().plot_sets(AN), t / "x", formats=3),
+        pe.InputError,
+        "formats: expected a sequence of formats",
+    ),
+    (
+        "interactive_sets kinds not a list",
+        lambda t: _interactive().interactive_sets(pe.compare(AN, mvie=False), kinds=3),
+        pe.InputError,
+        "kinds: expected a list of the comparison's kinds",
+    ),
+    (
+        "interactive_sets an unknown kind",
+        lambda t: _interactive().interactive_sets(pe.compare(AN, mvie=False), kinds=["x"]),
+        pe.InputError,
+        "kinds: expected a list of the comparison's kinds",
+    ),
+    (
+        "write_report a section of None",
+        lambda t: _interactive().write_report(t / "r.html", "t", [("s", None)]),
+        pe.InputError,
+        "sections['s']: expected a plotly figure",
+    ),
+    (
+        "load_trajectory of None",
+        lambda t: _load_trajectory()(None, 3),
+        pe.InputError,
+        "trajectory: expected a file path",
+    ),
+    (
+        "load_trajectory qd of 1e300",
+        lambda t: _load_trajectory()(_csv(t, "q1,q2,q3,qd1,qd2,qd3\n0,0,0,1e300,0,0\n"), 3),
+        pe.InputError,
+        "joint velocities within +-1e+08 in column qd1",
+    ),
 ]
+
+
+def _figures():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import polyell.figures as figures
+
+    return figures
+
+
+def _interactive():
+    import polyell.interactive as interactive
+
+    return interactive
+
+
+def _load_trajectory():
+    from polyell.studies.trajectory import load_trajectory
+
+    return load_trajectory
+
+
+def _csv(tmp: Path, text: str) -> Path:
+    path = tmp / "path.csv"
+    path.write_text(text)
+    return path
+
 
 FILES = [
     (

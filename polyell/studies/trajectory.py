@@ -32,6 +32,7 @@ A :class:`Trajectory` is a configuration set: :func:`polyell.sweep` takes it lik
 
 from __future__ import annotations
 
+import os
 import re
 import struct
 import warnings
@@ -225,9 +226,13 @@ def _seconds(source: str, values: NDArray[Any], origin: Any) -> NDArray[np.float
 def _finite(
     source: str, name: str, values: NDArray[np.float64], label: Callable[[int], str]
 ) -> None:
-    """Refuse NaN, infinity and joint values beyond MAX_JOINT_VALUE in one block."""
+    """Refuse NaN, infinity and joint values beyond MAX_JOINT_VALUE in one block.
+
+    Joint velocities too (``qd1``..): one of 1e300 rad/s overflowed the Coriolis terms of
+    its block, and every other sample's tangent limits came out NaN.
+    """
     bad = ~np.isfinite(values)
-    joint = name.startswith("q") and not name.startswith("qd")
+    joint = name.startswith("q")
     if joint:
         bad |= np.abs(np.where(bad, 0.0, values)) > MAX_JOINT_VALUE
     if not bad.any():
@@ -235,11 +240,13 @@ def _finite(
     k = int(np.flatnonzero(bad)[0])
     value = values[k]
     if np.isfinite(value):
+        what = "joint velocities" if name.startswith("qd") else "joint values"
         raise _bad(
             source,
-            f"joint values within +-{MAX_JOINT_VALUE:g} in column {name}",
+            f"{what} within +-{MAX_JOINT_VALUE:g} in column {name}",
             f"{value:g} at {label(k)}",
-            "joint angles are in rad (metres for prismatic joints): check the unit and the column.",
+            "joint angles are in rad (metres for prismatic joints), velocities in rad/s "
+            "(m/s): check the unit and the column.",
         )
     raise _bad(
         source,
@@ -661,6 +668,11 @@ def load_trajectory(path: str | Path, n: int) -> Trajectory:
         the column).
     """
     n = check_integer("n", n, 1, 10_000)  # the robot's joint count
+    if not isinstance(path, str | os.PathLike):
+        raise InputError(
+            "trajectory", "a file path (str or pathlib.Path)", type(path).__name__,
+            "pass the file's name, e.g. load_trajectory('path.csv', robot.n).",
+        )  # fmt: skip
     file = Path(path)
     source = file.name
     try:
