@@ -226,13 +226,9 @@ def _seconds(source: str, values: NDArray[Any], origin: Any) -> NDArray[np.float
 def _finite(
     source: str, name: str, values: NDArray[np.float64], label: Callable[[int], str]
 ) -> None:
-    """Refuse NaN, infinity and joint values beyond MAX_JOINT_VALUE in one block.
-
-    Joint velocities too (``qd1``..): one of 1e300 rad/s overflowed the Coriolis terms of
-    its block, and every other sample's tangent limits came out NaN.
-    """
+    """Refuse NaN, infinity and joint values beyond MAX_JOINT_VALUE in one block."""
     bad = ~np.isfinite(values)
-    joint = name.startswith("q")
+    joint = name.startswith("q") and not name.startswith("qd")
     if joint:
         bad |= np.abs(np.where(bad, 0.0, values)) > MAX_JOINT_VALUE
     if not bad.any():
@@ -240,13 +236,11 @@ def _finite(
     k = int(np.flatnonzero(bad)[0])
     value = values[k]
     if np.isfinite(value):
-        what = "joint velocities" if name.startswith("qd") else "joint values"
         raise _bad(
             source,
-            f"{what} within +-{MAX_JOINT_VALUE:g} in column {name}",
+            f"joint values within +-{MAX_JOINT_VALUE:g} in column {name}",
             f"{value:g} at {label(k)}",
-            "joint angles are in rad (metres for prismatic joints), velocities in rad/s "
-            "(m/s): check the unit and the column.",
+            "joint angles are in rad (metres for prismatic joints): check the unit and the column.",
         )
     raise _bad(
         source,
@@ -751,7 +745,8 @@ def tangent_limits(
     dict of str to ndarray (K,)
         ``tangent_<set>_lo`` and ``tangent_<set>_hi`` for the polytope and the capacity's
         ellipsoids (:func:`polyell.limits_along`); NaN where the task velocity is zero
-        (``|J qd| <= TANGENT_RTOL |J| max|qd|``: no tangent) or the line misses the set.
+        (``|J qd| <= TANGENT_RTOL |J|`` times the path's typical speed, the median over its
+        samples of ``max_i |qd_i|``: no tangent) or the line misses the set.
     """
     if not (hasattr(source, "dynamics") and hasattr(source, "n")) or isinstance(source, type):
         raise InputError(
@@ -776,10 +771,12 @@ def tangent_limits(
             f"{trajectory.q.shape[1]}",
             "load the trajectory with the robot's number of joints.",
         )
-    # The direction does not depend on the speed's scale: divide by the path's largest
-    # speed first, so that velocities up to 1e308 do not overflow in J qd.
-    scale = float(np.max(np.abs(trajectory.qd))) if trajectory.qd.size else 0.0
     K = len(trajectory)
+    # A sample moves when |J qd| exceeds TANGENT_RTOL |J| times the path's typical speed
+    # (the median of its samples' largest |qd_i|): a stop's rounding noise has no tangent,
+    # and one sample a thousand orders of magnitude faster does not stop all the others.
+    fastest = np.max(np.abs(trajectory.qd), axis=1, initial=0.0)
+    typical = float(np.median(fastest[fastest > 0])) if (fastest > 0).any() else 0.0
     columns: dict[str, NDArray[np.float64]] = {}
     cls = capacity_class(capacity)
     given = joint_limits_of(cls.capacity, tau_max, tau_min, qd_max, qd_min)
@@ -788,11 +785,17 @@ def tangent_limits(
         dyn = source.dynamics(trajectory.q[start:stop])
         if upper is None:
             upper, lower = cls.source_limits(source, *given, dyn.n)
-        qd = trajectory.qd[start:stop] / scale if scale > 0 else trajectory.qd[start:stop]
+        # The direction does not depend on the speed's scale: each sample's velocities
+        # divided by their largest first, so that up to 1e308 nothing overflows in J qd
+        # (and one fast sample does not flush the others' to 0, as the path's largest did).
+        scale = fastest[start:stop]
+        qd = trajectory.qd[start:stop] / np.where(scale > 0, scale, 1.0)[:, None]
         velocity = np.einsum("kmn,kn->km", dyn.J, qd)
         speed = np.linalg.norm(velocity, axis=1)
         size = np.linalg.norm(dyn.J, axis=(1, 2))  # Frobenius: >= the spectral norm
-        moving = (speed > TANGENT_RTOL * size) if scale > 0 else np.zeros(len(speed), bool)
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+            relative = np.where(scale > 0, scale / typical, 0.0)  # (inf: far faster)
+            moving = speed * relative > TANGENT_RTOL * size
         T = np.where(moving[:, None], velocity / np.where(moving, speed, 1.0)[:, None], 0.0)
         T[~moving, 0] = 1.0  # a placeholder direction; its rows are NaN below
         arguments = cls.limit_arguments(upper, lower)

@@ -10,7 +10,7 @@ import pytest
 
 import polyell as pe
 from polyell.studies import load_study, run_study
-from polyell.studies.trajectory import load_trajectory, tangent_limits
+from polyell.studies.trajectory import Trajectory, load_trajectory, tangent_limits
 
 ARM = pe.robots.load("chiacchio2000")
 T = np.linspace(0.0, 2.0, 41)
@@ -376,3 +376,25 @@ def test_huge_values_give_the_right_answer_or_a_refusal(tmp_path, recwarn):
     for name, values in tangent_limits(ARM, trajectory).items():
         np.testing.assert_array_equal(values, plain[name])
     assert not [w for w in recwarn if issubclass(w.category, RuntimeWarning)]
+
+
+def test_one_fast_sample_leaves_the_others_tangents_alone(tmp_path):
+    """Each sample's tangent is J qd / |J qd| of its own velocities: a sample at 1e300 rad/s
+    (the path's largest) no longer flushes the others' J qd to 0 (their limits were NaN)."""
+    q, qd = path()
+    fast = qd.copy()
+    fast[0] = 1e300 * np.sign(qd[0] + 0.5)
+    np.savez(tmp_path / "fast.npz", q=q, qd=fast)
+    mixed = tangent_limits(ARM, load_trajectory(tmp_path / "fast.npz", 3))
+    plain = tangent_limits(ARM, Trajectory(q, qd))
+    for name, values in mixed.items():
+        np.testing.assert_allclose(values[1:], plain[name][1:], rtol=1e-13, atol=0)
+        assert np.isfinite(values[1:]).any()
+    # the fast sample's own tangent: the direction of J sign(qd_0), by its own polytope
+    dyn = ARM.dynamics(q[0])
+    t = dyn.J @ np.sign(qd[0] + 0.5)
+    expected = pe.analyze(dyn, ARM.tau_max).polytope.limits(t / np.linalg.norm(t))
+    np.testing.assert_allclose(
+        [mixed["tangent_polytope_lo"][0], mixed["tangent_polytope_hi"][0]],
+        [expected.lo, expected.hi], rtol=1e-12,
+    )  # fmt: skip
