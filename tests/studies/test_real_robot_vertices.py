@@ -63,9 +63,9 @@ def swept(name: str, capacity: str) -> tuple[pd.DataFrame, int]:
     module = sys.modules["polyell.studies.sweep"]  # (shadowed by the function pe.sweep)
     scalar_rows, count = module._scalar_rows, [0]
 
-    def counted(dyn, rows, job, state=None):
+    def counted(dyn, rows, job, state=None, first=0):
         count[0] += int(np.count_nonzero(rows))
-        return scalar_rows(dyn, rows, job, state)
+        return scalar_rows(dyn, rows, job, state, first)
 
     module._scalar_rows = counted
     try:
