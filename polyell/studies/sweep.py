@@ -39,6 +39,7 @@ from polyell.capacities.horizon import (
     refuse_without_horizon,
     robot_horizon,
 )
+from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.comparison.candidates import Candidate, check_candidates
 from polyell.comparison.comparison import (
     MAX_SAMPLES,
@@ -52,6 +53,7 @@ from polyell.comparison.long_form import wide_attrs
 from polyell.errors import (
     InputError,
     MissingDependencyError,
+    PolyellWarning,
     SolverError,
     StorageError,
     install_hint,
@@ -696,6 +698,15 @@ def sweep(
         mvie=bool(mvie), outer=bool(outer), rank_rtol=rank_rtol, capacity=capacity
     )
     options = replace(options, candidates=check_candidates(candidates))
+    weighted = [c.name for c in options.candidates if c.weighting is not None]
+    if weighted and not issubclass(capacity_class(capacity), ZonotopeAnalysis):
+        warnings.warn(
+            f"candidates {weighted}: a weighting of normalized joint quantities defines no "
+            f"ellipsoid of the {capacity} capacity: their columns are NaN in every row (as "
+            "compare reports them undefined). Fix: give them a core (and a centre) instead.",
+            PolyellWarning,
+            stacklevel=2,
+        )
     options = replace(
         options,
         samples=check_integer("samples", samples, MIN_SAMPLES, MAX_SAMPLES),

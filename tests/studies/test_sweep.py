@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import sys
+import warnings
 
 import numpy as np
 import pandas as pd
@@ -373,3 +374,22 @@ def test_the_default_scores_follow_the_optima_computed():
     neither = pe.sweep(ARM, q, directions=8)
     assert not [c for c in neither.columns if c.endswith(("_mvie_ratio", "_outer_ratio"))]
     assert "chiacchio_enclosing_scale" not in both  # a vertex enumeration: asked for by name
+
+
+def test_a_weighted_candidate_in_a_force_sweep_is_said_and_nan():
+    """A torque weighting defines no force ellipsoid: compare reports it undefined, the
+    sweep warns (naming it) and leaves its columns NaN; a core-defined one is scored."""
+    arm = pe.robots.load("chiacchio2000")
+    weighted = pe.Candidate("wrist", weighting=np.diag([1.0, 1.0, 4.0]))
+    core = pe.Candidate("disc", core=np.eye(2) * 1e-4)
+    q = np.array([[0.3, 0.6, 0.9], [0.5, 0.2, 0.1]])
+    with pytest.warns(pe.PolyellWarning, match=r"candidates \['wrist'\]: a weighting"):
+        frame = pe.sweep(arm, q, capacity="force", candidates=[weighted, core])
+    assert frame.filter(like="wrist_").drop(columns=["wrist_directions_used",
+               "wrist_feasibility_mismatch"]).isna().all(axis=None)  # fmt: skip
+    assert frame["disc_inscribed_scale"].notna().all()
+    analysis = pe.analyze(arm.dynamics(q[0]), arm.tau_max, capacity="force")
+    assert not pe.compare(analysis, candidates=[weighted])["wrist"].defined
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", pe.PolyellWarning)
+        pe.sweep(arm, q, candidates=[weighted])  # accelerations: defined, no warning
