@@ -37,6 +37,7 @@ from polyell.validation import check_array, check_integer
 
 __all__ = [
     "MAX_COUNT",
+    "MIN_STEP",
     "RESIDUAL_RTOL",
     "SINGULAR_RTOL",
     "WALK_STEPS",
@@ -54,6 +55,9 @@ RESIDUAL_RTOL = 1e-9
 SINGULAR_RTOL = 1e-8
 #: Most configurations one call returns.
 MAX_COUNT = 100_000
+#: Smallest step along the manifold [rad]: a million times the spacing of doubles at 1 rad,
+#: so that a step moves the joints by more than their rounding.
+MIN_STEP = 1e-9
 #: Null-space steps between two samples of a random walk.
 WALK_STEPS = 10
 #: Default step along the manifold [rad]: tracing a curve, and each step of a random walk.
@@ -226,8 +230,8 @@ def self_motion(
     seed : int, optional
         Seed of the random walk (a manifold of dimension > 1); a traced curve ignores it.
     step : float, optional
-        Step along the manifold [rad], in (0, 1]: default 0.01 for a trace (its
-        resolution), 0.05 for a walk (:data:`WALK_STEPS` steps per sample).
+        Step along the manifold [rad], from :data:`MIN_STEP` to 1: default 0.01 for a trace
+        (its resolution), 0.05 for a walk (:data:`WALK_STEPS` steps per sample).
 
     Returns
     -------
@@ -295,11 +299,12 @@ def self_motion(
     if (
         isinstance(step, bool)
         or not isinstance(step, int | float | np.integer | np.floating)
-        or not 0.0 < float(step) <= 1.0
+        or not MIN_STEP <= float(step) <= 1.0
     ):
         raise InputError(
             "step",
-            "a step along the manifold in (0, 1] rad",
+            f"a step along the manifold from {MIN_STEP:g} to 1 rad (below it a joint angle "
+            "of about 1 rad does not change in double precision)",
             repr(step),
             f"leave it out (default {default:g}).",
         )
