@@ -492,19 +492,19 @@ class UrdfRobot(JointLimits):
             k = int(np.argmax(excess))
             unit = "rad/s" if revolute[j] else "m/s"
             within = f"its limits [{self.qd_min[j]:.6g}, {self.qd_max[j]:.6g}] {unit}"
-            bad = int((below[:, j] | above[:, j]).sum())
+            count = int((below[:, j] | above[:, j]).sum())
             parts.append(
-                f"{self.joint_names[j]} in {bad} of {rows} states (worst: row {k}, "
+                f"{self.joint_names[j]} in {count} of {rows} states (worst: row {k}, "
                 f"qd = {velocities[k, j]:.6g} {unit}, beyond {within})"
                 if rows > 1
                 else f"{self.joint_names[j]} = {velocities[k, j]:.6g} {unit} (beyond {within})"
             )
             joints.append(self.joint_names[j])
         # degrees per second: far beyond the limits (5x or more), within them in radians
-        scaled, bad = np.deg2rad(velocities), below | above
+        scaled, outside = np.deg2rad(velocities), below | above
         reach = np.maximum(np.abs(self.qd_max), np.abs(self.qd_min))
         degrees = bool(
-            np.all(revolute[bad.any(axis=0)])
+            np.all(revolute[outside.any(axis=0)])
             and np.any(np.abs(velocities) > 5.0 * reach)
             and np.all((scaled >= self.qd_min - slack) & (scaled <= self.qd_max + slack))
         )
