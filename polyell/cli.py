@@ -62,8 +62,23 @@ MAIN_OUTPUTS = {
         for extension in ("pdf", "png", "svg")
     },
     "report.html": "the interactive report (open it in a browser; works offline)",
-    "manifest.json": "every file written",
+    "manifest.json": "every file written, the datasets, notes and warnings",
 }
+#: The figures of a study by the start of their names (``sets_ready.png``), with what
+#: each kind shows; the closing message names every one.
+FIGURE_OUTPUTS = {
+    "sets": "a point's sets (figure)",
+    "limits": "a point's directional limits (figure)",
+    "map": "a heat map of a score over the grid",
+    "series": "a score along the path",
+    "histogram": "a histogram of a score over the configurations",
+}
+_FIGURES = (".pdf", ".png", ".svg")
+#: What a study's Parquet dataset holds (``results/``: a grid, random or trajectory study).
+DATASET_OUTPUT = (
+    "every configuration's scores, a Parquet dataset (pd.read_parquet; a killed run "
+    "resumes from it)"
+)
 #: The outputs a study writes once, whatever its capacities.
 _SHARED_OUTPUTS = ("numbers.md", "report.html", "manifest.json")
 #: Options whose value is a list of numbers, which may start with '-' (--q -pi/2,0,0).
@@ -189,6 +204,12 @@ def _parser() -> argparse.ArgumentParser:
         "--no-outer", action="store_true", help="skip the minimum-volume enclosing ellipsoid"
     )
     run.add_argument("--json", action="store_true", help="print JSON instead of text")
+    run.add_argument(
+        "--equations",
+        action="store_true",
+        help="label the output with the equation numbers of Chiacchio (2000), 'xdd_g (eq. 8)' "
+        "(default: only for its own arm, --robot chiacchio2000)",
+    )
     run.add_argument(
         "--mesh",
         default=None,
@@ -415,13 +436,24 @@ def _analyze(args: argparse.Namespace) -> list[str]:
                 f"{args.robot} at q = {_rounded(q, 6)} rad"
                 + (f", qd = {_rounded(qd, 6)} rad/s" if moving else ""),
                 *_limits_lines(analysis, moving),
-                format_analysis(analysis, direction, label, args.inverse_at),
+                format_analysis(
+                    analysis, direction, label, args.inverse_at, equations=_equations(args)
+                ),
                 "\nScores against the polytope (pe.compare):\n",
                 comparison.to_markdown(),
             ]
         )
     _emit(text)
     return notes
+
+
+#: The robot of the paper: its text output carries the paper's equation numbers.
+PAPER_ROBOT = "chiacchio2000"
+
+
+def _equations(args: argparse.Namespace) -> bool:
+    """The paper's equation numbers in the text: for its own arm, or with ``--equations``."""
+    return bool(args.equations) or args.robot == PAPER_ROBOT
 
 
 def _horizon(value: float) -> float:
@@ -443,10 +475,32 @@ def _horizon_note(analysis: Any) -> str:
 def _study(args: argparse.Namespace) -> None:
     spec = load_study(args.spec)
     written = run_study(spec, args.out, progress=not args.quiet, scheduler=args.scheduler)
+    _emit("\n".join(study_summary(spec.title, spec.capacities, written, args.out)))
+
+
+def study_summary(
+    title: str, capacities: Sequence[str], written: Sequence[Path], out: str | Path
+) -> list[str]:
+    """The closing lines of ``polyell study``: every output, what it holds, and warnings.
+
+    The main outputs one a line (:data:`MAIN_OUTPUTS`); each figure, said by its kind
+    (:data:`FIGURE_OUTPUTS`); any other file by name; the resumable Parquet
+    datasets (``results/``, ``results_force/``) and the warnings of the run, from its
+    ``manifest.json``.
+    """
     names = {path.name for path in written}
-    lines = [f"{spec.title}: wrote {len(written)} files to {args.out}"]
-    suffixes = {capacity: capacity_class(capacity).output_suffix for capacity in spec.capacities}
+    manifest_path = next((path for path in written if path.name == "manifest.json"), None)
+    manifest: dict[str, Any] = {}
+    if manifest_path is not None:
+        with contextlib.suppress(OSError, ValueError):
+            manifest = json.loads(Path(manifest_path).read_text(encoding="utf-8"))
+    folder = Path(out)
+    lines = [f"{title}: wrote {len(written)} files to {out}"]
+    suffixes = {capacity: capacity_class(capacity).output_suffix for capacity in capacities}
+    covered: set[str] = set()
     for name, what in MAIN_OUTPUTS.items():
+        if name == "manifest.json":  # last, after the figures and datasets
+            continue
         if name in _SHARED_OUTPUTS:  # one of each, whatever the capacities
             shown = {name: what}
         else:  # each capacity's; another capacity's carry its name (comparison_force.md)
@@ -455,8 +509,35 @@ def _study(args: argparse.Namespace) -> None:
                 f"{stem}{suffix}.{extension}": f"{capacity}: {what}" if suffix else what
                 for capacity, suffix in suffixes.items()
             }
-        lines += [f"  {Path(args.out) / n}: {said}" for n, said in shown.items() if n in names]
-    _emit("\n".join(lines))
+        for shown_name, said in shown.items():
+            if shown_name not in names:
+                continue
+            stem = shown_name.rsplit(".", 1)[0]
+            # the same table in the other formats, and scores.csv (said with comparison.md)
+            covered |= {n for n in names if n.rsplit(".", 1)[0] == stem}
+            if stem.startswith("comparison"):
+                covered.add(f"scores{stem.removeprefix('comparison')}.csv")
+            lines.append(f"  {folder / shown_name}: {said}")
+    covered.add("manifest.json")
+    for kind, what in FIGURE_OUTPUTS.items():
+        figures = sorted(
+            n for n in names - covered if n.startswith(f"{kind}_") and n.endswith(_FIGURES)
+        )
+        covered |= set(figures)
+        lines += [f"  {folder / name}: {what}" for name in figures]
+    lines += [f"  {folder / name}" for name in sorted(names - covered)]
+    for dataset in manifest.get("datasets", []):
+        stem = dataset.rstrip("/")
+        capacity = next((c for c, suffix in suffixes.items() if f"results{suffix}" == stem), "")
+        said = f"{capacity}: {DATASET_OUTPUT}" if suffixes.get(capacity) else DATASET_OUTPUT
+        lines.append(f"  {folder / stem}/: {said}")
+    raised = manifest.get("warnings", [])
+    if "manifest.json" in names:  # with the run's warnings (printed after these lines)
+        said = MAIN_OUTPUTS["manifest.json"]
+        if raised:
+            said += f" ({len(raised)} warning{'s' if len(raised) > 1 else ''}, printed below)"
+        lines.append(f"  {folder / 'manifest.json'}: {said}")
+    return lines
 
 
 class _OutputError(Exception):
@@ -582,6 +663,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     # Rounded input that was projected: one note each, after the output.
     notes += [str(w.message) for w in caught if issubclass(w.category, ProjectedInputWarning)]
     others = [w for w in caught if not issubclass(w.category, ProjectedInputWarning)]
+    # each warning once (a study's joint positions are checked as it loads and as it runs)
+    others = list({(w.category, str(w.message)): w for w in others}.values())
     try:
         for note in dict.fromkeys(notes):
             print(_line(f"polyell: note: {note}"), file=sys.stderr)

@@ -31,6 +31,7 @@ _TEXT_COMMANDS = {
     r"\#": "#",
     "\\ ": " ",  # a control space (after an abbreviation's full stop: "vol.\ / MVIE vol.")
     r"\_": "_",
+    "$-$": "-",  # a sign typeset as a minus (a direction's name: "$-$z")
     r"$\pm$": "\N{PLUS-MINUS SIGN}",
     r"$\times$": "\N{MULTIPLICATION SIGN}",
     r"$\mu$": "\N{GREEK SMALL LETTER MU}",  # the micro sign is written as mu too

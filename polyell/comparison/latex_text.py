@@ -18,8 +18,10 @@ __all__ = [
     "check_text",
     "escape_latex",
     "escape_markdown",
+    "latex_direction",
     "latex_unit",
     "markdown_text",
+    "unit_power",
 ]
 
 
@@ -137,7 +139,8 @@ _POWER = re.compile(r"\^(-?[0-9]+|[A-Za-z])")
 def latex_unit(unit: object, power: str = "1") -> str:
     r"""A unit as LaTeX text, its powers as superscripts: ``m/s^2`` -> ``m/s$^{2}$``.
 
-    ``power`` other than ``"1"`` raises the whole unit: ``(m/s$^{2}$)$^{3}$``.
+    ``power`` other than ``"1"`` raises the whole unit: ``(m/s$^{2}$)$^{3}$``, and a
+    unit of one symbol without parentheses: ``N$^{3}$``.
     """
     text = check_text("unit", unit)
     parts = _POWER.split(text)  # text, power, text, power, ..., text
@@ -145,4 +148,45 @@ def latex_unit(unit: object, power: str = "1") -> str:
         escape_latex(part, "unit") if i % 2 == 0 else f"$^{{{part}}}$"
         for i, part in enumerate(parts)
     )
-    return written if power == "1" else f"({written})$^{{{power}}}$"
+    if power == "1":
+        return written
+    return (
+        f"{written}$^{{{power}}}$" if _SIMPLE_UNIT.fullmatch(text) else f"({written})$^{{{power}}}$"
+    )
+
+
+#: A unit that takes a power without parentheses: one symbol (``N``, ``rad``), no ``/``,
+#: space or power of its own.
+_SIMPLE_UNIT = re.compile(r"[A-Za-z\N{MICRO SIGN}]+")
+
+
+def unit_power(unit: str, power: str | int) -> str:
+    """A unit raised to a power as plain text: ``N^3``, ``(m/s^2)^3``; ``unit`` at power 1.
+
+    Parentheses only where the unit is compound (a ``/``, a space, a power of its own).
+
+    Examples
+    --------
+    >>> unit_power("N", 3), unit_power("m/s^2", 3), unit_power("N m", "r"), unit_power("m", 1)
+    ('N^3', '(m/s^2)^3', '(N m)^r', 'm')
+    """
+    if str(power) == "1":
+        return unit
+    return f"{unit}^{power}" if _SIMPLE_UNIT.fullmatch(unit) else f"({unit})^{power}"
+
+
+_SIGN = re.compile(r"(?<![A-Za-z0-9])-(?=[A-Za-z0-9.])")
+
+
+def latex_direction(name: object, argument: str = "direction") -> str:
+    r"""A direction's name as LaTeX, its signs as math minus: ``-z`` -> ``$-$z``.
+
+    A hyphen that starts the name or a number in it (``-xy``, ``(0.6, -0.8)``) is a sign;
+    one inside a word (``pick-up``) stays a hyphen.
+
+    Examples
+    --------
+    >>> latex_direction("-z"), latex_direction("[0.6, -0.8]"), latex_direction("pick-up")
+    ('$-$z', '[0.6, $-$0.8]', 'pick-up')
+    """
+    return _SIGN.sub("$-$", escape_latex(name, argument))

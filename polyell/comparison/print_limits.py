@@ -11,9 +11,11 @@ from polyell.comparison.print_scores import check_scores, single_unit, zero_ever
 from polyell.comparison.printable import (
     EMPTY,
     MISSING,
+    REFERENCE,
     Cell,
     Label,
     PrintTable,
+    direction_label,
     given_label,
     quantity_label,
     text_label,
@@ -39,9 +41,11 @@ def _check_frame(frame: pd.DataFrame) -> None:
         )
 
 
-def _cell(row: pd.Series, quantity: Quantity, percent: bool) -> Cell:
+def _cell(row: pd.Series, quantity: Quantity, percent: bool, kind: str = "") -> Cell:
     defined = bool(row["defined"])
     value = float(row[quantity.name])
+    if quantity.kind == "share" and kind == "polytope":  # the reference: no error of its own
+        return Cell(float("nan"), missing=REFERENCE)
     if quantity.kind == "share":
         return Cell(value, 2 if percent else 0)
     return Cell(value, missing=EMPTY if defined else MISSING)
@@ -66,7 +70,8 @@ def limits_print_tables(frame: pd.DataFrame, layout: TableLayout) -> list[PrintT
     """The directional-limits table(s) to print.
 
     Default orientation: one row per (posture,) direction and set, the limits and their
-    errors as columns; transposed: one row per (posture and) direction, each set a group
+    errors as columns (the polytope's errors blank, :data:`REFERENCE`: it is the
+    reference, 0 by definition); transposed: one row per (posture and) direction, each set a group
     of columns -- the polytope's without its errors (zero: it is the reference).  With
     the default quantities (``layout.scores`` None) a column that is zero in every row
     is left out.
@@ -133,16 +138,17 @@ def limits_print_tables(frame: pd.DataFrame, layout: TableLayout) -> list[PrintT
             first = (text_label(str(posture), "posture"),) if named else ()
             for direction in dict.fromkeys(part["direction"]):
                 at = part[part["direction"] == direction].set_index("set")
-                label = text_label(str(direction), "directions")
+                label = direction_label(str(direction))
                 if layout.transpose:
                     cells = tuple(
-                        _cell(at.loc[kind], q, layout.percent) for kind, q in column_quantities
+                        _cell(at.loc[kind], q, layout.percent, kind)
+                        for kind, q in column_quantities
                     )
                     rows.append(((*first, label), cells))
                     continue
                 for kind in kinds:
                     cells = tuple(
-                        _cell(at.loc[kind], q, layout.percent) for _, q in column_quantities
+                        _cell(at.loc[kind], q, layout.percent, kind) for _, q in column_quantities
                     )
                     rows.append(((*first, label, set_labels[kind]), cells))
         title = str(chosen[0]) if split else ""

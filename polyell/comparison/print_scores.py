@@ -171,8 +171,9 @@ def scores_print_tables(
     quantities = [layout.quantity(q.name, capacity) for q in check_scores(layout, DEFAULT_SCORES)]
     if layout.scores is None:  # the defaults: not a ratio to an optimum no one computed
         quantities = [q for q in quantities if _anywhere(frames, kinds, q.name)]
-        if layout.transpose:  # scores as columns: not one that is zero in every row
-            quantities = [q for q in quantities if not _zero_column(frames, kinds, q)]
+        # not a count or share that is zero for every set at every posture, whether a
+        # row (the default orientation) or a column (transposed): as in the summary
+        quantities = [q for q in quantities if not _zero_column(frames, kinds, q)]
     unit = single_unit(units, layout)
     split = layout.split == "posture"
     named = not split and any(frames)

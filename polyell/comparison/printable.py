@@ -17,15 +17,17 @@ from dataclasses import dataclass, field
 from decimal import ROUND_HALF_EVEN, Decimal, localcontext
 
 from polyell.comparison.labels import LabelText, Quantity
-from polyell.comparison.latex_text import escape_latex, latex_unit
+from polyell.comparison.latex_text import escape_latex, latex_direction, latex_unit, unit_power
 
 __all__ = [
     "EMPTY",
     "MISSING",
+    "REFERENCE",
     "Cell",
     "Label",
     "PrintTable",
     "decimal_text",
+    "direction_label",
     "estimate_parts",
     "given_label",
     "quantity_label",
@@ -37,6 +39,8 @@ __all__ = [
 MISSING = "n/a"
 #: Shown where a directional limit does not exist (the line misses the set).
 EMPTY = "empty"
+#: Shown for the reference against itself (the polytope's own errors: 0 by definition).
+REFERENCE = ""
 
 
 @dataclass(frozen=True)
@@ -69,6 +73,11 @@ def text_label(plain: str, argument: str = "label") -> Label:
     return Label(plain, escape_latex(plain, argument), lines)
 
 
+def direction_label(plain: str, argument: str = "directions") -> Label:
+    """A direction's name as a label: its signs a math minus in LaTeX (``$-$z``)."""
+    return Label(plain, latex_direction(plain, argument))
+
+
 def given_label(text: LabelText, argument: str = "label") -> Label:
     """A label as a user or the defaults give it: escaped plain text, or the user's LaTeX.
 
@@ -98,7 +107,7 @@ def quantity_label(quantity: Quantity, percent: bool, unit: str, power: str = "1
     elif quantity.kind == "task":
         units = (unit, latex_unit(unit))
     elif quantity.kind == "volume":
-        units = (unit if power == "1" else f"({unit})^{power}", latex_unit(unit, power))
+        units = (unit_power(unit, power), latex_unit(unit, power))
     else:
         units = ("", "")
     if not units[0]:
@@ -232,7 +241,7 @@ class Cell:
     count : bool
         A whole number (shown without rounding).
     missing : str
-        Shown where ``value`` is NaN: :data:`MISSING` or :data:`EMPTY`.
+        Shown where ``value`` is NaN: :data:`MISSING`, :data:`EMPTY` or :data:`REFERENCE`.
     """
 
     value: float

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING, cast
 
@@ -207,6 +208,27 @@ def summarize(
     return summary
 
 
+#: A standard deviation at most this many units of the last place of the data's largest
+#: magnitude is rounding noise (values equal but for their last bits: a scale of
+#: 1.0000000000000002 among ones): it is shown as 0.
+ROUNDING_ULPS = 64
+
+
+def exact_spread(std: float, low: float, high: float) -> float:
+    """``std``, or 0 where it is below the rounding of values in ``[low, high]``.
+
+    Examples
+    --------
+    >>> exact_spread(7.8e-16, 1.0, 1.0000000000000002), exact_spread(0.01, 0.9, 1.1)
+    (0.0, 0.01)
+    """
+    scale = max(abs(low), abs(high))
+    if math.isfinite(std) and math.isfinite(scale):
+        if std <= ROUNDING_ULPS * math.ulp(scale):
+            return 0.0
+    return std
+
+
 def format_summary_table(
     summary: pd.DataFrame,
     style: Style,
@@ -259,10 +281,10 @@ def format_summary_table(
             else text_label(str(score))
         )
         shift = 2 if known is not None and known.kind == "share" and layout.percent else 0
+        shown = {column: float(record[column]) for column in _STATISTICS}
+        shown["std"] = exact_spread(shown["std"], shown["min"], shown["max"])
         cells = tuple(
-            Cell(float(record[column]), count=True)
-            if column == "defined"
-            else Cell(float(record[column]), shift)
+            Cell(shown[column], count=True) if column == "defined" else Cell(shown[column], shift)
             for column in _STATISTICS
         )
         rows.append(((given_label(layout.set_text(str(kind), capacity), "sets"), name), cells))

@@ -62,6 +62,11 @@ __all__ = [
     "set_label",
 ]
 
+#: The caption and the label key of a float of one posture of the limits table, or of
+#: the comparison table, when none is given (``... at posture ready.``, ``...-ready``).
+LIMITS_NAME = ("Directional limits", "tab:limits")
+COMPARISON_NAME = ("Scores of each ellipsoid", "tab:comparison")
+
 #: The formats a table is written in.
 STYLES = ("latex", "markdown", "csv", "html")
 Style = Literal["latex", "markdown", "csv", "html"]
@@ -107,6 +112,7 @@ def render_tables(
     label: str | None = None,
     *,
     layout: TableLayout | None = None,
+    name: tuple[str, str] = ("Table", "tab:table"),
 ) -> str:
     r"""Write laid-out tables in one format (LaTeX floats, Markdown, CSV or HTML).
 
@@ -123,6 +129,10 @@ def render_tables(
     layout : TableLayout, optional
         Its ``siunitx`` (``S`` columns) and ``text_width`` (the width a LaTeX table is
         checked against); default ``TableLayout()``.
+    name : (str, str), optional
+        The caption and label key of LaTeX floats of one posture among several when
+        none is given (each float names its posture:
+        :func:`~polyell.comparison.write_latex.latex_tables`).
 
     Raises
     ------
@@ -140,6 +150,7 @@ def render_tables(
             label,
             siunitx=layout.siunitx,
             text_width=layout.text_width,
+            name=name,
         )
     if style == "markdown":
         from polyell.comparison.write_markdown import markdown_tables
@@ -252,7 +263,9 @@ def format_comparison_table(
         {name: c.analysis.polytope.dim for name, c in named.items()},
     )
     caption = _caption(caption, layout, "comparison")
-    return render_tables(tables, style, layout.digits, caption, label, layout=layout)
+    return render_tables(
+        tables, style, layout.digits, caption, label, layout=layout, name=COMPARISON_NAME
+    )
 
 
 def format_limits_table(
@@ -273,8 +286,13 @@ def format_limits_table(
     layout : TableLayout, optional
         Default ``TableLayout()``: one table, a row per posture, direction and set, the
         lower and upper limits [task unit] and their errors against the polytope [%] as
-        columns; ``transpose=True``: a row per posture and direction, each set a group of
-        columns.
+        columns, each posture a heading over its rows; ``transpose=True``: a row per
+        posture and direction, each set a group of columns.  In LaTeX, a table taller
+        than a page (:data:`~polyell.comparison.write_latex.PAGE_LINES` body lines, as
+        three postures of five directions) is one float per posture, as
+        ``split="posture"`` gives: each names its posture in its caption (``Directional
+        limits at posture ready.``, or the caption given with ``at posture ready``) and
+        its label (``tab:limits-ready``, or the label given with ``-ready``).
     caption : str or (str, str), optional
         Caption: plain text (escaped), or ``(plain, latex)`` with the LaTeX written as is;
         default the layout's ``captions["limits"]``, else none.
@@ -286,4 +304,6 @@ def format_limits_table(
     layout = _layout(layout)
     tables = limits_print_tables(frame, layout)
     caption = _caption(caption, layout, "limits")
-    return render_tables(tables, style, layout.digits, caption, label, layout=layout)
+    return render_tables(
+        tables, style, layout.digits, caption, label, layout=layout, name=LIMITS_NAME
+    )

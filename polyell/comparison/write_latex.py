@@ -38,6 +38,7 @@ from polyell.errors import TableWidthWarning
 __all__ = [
     "PAGE_LINES",
     "SMALL_ROWS",
+    "at_posture",
     "estimate_text",
     "latex_cell",
     "latex_number",
@@ -384,10 +385,26 @@ def _table_format(cells: Sequence[str]) -> str:
 # ---- tables ------------------------------------------------------------------------------
 
 
+def at_posture(text: str, posture: str) -> str:
+    """A caption naming its posture: ``Limits.`` -> ``Limits at posture ready.``.
+
+    The caption's final period moves after the posture; a caption with a comma gets
+    ``, at posture ready.`` (its last clause is not read as the posture's).
+
+    Examples
+    --------
+    >>> at_posture("Limits.", "ready"), at_posture("Limits of x, y and z", "low")
+    ('Limits at posture ready.', 'Limits of x, y and z, at posture low.')
+    """
+    body = text.rstrip()
+    body = body[:-1] if body.endswith(".") else body
+    return f"{body}{',' if ',' in body else ''} at posture {posture}."
+
+
 def _caption_tex(caption: LabelText, title: str) -> str:
     latex = caption.latex if caption.latex is not None else escape_latex(caption.plain, "caption")
     if title:
-        latex += " (" + escape_latex(title, "posture") + ")"
+        latex = at_posture(latex, escape_latex(title, "posture"))
     return latex
 
 
@@ -480,6 +497,7 @@ def latex_tables(
     *,
     siunitx: bool = False,
     text_width: float | None = None,
+    name: tuple[str, str] = ("Table", "tab:table"),
 ) -> str:
     r"""The tables as LaTeX ``table`` floats, one after the other.
 
@@ -490,7 +508,7 @@ def latex_tables(
         Significant digits.
     caption : str or (str, str), optional
         Plain text (escaped), or ``(plain, latex)`` with the LaTeX written as is; a table
-        of one posture adds ``(<posture>)``.
+        of one posture among several adds ``at posture <posture>`` (:func:`at_posture`).
     label : str, optional
         A ``\label`` key; a table of one posture among several adds ``-<posture>``
         (characters a key cannot hold become ``-``).
@@ -500,16 +518,24 @@ def latex_tables(
         The page's text width [pt]: a table estimated wider in ``\small`` is set in
         ``\footnotesize``, and one wider still is written with a ``UserWarning`` naming
         both widths.  None: no check (the size follows the number of rows alone).
+    name : (str, str), optional
+        The caption and the label key of a table of one posture among several when none
+        is given (``("Directional limits", "tab:limits")``): each such float names its
+        posture in both, ``Directional limits at posture ready.``, ``tab:limits-ready``.
 
     A combined table of several postures longer than :data:`PAGE_LINES` body lines
     (three postures of five directions in the directional-limits table) is written as
     one float per posture, as ``split="posture"`` would: one float cannot be taller than
-    a page.
+    a page.  Each of them names its posture in its caption and label.
     """
     if label is not None:
         check_latex_label(label)
     checked = _check_caption(caption)
     tables = [part for table in tables for part in _page_parts(table)]
+    several = len(tables) > 1 and any(table.title for table in tables)
+    if several:  # every float names its posture, whether a caption or label was given
+        checked = checked if checked is not None else LabelText(name[0])
+        label = label if label is not None else check_latex_label(name[1])
     parts = []
     for table in tables:
         own_label = label

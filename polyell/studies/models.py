@@ -1210,8 +1210,15 @@ braking = 50"""
         example="4096",
     )
     seed: Seed = key(0, what="Seed of those estimates, 0 or more.", example="3")
-    chunk: Annotated[int, Integer(1, 10_000_000)] = key(
-        20_000, what="Configurations per chunk of a sweep.", example="5000"
+    chunk: Annotated[int, Integer(1, 10_000_000)] | None = key(
+        None,
+        what="Configurations per chunk of a sweep (one Parquet part; a killed study resumes "
+        "from the finished ones, and the progress bar moves a chunk at a time). By default "
+        "sized by time, as `pe.sweep(chunk=None)`: as many as take about 2 s on this core "
+        "(a pilot run on the first rows), at most 20,000. A dataset being resumed keeps the "
+        "chunk it was written with.",
+        example="5000",
+        default_text="about 2 s of work, at most 20000",
     )
     horizon: Horizon | None = key(
         None,

@@ -36,6 +36,7 @@ from polyell.capacities.horizon import horizon_block, refuse_without_horizon, ro
 from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.comparison.candidates import Candidate, check_candidates
 from polyell.comparison.directions import named_direction
+from polyell.comparison.latex_text import unit_power
 from polyell.comparison.scores import polytope_columns
 from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.ellipsoid import Ellipsoid, unit_ball_volume
@@ -163,6 +164,7 @@ def posture_choice(
     q_min: ArrayLike | None = None,
     q_max: ArrayLike | None = None,
     braking: ArrayLike | None = None,
+    progress: bool = False,
 ) -> PostureChoice:
     """Which posture each index picks, and how much of the truth (the polytope) it loses.
 
@@ -209,6 +211,9 @@ def posture_choice(
     q_min, q_max, braking : array-like, shape (n,), optional
         With ``horizon``: position limits (default the robot's ``position_limits``) and the
         braking decelerations of viability (default none).
+    progress : bool, optional
+        A progress bar on standard error (tqdm), one step per posture scored, named after
+        the capacity (``acceleration: scoring postures``), as :func:`polyell.sweep`'s.
 
     Returns
     -------
@@ -240,6 +245,7 @@ def posture_choice(
         )
     rank_rtol = check_fraction("rank_rtol", rank_rtol)
     mvie, outer = _check_flag("mvie", mvie), _check_flag("outer", outer)
+    progress = _check_flag("progress", progress)
     if isinstance(configurations, SelfMotion):
         configurations = configurations.configurations
     q = check_array("configurations", configurations, ("K", robot.n), what="joint positions")
@@ -280,22 +286,32 @@ def posture_choice(
 
     limits = cls.limit_arguments(upper, lower)
     T = np.broadcast_to(d, (K, m))
-    if state is None:
-        along = limits_along(dyn, None, T, capacity=capacity, rank_rtol=rank_rtol, **limits)
-    else:
-        along = limits_along(robot, q, T, rank_rtol=rank_rtol, **limits, **within)
-    for kind in ("polytope", *definitions):
-        values[kind]["lo"][:], values[kind]["hi"][:] = along[kind]
-    scalar = np.ones(K, dtype=bool)  # forces: one posture at a time
-    if issubclass(cls, ZonotopeAnalysis):  # a block at once, as acceleration zonotopes
-        scalar[:] = False
-        _block_values(dyn, upper, lower, d, cls, found, values, scalar, mvie, outer, rank_rtol)
-    if state is not None:  # a set cut by the joints' intervals: one posture at a time
-        scalar |= horizon_block(dyn, state, upper, lower).cut
-    for k in np.flatnonzero(scalar):
-        at = None if state is None else state[int(k)]
-        analysis = analysis_within(dyn[int(k)], capacity, upper, lower, rank_rtol, at)
-        _scalar_row(analysis, d, found, kinds, values, int(k))
+    with posture_bar(K, f"{capacity}: scoring postures", progress) as bar:
+        if state is None:
+            along = limits_along(dyn, None, T, capacity=capacity, rank_rtol=rank_rtol, **limits)
+        else:
+            along = limits_along(robot, q, T, rank_rtol=rank_rtol, **limits, **within)
+        for kind in ("polytope", *definitions):
+            values[kind]["lo"][:], values[kind]["hi"][:] = along[kind]
+        scalar = np.ones(K, dtype=bool)  # forces: one posture at a time
+        block = False
+        if issubclass(cls, ZonotopeAnalysis):  # a block at once, as acceleration zonotopes
+            block = True
+            scalar[:] = False
+            _block_values(
+                dyn, upper, lower, d, cls, found, values, scalar, mvie, outer, rank_rtol, bar
+            )
+        if state is not None:  # a set cut by the joints' intervals: one posture at a time
+            scalar |= horizon_block(dyn, state, upper, lower).cut
+        rows = np.flatnonzero(scalar)
+        if block and len(rows):  # postures the batch left over: scored again, one by one
+            bar.total += len(rows)
+            bar.refresh()
+        for k in rows:
+            at = None if state is None else state[int(k)]
+            analysis = analysis_within(dyn[int(k)], capacity, upper, lower, rank_rtol, at)
+            _scalar_row(analysis, d, found, kinds, values, int(k))
+            bar.update(1)
     defined = {kind: ~np.isnan(values[kind]["volume"]) for kind in kinds}
     for kind in kinds:
         lo, hi = values[kind]["lo"], values[kind]["hi"]
@@ -333,6 +349,7 @@ def _block_values(
     mvie: bool,
     outer: bool,
     rank_rtol: float,
+    bar: Any = None,
 ) -> None:
     """Radius and volume (and the intervals of the other ellipsoids) by the batch path.
 
@@ -354,6 +371,8 @@ def _block_values(
             dyn.J[block], B[block], g[block], bias[block], upper, lower, options
         )
         scalar[block] = flagged
+        if bar is not None:
+            bar.update(len(dyn.J[block]))
         if sets is None:
             continue
         rows = sets.rows + start
@@ -374,6 +393,16 @@ def _block_values(
             if kind not in names:  # the definitions' intervals come from limits_along
                 lo, hi = line_interval_in_ellipsoids(c, U, s, d[None])
                 values[name]["lo"][ok], values[name]["hi"][ok] = lo[:, 0], hi[:, 0]
+
+
+def posture_bar(total: int, what: str, progress: bool, unit: str = " postures") -> Any:
+    """A progress bar on standard error: ``total`` steps of ``what``, off without ``progress``.
+
+    As :func:`polyell.sweep`'s (tqdm); a posture study shows it unless ``--quiet``.
+    """
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc=what, unit=unit, disable=not progress)
 
 
 def _scalar_row(
@@ -425,7 +454,7 @@ def criterion_units(unit: str, dimension: int) -> dict[str, str]:
     >>> criterion_units("m/s^2", 3)
     {'limit': 'm/s^2', 'radius': 'm/s^2', 'volume': '(m/s^2)^3'}
     """
-    volume = unit if dimension == 1 else f"({unit})^{dimension}"
+    volume = unit_power(unit, dimension)
     return {"limit": unit, "radius": unit, "volume": volume}
 
 

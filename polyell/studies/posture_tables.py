@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from polyell.comparison.latex_text import latex_unit, markdown_text
+from polyell.comparison.latex_text import check_latex_label, latex_unit, markdown_text
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.printable import Cell, Label, PrintTable, given_label, text_label
 from polyell.comparison.tables import Caption, escape_latex, escape_markdown, render_tables
@@ -155,8 +155,14 @@ def _criterion(criterion: str, unit: object) -> Label:
         return text_label(criterion, "criterion")  # (a row without a unit)
     if not isinstance(unit, str) or not unit:
         raise InputError("table['unit']", "units such as 'm/s^2'", repr(unit)[:80])
-    power = re.fullmatch(r"\((.+)\)\^([0-9]+)", unit)  # the volume's: (m/s^2)^3
-    latex = latex_unit(power.group(1), power.group(2)) if power else latex_unit(unit)
+    # the volume's: (m/s^2)^3, or N^3 (a unit of one symbol)
+    power = re.fullmatch(r"\((.+)\)\^([0-9]+)|([A-Za-z]+)\^([0-9]+)", unit)
+    if power is None:
+        latex = latex_unit(unit)
+    elif power.group(1) is not None:
+        latex = latex_unit(power.group(1), power.group(2))
+    else:
+        latex = latex_unit(power.group(3), power.group(4))
     head = escape_latex(criterion, "criterion")
     return Label(f"{criterion} [{unit}]", f"{head} [{latex}]")
 
@@ -172,9 +178,17 @@ def _number(value: object, column: str) -> float:
 
 
 def _print_table(
-    table: pd.DataFrame, layout: TableLayout, units: tuple[str, ...] | None = None
+    table: pd.DataFrame,
+    layout: TableLayout,
+    units: tuple[str, ...] | None = None,
+    *,
+    criteria_units: bool = True,
 ) -> PrintTable:
-    """The choice table laid out by the package's table writers: a line per set."""
+    """The choice table laid out by the package's table writers: a line per set.
+
+    ``criteria_units=False``: each criterion without the unit of its values (a table of
+    the picks' joint positions, which are in the joints' units).
+    """
     if table.index.nlevels != 2:
         raise InputError(
             "table",
@@ -204,7 +218,7 @@ def _print_table(
             cells.append(Cell(value, 2 if kind_of == "share" else 0, count=kind_of == "index"))
         stub = (
             given_label(layout.set_text(str(kind), capacity), "sets"),
-            _criterion(str(criterion), record["unit"] if with_units else None),
+            _criterion(str(criterion), record["unit"] if with_units and criteria_units else None),
         )
         rows.append((stub, tuple(cells)))
     stub_head = (Label("set", "set"), Label("criterion", "criterion"))
@@ -226,9 +240,12 @@ def format_posture_table(
 
     Written by the package's table writers (the same labels and rounding as every table:
     a line per set, :data:`DIGITS` significant digits, regret in percent).  A choice table's
-    picked posture is its row number and its joint positions (``q1 [rad]`` ..; not in LaTeX,
-    whose table keeps to a one-column page), and each criterion's cell carries the unit of
-    its values (``limit [m/s^2]``, ``volume [(m/s^2)^3]``: the table's ``unit`` column).
+    picked posture is its row number and its joint positions (``q1 [rad]`` ..), and each
+    criterion's cell carries the unit of its values (``limit [m/s^2]``, ``volume
+    [(m/s^2)^3]``: the table's ``unit`` column).  In LaTeX the joint positions are a
+    second float after the first (each keeps to a one-column page): a row per set and
+    criterion, the posture picked and ``$q_1$ [rad]`` .. ``$q_n$`` (``[m]`` for a
+    prismatic joint), labelled ``<label>-q``.
 
     Parameters
     ----------
@@ -261,8 +278,11 @@ def format_posture_table(
     layout = layout or TableLayout(digits=DIGITS)
     if style not in ("latex", "markdown", "csv"):
         raise InputError("style", "'latex', 'markdown' or 'csv'", repr(style))
-    if style == "latex":  # a one-column page's width: the angles are in the .md and .csv
-        table = table.drop(columns=[c for c in table.columns if re.fullmatch(r"q\d+", str(c))])
+    joints = [c for c in table.columns if re.fullmatch(r"q\d+", str(c))]
+    angles = None
+    if style == "latex" and joints:  # a one-column page: the angles in a table of their own
+        angles = _print_table(table[["picked", *joints]], layout, units, criteria_units=False)
+        table = table.drop(columns=joints)
     printable = _print_table(table, layout, units)
     if caption is None:
         own = layout.caption(name)
@@ -274,7 +294,7 @@ def format_posture_table(
             heading += f"{markdown_text(escape_markdown(plain, 'caption'))}\n\n"
         return heading + render_tables([printable], "markdown", digits)
     caption = caption if caption is not None else (title or None)
-    return render_tables(
+    text = render_tables(
         [printable],
         style,  # type: ignore[arg-type]
         digits,
@@ -282,6 +302,27 @@ def format_posture_table(
         label,
         layout=layout,
     )
+    if angles is None:
+        return text
+    joint_caption = _joints_caption(caption)
+    joint_label = None if label is None else f"{check_latex_label(label)}-q"[:200]
+    angles_text = render_tables(
+        [angles], "latex", digits, joint_caption, joint_label, layout=layout
+    )
+    return f"{text}\n{angles_text}"
+
+
+def _joints_caption(caption: Caption | None) -> tuple[str, str]:
+    """The joint positions' caption: a sentence, then the choice table's caption.
+
+    ``Joint positions of each posture picked.`` and the context (direction, postures).
+    """
+    head = "Joint positions of each posture picked."
+    if caption is None:
+        return head, head
+    plain, latex = caption if isinstance(caption, tuple) else (caption, None)
+    latex = escape_latex(plain, "caption") if latex is None else latex
+    return f"{head} {plain}", f"{head} {latex}"
 
 
 def _laid_out(table: pd.DataFrame, layout: TableLayout | None) -> tuple[pd.DataFrame, int]:

@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from polyell.comparison.candidates import Candidate
 from polyell.errors import InputError, SolverError
 from polyell.models.self_motion import MAX_COUNT, self_motion
-from polyell.studies.posture import posture_choice
+from polyell.studies.posture import posture_bar, posture_choice
 from polyell.validation import check_array, check_integer
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
@@ -101,6 +101,7 @@ def posture_choice_over_targets(
     capacity: str = "acceleration",
     qd_max: ArrayLike | None = None,
     qd_min: ArrayLike | None = None,
+    progress: bool = False,
 ) -> PostureChoiceOverTargets:
     """The posture choice at many targets, aggregated: median and worst regret.
 
@@ -131,6 +132,10 @@ def posture_choice_over_targets(
         The self-motion's step (:func:`polyell.self_motion`).
     mvie, outer, candidates, capacity, qd_max, qd_min
         As in :func:`polyell.posture_choice`.
+    progress : bool, optional
+        Progress bars on standard error (tqdm), one step per target: sampling the
+        targets' self-motions, then scoring their postures (``acceleration: scoring
+        targets``).
 
     Returns
     -------
@@ -158,6 +163,8 @@ def posture_choice_over_targets(
             "both" if starts is not None else "neither",
             "pass starts=... or count=... (with seed=...).",
         )
+    if not isinstance(progress, bool):
+        raise InputError("progress", "True or False", repr(progress)[:60])
     seed = check_integer("seed", seed, 0, 2**62)
     postures = check_integer("postures", postures, 2, MAX_COUNT)
     motions = []
@@ -165,27 +172,33 @@ def posture_choice_over_targets(
         q = check_array("starts", starts, ("K", robot.n), what="joint positions")
         if len(q) == 0:
             raise InputError("starts", "at least one configuration", "none")
-        for i, start in enumerate(q):
-            try:
-                motions.append(self_motion(robot, start, postures, seed=seed + i, step=step))
-            except InputError as exn:
-                if exn.argument != "q0":
-                    raise
-                raise InputError(f"starts[{i}]", exn.expected, exn.got, exn.fix) from None
+        with posture_bar(len(q), f"{capacity}: sampling self-motions", progress, " targets") as bar:
+            for i, start in enumerate(q):
+                try:
+                    motions.append(self_motion(robot, start, postures, seed=seed + i, step=step))
+                except InputError as exn:
+                    if exn.argument != "q0":
+                        raise
+                    raise InputError(f"starts[{i}]", exn.expected, exn.got, exn.fix) from None
+                bar.update(1)
     else:
         assert count is not None
         wanted = check_integer("count", count, 1, MAX_TARGETS)
         rng = np.random.default_rng(seed)
         draws = 0
-        while len(motions) < wanted and draws < DRAWS_PER_TARGET * wanted:
-            batch = _random_starts(robot, wanted - len(motions), rng)
-            draws += wanted - len(motions)
-            for start in batch:
-                i = len(motions)
-                try:
-                    motions.append(self_motion(robot, start, postures, seed=seed + i, step=step))
-                except (InputError, SolverError):  # blocked by the limits, or stuck
-                    continue
+        with posture_bar(wanted, f"{capacity}: sampling self-motions", progress, " targets") as bar:
+            while len(motions) < wanted and draws < DRAWS_PER_TARGET * wanted:
+                batch = _random_starts(robot, wanted - len(motions), rng)
+                draws += wanted - len(motions)
+                for start in batch:
+                    i = len(motions)
+                    try:
+                        motions.append(
+                            self_motion(robot, start, postures, seed=seed + i, step=step)
+                        )
+                    except (InputError, SolverError):  # blocked by the limits, or stuck
+                        continue
+                    bar.update(1)
         if len(motions) < wanted:
             raise SolverError(
                 f"posture_choice_over_targets: {len(motions)} of {wanted} random targets "
@@ -194,21 +207,23 @@ def posture_choice_over_targets(
     import pandas as pd
 
     tables = []
-    for motion in motions:
-        choice = posture_choice(
-            robot,
-            motion,
-            tau_max,
-            tau_min,
-            direction=direction,
-            mvie=mvie,
-            outer=outer,
-            candidates=candidates,
-            capacity=capacity,
-            qd_max=qd_max,
-            qd_min=qd_min,
-        )
-        tables.append(choice.table)
+    with posture_bar(len(motions), f"{capacity}: scoring targets", progress, " targets") as bar:
+        for motion in motions:
+            choice = posture_choice(
+                robot,
+                motion,
+                tau_max,
+                tau_min,
+                direction=direction,
+                mvie=mvie,
+                outer=outer,
+                candidates=candidates,
+                capacity=capacity,
+                qd_max=qd_max,
+                qd_min=qd_min,
+            )
+            tables.append(choice.table)
+            bar.update(1)
     frame = pd.concat(tables, keys=range(len(tables)), names=["target"])
     grouped = frame.groupby(level=["kind", "criterion"], sort=False)
     summary = pd.DataFrame(

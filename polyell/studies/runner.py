@@ -8,6 +8,7 @@ import math
 import os
 import re
 import time
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -19,7 +20,7 @@ from numpy.typing import NDArray
 from polyell.capacities import analyze, capacity_class, takes_horizon
 from polyell.capacities.horizon import robot_horizon
 from polyell.comparison.comparison import SCORE_NAMES, Comparison, compare, compared_kinds
-from polyell.comparison.latex_text import escape_latex, markdown_text
+from polyell.comparison.latex_text import escape_latex, latex_direction, markdown_text
 from polyell.comparison.limits import limits_table
 from polyell.comparison.point_tables import write_point_tables
 from polyell.comparison.summary import (
@@ -263,7 +264,7 @@ def _run_points_capacity(
     return written
 
 
-def _run_posture(spec: StudySpec, folder: Path) -> list[Path]:
+def _run_posture(spec: StudySpec, folder: Path, progress: bool = False) -> list[Path]:
     """A posture study: the self-motion through q0, the choice of each index, the figure.
 
     The postures are sampled once; for each capacity of ``[compare] capacities`` writes
@@ -279,23 +280,28 @@ def _run_posture(spec: StudySpec, folder: Path) -> list[Path]:
     posture = spec.posture
     assert posture is not None
     robot = spec.robots[0]  # a posture study has one robot (checked when it loads)
-    motions = [
-        self_motion(robot.model, q, posture.table.count, seed=posture.table.seed)
-        for q in posture.starts
-    ]
+    from polyell.studies.posture import posture_bar
 
-    def one(spec: StudySpec, folder: Path, capacity: str, *_: Any) -> Any:
-        return _posture_outputs(spec, folder, capacity, motions)
+    motions = []
+    with posture_bar(len(posture.starts), "sampling the self-motion", progress, " starts") as bar:
+        for q in posture.starts:
+            motions.append(
+                self_motion(robot.model, q, posture.table.count, seed=posture.table.seed)
+            )
+            bar.update(1)
 
-    return _each_capacity(one, spec, folder, False, None, {}, [])
+    def one(spec: StudySpec, folder: Path, capacity: str, progress: bool, *_: Any) -> Any:
+        return _posture_outputs(spec, folder, capacity, motions, progress)
+
+    return _each_capacity(one, spec, folder, progress, None, {}, [])
 
 
 def _posture_outputs(
-    spec: StudySpec, folder: Path, capacity: str, motions: list[Any]
+    spec: StudySpec, folder: Path, capacity: str, motions: list[Any], progress: bool = False
 ) -> tuple[list[Path], list[tuple[str, Any]]]:
     """One capacity's choice over the sampled postures: tables, values, figure, sections."""
     from polyell.figures import plot_posture_indices
-    from polyell.studies.posture import posture_choice
+    from polyell.studies.posture import posture_bar, posture_choice
     from polyell.studies.posture_targets import posture_choice_over_targets
 
     posture = spec.posture
@@ -315,16 +321,19 @@ def _posture_outputs(
     # velocities: the robot's own joint velocity limits; the others its torque limits
     limits = cls.limit_arguments(*cls.robot_limits(robot))
     options |= _horizon(spec, capacity)
-    choice = posture_choice(robot.model, configurations, **limits, **options)
+    choice = posture_choice(robot.model, configurations, **limits, **options, progress=progress)
     along = f"along {posture.label}"
+    along_tex = f"along {latex_direction(posture.label)}"  # "$-$z": a minus, not a hyphen
     layout = _layout(spec, capacity)
+    picks = f"the posture each index picks ({{}}, {len(configurations)} postures)"
     written = _posture_tables(
         spec,
         choice.table,
         folder,
-        f"{named}the posture each index picks ({along}, {len(configurations)} postures)",
+        f"{named}{picks.format(along)}",
         f"posture_choice{suffix}",
         layout,
+        escape_latex(f"{named}{picks}").replace("\\{\\}", along_tex, 1),
     )
     import pandas as pd
 
@@ -341,15 +350,17 @@ def _posture_outputs(
     # One traced curve has a position along it; a random walk's |q - q0|, or several
     # components, do not order the postures along one curve: the posture number then.
     traced = len(motions) == 1 and motions[0].method == "trace"
-    figure = plot_posture_indices(
-        choice.values,
-        choice.table,
-        position=motions[0].position if traced else None,
-        title=f"{spec.title} ({named}{along})",
-        labels=layout.labels,
-    )
-    stem = folder / f"posture_indices{suffix}"
-    written += _save(spec, figure, stem)
+    with posture_bar(1, f"{capacity}: drawing posture_indices", progress, " figures") as bar:
+        figure = plot_posture_indices(
+            choice.values,
+            choice.table,
+            position=motions[0].position if traced else None,
+            title=f"{spec.title} ({named}{along})",
+            labels=layout.labels,
+        )
+        stem = folder / f"posture_indices{suffix}"
+        written += _save(spec, figure, stem)
+        bar.update(1)
     sections: list[tuple[str, Any]] = [
         (
             f"{named}The posture each index picks ({along}; regret as a fraction)",
@@ -365,10 +376,18 @@ def _posture_outputs(
             seed=posture.table.seed,
             postures=posture.table.count,
             **options,
+            progress=progress,
         )
         title = f"{named}regret over {len(over.targets)} random targets ({along})"
+        title_tex = escape_latex(f"{named}regret over {len(over.targets)} random targets (")
         written += _posture_tables(
-            spec, over.summary, folder, title, f"posture_targets{suffix}", layout
+            spec,
+            over.summary,
+            folder,
+            title,
+            f"posture_targets{suffix}",
+            layout,
+            f"{title_tex}{along_tex})",
         )
         sections.append(
             (
@@ -386,11 +405,13 @@ def _posture_tables(
     what: str,
     stem: str,
     layout: TableLayout,
+    what_tex: str,
 ) -> list[Path]:
     """``<stem>.{tex,md,csv}`` of a posture table (:func:`polyell.write_posture_tables`).
 
-    The LaTeX caption is ``what`` alone (a paper's table has its own context: no study
-    title before it), or the study's own (``[output] captions``, through ``layout``); the
+    The LaTeX caption is ``what`` alone, a sentence (a paper's table has its own context:
+    no study title before it; ``what_tex`` its LaTeX, the direction's signs a math minus),
+    or the study's own (``[output] captions``, through ``layout``); the
     Markdown file's heading starts with the study's title, as every Markdown file of a
     study does.  The joint positions are headed in each joint's unit (``[m]`` for a
     prismatic joint).
@@ -403,8 +424,21 @@ def _posture_tables(
 
     label = "tab:" + stem.replace("_", "-")  # tab:posture-choice-force
     units = joint_units(spec.robots[0].model)  # (a posture study has one robot)
+    own = layout.caption("posture_choice" if "picked" in table.columns else "posture_targets")
+    caption = (
+        (own.plain, own.latex)
+        if own is not None
+        else (f"{_sentence(what)}.", f"{_sentence(what_tex)}.")
+    )
     written = write_posture_tables(
-        table, folder, _sentence(what), label=label, stem=stem, layout=layout, joint_units=units
+        table,
+        folder,
+        _sentence(what),
+        label=label,
+        stem=stem,
+        layout=layout,
+        caption=caption,
+        joint_units=units,
     )
     heading = f"{spec.title}: {what}"
     markdown = format_posture_table(table, "markdown", heading, layout=layout, joint_units=units)
@@ -1557,7 +1591,8 @@ def run_study(
     out : str or Path
         Output folder (created if needed).
     progress : bool, optional
-        Show a progress bar on standard error (grid and random studies).
+        Show progress bars on standard error (grid, random, trajectory and posture
+        studies: the configurations, postures or targets scored).
     scheduler : None, "processes" or str, optional
         Where grid and random studies run, as in :func:`polyell.sweep`.
 
@@ -1615,23 +1650,32 @@ def run_study(
     with folder_lock(folder, STUDY_LOCK, "study"):
         remove_stale_temporaries(folder, STUDY_FILES)  # what a killed run left
         previous = _previous_outputs(folder)
-        if spec.posture is not None:
-            written = _run_posture(spec, folder)
-        elif spec.is_batch:
-            written = _run_many(spec, folder, progress, scheduler, seconds, notes)
-        else:
-            written = _run_points(spec, folder)
+        try:
+            with warnings.catch_warnings(record=True) as caught:
+                if spec.posture is not None:
+                    written = _run_posture(spec, folder, progress)
+                elif spec.is_batch:
+                    written = _run_many(spec, folder, progress, scheduler, seconds, notes)
+                else:
+                    written = _run_points(spec, folder)
+        except BaseException:  # a failed or interrupted run: its warnings all the same
+            _warn_again(_unique_warnings(caught))
+            raise
+        raised = _unique_warnings(caught)
         seconds["total"] = time.perf_counter() - started
-        manifest = {
+        manifest: dict[str, Any] = {
             "study": spec.title,
             "description": spec.file.description,
             "spec": spec.path.name,
             "files": sorted(p.name for p in written),
+            "datasets": dataset_folders(spec, folder),
             "seconds": {name: round(value, 3) for name, value in seconds.items()},
             "per_row": _per_row_notes(spec, folder),
         }
         if notes:  # results.csv left out, figures of a sample or a sub-grid
             manifest["notes"] = notes
+        if raised:  # each once: joint positions out of their limits, a table too wide
+            manifest["warnings"] = [f"{w.category.__name__}: {w.message}" for w in raised]
         stale = sorted(set(previous) - {p.name for p in written} - {"manifest.json"})
         for name in stale:  # the previous run's outputs this run does not write
             (folder / name).unlink(missing_ok=True)
@@ -1641,4 +1685,37 @@ def run_study(
         written.append(
             write_text_atomically(folder / "manifest.json", json.dumps(manifest, indent=2) + "\n")
         )
+    _warn_again(raised)  # to the caller, once each (the manifest keeps them)
     return written
+
+
+def _warn_again(caught: Sequence[warnings.WarningMessage]) -> None:
+    """Raise recorded warnings again, under the caller's filters."""
+    for w in caught:
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno, source=w.source)
+
+
+def _unique_warnings(
+    caught: Sequence[warnings.WarningMessage],
+) -> list[warnings.WarningMessage]:
+    """The warnings of a run, each (category and text) once, in the order first raised.
+
+    The same warning raised at two places (a point's joint positions checked when the
+    study loads its robot and when it analyses them) is one warning to its reader.
+    """
+    seen: dict[tuple[type[Warning], str], warnings.WarningMessage] = {}
+    for w in caught:
+        seen.setdefault((w.category, str(w.message)), w)
+    return list(seen.values())
+
+
+def dataset_folders(spec: StudySpec, folder: Path) -> list[str]:
+    """The study's resumable Parquet datasets in ``folder``: ``results/``, ``results_force/``.
+
+    A grid, random or trajectory study keeps each capacity's sweep there (one part per
+    chunk; a run killed midway resumes from them); ``pd.read_parquet`` reads one whole.
+    """
+    if not spec.is_batch or spec.posture is not None:
+        return []
+    names = [f"results{capacity_class(c).output_suffix}" for c in spec.file.compare.capacities]
+    return [f"{name}/" for name in names if (folder / name).is_dir()]

@@ -21,6 +21,7 @@ from latex_numbers import parse as parse_table
 from latex_numbers import pdf_pattern
 
 import polyell as pe
+from polyell.comparison.labels import QUANTITIES
 from polyell.comparison.print_scores import DEFAULT_SCORES
 from polyell.comparison.summary import format_summary_table, summarize
 from polyell.comparison.tables import (
@@ -73,8 +74,15 @@ def test_hostile_caption_and_names_are_printed_not_run(paper):
     assert parsed.caption == HOSTILE
     assert parsed.header[-1] == "x_y & z % w"
     assert [row[0] for row in parsed.rows][4] == "coverage [%]"
-    # every default score some set has (not the ratio to an MVIE that was not computed)
-    assert len(parsed.rows) == len([s for s in DEFAULT_SCORES if frame[s].notna().any()])
+    # every default score some set has (not the ratio to an MVIE that was not computed),
+    # but a count or share that is zero for every set (the feasibility mismatches)
+    shown = [
+        s
+        for s in DEFAULT_SCORES
+        if frame[s].notna().any()
+        and not (QUANTITIES[s].kind in ("count", "share") and (frame[s].dropna() == 0).all())
+    ]
+    assert len(parsed.rows) == len(shown) and "feas.\\ mismatches" not in tex
 
 
 def test_a_label_that_is_not_a_key_is_refused(paper):
@@ -116,6 +124,9 @@ def test_markdown_rows_keep_their_columns(text):
     assert escape_markdown(text).replace("\\|", "|").replace("\\\\", "\\") == normalized(text)
 
 
+EVERY_SCORE = pe.TableLayout(scores=list(DEFAULT_SCORES))
+
+
 @pytest.mark.filterwarnings("ignore:The LaTeX table")  # (long random names: wide, and said)
 @given(
     caption=st.text(max_size=30),
@@ -134,12 +145,15 @@ def test_any_scores_any_caption_every_row_kept(paper, caption, name, values):
     frame.loc[name] = frame.loc["chiacchio"]
     frame.loc[name, list(pe.SCORE_NAMES)] = values
     try:
-        tex = format_scores_table(frame, 2, "latex", caption=caption, label="tab:s")
+        # every score chosen: kept even where zero for every set (the defaults drop those)
+        tex = format_scores_table(
+            frame, 2, "latex", caption=caption, label="tab:s", layout=EVERY_SCORE
+        )
     except InputError as exn:  # only a caption with control characters is refused
         assert exn.argument == "caption"
         assert any(ord(c) < 32 or 0x7F <= ord(c) < 0xA0 for c in caption)
         return
-    markdown = format_scores_table(frame, 2, "markdown")
+    markdown = format_scores_table(frame, 2, "markdown", layout=EVERY_SCORE)
     parsed = parse_table(tex)
     assert parsed.caption == normalized(caption)
     assert len(parsed.rows) == len(DEFAULT_SCORES) == len(markdown.splitlines()) - 2

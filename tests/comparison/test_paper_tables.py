@@ -615,8 +615,10 @@ def test_columns_that_are_zero_in_every_row_are_left_out(panda):
     assert "feasibility" not in scores and "coverage [%]" in scores
     kept = pe.TableLayout(transpose=True, scores=["coverage", "feasibility_mismatch"])
     assert "feasibility mismatches" in format_comparison_table(panda, "markdown", layout=kept)
-    # scores as rows (the default): the row stays, it reads "0" for every set
-    assert "| feasibility mismatches" in format_comparison_table(panda, "markdown")
+    # scores as rows (the default): left out too, as in the summary (both orientations)
+    assert "feasibility mismatches" not in format_comparison_table(panda, "markdown")
+    kept = pe.TableLayout(scores=["coverage", "feasibility_mismatch"])
+    assert "| feasibility mismatches" in format_comparison_table(panda, "markdown", layout=kept)
 
 
 # ---- the pycapacity table in docs/api.md --------------------------------------------------

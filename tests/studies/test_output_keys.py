@@ -172,7 +172,10 @@ def test_a_grid_and_a_posture_study_caption_their_tables(tmp_path):
     run_study(load_study(_study(tmp_path, POSTURE, output, "posture")), out)
     choice = (out / "posture_choice.tex").read_text()
     targets = (out / "posture_targets.tex").read_text()
-    assert _captions(choice) == ["The pick of each index."]
+    assert _captions(choice) == [  # (the picks' joint positions: a second float)
+        "The pick of each index.",
+        "Joint positions of each posture picked. The pick of each index.",
+    ]
     assert _captions(targets) == ["Regret over two targets."]
     for tex in (choice, targets):
         assert all("S[" in spec for spec in _column_specs(tex))

@@ -101,9 +101,12 @@ def test_written_tables_show_the_angles_and_units(tmp_path, choice):
     for row, (_, record) in zip(body, choice.table.iterrows(), strict=True):
         assert row[2] == str(int(record["picked"]))
         assert row[3:6] == [rounded_text(float(record[f"q{j}"]), 3) for j in (1, 2, 3)]
-    # LaTeX: the units and the volume's power; no angles (a one-column page's width)
+    # LaTeX: the units and the volume's power; the angles in a second float (a
+    # one-column page's width each)
     latex = paths["latex"].read_text()
-    assert "$q_{1}$" not in latex and "[rad]" not in latex
+    first, angles = latex.split("\\end{table}")[:2]
+    assert "$q_{1}$" not in first and "[rad]" not in first
+    assert "$q_{1}$\\\\{}[rad]" in angles and "Joint positions" in angles
     assert "limit [m/s$^{2}$]" in latex
     assert "volume [(m/s$^{2}$)$^{2}$]" in latex
 

@@ -137,7 +137,8 @@ def test_the_api_takes_joint_units(paper_choice, tmp_path):
     assert _header(format_posture_table(marked, "markdown"))[4] == "q2 [m]"
     written = write_posture_tables(table, tmp_path, joint_units=["rad", "rad", "m"])
     assert _header(Path(written["markdown"]).read_text())[5] == "q3 [m]"
-    assert "[m]" not in Path(written["latex"]).read_text()  # (LaTeX leaves the angles out)
+    # LaTeX: the angles in a float of their own, each joint in its unit
+    assert "$q_{3}$\\\\{}[m]" in Path(written["latex"]).read_text()
 
 
 @pytest.mark.parametrize(
