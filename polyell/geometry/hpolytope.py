@@ -560,23 +560,80 @@ class HPolytope(ConvexSet):
 
     @classmethod
     def from_vertices(cls, vertices: ArrayLike) -> HPolytope:
-        """The convex hull of points (V, m), as half-spaces (cddlib, V to H).
+        """The convex hull of points (V, m), with its facets and vertices.
 
-        The hull must be full-dimensional in R^m.
+        The hull must be full-dimensional in R^m (points of rank m about their mean, by
+        ``RANK_RTOL``); interior, repeated and coplanar points are allowed.  The vertices
+        are the points the hull needs (repeats within rounding once); the facets are
+        Qhull's (its triangulated boundary grouped by plane; cddlib's where Qhull's fail),
+        each with the offset of the farthest point, and certified
+        (:func:`_hull_of_points`): every facet holds m affinely independent points, and
+        the boundary closes up (every ridge on two facets), so that none is missing.  All
+        in coordinates where the points are round (their principal axes, scaled).  The
+        vertices are not enumerated again from the facets: in 5-D and 6-D a hull of a few
+        dozen points has vertices on dozens of facets each, which no floating-point
+        enumeration of half-spaces decides reliably (14 random points in 6-D raised
+        SolverError so).
+
+        Raises
+        ------
+        InputError
+            If the points do not span R^m.
+        SolverError
+            If neither Qhull's nor cddlib's facets pass the certificate.
         """
-        from polyell.geometry.cddlib import halfspaces_from_vertices
-
         V = check_array("vertices", vertices, ("V", "m"))
-        center = V.mean(axis=0)
-        if np.linalg.matrix_rank(V - center) < V.shape[1]:
+        m = V.shape[1]
+        if m == 0:
+            raise InputError(
+                "vertices", "at least one column (the task dimension m)", "shape (V, 0)"
+            )
+        center = V.mean(axis=0) if len(V) else np.zeros(m)
+        svd = rank_revealing_svd((V - center).T) if len(V) else None
+        rank = 0 if svd is None else svd.rank
+        if rank < m:
             raise InputError(
                 "vertices",
-                f"points spanning R^{V.shape[1]} (a full-dimensional hull)",
-                f"points of rank {np.linalg.matrix_rank(V - center)} about their mean",
+                f"points spanning R^{m} (a full-dimensional hull)",
+                f"{len(V)} points of rank {rank} about their mean",
                 "give the points of a full-dimensional set.",
             )
-        A, b = halfspaces_from_vertices(V - center)
-        return cls(A, b + A @ center, center=center)
+        assert svd is not None
+        # Whitened coordinates: x = center + U diag(t) y with the points' principal axes U
+        # and spreads t, scaled so that the farthest point is at distance 1: the hull of a
+        # thin or far-off cloud is as well shaped as a round one's.
+        frame = svd.U1
+        stretch = svd.sigma.copy()
+        y = ((V - center) @ frame) / stretch
+        reach = float(np.sqrt((y * y).sum(axis=1)).max())
+        y, stretch = y / reach, stretch * reach
+        kept = _distinct_points(y)
+        hull = _hull_of_points(y[kept])
+        normals, offsets, vertex = hull.normals, hull.offsets, kept[hull.vertices]
+        y_vertices = y[vertex]
+        # the facets in task coordinates: n . y <= o is (n / t) . U^T (x - center) <= o
+        A = (normals / stretch) @ frame.T
+        scale = np.sqrt((A * A).sum(axis=1))
+        A, b = A / scale[:, None], offsets / scale + (A / scale[:, None]) @ center
+        limit = magnitude_limit(m)
+        size = float(np.abs(b).max())
+        if size > 10.0**limit or 0 < size < 10.0**-limit:  # as HPolytope(A, b) refuses them
+            raise InputError(
+                "vertices",
+                f"points whose facets lie at distances between 1e-{limit} and 1e{limit} from "
+                "the origin (the set's volume and limits representable)",
+                f"facets up to {size:.3g} away",
+                "express the points in units where the set is of moderate size.",
+            )
+        points = V[vertex]
+        if m == 2:  # counter-clockwise, as a zonotope's (y is x turned by U: a reflection?)
+            turn = float(np.linalg.det(frame))
+            angle = np.arctan2(*(y_vertices - y_vertices.mean(axis=0)).T[::-1])
+            order = np.argsort(angle if turn > 0 else -angle)
+            points, y_vertices = points[order], y_vertices[order]
+        polytope = cls.from_enumeration(A, b, points, center, (y_vertices, frame, stretch))
+        polytope._volume_y = hull.volume
+        return polytope
 
     # --- ConvexSet -------------------------------------------------------------------------
 
@@ -1051,6 +1108,299 @@ def _complete(
             "it with fewer half-spaces or report it."
         )
     return rows, points[:, 1:], volume
+
+
+# --- the hull of points (HPolytope.from_vertices) ------------------------------------------
+
+#: Whitened units of :meth:`HPolytope.from_vertices` (the farthest point at distance 1): a
+#: point is on a facet's plane when its slack is at most this; two points this close are
+#: one; two planes whose unit normals and offsets are this close are one (a facet that
+#: Qhull split in two).
+HULL_TOL = 1e-9
+#: A facet's points span r - 1 dimensions when their (r - 1)-th singular value about their
+#: mean is above this (whitened units; a sliver facet of points close along a curve is
+#: thinner than HULL_TOL, a lower face's points are flat to rounding, about 1e-16).
+SPAN_TOL = 1e-14
+#: A point's facets span R^r (it is a vertex) when the r-th singular value of their unit
+#: normals is above this (those through an edge are dependent to the rounding of the
+#: normals, about 1e-15).
+VERTEX_TOL = 1e-11
+#: The incidence of points on a hull and its facets is a boolean matrix of at most this
+#: many entries (bytes); beyond, the hull is refused with an InputError.
+MAX_INCIDENCE = 400_000_000
+#: cddlib's V-to-H conversion stands in for Qhull for at most this many points.
+MAX_CDD_POINTS = 2_000
+
+
+class _Hull(NamedTuple):
+    """Certified facets ``normals y <= offsets`` (unit normals) of the hull of points."""
+
+    normals: NDArray[np.float64]
+    offsets: NDArray[np.float64]
+    vertices: NDArray[np.int_]  # the points that are vertices
+    volume: float | None  # Qhull's volume of the hull, where its exact hull gave the facets
+
+
+def _distinct_points(y: NDArray[np.float64]) -> NDArray[np.int_]:
+    """Indices of the points (V, r), each once within :data:`HULL_TOL` (the first kept)."""
+    from scipy.spatial import cKDTree
+
+    first = np.sort(np.unique(y, axis=0, return_index=True)[1])
+    pairs = cKDTree(y[first]).query_pairs(HULL_TOL, output_type="ndarray")
+    later = np.zeros(len(first), dtype=bool)
+    later[pairs.max(axis=1)] = True
+    return first[~later]
+
+
+def _hull_of_points(y: NDArray[np.float64]) -> _Hull:
+    """The facets and vertices of the hull of points ``y`` (V, r) spanning R^r, certified.
+
+    Qhull's hull (its exact merges, then joggled input) where :func:`_qhull_facets`
+    certifies it, else cddlib's V-to-H conversion where :func:`_certified_facets` does
+    (up to :data:`MAX_CDD_POINTS` points); a :class:`SolverError` otherwise.  The vertices
+    are the points on facets whose normals span R^r.
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
+    from polyell.geometry.cddlib import halfspaces_from_vertices
+
+    r = y.shape[1]
+    if r == 1:
+        lo, hi = int(np.argmin(y[:, 0])), int(np.argmax(y[:, 0]))
+        normals, offsets = np.array([[1.0], [-1.0]]), np.array([y[hi, 0], -y[lo, 0]])
+        return _Hull(normals, offsets, np.array([lo, hi]), float(y[hi, 0] - y[lo, 0]))
+    for options in (None, "QJ"):
+        try:
+            hull = ConvexHull(y) if options is None else ConvexHull(y, qhull_options=options)
+        except (QhullError, ValueError):
+            continue
+        qhull = _qhull_facets(y, hull)
+        if qhull is not None:
+            volume = float(hull.volume) if options is None else None
+            return _Hull(*qhull, volume)
+    facets = None
+    if len(y) <= MAX_CDD_POINTS:  # (cddlib's time grows fast with the points)
+        try:
+            A, b = halfspaces_from_vertices(y)
+        except RuntimeError:
+            pass
+        else:
+            facets = _certified_facets(y, A, b)
+    if facets is None:
+        raise SolverError(
+            f"the hull of {len(y)} points in {r} dimensions: neither Qhull's nor cddlib's "
+            "facets could be certified (a facet missing or on too few points); report it."
+        )
+    return _Hull(*facets, None)
+
+
+def _qhull_facets(
+    y: NDArray[np.float64], hull: object
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int_]] | None:
+    """The facets and vertices of Qhull's hull of ``y`` (V, r), or None unless certified.
+
+    Certified: its simplices (its facets triangulated) are distinct and close up (every
+    r - 1 of a simplex's points are in exactly two simplices), and every point is within
+    :data:`HULL_TOL` below the plane of each (the offset is then moved to the farthest
+    point), whose own points are on it: a closed surface of supporting simplices is the
+    whole boundary of the hull, so no facet is missing.  The simplices of one plane
+    (Qhull's merged facets) make one facet, whose points must span r - 1 dimensions.  The
+    vertices: the points of the simplices whose facets' normals span R^r.
+    """
+    r = y.shape[1]
+    simplices = np.sort(np.asarray(hull.simplices, dtype=np.int64), axis=1)  # type: ignore[attr-defined]
+    equations = np.asarray(hull.equations)  # type: ignore[attr-defined]
+    if not len(simplices) or len(np.unique(simplices, axis=0)) != len(simplices):
+        return None
+    ridges = np.concatenate([np.delete(simplices, j, axis=1) for j in range(r)])
+    if not bool((np.unique(ridges, axis=0, return_counts=True)[1] == 2).all()):
+        return None  # not closed: a simplex missing (or a ridge on three)
+    normals = equations[:, :r]
+    lengths = np.sqrt((normals * normals).sum(axis=1))
+    if not bool((lengths > 0).all()):
+        return None
+    normals = normals / lengths[:, None]
+    offsets = _support(y, normals)
+    own = offsets[:, None] - np.einsum("skr,sr->sk", y[simplices], normals)  # (S, r) >= 0
+    if float(own.max()) > HULL_TOL or float((offsets + equations[:, r] / lengths).max()) > HULL_TOL:
+        return None  # a simplex off its plane, or a point beyond it
+    # one facet per plane (Qhull's merged facets come triangulated)
+    keys = np.round(np.hstack([normals, offsets[:, None]]) / HULL_TOL) * HULL_TOL
+    _, first, label = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    label = label.reshape(-1)
+    F, V = len(first), len(y)
+    _check_incidence(V, F)
+    incidence = np.zeros((V, F), dtype=bool)
+    incidence[simplices, label[:, None]] = True
+    spans = [np.flatnonzero(incidence[:, f]) for f in range(F)]
+    for points in spans:
+        local = y[points] - y[points].mean(axis=0)
+        if len(points) < r or np.linalg.svd(local, compute_uv=False)[r - 2] <= SPAN_TOL:
+            return None
+    n, o = normals[first], offsets[first]
+    return n, o, _vertex_points(n, incidence)
+
+
+def _check_incidence(points: int, facets: int) -> None:
+    """Refuse a hull whose incidence matrix would exceed :data:`MAX_INCIDENCE` entries."""
+    if points * facets > MAX_INCIDENCE:
+        raise InputError(
+            "vertices",
+            f"a hull of at most {MAX_INCIDENCE:.0e} pairs of a point and a facet",
+            f"{points} points and {facets} facets",
+            "thin the points out (e.g. keep the vertices of scipy.spatial.ConvexHull).",
+        )
+
+
+def _support(y: NDArray[np.float64], normals: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``max_i normals . y_i`` of each normal (F, r) over the points (V, r), a block at a time."""
+    out = np.full(len(normals), -np.inf)
+    for start in range(0, len(y), 2048):
+        out = np.maximum(out, (y[start : start + 2048] @ normals.T).max(axis=0))
+    return out
+
+
+def _certified_facets(
+    y: NDArray[np.float64], normals: NDArray[np.float64], offsets: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int_]] | None:
+    """The facets of the hull of ``y`` (V, r) from candidate planes, and its vertices; or None.
+
+    Each plane is moved to the farthest point along its normal (so that every point
+    satisfies it), planes that coincide are merged (refitted to the points on them), and
+    repeats dropped.  None unless certified: every facet holds points spanning r - 1
+    dimensions, and every ridge of every facet (from the facet's own points) lies on
+    another facet.  A missing facet would leave the ridges around it on one facet only;
+    a candidate that is no facet spans fewer dimensions.
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    r = y.shape[1]
+    _check_incidence(len(y), len(normals))
+    lengths = np.sqrt((normals * normals).sum(axis=1))
+    if not len(normals) or not bool((lengths > 0).all()):
+        return None
+    n = normals / lengths[:, None]
+    o = (y @ n.T).max(axis=0)
+    keys = np.hstack([n, o[:, None]])
+    pairs = cKDTree(keys).query_pairs(HULL_TOL, p=np.inf, output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), (len(n), len(n)))
+    _, label = connected_components(graph, directed=False)
+    first = np.unique(label, return_index=True)[1]
+    n, o = n[first], o[first]
+    for group in np.flatnonzero(np.bincount(label) > 1):  # planes Qhull split: one fit
+        members = label == group
+        on = (o[group] - y @ n[group] <= HULL_TOL) | (
+            ((keys[members, r] - y @ keys[members, :r].T) <= HULL_TOL).any(axis=1)
+        )
+        points = y[on]
+        fitted = np.linalg.svd(points - points.mean(axis=0))[2][-1]
+        n[group] = fitted if fitted @ n[group] > 0 else -fitted
+        o[group] = float((y @ n[group]).max())
+    tight = (o[None, :] - y @ n.T) <= HULL_TOL  # (V, F)
+    unique = np.unique(np.packbits(tight, axis=0), axis=1, return_index=True)[1]
+    keep = np.sort(unique)
+    n, o, tight = n[keep], o[keep], tight[:, keep]
+    ridges = _ridges(y, n, tight)
+    if ridges is None or not _ridges_shared(ridges, tight):
+        return None
+    return n, o, _vertex_points(n, tight)
+
+
+def _ridges(
+    y: NDArray[np.float64], n: NDArray[np.float64], tight: NDArray[np.bool_]
+) -> list[NDArray[np.int_]] | None:
+    """Every ridge of every facet, as point indices (groups of one size stacked).
+
+    A facet on r points: its r subsets of r - 1; on more: the facets of their hull within
+    the facet's plane (the points within :data:`HULL_TOL` of each).  None where a facet's
+    points span fewer than r - 1 dimensions (by :data:`SPAN_TOL`: it is no facet).
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
+    r = y.shape[1]
+    count = tight.sum(axis=0)
+    if int(count.min()) < r:
+        return None
+    found: dict[int, list[tuple[int, ...]]] = {}
+    simple = np.flatnonzero(count == r)
+    if len(simple):
+        points = np.nonzero(tight[:, simple].T)[1].reshape(-1, r)  # (S, r), sorted
+        span = y[points] - y[points].mean(axis=1, keepdims=True)
+        sigma = np.linalg.svd(span, compute_uv=False)
+        if bool((sigma[:, r - 2] <= SPAN_TOL).any()):
+            return None
+        for drop in range(r):
+            found.setdefault(r - 1, []).extend(map(tuple, np.delete(points, drop, axis=1)))
+    for f in np.flatnonzero(count > r):
+        on = np.flatnonzero(tight[:, f])
+        local = y[on] - y[on].mean(axis=0)
+        _, sigma, vt = np.linalg.svd(local, full_matrices=True)
+        if sigma[r - 2] <= SPAN_TOL:
+            return None
+        plane = local @ vt[: r - 1].T  # (k, r - 1): coordinates in the facet's plane
+        if r == 2:
+            faces = [plane[:, 0] <= plane[:, 0].min() + HULL_TOL]
+            faces.append(plane[:, 0] >= plane[:, 0].max() - HULL_TOL)
+        else:
+            equations = None
+            for options in (None, "QJ"):
+                try:
+                    hull = (
+                        ConvexHull(plane)
+                        if options is None
+                        else ConvexHull(plane, qhull_options=options)
+                    )
+                except (QhullError, ValueError):
+                    continue
+                equations = hull.equations
+                break
+            if equations is None:
+                return None
+            lengths = np.sqrt((equations[:, :-1] ** 2).sum(axis=1))
+            height = (-equations[:, -1] / lengths)[None, :] - plane @ (
+                equations[:, :-1] / lengths[:, None]
+            ).T
+            height = (
+                height - np.minimum(height.min(axis=0), 0.0)[None, :]
+            )  # (its offset: the farthest)
+            faces = list((height <= HULL_TOL).T)
+        for face in faces:
+            ridge = tuple(on[face])
+            if len(ridge) < r - 1:
+                return None
+            found.setdefault(len(ridge), []).append(ridge)
+    return [np.unique(np.array(group), axis=0) for group in found.values()]
+
+
+def _ridges_shared(ridges: list[NDArray[np.int_]], tight: NDArray[np.bool_]) -> bool:
+    """Whether every ridge (point indices) lies on two facets or more (``tight``, (V, F))."""
+    bits = np.packbits(tight, axis=1)  # (V, F / 8): a point's facets, 8 to a byte
+    for group in ridges:
+        for start in range(0, len(group), 4096):
+            block = group[start : start + 4096]
+            on = bits[block[:, 0]]
+            for j in range(1, block.shape[1]):
+                on = on & bits[block[:, j]]
+            if int(_BITS_SET[on].sum(axis=1, dtype=np.int64).min()) < 2:
+                return False
+    return True
+
+
+#: The number of bits set in each byte (numpy before 2.0 has no bitwise_count).
+_BITS_SET = np.array([bin(byte).count("1") for byte in range(256)], dtype=np.uint8)
+
+
+def _vertex_points(n: NDArray[np.float64], tight: NDArray[np.bool_]) -> NDArray[np.int_]:
+    """The points (rows of ``tight``, (V, F)) on facets whose unit normals span R^r."""
+    r = n.shape[1]
+    vertices = []
+    for i in np.flatnonzero(tight.sum(axis=1) >= r):
+        sigma = np.linalg.svd(n[tight[i]], compute_uv=False)
+        if sigma[r - 1] > VERTEX_TOL:
+            vertices.append(i)
+    return np.array(vertices, dtype=int)
 
 
 # --- vertex enumeration by walking the edges ---------------------------------------------

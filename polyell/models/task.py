@@ -79,6 +79,12 @@ def task_unit(task: Sequence[str], tex: bool = False, capacity: str = "accelerat
 
     ``m/s^2`` and ``rad/s^2`` (acceleration), ``m/s`` and ``rad/s`` (velocity), ``N`` and
     ``N m`` (force).
+
+    Raises
+    ------
+    InputError
+        If ``task`` is not a sequence of one row name or more (an empty task has no unit),
+        ``tex`` is not a bool or ``capacity`` is unknown.
     """
     _check_capacity(capacity)
     if not isinstance(tex, bool):
@@ -86,6 +92,13 @@ def task_unit(task: Sequence[str], tex: bool = False, capacity: str = "accelerat
     if isinstance(task, str) or not isinstance(task, Iterable):
         raise InputError("task", "a sequence of row names such as ('x', 'z')", repr(task)[:80])
     rows = list(task)
+    if not rows:  # no quantity, hence no unit (a set has one row at least)
+        raise InputError(
+            "task",
+            "at least one row name such as ('x', 'z')",
+            "an empty task",
+            "name the task's rows.",
+        )
     if not all(isinstance(row, str) and row for row in rows):
         raise InputError("task", "non-empty row names such as ('x', 'z')", repr(rows)[:80])
     kinds = {_kind(row) for row in rows}
