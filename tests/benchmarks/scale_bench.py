@@ -216,7 +216,8 @@ def section(results: list[dict]) -> list[str]:
             "columns=[PER_ROW])` after the sweep (`polyell/studies/sweep.py`) and in "
             "`_per_row_notes` (`polyell/studies/runner.py`) peaks at +184 MiB over a "
             "fresh process's baseline on 500 parts of 20,000 rows, +40 MiB on 50 (measured "
-            "apart, issue 33)."
+            "apart, issue 33). Both now count the parts one at a time "
+            "(`per_row_note(folder)`); a rerun of this section measures that."
             if b["after"] > 1.2 * a["after"]
             else f"After it too: {a['after']:.0f} and {b['after']:.0f} MiB."
         )
