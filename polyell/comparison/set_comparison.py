@@ -87,7 +87,9 @@ class SetScores:
     volume : float
         Volume of the ellipsoid in its affine set [task unit^r].
     inscribed_scale : float
-        Largest k with ``c + k (E - c)`` inside P; >= 1 iff E is inside P.
+        Largest k with ``c + k (E - c)`` inside P; >= 1 iff E is inside P; negative when
+        even E's centre c lies outside P (no copy of E scaled about c fits, e.g. a
+        candidate centred elsewhere).
     enclosing_scale : float
         Smallest k with P inside ``c + k (E - c)``; <= 1 iff E contains P.
     coverage, overreach : float
