@@ -11,6 +11,7 @@ import contextlib
 import errno
 import json
 import logging
+import math
 import os
 import re
 import sys
@@ -47,6 +48,8 @@ if TYPE_CHECKING:
 __all__ = ["main"]
 
 PAPER_Q = "pi/2,-pi/2,-pi/2"
+#: The largest |--angle| [deg]: one turn either way (a direction repeats beyond).
+MAX_ANGLE_DEG = 360.0
 #: The outputs a study's summary points to, with what they hold.
 MAIN_OUTPUTS = {
     "numbers.md": "every number of each configuration (sets, limits, inverse maps)",
@@ -240,7 +243,12 @@ def _robot(name: str, tau_max: list[float] | None, tau_min: list[float] | None) 
     else:
         model = robots.load(name)
         if model.tau_max is None or model.tau_min is None:
-            raise InputError("--tau-max", "torque limits for this robot", "none given")
+            raise InputError(
+                "--tau-max",
+                "torque limits for this robot",
+                "none given",
+                "give them with --tau-max (and --tau-min) [N m], one per joint.",
+            )
         robot = Robot(model, model.tau_max, model.tau_min)
     if tau_max is None and tau_min is None:
         return robot
@@ -292,8 +300,25 @@ def _direction(
     m = len(task)
     if args.angle is not None:
         if m != 2 or len(args.angle) != 1:
-            raise InputError("--angle", "one angle [deg] for a 2-D task", f"{args.angle}, m = {m}")
-        angle = np.deg2rad(args.angle[0])
+            raise InputError(
+                "--angle",
+                "one angle [deg] for a 2-D task",
+                f"{args.angle}, m = {m}",
+                "give one angle such as --angle 30, or --direction (a name or a unit "
+                "vector) for another task.",
+            )
+        degrees = float(args.angle[0])
+        if not np.isfinite(degrees) or abs(degrees) > MAX_ANGLE_DEG:
+            raise InputError(
+                "--angle",
+                f"an angle from -{MAX_ANGLE_DEG:g} to {MAX_ANGLE_DEG:g} deg (one turn either "
+                "way: a larger one is a slip, or rounds its direction away)",
+                repr(args.angle[0]),
+                f"give the angle modulo 360, e.g. --angle {math.fmod(degrees, 360.0):g}"
+                if np.isfinite(degrees)
+                else "give a finite angle in degrees, e.g. --angle 30.",
+            )
+        angle = np.deg2rad(degrees)
         return np.array([np.cos(angle), np.sin(angle)]), "t", []
     if args.direction is None:  # the first task row
         return np.eye(m)[0], task[0], []
@@ -389,7 +414,12 @@ def _analyze(args: argparse.Namespace) -> list[str]:
             "leave --horizon and --braking out.",
         )
     if args.braking is not None and args.horizon is None:
-        raise InputError("--braking", "--braking only with --horizon", "no --horizon")
+        raise InputError(
+            "--braking",
+            "--braking only with --horizon",
+            "no --horizon",
+            "add --horizon SECONDS (your control period), or leave --braking out.",
+        )
     if "qd_max" in cls.limit_keywords:  # joint velocity limits: --qd-max, --qd-min
         if args.tau_max is not None or args.tau_min is not None:
             raise InputError(

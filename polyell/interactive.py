@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 from polyell.capacities import check_capacity
 from polyell.comparison.comparison import SCORE_NAMES, Comparison
 from polyell.comparison.labels import Labels, check_labels, label_text
+from polyell.comparison.latex_text import unit_power
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.summary import result_kinds, split_column
 from polyell.comparison.tables import score_display
@@ -79,6 +80,14 @@ DECIMATION_THRESHOLD = 2 * DECIMATION_BUCKETS
 _HOVER_SCORES = ("inscribed_scale", "enclosing_scale", "coverage", "mvie_ratio", "outer_ratio")
 
 
+def _close(name: str, valid: Sequence[str]) -> str:
+    """A fix naming the valid column closest to ``name`` (difflib), if any."""
+    from difflib import get_close_matches
+
+    close = get_close_matches(str(name), valid, n=1, cutoff=0.6)
+    return f"did you mean {close[0]!r}?" if close else ""
+
+
 def _plain_label(row: str) -> str:
     """A plain-text axis label (plotly shows no TeX offline): ẍ for x, ω̇x for wx."""
     if row.startswith("w"):
@@ -95,7 +104,12 @@ def _plot_title(title: object) -> str | None:
     if title is None:
         return None
     if not isinstance(title, str):
-        raise InputError("title", "a str or None", f"{type(title).__name__} {title!r:.60}")
+        raise InputError(
+            "title",
+            "a str or None",
+            f"{type(title).__name__} {title!r:.60}",
+            "pass the title as text, e.g. title='Panda at q0', or leave it out.",
+        )
     return "<br>".join(html.escape(line) for line in title.splitlines()) if title else None
 
 
@@ -150,7 +164,7 @@ def _hover_text(kind: str, comparison: Comparison, unit: str, labels: Labels) ->
     record = comparison[kind]
     capacity = comparison.analysis.capacity
     lines = [f"<b>{_name(kind, capacity, labels)}</b>"]
-    lines.append(f"volume {record.volume:.4g} ({unit})^{int(record.dimension)}")
+    lines.append(f"volume {record.volume:.4g} {unit_power(unit, int(record.dimension))}")
     for score in _HOVER_SCORES:
         value = getattr(record, score)
         if np.isfinite(value):
@@ -200,7 +214,13 @@ def interactive_sets(
     analysis = comparison.analysis
     m = analysis.m
     if m not in (2, 3):
-        raise InputError("comparison", "a 2-D or 3-D task space", f"m = {m}")
+        raise InputError(
+            "comparison",
+            "a 2-D or 3-D task space",
+            f"m = {m}",
+            "analyze a task of 2 or 3 rows (task='planar' or 'linear'), or read the "
+            "comparison's tables (pe.format_comparison_table).",
+        )
     if kinds is not None and (
         isinstance(kinds, str)
         or not isinstance(kinds, Sequence)
@@ -208,7 +228,7 @@ def interactive_sets(
     ):
         raise InputError(
             "kinds", f"a list of the comparison's kinds, among {list(comparison.kinds)}",
-            repr(kinds)[:80],
+            repr(kinds)[:80], "pass a list such as kinds=['chiacchio'], or leave kinds out.",
         )  # fmt: skip
     chosen = [k for k in (kinds or comparison.kinds) if comparison[k].defined]
     unit = analysis.unit()
@@ -220,7 +240,7 @@ def interactive_sets(
         for v in P.vertices
     ]
     polytope = _name("polytope", analysis.capacity, labels)
-    polytope_name = f"{polytope}, volume {P.volume:.4g} ({unit})^{P.dim}"
+    polytope_name = f"{polytope}, volume {P.volume:.4g} {unit_power(unit, P.dim)}"
     if m == 2:
         outline = P.vertices if P.dim < 2 else np.vstack([P.vertices, P.vertices[:1]])
         figure.add_trace(
@@ -419,25 +439,52 @@ def interactive_map(
             "columns",
             "a score column or a non-empty list of them, e.g. 'chiacchio_coverage'",
             repr(columns)[:80],
+            "pass a column of the results such as 'chiacchio_coverage'.",
         )
     for label, value in (("x", x), ("y", y)):
         if not isinstance(value, str):
-            raise InputError(label, "the name of a joint column such as 'q2'", repr(value)[:80])
+            raise InputError(
+                label,
+                "the name of a joint column such as 'q2'",
+                repr(value)[:80],
+                f"pass {label}='q2' (a joint the grid varies).",
+            )
     if x == y:
-        raise InputError("y", f"a joint column other than x = {x!r}", repr(y))
+        raise InputError(
+            "y",
+            f"a joint column other than x = {x!r}",
+            repr(y),
+            "pass the grid's other varying joint as y.",
+        )
     if not (
         isinstance(units, tuple | list)
         and len(units) == 2
         and all(u in ("rad", "m") for u in units)
     ):
-        raise InputError("units", 'two joint units, each "rad" or "m"', repr(units)[:80])
+        raise InputError(
+            "units",
+            'two joint units, each "rad" or "m"',
+            repr(units)[:80],
+            'pass units=("rad", "rad"), "m" for a prismatic joint.',
+        )
     for name in (*mapped, x, y):
         if name not in results:
-            raise InputError("results", f"a column {name!r}", f"columns {list(results)[:8]}...")
+            raise InputError(
+                "results",
+                f"a column {name!r}",
+                f"columns {list(results)[:8]}...",
+                _close(name, [str(c) for c in results.columns])
+                or "pass a results frame of pe.sweep with that column, or another name.",
+            )
     table = results.sort_values([y, x])
     xs, ys = np.unique(table[x].to_numpy()), np.unique(table[y].to_numpy())
     if len(xs) * len(ys) != len(table):
-        raise InputError("results", f"a full grid over ({x}, {y})", f"{len(table)} rows")
+        raise InputError(
+            "results",
+            f"a full grid over ({x}, {y})",
+            f"{len(table)} rows",
+            "pass the results of a grid sweep (every x with every y), or draw a histogram.",
+        )
     common = [
         c
         for c in table.columns
@@ -450,7 +497,10 @@ def interactive_map(
         numbers = pd.to_numeric(table[column], errors="coerce")
         if bool((numbers.isna() & table[column].notna()).any()):
             raise InputError(
-                f"results[{column!r}]", "numbers", f"{table[column][numbers.isna()].iloc[0]!r}"
+                f"results[{column!r}]",
+                "numbers",
+                f"{table[column][numbers.isna()].iloc[0]!r}",
+                "pass the numeric results of pe.sweep (or convert the column to numbers).",
             )
     values64 = table[shown].to_numpy(dtype=float)
     finite = np.abs(values64[np.isfinite(values64)])
@@ -469,7 +519,12 @@ def interactive_map(
     views = []
     for column in mapped:
         if column not in split:
-            raise InputError("columns", "score columns <ellipsoid>_<score>", repr(column))
+            raise InputError(
+                "columns",
+                "score columns <ellipsoid>_<score>",
+                repr(column),
+                "pass a column such as 'chiacchio_coverage'.",
+            )
         kind, score = split[column]
         label, factor = _score(score, capacity, labels)
         same = [c for c in mapped if split[c][1] == score]
@@ -525,14 +580,22 @@ def interactive_map(
 def _kinds_with(results: pd.DataFrame, score: str, kinds: Sequence[str] | None) -> list[str]:
     """The ellipsoids (``kinds``, default all) with a ``<kind>_<score>`` column."""
     if not isinstance(score, str):
-        raise InputError("score", f"a score name, one of {list(SCORE_NAMES)}", repr(score)[:80])
+        raise InputError(
+            "score",
+            f"a score name, one of {list(SCORE_NAMES)}",
+            repr(score)[:80],
+            "pass a score name such as 'coverage'.",
+        )
     if kinds is not None and (
         isinstance(kinds, str)
         or not isinstance(kinds, Sequence)
         or not all(isinstance(kind, str) for kind in kinds)
     ):
         raise InputError(
-            "kinds", "a list of ellipsoid names such as ['chiacchio']", repr(kinds)[:80]
+            "kinds",
+            "a list of ellipsoid names such as ['chiacchio']",
+            repr(kinds)[:80],
+            "pass a list such as kinds=['chiacchio'], or leave kinds out.",
         )
     chosen = [k for k in (kinds or result_kinds(results.columns)) if f"{k}_{score}" in results]
     if not chosen:
@@ -657,10 +720,14 @@ class SeriesDecimator:
     ) -> None:
         self.total = check_integer("total", total, 0, 2**62)
         if isinstance(traces, str) or not isinstance(traces, Sequence):
-            raise InputError("traces", "a list of column names", repr(traces)[:80])
+            raise InputError(
+                "traces", "a list of column names", repr(traces)[:80], "pass e.g. ['coverage']."
+            )
         self.traces = list(traces)
         if not all(isinstance(trace, str) for trace in self.traces):
-            raise InputError("traces", "column names (str)", repr(self.traces)[:80])
+            raise InputError(
+                "traces", "column names (str)", repr(self.traces)[:80], "pass each name as a str."
+            )
         buckets = check_integer("buckets", buckets, 1, 2**62)
         self.bucket = 1 if self.total <= 2 * buckets else -(-self.total // buckets)
         self._carry: pd.DataFrame | None = None
@@ -681,7 +748,12 @@ class SeriesDecimator:
         check_instance("frame", frame, pd.DataFrame, "pass the next rows of the series.")
         missing = [trace for trace in self.traces if trace not in frame]
         if missing:
-            raise InputError("frame", f"the columns {self.traces}", f"none named {missing}")
+            raise InputError(
+                "frame",
+                f"the columns {self.traces}",
+                f"none named {missing}",
+                "add those columns to every frame, or leave them out of traces.",
+            )
         if self._columns is None:
             self._columns = frame.iloc[:0]
         if self._carry is not None:
@@ -860,7 +932,12 @@ def write_report(path: str | Path, title: str, sections: Sequence[tuple[str, Any
     import pandas as pd
 
     if not isinstance(title, str):
-        raise InputError("title", "a str (the page's heading)", f"{type(title).__name__}")
+        raise InputError(
+            "title",
+            "a str (the page's heading)",
+            f"{type(title).__name__}",
+            "pass the heading as text, e.g. 'Study 1'.",
+        )
     if (
         isinstance(sections, str | bytes)
         or not isinstance(sections, Sequence)

@@ -107,10 +107,19 @@ def escape_latex(text: object, argument: str = "text") -> str:
     return _LATEX_SPECIAL_RE.sub(lambda match: _LATEX_SPECIAL[match.group()], clean)
 
 
+#: An ``&`` that would start an HTML entity (``&lt;``, ``&#60;``) where Markdown is rendered.
+_ENTITY = re.compile(r"&(?=#?[A-Za-z0-9]+;)")
+
+
 def escape_markdown(text: object, argument: str = "text") -> str:
-    r"""Plain text as one Markdown table cell: ``|`` and ``\`` escaped, one line."""
-    clean = check_text(argument, text)
-    return clean.replace("\\", "\\\\").replace("|", r"\|")
+    r"""Plain text as one Markdown table cell: ``|`` and ``\`` escaped, one line.
+
+    ``<`` and ``>`` are written as entities, and ``&`` where it would start one
+    (``&lt;``): a label such as ``<script>`` shows as text, never as live HTML where the
+    Markdown is rendered.
+    """
+    clean = _ENTITY.sub("&amp;", check_text(argument, text))
+    return markdown_text(clean.replace("\\", "\\\\").replace("|", r"\|"))
 
 
 def markdown_text(text: str) -> str:

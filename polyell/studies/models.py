@@ -334,9 +334,27 @@ def Choices(valid: tuple[str, ...]) -> Check:
 
 
 def Integer(low: int, high: int) -> Check:
-    """An integer from ``low`` to ``high``."""
+    """An integer from ``low`` to ``high`` (refused with the fix: a whole number in range)."""
+
+    def check(value: object) -> int:
+        try:
+            return check_integer("", value, low, high)
+        except InputError as exn:
+            if exn.fix:
+                raise
+            number = isinstance(value, int | float) and not isinstance(value, bool)
+            near = low
+            if number and math.isfinite(float(value)):  # type: ignore[arg-type]
+                near = int(min(max(float(value), low), high))  # type: ignore[arg-type]
+            raise InputError(
+                exn.argument,
+                exn.expected,
+                exn.got,
+                f"write a whole number from {low:,} to {high:,} without quotes, e.g. {near}.",
+            ) from None
+
     return Check(
-        lambda value: check_integer("", value, low, high),
+        check,
         {"type": "integer", "minimum": low, "maximum": high},
         "integer",
     )
@@ -1179,9 +1197,8 @@ class CompareTable(Table):
     heading: ClassVar[str] = "[compare]"
     example: ClassVar[str] = """[robot]
 library = "chiacchio2000"
-[[points]]
-name = "p"
-q = [0.1, 0.2, 0.3]
+[random]
+count = 100
 [compare]
 directions = 72
 mvie = true
@@ -1216,7 +1233,8 @@ braking = 50"""
         "from the finished ones, and the progress bar moves a chunk at a time). By default "
         "sized by time, as `pe.sweep(chunk=None)`: as many as take about 2 s on this core "
         "(a pilot run on the first rows), at most 20,000. A dataset being resumed keeps the "
-        "chunk it was written with.",
+        "chunk it was written with. Grid, random and trajectory studies (the others refuse "
+        "it).",
         example="5000",
         default_text="about 2 s of work, at most 20000",
     )
@@ -1228,15 +1246,16 @@ braking = 50"""
         "`q` and `qd`, a trajectory's samples (their `qd` then also gives the Coriolis "
         "terms), every other configuration at rest. The limits are the robot's own (a planar "
         "arm's joints turn freely: velocity limits only). Only the acceleration capacity "
-        "takes it; the "
+        "takes it (a study without it among its capacities refuses the key); the "
         "ellipsoids ignore these limits, which is what the comparison then measures.",
         example="0.001",
         default_text="none: the sets without joint position and velocity limits",
     )
     braking: Number | None = key(
         None,
-        what="With `horizon`: the deceleration [rad/s^2] every joint can still brake with "
-        "after the period (viability: it can stop before its position limit).",
+        what="With `horizon` (refused without it): the deceleration [rad/s^2] every joint "
+        "can still brake with after the period (viability: it can stop before its position "
+        "limit).",
         example="50",
         default_text="none",
     )
@@ -1320,8 +1339,6 @@ maps = ["chiacchio_coverage"]
 histograms = ["coverage"]
 sets = ["polytope", "chiacchio", "yoshikawa"]
 scores = ["coverage", "inscribed_scale"]
-transpose = true
-split = "posture"
 digits = 4
 percent = false
 labels = { chiacchio = "DME", coverage = "share covered" }
@@ -1363,20 +1380,31 @@ csv = true"""
     scores: Annotated[tuple[str, ...], Choices((*SCORE_NAMES, *LIMIT_QUANTITIES))] | None = key(
         None,
         what="Scores the tables show, in order: score names for the comparison and summary "
-        "tables, `lower`, `upper`, `lower_error`, `upper_error` for the limits table.",
+        "tables, `lower`, `upper`, `lower_error`, `upper_error` for the limits table; not "
+        "in a posture study (its tables show its criteria: it refuses the key).",
         example='["coverage", "inscribed_scale"]',
         default_text="the defaults",
     )
-    transpose: bool = key(False, what="Sets as columns (true) or as rows.", example="true")
+    transpose: bool = key(
+        False,
+        what="Studies of points: sets as columns (true) or as rows (other studies refuse it).",
+        example="true",
+    )
     split: Literal["posture", "combined"] = key(
         "combined",
-        what='"posture": one table per posture; "combined": one table.',
+        what='Studies of points: "posture": one table per posture; "combined": one table '
+        "(other studies refuse it).",
         example='"posture"',
     )
     digits: Annotated[int, Integer(1, MAX_DIGITS)] = key(
         3, what="Significant digits of the tables.", example="4"
     )
-    percent: bool = key(True, what="Fractions as percentages (true) or fractions.", example="false")
+    percent: bool = key(
+        True,
+        what="Fractions as percentages (true) or fractions; not in a posture study (its "
+        "tables show its criteria: it refuses the key).",
+        example="false",
+    )
     labels: TableLabels | None = key(
         None,
         what="Names of sets and scores in the tables: a table of set names (a candidate's "
@@ -1557,7 +1585,13 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
             )
         if self.robots is not None:
             if not self.robots:
-                raise InputError("robots", "at least one [[robots]] table", "none")
+                raise InputError(
+                    "robots",
+                    "at least one [[robots]] table",
+                    "none",
+                    'add [[robots]] with name = "arm" and library = "chiacchio2000", or use '
+                    "one [robot] table.",
+                )
             for i, robot in enumerate(self.robots):
                 if robot.name is None:
                     raise InputError(
@@ -1577,6 +1611,9 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
                 "",
                 "exactly one of [[points]], [grid], [random], [trajectory] and [posture]",
                 f"keys {sorted(self.model_fields_set)}",
+                'add one, e.g. [[points]] with name = "p" and q = [0.1, 0.2, 0.3].'
+                if not kinds
+                else f"keep one of {kinds} and move the others to their own study files.",
             )
         if self.posture is not None and self.robots is not None and len(self.robots) > 1:
             raise InputError(
@@ -1595,17 +1632,92 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
             )
         if self.points is not None:
             if not self.points:
-                raise InputError("points", "at least one [[points]] table", "none")
+                raise InputError(
+                    "points",
+                    "at least one [[points]] table",
+                    "none",
+                    'add [[points]] with name = "p" and q = [0.1, 0.2, 0.3] (one angle per joint).',
+                )
             _check_file_names("points", [point.name for point in self.points])
         self._check_capacities()
         self._check_output()
+        self._check_used_keys()
         return self
+
+    def _kind(self) -> str:
+        """The study's kind, as the messages name it."""
+        for key_, kind in (
+            ("points", "a study of points"),
+            ("posture", "a posture study"),
+            ("grid", "a grid study"),
+            ("random", "a random study"),
+        ):
+            if getattr(self, key_) is not None:
+                return kind
+        return "a trajectory study"
+
+    def _check_used_keys(self) -> None:
+        """Refuse the keys this study would not use (no key is silently ignored).
+
+        ``[output] split`` and ``transpose`` lay out the tables of a study of points;
+        ``scores`` and ``percent`` every kind's but a posture study's (its tables show its
+        criteria); ``[compare] chunk`` sizes a sweep (grid, random, trajectory);
+        ``horizon`` bounds the acceleration capacity only; ``braking`` goes with ``horizon``.
+        """
+        output, compare, kind = self.output, self.compare, self._kind()
+        given = output.model_fields_set
+        for name in ("split", "transpose"):
+            if name in given and self.points is not None:
+                continue
+            if name in given:
+                raise InputError(
+                    f"output.{name}",
+                    "a key of a study of points (it lays out its comparison and limits tables)",
+                    f"{kind}, whose tables do not use it",
+                    f"drop {name} from [output].",
+                )
+        for name in ("scores", "percent"):
+            if name in given and self.posture is not None:
+                raise InputError(
+                    f"output.{name}",
+                    "a key of a points, grid, random or trajectory study (their "
+                    "comparison, limits and summary tables)",
+                    "a posture study, whose tables show its criteria, not these scores",
+                    f"drop {name} from [output]; [output] sets, digits and labels lay out "
+                    "the posture tables.",
+                )
+        if compare.chunk is not None and (self.points is not None or self.posture is not None):
+            raise InputError(
+                "compare.chunk",
+                "a key of a grid, random or trajectory study (the configurations per part "
+                "of its sweep)",
+                f"{kind}, which runs no sweep",
+                "drop chunk from [compare].",
+            )
+        if compare.horizon is not None and "acceleration" not in compare.capacities:
+            raise InputError(
+                "compare.horizon",
+                'a study that compares the "acceleration" capacity (only its set takes a horizon)',
+                f"capacities = {list(compare.capacities)}",
+                'drop horizon, or add "acceleration" to [compare] capacities.',
+            )
+        if compare.braking is not None and compare.horizon is None:
+            raise InputError(
+                "compare.braking",
+                "a [compare] horizon as well (braking is the deceleration after it)",
+                f"braking = {compare.braking} without horizon",
+                "add horizon = 0.01 (your control period [s]) to [compare], or drop braking.",
+            )
 
     def _check_capacities(self) -> None:
         capacities = self.compare.capacities
         if len(set(capacities)) != len(capacities) or not capacities:
             raise InputError(
-                "compare.capacities", "distinct capacity names, at least one", f"{list(capacities)}"
+                "compare.capacities",
+                "distinct capacity names, at least one",
+                f"{list(capacities)}",
+                f"list each of {list(CAPACITIES)} at most once, e.g. capacities = "
+                '["acceleration", "force"].',
             )
 
     def _check_output(self) -> None:
@@ -1628,6 +1740,8 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
                 "output.histograms",
                 "a grid or random study",
                 "a study of points" if self.points is not None else "a posture study",
+                "drop histograms from [output]: the tables give every score of each "
+                + ("point." if self.points is not None else "posture."),
             )
         # A score of an optimum, or a ratio to it, exists only where the optimum is computed.
         computed = {"mvie": self.compare.mvie, "outer": self.compare.outer}
@@ -1646,7 +1760,12 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
                             f"set {optimum} = true in [compare], or drop {name!r}.",
                         )
         if output.series and self.trajectory is None:
-            raise InputError("output.series", "a [trajectory] study", "another kind of study")
+            raise InputError(
+                "output.series",
+                "a [trajectory] study",
+                f"{self._kind()}",
+                "drop series from [output] (it draws scores over a trajectory's time).",
+            )
         if "csv" in output.model_fields_set and (
             self.points is not None or self.posture is not None
         ):
@@ -1674,7 +1793,12 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
         for field in ("sets", "scores"):
             values = getattr(output, field)
             if values is not None and len(set(values)) != len(values):
-                raise InputError(f"output.{field}", "distinct names", f"{list(values)}")
+                raise InputError(
+                    f"output.{field}",
+                    "distinct names",
+                    f"{list(values)}",
+                    "list each name once.",
+                )
             if values is not None and not values:
                 raise InputError(
                     f"output.{field}", "a non-empty list", "[]", "leave the key out for all."

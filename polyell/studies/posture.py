@@ -48,7 +48,13 @@ from polyell.geometry.subspace import RANK_RTOL
 from polyell.models.self_motion import SelfMotion
 from polyell.studies.along import analysis_within, limits_along
 from polyell.studies.batch import BatchOptions, block_sets, block_size
-from polyell.validation import check_array, check_fraction, check_frame, check_points
+from polyell.validation import (
+    check_array,
+    check_directions,
+    check_fraction,
+    check_frame,
+    check_points,
+)
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
@@ -124,25 +130,25 @@ class PostureChoice:
 
 def _check_flag(name: str, value: object) -> bool:
     if not isinstance(value, bool | np.bool_):
-        raise InputError(name, "True or False", repr(value))
+        raise InputError(name, "True or False", repr(value), f"pass {name}=True or {name}=False.")
     return bool(value)
 
 
 def check_direction(direction: ArrayLike, m: int) -> Array:
-    """A non-zero task direction of m entries, made a unit vector."""
+    """A unit task direction of m entries (the rule of every direction in polyell).
+
+    As ``Polytope.limits``: a vector of unit length (to
+    :data:`~polyell.validation.DIRECTION_NORM_RTOL`), refused otherwise with the fix.
+    """
     d = check_points("direction", direction, m)
     if d.ndim != 1:
-        raise InputError("direction", f"one task direction of {m} entries", f"shape {d.shape}")
-    size = float(np.max(np.abs(d)))
-    if size == 0:
         raise InputError(
             "direction",
-            "a non-zero task direction",
-            "a zero vector",
-            "give the direction along which the limits are compared, e.g. [1, 0].",
+            f"one task direction of {m} entries",
+            f"shape {d.shape}",
+            "give one vector, e.g. [1, 0], or a name of the task rows such as 'x'.",
         )
-    scaled = d / size
-    unit: Array = scaled / np.linalg.norm(scaled)
+    unit: Array = check_directions("direction", d, m)
     return unit
 
 
@@ -183,8 +189,8 @@ def posture_choice(
         d, ``{t d}`` with no sideways part, that the set holds (its interval [lo, hi] on
         that line, as ``Polytope.limits``), not how far the set reaches along d.  A name of
         the robot's task rows (:func:`~polyell.comparison.directions.named_direction`:
-        ``"x"``, ``"-z"``, ``"xy"`` the unit diagonal, ``"wz"``), or a vector of m entries
-        (normalised here; not zero).
+        ``"x"``, ``"-z"``, ``"xy"`` the unit diagonal, ``"wz"``), or a unit vector of m
+        entries (refused otherwise, as by ``Polytope.limits``).
     mvie, outer : bool, optional
         Whether to include the maximum-volume inscribed and the minimum-volume enclosing
         ellipsoids (a batched log-det program each).
@@ -242,6 +248,7 @@ def posture_choice(
             "robot",
             "a robot with dynamics (pe.PlanarArm, pe.UrdfRobot)",
             type(robot).__name__,
+            "load one with pe.robots.load('chiacchio2000') or pe.UrdfRobot(...).",
         )
     rank_rtol = check_fraction("rank_rtol", rank_rtol)
     mvie, outer = _check_flag("mvie", mvie), _check_flag("outer", outer)
@@ -494,11 +501,26 @@ def choice_table(
     units = None
     if unit is not None:
         if not isinstance(unit, str) or not unit:
-            raise InputError("unit", "the task's unit, such as 'm/s^2'", repr(unit)[:80])
+            raise InputError(
+                "unit",
+                "the task's unit, such as 'm/s^2'",
+                repr(unit)[:80],
+                "pass the choice's unit (PostureChoice.unit), or leave unit out.",
+            )
         if isinstance(dimension, bool) or not isinstance(dimension, int | np.integer):
-            raise InputError("dimension", "the task's dimension m (an integer)", repr(dimension))
+            raise InputError(
+                "dimension",
+                "the task's dimension m (an integer)",
+                repr(dimension),
+                "pass the task's number of rows, e.g. dimension=2.",
+            )
         if dimension < 1:
-            raise InputError("dimension", "the task's dimension m, at least 1", repr(dimension))
+            raise InputError(
+                "dimension",
+                "the task's dimension m, at least 1",
+                repr(dimension),
+                "pass the task's number of rows, e.g. dimension=2.",
+            )
         units = criterion_units(unit, int(dimension))
     import pandas as pd
     from scipy import stats

@@ -36,7 +36,7 @@ from polyell.comparison.tables import (
     format_limits_table,
     score_display,
 )
-from polyell.errors import InputError
+from polyell.errors import InputError, StorageError
 from polyell.models.task import task_unit
 from polyell.models.urdf import UrdfRobot
 from polyell.report import format_analysis
@@ -50,7 +50,7 @@ from polyell.storage import (
 )
 from polyell.studies.cluster import check_scheduler
 from polyell.studies.spec import Point, Robot, StudySpec
-from polyell.studies.sweep import PER_ROW, per_row_note, sweep
+from polyell.studies.sweep import per_row_note, sweep
 from polyell.studies.trajectory import Trajectory, tangent_limits
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
@@ -84,7 +84,12 @@ _log = logging.getLogger("polyell")
 
 def _prepare(out: str | os.PathLike[str]) -> Path:
     if not isinstance(out, str | os.PathLike) or not str(out):
-        raise InputError("out", "a folder path (str or pathlib.Path)", repr(out)[:120])
+        raise InputError(
+            "out",
+            "a folder path (str or pathlib.Path)",
+            repr(out)[:120],
+            "pass the output folder, e.g. out='results/study1'.",
+        )
     folder = Path(out)
     try:
         folder.mkdir(parents=True, exist_ok=True)
@@ -93,7 +98,10 @@ def _prepare(out: str | os.PathLike[str]) -> Path:
         probe.unlink()
     except OSError as exn:
         raise InputError(
-            "out", "a folder polyell can write to", f"{folder} ({exn.strerror})"
+            "out",
+            "a folder polyell can write to",
+            f"{folder} ({exn.strerror})",
+            "choose another folder (--out), or fix its permissions or free space.",
         ) from None
     return folder
 
@@ -115,8 +123,12 @@ def _layout(spec: StudySpec, capacity: str) -> TableLayout:
     return replace(layout, sets=kept or ("polytope",))
 
 
-def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
-    """Every capacity of the study at every point: tables, figures, numbers, report."""
+def _run_points(spec: StudySpec, folder: Path, notes: list[str] | None = None) -> list[Path]:
+    """Every capacity of the study at every point: tables, figures, numbers, report.
+
+    A figure not drawn (an unbounded or empty set) is said in ``notes`` (the manifest's).
+    """
+    notes = [] if notes is None else notes
     written: list[Path] = []
     numbers = [_heading(spec, f"{spec.title}: the numbers").rstrip("\n"), ""]
     report: list[tuple[str, Any]] = _about(spec)
@@ -125,13 +137,26 @@ def _run_points(spec: StudySpec, folder: Path) -> list[Path]:
         suffix = capacity_class(capacity).output_suffix
         if len(spec.file.compare.capacities) > 1:
             numbers += [f"# {capacity.capitalize()} capacity", ""]
-        written += _run_points_capacity(spec, folder, capacity, suffix, numbers, report)
+        written += _run_points_capacity(spec, folder, capacity, suffix, numbers, report, notes)
     written.append(write_text_atomically(folder / "numbers.md", "\n".join(numbers)))
     if "html" in spec.file.output.formats:
         from polyell.interactive import write_report
 
         written.append(write_report(folder / "report.html", spec.title, report))
     return written
+
+
+def _undrawn(analysis: Analysis) -> str:
+    """Why a point's sets have no figure: its polytope is unbounded or empty."""
+    if getattr(analysis.polytope, "is_empty", False):
+        return (
+            f"its {analysis.capacity} polytope is empty (no {analysis.quantity} within the limits)"
+        )
+    return (
+        f"its {analysis.capacity} polytope is unbounded (a singular posture: "
+        f"{analysis.quantity} along some direction need no joint torque); numbers.md and the "
+        "tables give its numbers"
+    )
 
 
 def _analyze_point(spec: StudySpec, point: Point, capacity: str) -> Analysis:
@@ -166,8 +191,12 @@ def _run_points_capacity(
     suffix: str,
     numbers: list[str],
     report: list[tuple[str, Any]],
+    notes: list[str],
 ) -> list[Path]:
     from polyell.figures import plot_directional_limits, plot_sets, plot_sets_3d
+
+    figures = bool(spec.file.output.figure_formats)
+    interactive = "html" in spec.file.output.formats
 
     layout = _layout(spec, capacity)
     written: list[Path] = []
@@ -194,9 +223,7 @@ def _run_points_capacity(
             f"q = ({q_text}) rad",
             "",
             *motion,
-            "```text",
-            _along_directions(analysis, point, layout),
-            "```",
+            *_code_block(_along_directions(analysis, point, layout)),
             "",
             "Scores (`pe.compare`):",
             "",
@@ -216,6 +243,8 @@ def _run_points_capacity(
             drawable = analysis.m in (2, 3) and getattr(analysis.polytope, "is_bounded", True)
             if drawable and not getattr(analysis.polytope, "is_empty", False):
                 report.append((heading, interactive_sets(cmp, labels=layout)))
+            elif analysis.m in (2, 3):
+                report.append((heading, f"No figure of the sets: {_undrawn(analysis)}."))
             limits = limits_table(cmp, directions[point.label])
             for name, text in (
                 ("scores", format_comparison_table(cmp, "html", layout=layout)),
@@ -224,7 +253,16 @@ def _run_points_capacity(
                 report.append((f"{heading}: {name}", HtmlTable(text)))
         P = analysis.polytope
         if not getattr(P, "is_bounded", True) or getattr(P, "is_empty", False):
-            continue  # an unbounded or empty force polytope has no figure (said in numbers.md)
+            # an unbounded or empty force polytope has no figure: said in the manifest's
+            # notes and the log (and numbers.md)
+            if analysis.m in (2, 3) and (figures or interactive):
+                note = (
+                    f"no figures of point {point.label!r} ({capacity}: sets_{point.stem}"
+                    f"{suffix}, limits_{point.stem}{suffix}): {_undrawn(analysis)}"
+                )
+                notes.append(note)
+                _log.info("note: %s", note)
+            continue
         stem = folder / f"sets_{point.stem}{suffix}"
         title = point.table.title or point.label
         mvie = cmp.mvie if spec.file.compare.mvie and cmp["mvie"].defined else None
@@ -1110,26 +1148,125 @@ def _many_outputs(
     return written, sections
 
 
-def _previous_outputs(folder: Path) -> list[str]:
-    """The files a previous run into ``folder`` wrote (its manifest's), or none.
+#: The names of a study's sweep datasets (folders), one per capacity.
+_DATASETS = re.compile(r"results(?:_velocity|_force)?")
 
-    Only plain file names in the folder: the outputs of a study, never a dataset (a sweep's
-    ``results*/`` stays, to resume).
+
+@dataclass
+class _Previous:
+    """What earlier runs into a folder left there: the outputs a new run replaces."""
+
+    files: list[str]  # plain file names in the folder
+    datasets: list[str]  # dataset folders, "results/"
+    unfinished: str | None = None  # the study of an interrupted run, if the last was one
+    spec: str | None = None  # the file name of the study that wrote them
+
+
+def _previous_outputs(folder: Path) -> _Previous:
+    """The files and datasets earlier runs into ``folder`` wrote (their manifest's), or none.
+
+    Only names a study writes: plain file names matching :data:`STUDY_FILES` and the
+    dataset folders ``results*/``.  A run writes its manifest first, marked incomplete
+    (``"complete": false``), listing what the folder held then and the datasets it will
+    write; if it was interrupted, every study file written since (newer than that
+    manifest) is its too.
     """
+    path = folder / "manifest.json"
     try:
-        files = json.loads((folder / "manifest.json").read_text(encoding="utf-8"))["files"]
-    except (OSError, ValueError, KeyError, TypeError):
+        manifest = json.loads(path.read_text(encoding="utf-8"))
+        stamp = path.stat().st_mtime
+    except (OSError, ValueError):
+        return _Previous([], [])
+    if not isinstance(manifest, dict):
+        return _Previous([], [])
+    files = manifest.get("files")
+    datasets = manifest.get("datasets")
+    names = [n for n in files if isinstance(n, str)] if isinstance(files, list) else []
+    unfinished = None
+    if manifest.get("complete") is False:  # an interrupted run: what it wrote since
+        unfinished = str(manifest.get("study", ""))
+        try:
+            entries = list(os.scandir(folder))
+        except OSError:
+            entries = []
+        for entry in entries:
+            try:
+                if entry.is_file() and entry.stat().st_mtime >= stamp:
+                    names.append(entry.name)
+            except OSError:
+                continue
+    found = sorted(
+        {
+            name
+            for name in names
+            if name == Path(name).name
+            and name != "manifest.json"
+            and STUDY_FILES.fullmatch(name) is not None
+            and (folder / name).is_file()
+        }
+    )
+    folders = (
+        [n.rstrip("/") for n in datasets if isinstance(n, str)]
+        if isinstance(datasets, list)
+        else []
+    )
+    kept = sorted(
+        {
+            f"{name}/"
+            for name in folders
+            if _DATASETS.fullmatch(name) is not None and (folder / name).is_dir()
+        }
+    )
+    spec = manifest.get("spec")
+    return _Previous(found, kept, unfinished, spec if isinstance(spec, str) else None)
+
+
+def _remove_dataset(path: Path) -> None:
+    """Remove an earlier study's dataset folder (StorageError naming it if that fails)."""
+    import shutil
+
+    try:
+        shutil.rmtree(path)
+    except FileNotFoundError:
+        return
+    except OSError as exn:
+        raise StorageError(
+            f"Could not remove {path}, the dataset of an earlier study in this folder: "
+            f"{exn.strerror or exn}. Fix: remove it by hand, or run the study into another "
+            "folder."
+        ) from exn
+
+
+def _same_sweep_study(spec: StudySpec, previous: _Previous) -> bool:
+    """Whether the earlier run was of this study file, and this study is a sweep too."""
+    return spec.is_batch and spec.posture is None and previous.spec == spec.path.name
+
+
+def _study_datasets(spec: StudySpec) -> list[str]:
+    """The dataset folders a study writes (``results/``, ``results_force/``), or none."""
+    if not spec.is_batch or spec.posture is not None:
         return []
-    if not isinstance(files, list):
-        return []
-    return [
-        name
-        for name in files
-        if isinstance(name, str)
-        and name == Path(name).name
-        and STUDY_FILES.fullmatch(name) is not None
-        and (folder / name).is_file()
-    ]
+    return [f"results{capacity_class(c).output_suffix}/" for c in spec.file.compare.capacities]
+
+
+def _mark_incomplete(spec: StudySpec, folder: Path, previous: _Previous) -> None:
+    """Write the manifest of a run that has not finished (replaced when it does).
+
+    It lists the earlier runs' outputs still in the folder and the datasets this run
+    writes, so that the next run into the folder removes all of them, and the files this
+    run writes before it is interrupted (any study file newer than this manifest).
+    """
+    marker = {
+        "study": spec.title,
+        "spec": spec.path.name,
+        "complete": False,
+        "note": "this run did not finish (or is running): the files newer than this "
+        "manifest are its, and the next study run into this folder removes them and the "
+        "files and datasets listed here (a dataset of the same study is resumed instead)",
+        "files": previous.files,
+        "datasets": sorted({*previous.datasets, *_study_datasets(spec)}),
+    }
+    write_text_atomically(folder / "manifest.json", json.dumps(marker, indent=2) + "\n")
 
 
 def _per_row_notes(spec: StudySpec, folder: Path) -> list[str]:
@@ -1138,8 +1275,6 @@ def _per_row_notes(spec: StudySpec, folder: Path) -> list[str]:
     One note per dataset of the study's capacities (``results<suffix>/``, a robot's
     ``robot=<name>/``), from its ``_sweep.json`` (the capacity) and its ``per_row`` column.
     """
-    import pandas as pd
-
     if not spec.is_batch or spec.posture is not None:
         return []
     notes = []
@@ -1147,7 +1282,7 @@ def _per_row_notes(spec: StudySpec, folder: Path) -> list[str]:
     found = (meta for name in datasets for meta in (folder / name).glob("**/_sweep.json"))
     for meta in sorted(found):
         capacity = json.loads(meta.read_text(encoding="utf-8")).get("capacity", "acceleration")
-        note = per_row_note(pd.read_parquet(meta.parent, columns=[PER_ROW]), capacity)
+        note = per_row_note(meta.parent, capacity)  # counted part by part
         robot = meta.parent.name.removeprefix("robot=")
         notes.append(f"{robot} {note}" if meta.parent.name.startswith("robot=") else note)
     return notes
@@ -1482,6 +1617,17 @@ def _named_or_vectors(point: Point) -> list[Any]:
     ]
 
 
+def _code_block(text: str) -> list[str]:
+    """Markdown lines of ``text`` as a fenced code block (its labels shown, never rendered).
+
+    The fence is longer than any run of backticks in ``text`` (a label of backticks
+    cannot close it).
+    """
+    runs = [len(run) for run in re.findall(r"`+", text)]
+    fence = "`" * max([3, *(n + 1 for n in runs)])
+    return [f"{fence}text", text, fence]
+
+
 def _along_directions(analysis: Analysis, point: Point, layout: TableLayout) -> str:
     """The numbers of a point: its sets once, then its limits along each direction.
 
@@ -1619,8 +1765,14 @@ def run_study(
     interpreter's start-up and imports) and, for many configurations, ``sweep`` (the
     scores, dynamics included), and ``per_row``: each dataset's rows computed one
     configuration at a time.  A run into a folder of an earlier run replaces its outputs as
-    a whole: the files its manifest lists that this run does not write are removed (listed
-    under ``removed``); the sweep datasets stay, to resume.
+    a whole: the files its manifest lists that this run does not write are removed, and so
+    are its sweep datasets (``results*/``) unless this study writes the same ones (a killed
+    sweep resumes; another study's sweep there is refused by :func:`polyell.sweep`), all
+    listed under ``removed``; a dataset of a capacity an edited sweep study (the same
+    file name) no longer compares is kept instead, to resume, and listed under
+    ``datasets`` and ``notes``.  A run first writes its manifest marked incomplete
+    (``"complete": false``); if it is interrupted, the next run into the folder also
+    removes every study file written since, so that the folder never mixes two runs.
 
     A grid, random or trajectory study's memory does not grow with its configurations: its
     sweep writes one Parquet part per chunk (``results/``), read back one part at a time
@@ -1650,6 +1802,14 @@ def run_study(
     with folder_lock(folder, STUDY_LOCK, "study"):
         remove_stale_temporaries(folder, STUDY_FILES)  # what a killed run left
         previous = _previous_outputs(folder)
+        if previous.unfinished is not None and previous.spec != spec.path.name:
+            _log.info(
+                "note: the previous run into %s (study %r) did not finish; this run "
+                "replaces its outputs",
+                folder,
+                previous.unfinished,
+            )
+        _mark_incomplete(spec, folder, previous)
         try:
             with warnings.catch_warnings(record=True) as caught:
                 if spec.posture is not None:
@@ -1657,7 +1817,7 @@ def run_study(
                 elif spec.is_batch:
                     written = _run_many(spec, folder, progress, scheduler, seconds, notes)
                 else:
-                    written = _run_points(spec, folder)
+                    written = _run_points(spec, folder, notes)
         except BaseException:  # a failed or interrupted run: its warnings all the same
             _warn_again(_unique_warnings(caught))
             raise
@@ -1676,9 +1836,25 @@ def run_study(
             manifest["notes"] = notes
         if raised:  # each once: joint positions out of their limits, a table too wide
             manifest["warnings"] = [f"{w.category.__name__}: {w.message}" for w in raised]
-        stale = sorted(set(previous) - {p.name for p in written} - {"manifest.json"})
+        stale = sorted(set(previous.files) - {p.name for p in written} - {"manifest.json"})
         for name in stale:  # the previous run's outputs this run does not write
             (folder / name).unlink(missing_ok=True)
+        # the previous runs' datasets this study does not use: another study's are removed,
+        # an earlier run's of this study file (a capacity dropped) kept, to resume, and said
+        unused = sorted(set(previous.datasets) - set(_study_datasets(spec)))
+        if unused and _same_sweep_study(spec, previous):
+            manifest["datasets"] = sorted({*manifest["datasets"], *unused})
+            note = (
+                f"kept {', '.join(unused)}: the sweep of an earlier run of {spec.path.name} "
+                "that this run does not use (it resumes when the study compares that "
+                "capacity again; remove it by hand if not)"
+            )
+            manifest.setdefault("notes", []).append(note)
+            _log.info("note: %s", note)
+        else:
+            for name in unused:
+                _remove_dataset(folder / name.rstrip("/"))
+                stale.append(name)
         if stale:
             manifest["removed"] = stale
             _log.info("note: removed %d outputs of the previous run: %s", len(stale), stale)

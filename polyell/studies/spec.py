@@ -204,20 +204,33 @@ def _read_toml(path: str | os.PathLike[str], what: str = "study") -> dict[str, A
     parser (a RecursionError in ``tomllib``) are all refused with what to do.
     """
     if not isinstance(path, str | os.PathLike):
-        raise InputError("path", f"the path of a {what} TOML file", f"{type(path).__name__}")
+        raise InputError(
+            "path",
+            f"the path of a {what} TOML file",
+            f"{type(path).__name__}",
+            "pass a str or pathlib.Path, e.g. 'study.toml'.",
+        )
     shown = repr(str(path))
     try:
         with open(path, "rb") as handle:
             data = handle.read()
     except FileNotFoundError:
-        raise InputError("path", f"an existing TOML file describing a {what}", shown) from None
+        raise InputError(
+            "path",
+            f"an existing TOML file describing a {what}",
+            shown,
+            f"check the name and the folder (relative paths start at {os.getcwd()!r}).",
+        ) from None
     except IsADirectoryError:
         raise InputError(
             "path", f"a TOML file describing a {what}", f"{shown}, a folder", "give a file."
         ) from None
     except OSError as exn:  # permissions, a device, a name too long, ...
         raise InputError(
-            "path", f"a readable TOML file describing a {what}", f"{shown} ({exn.strerror or exn})"
+            "path",
+            f"a readable TOML file describing a {what}",
+            f"{shown} ({exn.strerror or exn})",
+            "check the file's permissions, or copy it somewhere readable.",
         ) from None
     try:
         text = data.decode("utf-8")
@@ -231,7 +244,13 @@ def _read_toml(path: str | os.PathLike[str], what: str = "study") -> dict[str, A
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exn:
-        raise InputError("path", "valid TOML", f"{shown}: {exn}") from None
+        raise InputError(
+            "path",
+            "valid TOML",
+            f"{shown}: {exn}",
+            "correct the file at that line and column (strings in quotes, one key = value "
+            "per line; docs/study_format.md has an example of each table).",
+        ) from None
     except RecursionError:  # tomllib parses nested arrays and inline tables recursively
         raise InputError(
             "path",
@@ -454,7 +473,7 @@ def _directions(
         vectors.append(vector)
         labels.append(label)
     if len(set(labels)) != len(labels):
-        raise InputError(key, "distinct directions", f"{labels}")
+        raise InputError(key, "distinct directions", f"{labels}", "list each direction once.")
     return np.array(vectors), tuple(labels)
 
 
@@ -675,7 +694,10 @@ def _random(table: models.RandomTable, robots_: tuple[Robot, ...]) -> tuple[Seed
             high = np.array(table.high)
         if low.size != model.n or high.size != model.n or np.any(low > high):
             raise InputError(
-                "random", f"low <= high with {model.n} entries each", f"low={low}, high={high}"
+                "random",
+                f"low <= high with {model.n} entries each",
+                f"low={low}, high={high}",
+                f"give low and high {model.n} values each, every low at most its high.",
             )
         samples.append(SeededRows(table.count, low, high, table.seed))
     return tuple(samples)
@@ -695,7 +717,12 @@ def _posture(table: models.PostureTable, robot: Robot) -> Posture:
     targets = []
     for key, q in starts.items():
         if len(q) != model.n:
-            raise InputError(key, f"{model.n} joint angles", f"{len(q)}")
+            raise InputError(
+                key,
+                f"{model.n} joint angles",
+                f"{len(q)}",
+                f"give one angle per joint ({model.n}).",
+            )
         try:
             motion = self_motion(model, np.array(q, dtype=float), 2, seed=table.seed)
         except InputError as exn:
@@ -791,8 +818,13 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
     posture = _posture(study.posture, robots_[0]) if study.posture is not None else None
     output = study.output
     if output.maps and sum(axis.values.size > 1 for axis in grid) != 2:
+        varying = sum(axis.values.size > 1 for axis in grid)
         raise InputError(
-            "output.maps", "a grid with exactly two varying joints", f"{len(grid)} grid axes"
+            "output.maps",
+            "a grid with exactly two varying joints",
+            f"{varying} varying of {len(grid)} grid axes",
+            "give two joints a range (start, stop, num) and the others one value, or drop "
+            "maps (histograms show any grid).",
         )
     with _within("output"):  # the layout's own checks, before anything is written
         output.layout  # noqa: B018

@@ -10,6 +10,7 @@ import pytest
 import polyell as pe
 from polyell.cli import main
 from polyell.comparison.labels import set_label
+from polyell.comparison.latex_text import unit_power
 from polyell.comparison.summary import format_summary_table, summarize
 from polyell.studies import load_study, run_study
 
@@ -182,7 +183,7 @@ def test_interactive_view_and_meshes_of_other_capacities(tmp_path, capacity):
     an = pe.analyze(PAPER_ARM.dynamics(Q), *torques, capacity=capacity, **limits)
     cmp = pe.compare(an, 16, samples=256)
     names = [trace.name for trace in interactive_sets(cmp).data]
-    assert names[0].startswith("polytope, volume") and f"({an.unit()})^2" in names[0]
+    assert names[0].startswith("polytope, volume") and unit_power(an.unit(), 2) in names[0]
     assert set_label(an.ellipsoid_kinds[0], capacity) in names
     P = an.polytope
     surface = mesh(P)

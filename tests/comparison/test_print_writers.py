@@ -157,15 +157,20 @@ def check_grid(
     return seen
 
 
+def _unentity(text: str) -> str:
+    """Markdown's entities back to text: a label's ``<``, ``>`` (and ``&`` of one) escaped."""
+    return text.replace("&lt;", "<").replace("&gt;", ">").replace("&amp;", "&")
+
+
 def markdown_grids(text: str) -> tuple[list[list[list[str]]], list[str]]:
     """Each Markdown table's rows (header first) as unescaped cells, and the bold titles."""
     grids, titles, current = [], [], None
     for line in text.splitlines():
         if line.startswith("**"):
-            titles.append(line[2:-2].replace("\\\\", "\\").replace("\\|", "|"))
+            titles.append(_unentity(line[2:-2].replace("\\\\", "\\").replace("\\|", "|")))
         elif line.startswith("| "):
             cells = re.split(r"(?<!\\)\|", line.replace("\\\\", "\x00"))[1:-1]
-            cells = [c.strip().replace("\\|", "|").replace("\x00", "\\") for c in cells]
+            cells = [_unentity(c.strip().replace("\\|", "|").replace("\x00", "\\")) for c in cells]
             if current is None:
                 current = [cells]
                 grids.append(current)

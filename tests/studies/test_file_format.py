@@ -58,7 +58,7 @@ def test_an_unknown_key_lists_exactly_the_documented_ones(tmp_path, table, prefi
 def test_every_key_of_a_leaf_table_appears_in_its_example():
     """The examples exercise the keys they document (the robot's sources exclude each other)."""
     exclusive = {
-        "output": {"series"},  # trajectory studies only
+        "output": {"series", "split", "transpose"},  # trajectory / points studies only
         "points": {"direction", "qd"},  # the older form; a URDF robot in motion (its own tests)
         "robot": {
             "planar",
