@@ -98,6 +98,12 @@ def minkowski_sum(P1: Set, P2: Set) -> HPolytope:
     HPolytope
         Empty if either is empty.  Its vertices, facets, edges and volume come from the
         sets' own (the module's description): no hull of the pairwise sums of vertices.
+        Where one set is far smaller than the other, its contribution is resolved down to
+        about 1e-9 of the larger set's size (the vertex and facet tolerances, relative to
+        the sum): a set 1e9 times smaller or less is then lost, and the sum's volume
+        is the larger set's, off by a few times the ratio of their sizes (measured in 3-D,
+        a unit-size set plus a cube of half-width e: relative error 4e-9 at e = 1e-9,
+        4.5e-10 at e = 1e-10; the increment right to 1e-4 at e = 1e-8).
 
     Raises
     ------
@@ -135,8 +141,10 @@ def minkowski_sum(P1: Set, P2: Set) -> HPolytope:
         points, edges, normals = _sum_graph(P1, P2)
     except _Ambiguous:  # a tangent cone too close to call: the hull of all pairwise sums
         sums = (P1.vertices[:, None, :] + P2.vertices[None, :, :]).reshape(-1, m)
-        total = HPolytope.from_vertices(sums)
-        return HPolytope(total.A, total.b, center=P1.center + P2.center)
+        total = HPolytope.from_vertices(sums)  # (its vertices and volume: not enumerated again)
+        return HPolytope._with_vertices(
+            total.A, total.b, total.vertices, None, P1.center + P2.center, total.volume
+        )
     offsets = (normals @ P1.vertices.T).max(axis=1) + (normals @ P2.vertices.T).max(axis=1)
     volume = _sum_volume(P1.vertices, P2.vertices, normals, offsets, points)
     center = P1.center + P2.center
@@ -164,15 +172,18 @@ def _sum_volume(
     m = V1.shape[1]
     scale = float(np.abs(V1).max() + np.abs(V2).max())
     tol = 1e-9 * scale
+    # each set's faces to its own size (about its vertices' mean): a set 1e10 times
+    # smaller than the other is no single point to the sum's tolerance
+    own = [1e-9 * float(np.abs(V - V.mean(axis=0)).max()) for V in (V1, V2)]
     faces: dict[tuple[int, bytes], tuple[float, NDArray[np.float64]]] = {}
 
     def face(which: int, a: NDArray[np.float64]) -> tuple[float, NDArray[np.float64]]:
         V = (V1, V2)[which]
         values = V @ a
-        on = values >= values.max() - tol
+        on = values >= values.max() - own[which]
         key = (which, np.packbits(on).tobytes())
         if key not in faces:
-            faces[key] = _span_volume(V[on], tol)
+            faces[key] = _span_volume(V[on], own[which])
         return faces[key]
 
     centre = points.mean(axis=0)

@@ -33,7 +33,7 @@ from polyell.geometry.subspace import (
     scaled_norm,
 )
 from polyell.geometry.zonotope import order_polygon
-from polyell.validation import check_array, check_integer, magnitude_limit
+from polyell.validation import check_array, check_integer, check_points, magnitude_limit
 
 __all__ = ["HPolytope", "require_drawable"]
 
@@ -101,14 +101,26 @@ class HPolytope(ConvexSet):
         self._infeasible_row = bool(np.any(zero & (b < 0)))
         keep = ~zero
         self._A_in, self._b_in = A[keep] / norms[keep, None], b[keep] / norms[keep]
+        self._A_in, self._b_in = _close_rounded_slabs(self._A_in, self._b_in)
         m = A.shape[1]
         self._rank = None if rank is None else check_integer("rank", rank, 0, A.shape[1])
+        if self._rank == 0 and len(self._A_in):
+            raise InputError(
+                "rank",
+                f"the rank of the normals, from 1 to {m} (rows that are not all zero)",
+                "0",
+                "leave rank=None to have it decided by RANK_RTOL.",
+            )
         self._volume_y: float | None = None
         if center is None:
             self.center = self._chebyshev_center()
         else:
             self.center = check_array("center", center, (m,))
         self._generators()  # vertices, rays, facets and the affine set, at once
+        if center is None and not self._empty and self.affine_set.dim < m:
+            # a flat set: the largest ball of its affine hull (the full-space linear
+            # program's ball has radius 0 there, and lands on any point, a vertex)
+            self.center = self._relative_chebyshev_center()
 
     # --- the double description ------------------------------------------------------
 
@@ -158,6 +170,46 @@ class HPolytope(ConvexSet):
                 break
             scale = smaller
         return center
+
+    def _relative_chebyshev_center(self) -> NDArray[np.float64]:
+        """The Chebyshev centre of a flat set within its affine hull (the relative one).
+
+        In coordinates z of the hull, x = p + B z (p a point of the set, B its orthonormal
+        basis), a facet a . x <= b is (B^T a) . z <= b - a . p, a distance in the hull of
+        that over |B^T a|; the linear program maximises the least such distance, in units
+        of the set's size about p (HiGHS's tolerances are absolute).  Radius capped at
+        twice that size (an unbounded set has no largest ball).  A point (dim 0): itself.
+        """
+        from scipy.optimize import linprog
+
+        basis = self.affine_set.basis
+        q = basis.shape[1]
+        anchor = self.vertices[0] if len(self.vertices) else self.affine_set.point
+        anchor = self.affine_set.project(anchor)
+        if q == 0:
+            return anchor
+        normals = self.A @ basis  # (F, q)
+        lengths = np.sqrt((normals * normals).sum(axis=1))
+        kept = lengths > RANK_RTOL * max(1.0, float(lengths.max(initial=0.0)))
+        if not kept.any():  # no facet across the hull: the whole affine set
+            return anchor
+        normals = normals[kept] / lengths[kept, None]
+        offsets = (self.b[kept] - self.A[kept] @ anchor) / lengths[kept]
+        spread = float(np.abs(self.vertices - anchor).max(initial=0.0))
+        scale = max(spread, float(np.abs(offsets).max())) or 1.0
+        cost = np.zeros(q + 1)
+        cost[-1] = -1.0
+        A_ub = np.hstack([normals, np.ones((len(normals), 1))])
+        bounds = [(None, None)] * q + [(0.0, 2.0)]
+        result = linprog(cost, A_ub, offsets / scale, bounds=bounds, method="highs")
+        if result.status != 0:
+            return self.center
+        found = anchor + scale * (basis @ result.x[:q])
+        slack = (self.b[kept] - self.A[kept] @ found) / lengths[kept]
+        before = (self.b[kept] - self.A[kept] @ self.affine_set.project(self.center)) / lengths[
+            kept
+        ]
+        return found if float(slack.min()) >= float(before.min()) else self.center
 
     def _interior_point(self) -> NDArray[np.float64]:
         """:attr:`center` if it is strictly inside every half-space, else the Chebyshev centre.
@@ -259,6 +311,13 @@ class HPolytope(ConvexSet):
             return
         rows, linear, points, paired_rows = description
         is_vertex = _is_point(points)
+        if not is_vertex.any() and not float(np.abs(array[:, 0]).max()) > 0:
+            # every row through the interior point (a flat cone: a ray, a half-plane in
+            # R^3): cddlib lists only the directions of the homogeneous system, whose
+            # point, the apex, is that point (y = 0)
+            points = np.vstack([np.eye(1, len(points[0])), points])
+            is_vertex = np.r_[True, is_vertex]
+            paired_rows = [i + 1 for i in paired_rows]
         # Facets: the inequality rows of the canonical form, a_y . y <= b_y, that is
         # (U1 S a_y) . (x - origin) <= unit b_y; equalities: its linearity.
         inequality = np.ones(len(rows), dtype=bool)
@@ -373,6 +432,31 @@ class HPolytope(ConvexSet):
         scale = np.sqrt((A_rows * A_rows).sum(axis=1))
         self._facet_A = A_rows / scale[:, None]
         self._facet_b = b_rows / scale + self._facet_A @ origin
+        self._facets_as_given(origin)
+
+    def _facets_as_given(self, origin: NDArray[np.float64]) -> None:
+        """Each facet as the input row it is, where it is one to rounding (exact offsets).
+
+        A facet mapped back from the whitened coordinates carries their rounding (a box's
+        ``b = 1`` as 1.0000000000000004, which makes two boxes sharing an edge meet in a
+        slab 4e-16 wide); the input row it came from is the same plane, exactly as given.
+        Matched when the unit normals agree to ``m eps`` and the offsets to the rounding of
+        the shift by the interior point (skipped beyond 4e6 facet-row pairs).
+        """
+        F, k = len(self._facet_b), len(self._b_in)
+        if not F or not k or F * k > 4_000_000:
+            return
+        m = self.ambient_dim
+        eps = float(np.finfo(float).eps)
+        dots = self._facet_A @ self._A_in.T  # (F, k)
+        best = np.argmax(dots, axis=1)
+        rows = np.arange(F)
+        reach = np.abs(self._facet_b) + float(np.abs(origin).sum()) + np.abs(self._b_in[best])
+        same = (dots[rows, best] >= 1.0 - 4 * m * eps) & (
+            np.abs(self._b_in[best] - self._facet_b) <= 4 * (m + 2) * eps * reach
+        )
+        self._facet_A = np.where(same[:, None], self._A_in[best], self._facet_A)
+        self._facet_b = np.where(same, self._b_in[best], self._facet_b)
 
     # --- what the set is ---------------------------------------------------------------
 
@@ -440,7 +524,8 @@ class HPolytope(ConvexSet):
         # In the whitened coordinates (well scaled however thin the set), times the Jacobian
         # of x = origin + U1 diag(unit / S) y; a lower-dimensional set in its hull's basis.
         y, stretch = self._whitened
-        if r < len(stretch):
+        flat = r < len(stretch)
+        if flat:
             y, stretch = self.affine_set.coordinates(self.vertices), np.ones(r)
         elif self._volume_y is not None:  # the hull that certified the vertices
             return float(self._volume_y * np.prod(stretch))
@@ -448,7 +533,7 @@ class HPolytope(ConvexSet):
             return float((y.max() - y.min()) * stretch[0])
         from scipy.spatial import ConvexHull, QhullError
 
-        if r < len(stretch) or len(self._rows_y) == 0:
+        if flat or len(self._rows_y) == 0:  # (the rows are the whitened, unflattened ones)
             try:
                 return float(ConvexHull(y).volume * np.prod(stretch))
             except QhullError:  # a dupridge in 6-D: sum cones over the faces instead
@@ -484,7 +569,12 @@ class HPolytope(ConvexSet):
             return float("nan")
         if not len(self.b):
             return float("inf")
-        return float(max(0.0, np.min(self.half_widths)))
+        widths = self.half_widths
+        if self.dim < self.ambient_dim:  # distances within the hull, not across it
+            along = np.linalg.norm(self.A @ self.affine_set.basis, axis=1)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                widths = np.where(along > RANK_RTOL, widths / along, np.inf)
+        return float(max(0.0, np.min(widths)))
 
     @cached_property
     def origin_radius(self) -> float:
@@ -505,8 +595,11 @@ class HPolytope(ConvexSet):
         return float(np.linalg.norm(self.vertices - self.center, axis=1).max())
 
     def facet_slacks(self, x: ArrayLike) -> NDArray[np.float64]:
-        """``b - A x`` for points x (..., m): non-negative inside."""
-        points = np.asarray(x, dtype=float)
+        """``b - A x`` for points x (m,) or (k, m): non-negative inside.
+
+        The points are checked as by :meth:`contains` (real, finite, m coordinates).
+        """
+        points = check_points("x", x, self.ambient_dim)
         return self.half_widths - (points - self.center) @ self.A.T
 
     def halfspaces(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -588,6 +681,15 @@ class HPolytope(ConvexSet):
             raise InputError(
                 "vertices", "at least one column (the task dimension m)", "shape (V, 0)"
             )
+        limit = magnitude_limit(m)
+        if len(V) and float(np.abs(V).max()) > 10.0**limit:  # (squares overflow below)
+            raise InputError(
+                "vertices",
+                f"coordinates of size at most 1e{limit} (the set's volume and limits "
+                "representable)",
+                f"an entry of size {float(np.abs(V).max()):.3g}",
+                "express the points in units where the set is of moderate size.",
+            )
         center = V.mean(axis=0) if len(V) else np.zeros(m)
         svd = rank_revealing_svd((V - center).T) if len(V) else None
         rank = 0 if svd is None else svd.rank
@@ -611,13 +713,15 @@ class HPolytope(ConvexSet):
         hull = _hull_of_points(y[kept])
         normals, offsets, vertex = hull.normals, hull.offsets, kept[hull.vertices]
         y_vertices = y[vertex]
-        # the facets in task coordinates: n . y <= o is (n / t) . U^T (x - center) <= o
-        A = (normals / stretch) @ frame.T
+        # the facets in task coordinates: n . y <= o is (n / t) . U^T (x - center) <= o,
+        # scaled by max(t) first (1 / t of a set of size 1e-160 overflows, of 1e200 underflows)
+        widest = float(stretch.max())
+        A = (normals / (stretch / widest)) @ frame.T
         scale = np.sqrt((A * A).sum(axis=1))
-        A, b = A / scale[:, None], offsets / scale + (A / scale[:, None]) @ center
-        limit = magnitude_limit(m)
+        A = A / scale[:, None]
+        b = offsets * (widest / scale) + A @ center
         size = float(np.abs(b).max())
-        if size > 10.0**limit or 0 < size < 10.0**-limit:  # as HPolytope(A, b) refuses them
+        if not math.isfinite(size) or size > 10.0**limit or 0 < size < 10.0**-limit:
             raise InputError(
                 "vertices",
                 f"points whose facets lie at distances between 1e-{limit} and 1e{limit} from "
@@ -699,6 +803,38 @@ class HPolytope(ConvexSet):
         return snapped
 
 
+def _close_rounded_slabs(
+    A: NDArray[np.float64], b: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Unit rows with opposite pairs closer than their offsets' rounding made one plane.
+
+    Two rows ``a . x <= b1`` and ``-a . x <= b2`` (normals opposite to ``m eps``) bound a
+    slab of width ``b1 + b2``; where that is within the rounding of the offsets,
+    ``(m + 2) eps (|b1| + |b2|)`` (:func:`~polyell.geometry.limits.rounding_floor`, the
+    offsets' size is the set's distance from the origin), the slab cannot be told from
+    the plane between them, and is that plane (an exact equality): two boxes sharing the
+    edge x = 1, one offset stored as 1.0000000000000004, meet in a segment, not in a
+    2-D slab of width 4e-16.  Pairs found by normals rounded to 9 digits.
+    """
+    k, m = A.shape
+    if k < 2:
+        return A, b
+    eps = float(np.finfo(float).eps)
+    keys: dict[bytes, int] = {}
+    for index, row in enumerate(np.round(A, 9) + 0.0):
+        keys.setdefault(row.tobytes(), index)
+    A, b = A.copy(), b.copy()
+    for j, row in enumerate(np.round(-A, 9) + 0.0):
+        i = keys.get(row.tobytes())
+        if i is None or i >= j or float(np.abs(A[i] + A[j]).max()) > m * eps:
+            continue
+        width = b[i] + b[j]
+        if width != 0.0 and abs(width) <= (m + 2) * eps * (abs(b[i]) + abs(b[j])):
+            middle = 0.5 * (b[i] - b[j])
+            A[j], b[i], b[j] = -A[i], middle, -middle
+    return A, b
+
+
 def require_drawable(S: object, argument: str) -> None:
     """Refuse an H-polytope that is unbounded or empty (it has no finite drawing or mesh)."""
     if isinstance(S, HPolytope) and (S.is_empty or not S.is_bounded):
@@ -706,8 +842,14 @@ def require_drawable(S: object, argument: str) -> None:
             argument,
             "a bounded, non-empty set",
             "an empty set" if S.is_empty else f"a set unbounded along {len(S.rays)} ray(s)",
-            "a force polytope is unbounded at a singular posture and empty where the arm "
-            "cannot hold itself: draw another posture.",
+            (
+                "an empty set has nothing to draw: check the half-spaces (a force polytope "
+                "is empty where the arm cannot hold itself: take another posture)."
+                if S.is_empty
+                else "bound it first, e.g. HPolytope(np.vstack([S.A, C]), np.r_[S.b, d]) "
+                "with a box C x <= d around the part to draw (a force polytope is "
+                "unbounded at a singular posture: or take another posture)."
+            ),
         )
 
 

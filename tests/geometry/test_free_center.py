@@ -229,7 +229,7 @@ def test_solves_the_force_sets_clarabel_reports_inaccurate():
             assert solver == cp.SCS
             assert_agrees(result, 0, A, b)
         free_center_mvie(P)  # the scalar path certifies it too (a SolverError otherwise)
-    assert inaccurate >= 5  # the seed holds such cases (11 of 30)
+    assert inaccurate >= 2  # the seed holds such cases (3 of 30 with the facets as given)
 
 
 @pytest.mark.parametrize("r", [1, 2, 3, 4, 5, 6])
