@@ -2,15 +2,10 @@
 
 from __future__ import annotations
 
-import csv
 import dataclasses
-import io
-import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from functools import cached_property
-from pathlib import Path
-from typing import TYPE_CHECKING, Any, overload
+from typing import TYPE_CHECKING, Any, cast, overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -21,6 +16,7 @@ from polyell.comparison.directions import DirectionSpec, direction_vectors
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.metrics import check_same_affine_set
 from polyell.comparison.set_comparison import (
+    ScoredSet,
     SetComparison,
     SetScores,
     check_bare_set,
@@ -32,11 +28,8 @@ from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.directions import directions_in
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope
-from polyell.geometry.mvie import max_volume_inscribed_ellipsoid
-from polyell.geometry.outer import min_volume_enclosing_ellipsoid
 from polyell.geometry.polytope import Polytope
 from polyell.models.task import default_task
-from polyell.storage import write_text_atomically
 from polyell.validation import check_integer
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
@@ -134,7 +127,7 @@ SCORE_NAMES = tuple(
 )
 
 
-class Comparison:
+class Comparison(ScoredSet):
     """Scores of both ellipsoid definitions, the MVIE, the outer ellipsoid and candidates.
 
     Build it with :func:`compare`.  ``cmp["chiacchio"]`` is a :class:`Scores`.
@@ -176,27 +169,15 @@ class Comparison:
         self.records: dict[str, Scores] = self._score()
 
     def __getitem__(self, kind: str) -> Scores:
-        if kind not in self.records:
-            raise InputError("kind", f"one of {list(self.records)}", repr(kind))
-        return self.records[kind]
+        return cast(Scores, super().__getitem__(kind))
 
     def __repr__(self) -> str:
         return f"Comparison({self.analysis!r}, directions={len(self.directions)})"
 
-    @cached_property
-    def mvie(self) -> Ellipsoid:
-        """The maximum-volume inscribed ellipsoid (the ceiling for inscribed ellipsoids)."""
-        return max_volume_inscribed_ellipsoid(self.analysis.polytope)
-
-    @cached_property
-    def outer(self) -> Ellipsoid:
-        """The minimum-volume enclosing ellipsoid (the floor for enclosing ones)."""
-        return min_volume_enclosing_ellipsoid(self.analysis.polytope)
-
-    @cached_property
-    def polytope_limits(self) -> Any:
-        """Directional limits of the polytope on :attr:`directions`."""
-        return self.analysis.polytope.limits(self.directions)
+    @property
+    def polytope(self) -> Any:  # type: ignore[override]
+        """The analysis's exact set (:attr:`Analysis.polytope`)."""
+        return self.analysis.polytope
 
     def ellipsoid(self, kind: str) -> Ellipsoid:
         """The ellipsoid scored under ``kind`` (raises where it is undefined)."""
@@ -353,31 +334,6 @@ class Comparison:
         from polyell.comparison.limits import limits_frame
 
         return limits_frame(self, directions, sets=sets)
-
-    def to_csv(self, path: str | os.PathLike[str] | None = None) -> str:
-        """The scores at full precision as CSV; also written to ``path`` if given.
-
-        The file is written atomically (a temporary name, then renamed): a failed write
-        (a full disk) leaves any earlier file whole.  ``pandas.read_csv(path,
-        index_col="kind")`` reads back the same columns and values.
-
-        Raises
-        ------
-        InputError
-            If ``path`` is not a file name.
-        StorageError
-            If the file cannot be written (a missing folder, a name too long, a full disk).
-        """
-        buffer = io.StringIO()
-        # Text fields quoted: a reason holding a bare carriage return (which the csv module
-        # leaves unquoted with "\n" line ends) would otherwise split its row in two.
-        self.to_frame().to_csv(buffer, quoting=csv.QUOTE_NONNUMERIC)
-        text = buffer.getvalue()
-        if path is not None:
-            if not isinstance(path, str | os.PathLike):
-                raise InputError("path", "a file name (str or Path)", type(path).__name__)
-            write_text_atomically(Path(path), text)
-        return text
 
 
 @overload

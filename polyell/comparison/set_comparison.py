@@ -48,6 +48,7 @@ if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
 __all__ = [
     "SET_KINDS",
     "SET_SCORE_NAMES",
+    "ScoredSet",
     "SetComparison",
     "SetScores",
     "check_bare_set",
@@ -313,7 +314,69 @@ def check_given_ellipsoids(
     return found
 
 
-class SetComparison:
+class ScoredSet:
+    """What every comparison has: records by kind, optimal ellipsoids, limits and a CSV.
+
+    Subclasses set :attr:`polytope`, :attr:`directions` and :attr:`records` and define
+    ``to_frame``: :class:`SetComparison` (a bare set) and
+    :class:`~polyell.comparison.comparison.Comparison` (an analysis's set).
+    """
+
+    polytope: Polytope | HPolytope
+    directions: Array
+    records: Mapping[str, SetScores]
+
+    def __getitem__(self, kind: str) -> SetScores:
+        if kind not in self.records:
+            raise InputError("kind", f"one of {list(self.records)}", repr(kind))
+        return self.records[kind]
+
+    @cached_property
+    def mvie(self) -> Ellipsoid:
+        """The maximum-volume inscribed ellipsoid (the ceiling for inscribed ellipsoids)."""
+        return max_volume_inscribed_ellipsoid(self.polytope)
+
+    @cached_property
+    def outer(self) -> Ellipsoid:
+        """The minimum-volume enclosing ellipsoid (the floor for enclosing ones)."""
+        return min_volume_enclosing_ellipsoid(self.polytope)
+
+    @cached_property
+    def polytope_limits(self) -> DirectionalLimits:
+        """Directional limits of the set on :attr:`directions`."""
+        return self.polytope.limits(self.directions)
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per ellipsoid, one column per score (full precision)."""
+        raise NotImplementedError
+
+    def to_csv(self, path: str | os.PathLike[str] | None = None) -> str:
+        """The scores at full precision as CSV; also written to ``path`` if given.
+
+        The file is written atomically (a temporary name, then renamed): a failed write
+        (a full disk) leaves any earlier file whole.  ``pandas.read_csv(path,
+        index_col="kind")`` reads back the same columns and values.
+
+        Raises
+        ------
+        InputError
+            If ``path`` is not a file name.
+        StorageError
+            If the file cannot be written (a missing folder, a name too long, a full disk).
+        """
+        buffer = io.StringIO()
+        # Text fields quoted: a reason holding a bare carriage return (which the csv module
+        # leaves unquoted with "\n" line ends) would otherwise split its row in two.
+        self.to_frame().to_csv(buffer, quoting=csv.QUOTE_NONNUMERIC)
+        text = buffer.getvalue()
+        if path is not None:
+            if not isinstance(path, str | os.PathLike):
+                raise InputError("path", "a file name (str or Path)", type(path).__name__)
+            write_text_atomically(Path(path), text)
+        return text
+
+
+class SetComparison(ScoredSet):
     """Scores of the MVIE, the outer ellipsoid and given ellipsoids against a bare set.
 
     Build it with :func:`polyell.compare` of a set.  ``cmp["mvie"]`` is a
@@ -359,28 +422,8 @@ class SetComparison:
         self.kinds: tuple[str, ...] = (*SET_KINDS, *self._candidates, *self._given)
         self.records: dict[str, SetScores] = self._score()
 
-    def __getitem__(self, kind: str) -> SetScores:
-        if kind not in self.records:
-            raise InputError("kind", f"one of {list(self.records)}", repr(kind))
-        return self.records[kind]
-
     def __repr__(self) -> str:
         return f"SetComparison({self.polytope!r}, directions={len(self.directions)})"
-
-    @cached_property
-    def mvie(self) -> Ellipsoid:
-        """The maximum-volume inscribed ellipsoid (the ceiling for inscribed ellipsoids)."""
-        return max_volume_inscribed_ellipsoid(self.polytope)
-
-    @cached_property
-    def outer(self) -> Ellipsoid:
-        """The minimum-volume enclosing ellipsoid (the floor for enclosing ones)."""
-        return min_volume_enclosing_ellipsoid(self.polytope)
-
-    @cached_property
-    def polytope_limits(self) -> DirectionalLimits:
-        """Directional limits of the set on :attr:`directions`."""
-        return self.polytope.limits(self.directions)
 
     def ellipsoid(self, kind: str) -> Ellipsoid:
         """The ellipsoid scored under ``kind`` (raises where it is undefined)."""
@@ -444,25 +487,6 @@ class SetComparison:
         import pandas as pd
 
         return pd.DataFrame([r.as_dict() for r in self.records.values()]).set_index("kind")
-
-    def to_csv(self, path: str | os.PathLike[str] | None = None) -> str:
-        """The scores at full precision as CSV; also written (atomically) to ``path`` if given.
-
-        Raises
-        ------
-        InputError
-            If ``path`` is not a file name.
-        StorageError
-            If the file cannot be written.
-        """
-        buffer = io.StringIO()
-        self.to_frame().to_csv(buffer, quoting=csv.QUOTE_NONNUMERIC)
-        text = buffer.getvalue()
-        if path is not None:
-            if not isinstance(path, str | os.PathLike):
-                raise InputError("path", "a file name (str or Path)", type(path).__name__)
-            write_text_atomically(Path(path), text)
-        return text
 
     def _table(self, style: str, layout: TableLayout | None, **kwargs: Any) -> str:
         from polyell.comparison.tables import format_scores_table
