@@ -58,6 +58,7 @@ def direction_scores(
     floor: Array,
     ellipsoids: Sequence[tuple[Array, Array, Array]],
     directions: Array,
+    parallel: Array | None = None,
 ) -> list[dict[str, Array]]:
     """The direction statistics of each ellipsoid against the polytope, row by row.
 
@@ -79,6 +80,10 @@ def direction_scores(
         The scored ellipsoids ``{c + U diag(s) u : |u| <= 1}``, semi-axes positive.
     directions : ndarray, shape (k, m)
         Unit directions.
+    parallel : ndarray, shape (K, C), optional
+        Slopes up to which a line runs along a facet pair
+        (:func:`~polyell.geometry.limits.parallel_slopes`; default
+        :data:`~polyell.geometry.limits.PARALLEL_SLOPE`).
 
     Returns
     -------
@@ -93,8 +98,9 @@ def direction_scores(
     for start in range(0, K, step):
         rows = slice(start, start + step)
         hi_p, feasible_p = polytope_far_ends(
-            normals[rows], half_widths[rows], offsets[rows], Tt, slack[rows], floor[rows]
-        )
+            normals[rows], half_widths[rows], offsets[rows], Tt, slack[rows], floor[rows],
+            None if parallel is None else parallel[rows],
+        )  # fmt: skip
         with np.errstate(divide="ignore"):
             scale = 1.0 / np.abs(hi_p)  # shared by every ellipsoid (inf where hi_P = 0)
         for result, (c, axes, semi) in zip(results, ellipsoids, strict=True):
@@ -105,7 +111,13 @@ def direction_scores(
 
 
 def polytope_far_ends(
-    normals: Array, half_widths: Array, offsets: Array, Tt: Array, slack: Array, floor: Array
+    normals: Array,
+    half_widths: Array,
+    offsets: Array,
+    Tt: Array,
+    slack: Array,
+    floor: Array,
+    parallel: Array | None = None,
 ) -> tuple[Array, NDArray[np.bool_]]:
     """Far ends ``hi_P`` (K, k) of the lines ``{a t}`` in each polytope, and which meet it.
 
@@ -132,25 +144,33 @@ def polytope_far_ends(
         hi[rows] = 1.0 / gauge
     if not inside.all():
         out = ~inside
+        threshold = np.full(slack.shape, PARALLEL_SLOPE) if parallel is None else parallel
         hi[out], meets[out] = _cut_far_ends(
-            normals[out], offsets[out], half_widths[out], Tt, slack[out], floor[out]
-        )
+            normals[out], offsets[out], half_widths[out], Tt, slack[out], floor[out],
+            threshold[out],
+        )  # fmt: skip
     return hi, meets
 
 
 def _cut_far_ends(
-    normals: Array, offsets: Array, half_widths: Array, Tt: Array, slack: Array, floor: Array
+    normals: Array,
+    offsets: Array,
+    half_widths: Array,
+    Tt: Array,
+    slack: Array,
+    floor: Array,
+    parallel: Array,
 ) -> tuple[Array, NDArray[np.bool_]]:
     """:func:`polytope_far_ends` for rows whose origin is not inside by more than ``floor``."""
     ends = snap_to_zero(offsets - half_widths, floor), snap_to_zero(offsets + half_widths, floor)
-    lower, upper = _rays(normals, *ends, Tt)
+    lower, upper = _rays(normals, *ends, Tt, parallel)
     missed = lower > upper
     grazing = np.zeros_like(missed)
     rows = np.flatnonzero(missed.any(axis=1))
     if rows.size:  # a touch, to rounding: does the line meet P grown by the slack?
         loose = half_widths[rows] + slack[rows]
         o = offsets[rows]
-        loose_ends = _rays(normals[rows], o - loose, o + loose, Tt)
+        loose_ends = _rays(normals[rows], o - loose, o + loose, Tt, parallel[rows])
         grazing[rows] = missed[rows] & (loose_ends[0] <= loose_ends[1])
         with np.errstate(invalid="ignore"):
             middle = 0.5 * (lower[rows] + upper[rows])
@@ -162,7 +182,9 @@ def _cut_far_ends(
     return np.where(meets, upper, np.nan), meets
 
 
-def _rays(normals: Array, below: Array, above: Array, Tt: Array) -> tuple[Array, Array]:
+def _rays(
+    normals: Array, below: Array, above: Array, Tt: Array, parallel: Array
+) -> tuple[Array, Array]:
     """Both ends (K, k) of the lines in the facet pairs ``below <= a . x <= above`` (K, C).
 
     With ``s = a . t`` the pair bounds ``lambda`` between ``below / s`` and ``above / s``
@@ -176,18 +198,18 @@ def _rays(normals: Array, below: Array, above: Array, Tt: Array) -> tuple[Array,
         # where below <= 0 <= above (the origin's value, constant along it), else is empty.
         for j in range(normals.shape[1]):
             np.matmul(normals[:, j], Tt, out=slopes)
-            parallel = np.abs(slopes) <= PARALLEL_SLOPE
-            if parallel.any():
-                slopes[parallel] = 0.0
+            along = np.abs(slopes) <= parallel[:, j, None]
+            if along.any():
+                slopes[along] = 0.0
                 keeps = (below[:, j, None] <= 0.0) & (above[:, j, None] >= 0.0)
-                empty = parallel & ~keeps
+                empty = along & ~keeps
                 lower[empty], upper[empty] = np.inf, -np.inf
             negative = np.signbit(slopes)
             np.divide(np.where(negative, above[:, j, None], below[:, j, None]), slopes, out=bound)
-            bound[parallel] = -np.inf
+            bound[along] = -np.inf
             np.maximum(lower, bound, out=lower)  # NaN (0/0) propagates: an empty line
             np.divide(np.where(negative, below[:, j, None], above[:, j, None]), slopes, out=bound)
-            bound[parallel] = np.inf
+            bound[along] = np.inf
             np.minimum(upper, bound, out=upper)
     return lower, upper
 

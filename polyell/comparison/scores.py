@@ -26,7 +26,7 @@ from polyell.comparison.directional import direction_scores
 from polyell.errors import InputError
 from polyell.geometry.ellipsoid import Ellipsoid, unit_ball_volume
 from polyell.geometry.hpolytope import HPolytope
-from polyell.geometry.limits import facet_slack, rounding_floor
+from polyell.geometry.limits import facet_slack, parallel_slopes, rounding_floor
 from polyell.geometry.polytope import Polytope
 from polyell.validation import as_floats, check_integer
 
@@ -476,14 +476,16 @@ def score_ellipsoids(
     # The directional limits: slabs about their own middles (Polytope.limits' tolerances).
     slabs = sets.slabs
     reach = 2.0 * (np.linalg.norm(sets.center, axis=-1) + sets.size)
+    slack = facet_slack(slabs.widths, reach[:, None], sets.terms)
     statistics = direction_scores(
         slabs.normals,
         slabs.widths,
         slabs.midpoints,
-        facet_slack(slabs.widths, reach[:, None], sets.terms),
+        slack,
         rounding_floor(reach[:, None], sets.terms),
         [(E.center, E.axes, np.where(np.isnan(E.semi), 1.0, E.semi)) for E in ellipsoids.values()],
         directions,
+        parallel_slopes(slack, reach[:, None]),  # as Polytope.limits decides it
     )
     rows: dict[str, Array] = {}
     for (kind, record), stats, E in zip(

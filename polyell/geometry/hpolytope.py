@@ -772,7 +772,9 @@ class HPolytope(ConvexSet):
         # at most the largest singular value counted as zero, or rounding) is parallel to it.
         eps = float(np.finfo(float).eps)
         slope_floor = 0.0 if self.is_bounded else max(self._terms * eps, 2.0 * self._line_slope)
-        return line_interval_in_halfspaces(self.A, self.b, lines, slack, floor, slope_floor)
+        return line_interval_in_halfspaces(
+            self.A, self.b, lines, slack, floor, slope_floor, reach=reach
+        )
 
     def _rounded_to_lines(self, directions: NDArray[np.float64]) -> NDArray[np.float64]:
         """Directions within :attr:`affine_rtol` of the set's lines, taken as along them.

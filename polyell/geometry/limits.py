@@ -14,6 +14,7 @@ __all__ = [
     "facet_slack",
     "line_interval_in_ellipsoids",
     "line_interval_in_halfspaces",
+    "parallel_slopes",
     "rounding_floor",
     "snap_to_zero",
     "unit_ball_interval",
@@ -87,6 +88,25 @@ def snap_to_zero(
     return np.where(np.abs(offsets) <= floor, 0.0, offsets)
 
 
+def parallel_slopes(
+    slack: NDArray[np.float64] | float, reach: NDArray[np.float64] | float | None
+) -> NDArray[np.float64]:
+    """Slopes ``|a_i . t|`` up to which a line runs along row i within its slack.
+
+    ``slack_i / reach``: over the points that matter (``|a| <= reach``) the row's value
+    along the line moves by at most its :func:`facet_slack`, the tolerance of membership,
+    so the line lies in the row's plane as far as membership can tell: a line along a
+    facet through the origin then keeps its whole interval in the facet, whatever the
+    rounding of the facet's normal.  At least :data:`PARALLEL_SLOPE`; that alone without
+    ``reach``.
+    """
+    if reach is None:
+        return np.asarray(PARALLEL_SLOPE)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.asarray(slack) / np.asarray(reach)
+    return np.maximum(PARALLEL_SLOPE, np.nan_to_num(ratio, nan=0.0, posinf=0.0))
+
+
 def line_interval_in_halfspaces(
     A: NDArray[np.float64],
     b: NDArray[np.float64],
@@ -94,6 +114,7 @@ def line_interval_in_halfspaces(
     slack: NDArray[np.float64] | float,
     floor: NDArray[np.float64] | float = 0.0,
     slope_floor: float = PARALLEL_SLOPE,
+    reach: float | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The interval ``{a : A (a t) <= b}`` for each direction ``t``.
 
@@ -123,6 +144,11 @@ def line_interval_in_halfspaces(
         through the origin keeps its whole interval in that facet, not ``0 / 1e-17 = 0``
         at one end, and an unbounded set has infinite limits along its rays (a larger
         floor, its rank decision), not ``b_i / 1e-17``.
+    reach : float, optional
+        A bound on ``|a|`` over the points that matter (the set's distance from the origin
+        plus its size): a row whose slope moves it by at most its ``slack`` over that
+        reach (:func:`parallel_slopes`) is parallel too, as a point within the slack counts
+        as inside (a facet normal known to the rounding of an ill-conditioned M).
 
     Returns
     -------
@@ -130,7 +156,8 @@ def line_interval_in_halfspaces(
         Interval ends, NaN where the line misses the set.
     """
     slopes = directions @ A.T  # (k, F)
-    slopes = np.where(np.abs(slopes) <= max(slope_floor, PARALLEL_SLOPE), 0.0, slopes)
+    threshold = np.maximum(max(slope_floor, PARALLEL_SLOPE), parallel_slopes(slack, reach))
+    slopes = np.where(np.abs(slopes) <= threshold, 0.0, slopes)
     loose = b + slack
     b = snap_to_zero(b, floor)
     lower, upper = _cut(b, slopes)

@@ -272,4 +272,6 @@ class Polytope(ConvexSet):
         h = self._facets[2]
         floor = rounding_floor(2.0 * self._reach, self._terms)
         slack = facet_slack(h, 2.0 * self._reach, self._terms)
-        return line_interval_in_halfspaces(self.A, self.b, lines, slack, floor)
+        return line_interval_in_halfspaces(
+            self.A, self.b, lines, slack, floor, reach=2.0 * self._reach
+        )

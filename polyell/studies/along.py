@@ -43,9 +43,9 @@ from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.comparison.directions import direction_vectors
 from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.limits import (
-    PARALLEL_SLOPE,
     DirectionalLimits,
     facet_slack,
+    parallel_slopes,
     rounding_floor,
     snap_to_zero,
     unit_ball_interval,
@@ -329,12 +329,15 @@ def _block(
     slope = np.einsum("kcm,km->kc", sets.normals, T)
     centre = np.einsum("kcm,km->kc", sets.normals, xg)
     floor = rounding_floor(2.0 * reach[:, None], m + n + 2)  # the origin on a facet: 0
-    a, b = _line_in_pairs(slope, centre, h, floor)
+    slack = facet_slack(h, 2.0 * reach[:, None], m + n + 2)
+    parallel = parallel_slopes(slack, 2.0 * reach[:, None])  # along a facet to its slack
+    a, b = _line_in_pairs(slope, centre, h, floor, parallel)
     missed = a > b
     if missed.any():
-        loose = h[missed] + facet_slack(h[missed], 2.0 * reach[missed, None], m + n + 2)
+        loose = h[missed] + slack[missed]
         touch = np.zeros_like(missed)
-        touch[missed] = np.less_equal(*_line_in_pairs(slope[missed], centre[missed], loose, 0.0))
+        ends = _line_in_pairs(slope[missed], centre[missed], loose, 0.0, parallel[missed])
+        touch[missed] = np.less_equal(*ends)
         a, b = np.where(touch, 0.5 * (a + b), a), np.where(touch, 0.5 * (a + b), b)
     empty = a > b
     lo["polytope"][rows], hi["polytope"][rows] = (
@@ -351,20 +354,22 @@ def _block(
 
 
 def _line_in_pairs(
-    slope: Array, centre: Array, h: Array, floor: Array | float
+    slope: Array, centre: Array, h: Array, floor: Array | float, parallel: Array
 ) -> tuple[Array, Array]:
     """``[a, b]``, (K,): the line ``lambda t`` in the facet pairs ``|a_i . x - a_i . xg| <= h_i``.
 
     ``slope`` ``a_i . t``, ``centre`` ``a_i . xg`` and ``h``, all (K, C); ``a > b`` when the
     line misses them (NaN, from a 0/0, also counts as missing).  Offsets ``centre -+ h``
-    within ``floor`` of 0 are 0 (:func:`~polyell.geometry.limits.snap_to_zero`).
+    within ``floor`` of 0 are 0 (:func:`~polyell.geometry.limits.snap_to_zero`); slopes
+    within ``parallel`` (K, C) of 0 run along the pair
+    (:func:`~polyell.geometry.limits.parallel_slopes`).
     """
     offsets = snap_to_zero(centre - h, floor), snap_to_zero(centre + h, floor)
     with np.errstate(divide="ignore", invalid="ignore"):
         ends = np.stack([offsets[0] / slope, offsets[1] / slope])  # (2, K, C)
-    # parallel to rounding: no bound, or an empty line if the origin is beyond the pair
-    parallel = np.abs(slope) <= PARALLEL_SLOPE
+    # along the pair: no bound, or an empty line if the origin is beyond the pair
+    along = np.abs(slope) <= parallel
     inside = (offsets[0] <= 0.0) & (offsets[1] >= 0.0)
-    lower_end = np.where(parallel, np.where(inside, -np.inf, np.inf), ends.min(0))
-    upper_end = np.where(parallel, np.where(inside, np.inf, -np.inf), ends.max(0))
+    lower_end = np.where(along, np.where(inside, -np.inf, np.inf), ends.min(0))
+    upper_end = np.where(along, np.where(inside, np.inf, -np.inf), ends.max(0))
     return lower_end.max(axis=1), upper_end.min(axis=1)

@@ -147,3 +147,84 @@ def test_the_capacities_with_the_origin_on_a_facet(seed):
             )  # fmt: skip
             assert meets[0, 0]
             np.testing.assert_allclose(far[0, 0], expected[1], rtol=0, atol=1e-9 * size)
+
+
+def generator_line_case(seed, arm, m):
+    """An acceleration zonotope whose origin lies inside a facet (or, in 3-D, on an edge):
+    torque limits centred so that ``xg = -M u`` with ``u`` on that face; the line along the
+    face's generator(s) through the origin (the recheck's construction, issue 33)."""
+    rng = np.random.default_rng(seed)
+    q = (
+        rng.uniform(-3, 3, arm.n)
+        if m == 2
+        else pe.random_configurations(arm, 1, seed=seed).rows(0, 1)[0]
+    )
+    d = arm.dynamics(q)
+    J, B, g = d.J, d.B, d.g
+    L = rng.uniform(5, 50, arm.n)
+    M = J @ np.linalg.solve(B, np.diag(L))
+    free = list(rng.choice(arm.n, m - 1, replace=False))
+    normal = np.linalg.svd(M[:, free].T)[2][-1]
+    u = np.sign(normal @ M)
+    u[free] = rng.uniform(-0.8, 0.8, m - 1)
+    center = g - L * u
+    t = M[:, free[0]] / np.linalg.norm(M[:, free[0]])
+    return d, center + L, center - L, M, t
+
+
+def lp_along(M, xg, t):
+    """``{s : s t = xg + M u, |u| <= 1}`` by HiGHS with t and M as equalities (no tiny rows)."""
+    n = M.shape[1]
+    ends = []
+    for sign in (1.0, -1.0):
+        result = linprog(
+            np.r_[-sign, np.zeros(n)], A_eq=np.c_[-t[:, None], M], b_eq=-xg,
+            bounds=[(None, None)] + [(-1.0, 1.0)] * n, method="highs",
+        )  # fmt: skip
+        ends.append(result.x[0])
+    return ends[1], ends[0]
+
+
+@pytest.mark.parametrize("seed", [21, 3, 8, 13])
+def test_a_zonotope_with_the_origin_in_a_facet_along_the_facet(seed):
+    """The recheck's planar case (seed 21 gave [-0, 2.018], the LP [-0.473, 2.018]): the
+    facet's normal is known to the rounding of M's conditioning, more than PARALLEL_SLOPE;
+    within the slack over the set's reach the line runs in the facet."""
+    arm = pe.PlanarArm([1.0, 0.8, 0.5], [4.0, 2.0, 0.6])
+    d, tau_max, tau_min, M, t = generator_line_case(seed, arm, 2)
+    analysis = pe.analyze(d, tau_max, tau_min)
+    expected = lp_along(analysis.M, analysis.xg, t)
+    size = float(np.abs(M).sum())
+    got = analysis.polytope.limits(t)
+    np.testing.assert_allclose([got.lo, got.hi], expected, rtol=0, atol=1e-8 * size)
+    batch = pe.Dynamics(d.J[None], d.B[None], d.g[None])
+    along = pe.limits_along(batch, None, t[None], tau_max, tau_min)["polytope"]
+    np.testing.assert_allclose([along.lo[0], along.hi[0]], expected, rtol=0, atol=1e-8 * size)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_panda_with_the_origin_on_an_edge_along_the_edge(seed):
+    """3-D: the origin on an edge of the Panda's acceleration zonotope, the line along it;
+    the sweep's far ends (its slabs, with the same parallel rule) agree."""
+    from polyell.comparison.directional import polytope_far_ends
+    from polyell.geometry.limits import facet_slack, parallel_slopes, rounding_floor
+    from polyell.studies.batch import BatchOptions, block_sets
+
+    panda = pe.robots.load("panda")
+    d, tau_max, tau_min, M, t = generator_line_case(seed, panda, 2)
+    analysis = pe.analyze(d, tau_max, tau_min)
+    expected = lp_along(analysis.M, analysis.xg, t)
+    size = float(np.abs(M).sum())
+    got = analysis.polytope.limits(t)
+    np.testing.assert_allclose([got.lo, got.hi], expected, rtol=0, atol=1e-8 * size)
+    sets, _ = block_sets(d.J[None], d.B[None], d.g[None], d.xdd_bias[None], tau_max, tau_min,
+                         BatchOptions())  # fmt: skip
+    slabs = sets.as_set_batch().slabs
+    reach = 2.0 * (np.linalg.norm(sets.xg, axis=-1) + sets.size)
+    slack = facet_slack(slabs.widths, reach[:, None], 12)
+    far, meets = polytope_far_ends(
+        slabs.normals, slabs.widths, slabs.midpoints, t[:, None], slack,
+        rounding_floor(reach[:, None], 12), parallel_slopes(slack, reach[:, None]),
+    )  # fmt: skip
+    assert meets[0, 0]
+    np.testing.assert_allclose(far[0, 0], expected[1], rtol=0, atol=1e-8 * size)
