@@ -36,7 +36,7 @@ from polyell.comparison.tables import (
     format_limits_table,
     score_display,
 )
-from polyell.errors import InputError, StorageError
+from polyell.errors import InputError, PolyellError, StorageError
 from polyell.models.task import task_unit
 from polyell.models.urdf import UrdfRobot
 from polyell.report import format_analysis
@@ -1249,6 +1249,38 @@ def _study_datasets(spec: StudySpec) -> list[str]:
     return [f"results{capacity_class(c).output_suffix}/" for c in spec.file.compare.capacities]
 
 
+def _manifest_text(folder: Path) -> str | None:
+    """The folder's manifest as it is (None: none, or unreadable)."""
+    try:
+        return (folder / "manifest.json").read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return None
+
+
+def _restore_if_untouched(folder: Path, text: str) -> None:
+    """Put back the manifest ``text`` of the previous run if a refused run wrote nothing.
+
+    A run refused before it wrote a file (the folder's dataset holds a different sweep)
+    leaves the previous run's manifest as it was: marked incomplete, the next run would
+    have taken that run's finished outputs for its own and removed them.
+    """
+    marker = folder / "manifest.json"
+    try:
+        stamp = marker.stat().st_mtime
+        newer = [
+            entry.name
+            for entry in os.scandir(folder)
+            if entry.is_file()
+            and entry.name != "manifest.json"
+            and STUDY_FILES.fullmatch(entry.name) is not None
+            and entry.stat().st_mtime >= stamp
+        ]
+    except OSError:
+        return
+    if not newer:
+        write_text_atomically(marker, text)
+
+
 def _mark_incomplete(spec: StudySpec, folder: Path, previous: _Previous) -> None:
     """Write the manifest of a run that has not finished (replaced when it does).
 
@@ -1809,6 +1841,7 @@ def run_study(
                 folder,
                 previous.unfinished,
             )
+        before = _manifest_text(folder)
         _mark_incomplete(spec, folder, previous)
         try:
             with warnings.catch_warnings(record=True) as caught:
@@ -1818,7 +1851,9 @@ def run_study(
                     written = _run_many(spec, folder, progress, scheduler, seconds, notes)
                 else:
                     written = _run_points(spec, folder, notes)
-        except BaseException:  # a failed or interrupted run: its warnings all the same
+        except BaseException as exn:  # a failed or interrupted run: its warnings all the same
+            if isinstance(exn, PolyellError) and before is not None:
+                _restore_if_untouched(folder, before)  # a refused run changes nothing
             _warn_again(_unique_warnings(caught))
             raise
         raised = _unique_warnings(caught)

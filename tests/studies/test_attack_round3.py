@@ -255,3 +255,21 @@ def test_missing_study_file_and_interactive_errors_carry_a_fix(tmp_path):
         with pytest.raises(pe.InputError) as caught:
             call()
         assert caught.value.fix, str(caught.value)
+
+
+def test_a_refused_run_leaves_the_previous_runs_manifest_as_it_was(tmp_path):
+    """The recheck's case: a finished grid study, then the same file with other torque
+    limits into the same folder, refused (its dataset holds a different sweep); the folder
+    keeps the first run's manifest, not one marked incomplete that the next run would have
+    taken for its own (removing the first run's finished outputs)."""
+    out = tmp_path / "out"
+    run_study(_load(tmp_path, GRID, "grid.toml"), out)
+    before = (out / "manifest.json").read_text()
+    other = GRID.replace(
+        'library = "chiacchio2000"', 'library = "chiacchio2000"\ntau_max = [50, 20, 5]'
+    )
+    assert other != GRID
+    with pytest.raises(pe.InputError, match="holds a different sweep"):
+        run_study(_load(tmp_path, other, "grid.toml"), out)
+    assert (out / "manifest.json").read_text() == before
+    assert json.loads(before).get("complete") is not False
