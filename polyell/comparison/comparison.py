@@ -155,17 +155,9 @@ class Comparison(ScoredSet):
         ellipsoids: Mapping[str, Ellipsoid] | None = None,
     ) -> None:
         self.analysis = analysis
-        self.directions = directions
-        self._samples = samples
-        self._seed = seed
-        self._computed = {"mvie": mvie, "outer": outer}
-        self._candidates = {c.name: c for c in candidates}
-        self._given = dict(ellipsoids or {})
-        self.kinds: tuple[str, ...] = (
-            *compared_kinds(analysis.capacity),
-            *self._candidates,
-            *self._given,
-        )
+        self._keep(directions, samples, seed, {"mvie": mvie, "outer": outer}, candidates,
+                   ellipsoids)  # fmt: skip
+        self.kinds = (*compared_kinds(analysis.capacity), *self._candidates, *self._given)
         self.records: dict[str, Scores] = self._score()
 
     def __getitem__(self, kind: str) -> Scores:
@@ -179,16 +171,9 @@ class Comparison(ScoredSet):
         """The analysis's exact set (:attr:`Analysis.polytope`)."""
         return self.analysis.polytope
 
-    def ellipsoid(self, kind: str) -> Ellipsoid:
-        """The ellipsoid scored under ``kind`` (raises where it is undefined)."""
-        if kind == "mvie":
-            return self.mvie
-        if kind == "outer":
-            return self.outer
+    def _own_ellipsoid(self, kind: str) -> Ellipsoid:
         if kind in self._candidates:
             return self._candidates[kind].ellipsoid(self.analysis)
-        if kind in self._given:
-            return self._given[kind]
         return self.analysis.ellipsoid(kind)
 
     def _undefined(self, kind: str) -> Ellipsoid | str:

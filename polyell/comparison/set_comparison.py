@@ -325,6 +325,38 @@ class ScoredSet:
     polytope: Polytope | HPolytope
     directions: Array
     records: Mapping[str, SetScores]
+    kinds: tuple[str, ...]
+
+    def _keep(
+        self,
+        directions: Array,
+        samples: int,
+        seed: int,
+        optima: dict[str, bool],
+        candidates: tuple[Candidate, ...],
+        ellipsoids: Mapping[str, Ellipsoid] | None,
+    ) -> None:
+        """Hold what the scores are computed from (the subclasses' constructors)."""
+        self.directions = directions
+        self._samples = samples
+        self._seed = seed
+        self._computed = optima
+        self._candidates = {c.name: c for c in candidates}
+        self._given = dict(ellipsoids or {})
+
+    def ellipsoid(self, kind: str) -> Ellipsoid:
+        """The ellipsoid scored under ``kind`` (raises where it is undefined)."""
+        if kind == "mvie":
+            return self.mvie
+        if kind == "outer":
+            return self.outer
+        if kind in self._given:
+            return self._given[kind]
+        return self._own_ellipsoid(kind)
+
+    def _own_ellipsoid(self, kind: str) -> Ellipsoid:
+        """A candidate's ellipsoid, or one the subclass defines (else an InputError)."""
+        raise NotImplementedError
 
     def __getitem__(self, kind: str) -> SetScores:
         if kind not in self.records:
@@ -412,29 +444,18 @@ class SetComparison(ScoredSet):
         unit: str = "",
     ) -> None:
         self.polytope = polytope
-        self.directions = directions
         self.unit = unit
-        self._samples = samples
-        self._seed = seed
-        self._computed = {"mvie": mvie, "outer": outer}
-        self._candidates = {c.name: c for c in candidates}
-        self._given = dict(ellipsoids or {})
-        self.kinds: tuple[str, ...] = (*SET_KINDS, *self._candidates, *self._given)
+        self._keep(directions, samples, seed, {"mvie": mvie, "outer": outer}, candidates,
+                   ellipsoids)  # fmt: skip
+        self.kinds = (*SET_KINDS, *self._candidates, *self._given)
         self.records: dict[str, SetScores] = self._score()
 
     def __repr__(self) -> str:
         return f"SetComparison({self.polytope!r}, directions={len(self.directions)})"
 
-    def ellipsoid(self, kind: str) -> Ellipsoid:
-        """The ellipsoid scored under ``kind`` (raises where it is undefined)."""
-        if kind == "mvie":
-            return self.mvie
-        if kind == "outer":
-            return self.outer
+    def _own_ellipsoid(self, kind: str) -> Ellipsoid:
         if kind in self._candidates:
             return self._candidates[kind].section(self.polytope)
-        if kind in self._given:
-            return self._given[kind]
         raise InputError("kind", f"one of {list(self.kinds)}", repr(kind))
 
     def _found(self, kind: str) -> Ellipsoid | str:
