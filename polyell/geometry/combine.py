@@ -357,10 +357,18 @@ def intersection(P1: Set, P2: Set) -> HPolytope:
     A2, b2 = _halfspaces(P2)
     # A bounded set inside the other is the intersection: its own description, not one
     # with the other's rows, which may be far larger (units of two arms) and redundant.
-    for inner, other in ((P1, P2), (P2, P1)):
-        if _bounded(inner) and bool(np.all(other.contains(inner.vertices))):
+    # Inside means inside to the rounding of the other's rows, not to its tolerances
+    # (relative to its size): a set 1e9 times smaller at its boundary is not inside it.
+    for inner, (A, b) in ((P1, (A2, b2)), (P2, (A1, b1))):
+        if _bounded(inner) and _inside_rows(A, b, inner.vertices):
             return HPolytope(*_halfspaces(inner))
     return HPolytope(np.vstack([A1, A2]), np.concatenate([b1, b2]))
+
+
+def _inside_rows(A: np.ndarray, b: np.ndarray, points: np.ndarray) -> bool:
+    """Whether every point satisfies ``A x <= b`` to the rounding of evaluating the rows."""
+    floor = 8 * (A.shape[1] + 2) * np.finfo(float).eps * (np.abs(A) @ np.abs(points.T) + np.abs(b)[:, None])
+    return bool(np.all(A @ points.T - b[:, None] <= floor))
 
 
 def _bounded(P: Set) -> bool:

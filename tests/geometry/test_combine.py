@@ -232,3 +232,16 @@ def test_a_lower_dimensional_summand_and_a_sum_of_sums():
         sums, hull = pairwise_hull(first, second)
         assert same_points(total.vertices, sums[hull.vertices], 1e-12 * float(np.abs(sums).max()))
         assert total.volume == pytest.approx(hull.volume, rel=1e-9)
+
+
+@pytest.mark.parametrize("size", [1e-3, 1e-6, 1e-9])
+def test_a_small_set_at_a_large_sets_corner_is_cut_at_the_corner(size):
+    """A set far smaller than the other, straddling its corner, is not 'inside' it to the
+    larger set's tolerance: the intersection is the quarter inside (a 1e-6 box at a 1e3
+    box's corner came back whole, four times its volume)."""
+    box = np.vstack([np.eye(2), -np.eye(2)])
+    big = pe.geometry.HPolytope(box, np.full(4, 1e3))
+    small = pe.geometry.HPolytope(box, np.r_[1e3 + size, 1e3 + size, size - 1e3, size - 1e3])
+    for P in (intersection(big, small), intersection(small, big)):
+        assert P.volume == pytest.approx(size**2, rel=1e-4)
+        np.testing.assert_array_less(P.vertices, 1e3 + 1e-12 * 1e3)
