@@ -142,6 +142,7 @@ def _cap_geometry(
             "reach_vectors",
             "an (..., F, r) array and slack of shape (..., F)",
             f"shapes {W.shape} and {slack.shape}",
+            "pass one slack per facet row, e.g. reach_vectors of shape (F, r) and slack (F,)",
         )
     r = W.shape[-1]
     size = np.max(np.abs(W), axis=-1)  # rows scaled to entries of at most 1: no underflow
@@ -277,7 +278,10 @@ def _solve(G: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64
 def _triples(
     unit: NDArray[np.float64], t: NDArray[np.float64], pairs: NDArray[np.bool_]
 ) -> NDArray[np.bool_]:
-    """Rows in which three caps meet: ``{w . u >= t}`` of three has a point of the ball.
+    """Caps that meet two others at once: ``{w . u >= t}`` of the three has a point of the ball.
+
+    Shape (K, F).  Only these caps change ``int g(N)``: a point of a cap in no such triple
+    lies in at most one other cap, where ``g(N) = 0`` with or without it.
 
     Over the triples whose pairs meet, the point of least norm of the three half-spaces
     is the projection onto one of the seven sets of active planes: the least norm of the
@@ -290,7 +294,7 @@ def _triples(
     later = np.arange(pairs.shape[-1])[None, :] > j[:, None]
     first, k = np.nonzero(meets & later)
     row, i, j = row[first], i[first], j[first]
-    triple = np.zeros(len(unit), dtype=bool)
+    triple = np.zeros(pairs.shape[:2], dtype=bool)
     if not len(row):
         return triple
     W = np.stack([unit[row, i], unit[row, j], unit[row, k]], axis=1)  # (T, 3, r)
@@ -310,7 +314,8 @@ def _triples(
         norm = np.sqrt(_dot(point, point))
         least = np.where(feasible & (norm < least), norm, least)
     meet = (least < 1.0 + CAP_GAP) | singular
-    triple[row[meet]] = True
+    for caps in (i, j, k):
+        triple[row[meet], caps[meet]] = True
     return triple
 
 
@@ -404,6 +409,7 @@ def cap_union_share(
             "replicates",
             "at least 2 replicates of at least 1 sample",
             f"{replicates} replicates of {samples}",
+            "pass replicates >= 2 and samples >= 1, e.g. the defaults replicates=8, samples=8192",
         )
     exact, caps = _cap_geometry(reach_vectors, slack)
     shape, r = exact.shape, np.shape(reach_vectors)[-1]
@@ -494,8 +500,10 @@ def _union_share(
     # int g(N), g = (N - 1)(N - 2)/2: where three caps meet
     tripled = np.zeros((K, replicates))
     variance = np.zeros(K)
-    for k in np.flatnonzero(_triples(unit, t, pairs)):
-        tripled[k], hits = _triple_term(unit[k][cut[k]], t[k][cut[k]], samples, replicates, seed)
+    triple = _triples(unit, t, pairs)
+    for k in np.flatnonzero(triple.any(axis=-1)):
+        caps = triple[k]
+        tripled[k], hits = _triple_term(unit[k][caps], t[k][caps], samples, replicates, seed)
         p = (hits + 0.5) / (samples * replicates + 1.0)
         variance[k] = p * (1.0 - p) / (samples * replicates)
     replicate = doubled - tripled  # each replicate's estimate of sum F - the union - known
@@ -583,15 +591,22 @@ def _triple_term(
     with np.errstate(divide="ignore", invalid="ignore"):
         at = np.where((along > 0.0) == (t >= 0.0), t / along, np.inf)  # an entry or an exit
     at = np.where((at >= 0.0) & (at < 1.0), at, np.inf)
-    step = np.where(t >= 0.0, 1.0, -1.0) * np.isfinite(at)
-    order = np.argsort(at, axis=-1, kind="stable")
-    at = np.take_along_axis(at, order, axis=-1)
-    counts = holding + np.cumsum(np.take_along_axis(step, order, axis=-1), axis=-1)
+    # the events in order; past a ray's last one (at = inf) every term is 0: the columns
+    # beyond the most events of any ray are left out
+    events = int(np.max(np.count_nonzero(at < np.inf, axis=-1), initial=0))
+    if holding == 0:  # every cap entered, none left: N counts the events so far
+        at = np.sort(at, axis=-1)[:, :events]
+        counts = np.where(at < np.inf, np.arange(1.0, events + 1.0), 0.0)
+    else:
+        step = np.where(t >= 0.0, 1.0, -1.0) * np.isfinite(at)
+        order = np.argsort(at, axis=-1, kind="stable")[:, :events]
+        at = np.take_along_axis(at, order, axis=-1)
+        counts = holding + np.cumsum(np.take_along_axis(step, order, axis=-1), axis=-1)
     ends = np.minimum(1.0, at) ** r
     g = np.where(counts >= 3.0, (counts - 1.0) * (counts - 2.0) / 2.0, 0.0)  # after each
     share = np.zeros(len(rays))
-    for k in range(F):  # N = counts[k] from the k-th event to the next (or to s = 1)
-        following = ends[:, k + 1] if k + 1 < F else np.ones(len(rays))
+    for k in range(events):  # N = counts[k] from the k-th event to the next (or to s = 1)
+        following = ends[:, k + 1] if k + 1 < events else np.ones(len(rays))
         share = share + g[:, k] * (following - ends[:, k])
     if holding >= 3:  # before the first event
         share = share + (holding - 1.0) * (holding - 2.0) / 2.0 * ends[:, 0]

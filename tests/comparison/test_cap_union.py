@@ -18,7 +18,13 @@ import numpy as np
 import pytest
 
 import polyell as pe
-from polyell.comparison.caps import cap_share, cap_union_share
+from polyell.comparison.caps import (
+    _cap_geometry,
+    _triple_term,
+    _triples,
+    cap_share,
+    cap_union_share,
+)
 from polyell.comparison.metrics import overlap
 from reference import qmc_count_inside, slacks
 
@@ -502,3 +508,25 @@ def test_three_caps_of_a_ball_are_sampled_without_scipy_stats(tmp_path):
     )
     calls, sampled, imported = result.stdout.split()
     assert int(calls) >= 1 and (sampled, imported) == ("True", "False"), result.stdout
+
+
+def test_a_cap_in_no_triple_leaves_the_three_cap_term_as_it_was():
+    """Caps that meet at most one other at a time are left out of the three-cap term
+    (``g(N) = 0`` wherever they are): three caps around +x meeting at once; a cap at -x
+    and a fifth toward -110 deg that meet each other, the fifth also one of the three,
+    never three at once.  The term over all five caps equals the term over the three
+    that :func:`_triples` keeps, and the share agrees with plain Monte Carlo."""
+    angles = np.radians([0.0, 40.0, -40.0, 180.0, -110.0])
+    W = np.stack([np.cos(angles), np.sin(angles), np.zeros(5)], axis=1)
+    t = np.array([0.3, 0.3, 0.3, 0.5, 0.9])
+    pairs = _cap_geometry(W[None], t[None])[1].pairs
+    kept = _triples(W[None], t[None], pairs)[0]
+    np.testing.assert_array_equal(kept, [True, True, True, False, False])
+    every, _ = _triple_term(W, t, 2**13, 8, 0)
+    three, _ = _triple_term(W[kept], t[kept], 2**13, 8, 0)
+    np.testing.assert_allclose(every, three, rtol=0, atol=1e-15)
+    rng = np.random.default_rng(5)
+    x = rng.normal(size=(400_000, 3))
+    x *= (rng.random(400_000) ** (1 / 3) / np.linalg.norm(x, axis=1))[:, None]
+    share, _ = cap_union_share(W, t)
+    assert share == pytest.approx(np.any(x @ W.T > t, axis=1).mean(), abs=3e-3)
