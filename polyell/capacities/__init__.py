@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from polyell.capacities.acceleration import ELLIPSOID_KINDS, AccelerationAnalysis
+from polyell.capacities.acceleration import ELLIPSOID_KINDS, AccelerationAnalysis, check_dynamics
 from polyell.capacities.base import Analysis, InverseSolution
 from polyell.capacities.force import ForceAnalysis
 from polyell.capacities.horizon import HorizonAnalysis, JointHorizon, joint_horizon
@@ -219,7 +219,7 @@ def _state(
             "pass horizon=dt [s] (e.g. 0.001), or leave q and qd out: dyn holds the state.",
         )
     state_of(cls, horizon)
-    n = int(np.shape(getattr(dyn, "J", np.zeros((0, 0))))[-1])
+    n = check_dynamics(dyn, cls.capacity).n  # before the state: its shapes need n
     return joint_horizon(
         horizon,
         n,

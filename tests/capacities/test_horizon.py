@@ -612,3 +612,11 @@ def test_arguments_of_a_horizon_are_refused_by_name(call):
     q = np.array([0.0, -0.5, 0.0, -2.0, 0.0, 1.6, 0.8])
     with pytest.raises(InputError):
         call(panda, q)
+
+
+def test_a_robot_in_place_of_its_dynamics_is_refused_as_dyn():
+    """``pe.analyze(robot, horizon=...)`` names ``dyn`` (it said q had to have shape (0,))."""
+    robot = pe.robots.load("panda")
+    q = np.mean(robot.position_limits, axis=0)
+    with pytest.raises(InputError, match=r"^dyn: expected a polyell\.Dynamics, got UrdfRobot"):
+        pe.analyze(robot, robot.tau_max, horizon=1e-3, q=q, qd=np.zeros(7))
