@@ -9,7 +9,6 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
 from numpy.typing import ArrayLike
 
 from polyell.capacities.acceleration import ELLIPSOID_KINDS, AccelerationAnalysis, check_dynamics
