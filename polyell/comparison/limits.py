@@ -21,6 +21,7 @@ if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
 
     from polyell.comparison.comparison import Comparison
+    from polyell.comparison.set_comparison import ScoredSet
 
 __all__ = [
     "LIMIT_COLUMNS",
@@ -40,15 +41,18 @@ LIMIT_COLUMNS = ("direction", "set", "defined", *LIMIT_QUANTITIES, "unit")
 Directions = Sequence[DirectionSpec] | Mapping[str, Sequence[DirectionSpec] | None] | None
 
 
-def table_sets(comparison: Comparison, sets: Sequence[str] | None, argument: str) -> list[str]:
+def table_sets(
+    comparison: ScoredSet, sets: str | Sequence[str] | None, argument: str
+) -> list[str]:
     """The sets of a table: ``"polytope"`` and the comparison's kinds, checked.
 
     None gives the polytope and every kind the comparison computed (an MVIE or outer
-    ellipsoid turned off with ``mvie=False`` / ``outer=False`` is left out).
+    ellipsoid turned off with ``mvie=False`` / ``outer=False`` is left out); one name is
+    that set alone.
     """
-    from polyell.comparison.comparison import Comparison  # (a circle at import time)
+    from polyell.comparison.set_comparison import ScoredSet  # (a circle at import time)
 
-    check_instance("comparison", comparison, Comparison, "pass pe.compare(analysis).")
+    check_instance("comparison", comparison, ScoredSet, "pass pe.compare(analysis).")
     available = ["polytope", *comparison.kinds]
     if sets is None:
         return [
@@ -56,9 +60,15 @@ def table_sets(comparison: Comparison, sets: Sequence[str] | None, argument: str
             for kind in available
             if kind == "polytope" or "not computed" not in comparison[kind].reason
         ]
+    sets = [sets] if isinstance(sets, str) else sets
     unknown = [kind for kind in sets if kind not in available]
     if unknown:
-        raise InputError(argument, f"sets among {available}", repr(unknown), "check the spelling.")
+        raise InputError(
+            argument,
+            f"sets among {available}",
+            repr(unknown),
+            f"pass names from the list, e.g. {argument}=['polytope', '{available[-1]}'].",
+        )
     return list(sets)
 
 
@@ -131,6 +141,7 @@ def posture_comparisons(
                 f"comparisons[{name!r}]",
                 "a Comparison from pe.compare under a non-empty posture name",
                 type(comparison).__name__,
+                "key each pe.compare result by a posture name, e.g. {'home': pe.compare(an)}",
             )
     capacities = {name: c.analysis.capacity for name, c in comparisons.items()}
     if len(set(capacities.values())) > 1:  # one table: one set of ellipsoids, one unit
@@ -205,7 +216,13 @@ def limits_table(
         unknown = [name for name in directions if name not in named]  # type: ignore[union-attr]
         if unknown:
             raise InputError(
-                "directions", f"directions of the postures {list(named)}", f"{unknown}"
+                "directions",
+                f"directions of the postures {list(named)}",
+                f"{unknown}",
+                "pass a list of directions, e.g. ['x', 'xy'], with a single Comparison"
+                if single
+                else f"key directions by those posture names, e.g. {{{next(iter(named))!r}: "
+                "['x', 'xy']}",
             )
     frames = []
     for name, comparison in named.items():

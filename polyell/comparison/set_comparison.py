@@ -284,6 +284,7 @@ def check_given_ellipsoids(
                 "names that are lower-case identifiers: a letter, then up to 31 letters, "
                 "digits or '_'",
                 repr(name)[:80],
+                "rename it to a lower-case identifier, e.g. 'heavy_wrist'",
             )
         if name in _RESERVED or name in taken:
             raise InputError(
@@ -294,12 +295,19 @@ def check_given_ellipsoids(
             )
         argument = f"ellipsoids[{name!r}]"
         if not isinstance(E, Ellipsoid):
-            raise InputError(argument, "a pe.Ellipsoid", type(E).__name__)
+            raise InputError(
+                argument,
+                "a pe.Ellipsoid",
+                type(E).__name__,
+                "wrap it as pe.Ellipsoid(center, axes, semi_axes) or pe.Ellipsoid.from_core(c, N)",
+            )
         if E.ambient_dim != P.ambient_dim:
             raise InputError(
                 argument,
                 f"an ellipsoid of the set's {P.ambient_dim}-dimensional space",
                 f"one of a {E.ambient_dim}-dimensional space",
+                f"give it a center of length {P.ambient_dim} and axes of shape "
+                f"({P.ambient_dim}, r), in the set's coordinates",
             )
         try:
             check_same_affine_set(E, P)
@@ -360,7 +368,12 @@ class ScoredSet:
 
     def __getitem__(self, kind: str) -> SetScores:
         if kind not in self.records:
-            raise InputError("kind", f"one of {list(self.records)}", repr(kind))
+            raise InputError(
+                "kind",
+                f"one of {list(self.records)}",
+                repr(kind),
+                f"use one of the kinds listed, e.g. cmp[{next(iter(self.records), 'mvie')!r}]",
+            )
         return self.records[kind]
 
     @cached_property
@@ -403,7 +416,12 @@ class ScoredSet:
         text = buffer.getvalue()
         if path is not None:
             if not isinstance(path, str | os.PathLike):
-                raise InputError("path", "a file name (str or Path)", type(path).__name__)
+                raise InputError(
+                    "path",
+                    "a file name (str or Path)",
+                    type(path).__name__,
+                    "pass e.g. path='scores.csv', or leave it out to get the text only",
+                )
             write_text_atomically(Path(path), text)
         return text
 
@@ -456,7 +474,12 @@ class SetComparison(ScoredSet):
     def _own_ellipsoid(self, kind: str) -> Ellipsoid:
         if kind in self._candidates:
             return self._candidates[kind].section(self.polytope)
-        raise InputError("kind", f"one of {list(self.kinds)}", repr(kind))
+        raise InputError(
+            "kind",
+            f"one of {list(self.kinds)}",
+            repr(kind),
+            f"use one of the kinds listed, e.g. ellipsoid({self.kinds[0]!r})",
+        )
 
     def _found(self, kind: str) -> Ellipsoid | str:
         """The ellipsoid scored under ``kind``, or why it has no scores here."""
@@ -553,22 +576,11 @@ class SetComparison(ScoredSet):
         """
         import pandas as pd
 
-        from polyell.comparison.limits import LIMIT_COLUMNS, LIMIT_QUANTITIES
+        from polyell.comparison.limits import LIMIT_COLUMNS, LIMIT_QUANTITIES, table_sets
 
         P = self.polytope
         found = resolve_directions(directions, P.task or default_task(P.ambient_dim))
-        available = ["polytope", *self.kinds]
-        if sets is None:
-            kinds = [
-                kind
-                for kind in available
-                if kind == "polytope" or "not computed" not in self[kind].reason
-            ]
-        else:
-            unknown = [kind for kind in sets if kind not in available]
-            if unknown:
-                raise InputError("sets", f"sets among {available}", repr(unknown))
-            kinds = list(sets)
+        kinds = table_sets(self, sets, "sets")
         T = np.array([vector for vector, _ in found])
         polytope = P.limits(T)
         rows = []

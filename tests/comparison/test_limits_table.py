@@ -144,3 +144,20 @@ def test_one_table_holds_one_capacity():
     ):
         with pytest.raises(pe.InputError, match=r"comparisons\['v'\].*one capacity"):
             call()
+
+
+def test_one_set_by_name_in_both_comparisons(paper):
+    """``sets="mvie"`` is that set (it was read letter by letter: got ['m', 'v', 'i', 'e']),
+    for a Comparison and a bare set's SetComparison alike, and a wrong name is refused by
+    name in both."""
+    for comparison in (paper, pe.compare(paper.polytope)):
+        table = comparison.limits_table(["x"], sets="mvie")
+        assert list(table["set"]) == ["mvie"]
+        full = comparison.limits_table(["x"])
+        np.testing.assert_allclose(
+            table[["lower", "upper"]].to_numpy(),
+            full.loc[full["set"] == "mvie", ["lower", "upper"]].to_numpy(),
+            rtol=0,
+        )
+        with pytest.raises(pe.InputError, match=r"^sets: .*got \['mvi'\]\. Fix: pass names"):
+            comparison.limits_table(["x"], sets=["mvi"])
