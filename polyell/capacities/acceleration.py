@@ -120,7 +120,11 @@ class AccelerationAnalysis(ZonotopeAnalysis):
         _, solved, info = lapack.dposv(B, J.T)
         if info != 0:  # pragma: no cover - Dynamics has already factorised B
             raise InputError(
-                "dyn.B", "a positive-definite inertia matrix", f"LAPACK dposv info={info}"
+                "dyn.B",
+                "a positive-definite inertia matrix",
+                f"LAPACK dposv info={info}",
+                "pass the robot's inertia matrix B(q), e.g. from robot.dynamics(q), symmetric "
+                "positive definite",
             )
         J_Binv = solved.T
         # Entries near 1e308 may overflow here: check_magnitudes refuses inf and NaN.

@@ -316,7 +316,12 @@ def _numeric(value: object) -> bool:
 def check_horizon(name: str, horizon: object) -> float:
     """``horizon`` as a positive finite float, or an InputError naming ``name``."""
     if isinstance(horizon, bool) or not isinstance(horizon, int | float | np.integer | np.floating):
-        raise InputError(name, "a control period in seconds, e.g. 0.001", repr(horizon))
+        raise InputError(
+            name,
+            "a control period in seconds, e.g. 0.001",
+            repr(horizon),
+            "pass the period as a number of seconds, e.g. 0.001 for a 1 kHz controller",
+        )
     value = float(horizon)
     if not (math.isfinite(value) and 0.0 < value <= MAX_HORIZON):
         raise InputError(
@@ -446,7 +451,12 @@ class HorizonAnalysis(AccelerationAnalysis):
     ) -> None:
         super().__init__(dynamics, tau_max, tau_min, rank_rtol=rank_rtol, affine_rtol=affine_rtol)
         if state.q.ndim != 1:
-            raise InputError("q", f"one state, shape ({self.n},)", f"shape {state.q.shape}")
+            raise InputError(
+                "q",
+                f"one state, shape ({self.n},)",
+                f"shape {state.q.shape}",
+                "analyze one configuration at a time, e.g. q=q[0] and qd=qd[0] for the first row",
+            )
         self.state = state
         self.qdd_lo, self.qdd_hi = state.interval()
         self.W, self.a0 = joint_map(dynamics.B, self.half_range, self._gravity_bias)

@@ -88,16 +88,23 @@ class Candidate:
                 "name",
                 "a lower-case identifier: a letter, then up to 31 letters, digits or '_'",
                 repr(self.name),
+                "name it with a lower-case identifier, e.g. pe.Candidate('heavy_wrist', ...)",
             )
         if self.name in _RESERVED:
             raise InputError(
-                "name", f"a name other than {', '.join(map(repr, _RESERVED))}", repr(self.name)
+                "name",
+                f"a name other than {', '.join(map(repr, _RESERVED))}",
+                repr(self.name),
+                f"rename it, e.g. {'my_' + self.name!r}",
             )
         if (self.weighting is None) == (self.core is None):
             raise InputError(
                 f"candidate {self.name!r}",
                 "exactly one of weighting= (n x n) and core= (m x m)",
                 "both" if self.weighting is not None else "neither",
+                "drop one: keep weighting= (joint space) or core= (task space)"
+                if self.weighting is not None
+                else "pass one, e.g. weighting=np.diag([1.0, 1.0, 4.0]) or core=np.eye(m)",
             )
         fix = "a weighting or core must be symmetric positive definite."
         if self.weighting is not None:
@@ -122,7 +129,10 @@ class Candidate:
                 c = check_points(f"{self.name}.center", self.center, N.shape[0])
                 if c.shape != (N.shape[0],):
                     raise InputError(
-                        f"{self.name}.center", f"shape ({N.shape[0]},)", f"shape {c.shape}"
+                        f"{self.name}.center",
+                        f"shape ({N.shape[0]},)",
+                        f"shape {c.shape}",
+                        f"pass one point of {N.shape[0]} coordinates, e.g. np.zeros({N.shape[0]})",
                     )
                 object.__setattr__(self, "center", c)
 
@@ -136,7 +146,12 @@ class Candidate:
     def root_inverse(self) -> NDArray[np.float64]:
         """``W^(-1/2)`` of a weighted candidate (n, n)."""
         if self._root_inverse is None:
-            raise InputError(f"candidate {self.name!r}", "a weighted candidate", "a core")
+            raise InputError(
+                f"candidate {self.name!r}",
+                "a weighted candidate",
+                "a core",
+                f"build it with weighting=, e.g. pe.Candidate({self.name!r}, weighting=np.eye(n))",
+            )
         return self._root_inverse
 
     def check_sizes(self, m: int, n: int) -> None:
@@ -146,12 +161,14 @@ class Candidate:
                 f"{self.name}.weighting",
                 f"a ({n}, {n}) weighting for this {n}-joint arm",
                 f"shape {self.weighting.shape}",
+                f"pass one weight per joint, e.g. weighting=np.eye({n})",
             )
         if self.core is not None and self.core.shape[0] != m:
             raise InputError(
                 f"{self.name}.core",
                 f"a ({m}, {m}) core for this {m}-D task",
                 f"shape {self.core.shape}",
+                f"pass one row and column per task coordinate, e.g. core=np.eye({m})",
             )
 
     def ellipsoid(self, analysis: Analysis) -> Ellipsoid:
@@ -249,15 +266,29 @@ def check_candidates(candidates: Any) -> tuple[Candidate, ...]:
     if isinstance(candidates, Candidate):
         candidates = (candidates,)
     if isinstance(candidates, str | bytes) or not hasattr(candidates, "__iter__"):
-        raise InputError("candidates", "a sequence of pe.Candidate", type(candidates).__name__)
+        raise InputError(
+            "candidates",
+            "a sequence of pe.Candidate",
+            type(candidates).__name__,
+            "pass a list, e.g. candidates=[pe.Candidate('heavy_wrist', weighting=W)]",
+        )
     found = tuple(candidates)
     for item in found:
         if not isinstance(item, Candidate):
             raise InputError(
-                "candidates", "a sequence of pe.Candidate", f"an item {type(item).__name__}"
+                "candidates",
+                "a sequence of pe.Candidate",
+                f"an item {type(item).__name__}",
+                "wrap each item, e.g. pe.Candidate('heavy_wrist', weighting=W)",
             )
     names = [c.name for c in found]
     repeated = sorted({name for name in names if names.count(name) > 1})
     if repeated:
-        raise InputError("candidates", "distinct names", f"{repeated} more than once")
+        raise InputError(
+            "candidates",
+            "distinct names",
+            f"{repeated} more than once",
+            f"give each candidate its own name, e.g. rename one {repeated[0]!r} to "
+            f"{repeated[0][:29] + '_2'!r}",
+        )
     return found

@@ -442,19 +442,34 @@ def compare(
     (('mvie', 'outer', 'disc'), 1.0, 1.0)
     """
     if isinstance(directions, bool | np.bool_):
-        raise InputError("directions", "unit directions (k, m), a count or None", repr(directions))
+        raise InputError(
+            "directions",
+            "unit directions (k, m), a count or None",
+            repr(directions),
+            "pass a count, e.g. directions=1000, or leave it out for the default",
+        )
     samples = check_integer("samples", samples, MIN_SAMPLES, MAX_SAMPLES)
     seed = check_integer("seed", seed, 0, MAX_SEED)
     for name, flag in (("mvie", mvie), ("outer", outer)):
         if not isinstance(flag, bool | np.bool_):
-            raise InputError(name, "True or False", repr(flag))
+            raise InputError(
+                name,
+                "True or False",
+                repr(flag),
+                f"pass {name}=True to compute it or {name}=False to skip it",
+            )
     found = check_candidates(candidates)
     if not isinstance(analysis, Analysis):
         P = check_bare_set(analysis)
         if unit is None:
             unit = ""
         if not isinstance(unit, str):
-            raise InputError("unit", "a unit name (str), e.g. 'N'", type(unit).__name__)
+            raise InputError(
+                "unit",
+                "a unit name (str), e.g. 'N'",
+                type(unit).__name__,
+                "pass the set's unit as a str, e.g. unit='N', or leave it out",
+            )
         for candidate in found:
             if candidate.weighting is not None:
                 raise InputError(

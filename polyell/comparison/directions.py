@@ -118,11 +118,21 @@ def named_direction(
     if isinstance(spec, str):
         return _from_name(spec, task, argument)
     if isinstance(spec, bool | int | float | np.number) or spec is None:
-        raise InputError(argument, _name_expected(task), repr(spec))
+        raise InputError(
+            argument,
+            _name_expected(task),
+            repr(spec),
+            f"name it, e.g. {task[0]!r}, or give a unit vector of {len(task)} numbers",
+        )
     try:
         size = np.shape(spec)
     except ValueError:  # a ragged list
-        raise InputError(argument, _name_expected(task), repr(spec)[:80]) from None
+        raise InputError(
+            argument,
+            _name_expected(task),
+            repr(spec)[:80],
+            f"give one flat unit vector of {len(task)} numbers, or a name such as {task[0]!r}",
+        ) from None
     if len(size) == 1 and size[0] != len(task):
         raise InputError(
             argument,
@@ -132,7 +142,12 @@ def named_direction(
         )
     vector = check_directions(argument, spec, len(task))
     if vector.ndim != 1:
-        raise InputError(argument, _name_expected(task), f"shape {vector.shape}")
+        raise InputError(
+            argument,
+            _name_expected(task),
+            f"shape {vector.shape}",
+            f"give one vector per entry, e.g. list(T) for the rows of a (k, {len(task)}) array T",
+        )
     return vector, _vector_label(vector)
 
 
@@ -257,10 +272,20 @@ def resolve_directions(
             f"write e.g. {argument}=['x', 'z'].",
         )
     if len(directions) == 0:
-        raise InputError(argument, "at least one direction", "an empty list")
+        raise InputError(
+            argument,
+            "at least one direction",
+            "an empty list",
+            f"list at least one, e.g. {argument}=[{task[0]!r}], or pass None for the task's axes",
+        )
     found = [named_direction(spec, task, f"{argument}[{k}]") for k, spec in enumerate(directions)]
     labels = [label for _, label in found]
     repeated = sorted({label for label in labels if labels.count(label) > 1})
     if repeated:
-        raise InputError(argument, "distinct directions", f"{repeated} more than once")
+        raise InputError(
+            argument,
+            "distinct directions",
+            f"{repeated} more than once",
+            f"list each direction once: drop the repeats of {repeated[0]!r}",
+        )
     return found

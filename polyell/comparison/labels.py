@@ -224,12 +224,22 @@ def _label_value(argument: str, value: object) -> LabelText:
     if isinstance(value, str):
         plain = check_text(argument, value)
         if not plain.strip():
-            raise InputError(argument, "a label that is not blank", repr(value))
+            raise InputError(
+                argument,
+                "a label that is not blank",
+                repr(value),
+                "give a label with some text, e.g. 'DME', or leave the name out for its default",
+            )
         return LabelText(plain.strip())
     if isinstance(value, list | tuple) and len(value) == 2:
         plain = check_text(f"{argument}[0]", value[0])
         if not plain.strip():
-            raise InputError(f"{argument}[0]", "a plain label that is not blank", repr(value[0]))
+            raise InputError(
+                f"{argument}[0]",
+                "a plain label that is not blank",
+                repr(value[0]),
+                "give the plain text beside the LaTeX, e.g. ('DME', '$E_D$')",
+            )
         return LabelText(plain.strip(), check_markup(f"{argument}[1]", value[1]).strip())
     raise InputError(
         argument,
@@ -285,6 +295,7 @@ def check_labels(labels: object, argument: str = "labels") -> Labels:
                 argument,
                 "keys that are set names (a candidate's too) or score names",
                 _describe(key),
+                "key each label by a lower-case set or score name, e.g. 'chiacchio' or 'coverage'",
             )
         if key not in known:
             close = get_close_matches(key, known, n=1, cutoff=0.85)
@@ -352,7 +363,15 @@ def quantity(name: str, capacity: str = "acceleration", labels: Labels = None) -
     'share covered'
     """
     if not isinstance(name, str) or name not in QUANTITIES:
-        raise InputError("name", f"a quantity among {sorted(QUANTITIES)}", repr(name)[:80])
+        close = get_close_matches(str(name), QUANTITIES, n=1)
+        raise InputError(
+            "name",
+            f"a quantity among {sorted(QUANTITIES)}",
+            repr(name)[:80],
+            f"did you mean {close[0]!r}?"
+            if close
+            else "use one of the names listed, e.g. 'coverage'",
+        )
     found = CAPACITY_QUANTITIES.get(capacity, {}).get(name) or QUANTITIES[name]
     own = resolve_labels(labels).get(name)
     if own is None:

@@ -78,7 +78,12 @@ def check_text(argument: str, text: object) -> str:
         characters UTF-8 cannot encode (lone surrogates): none of them can be printed.
     """
     if not isinstance(text, str):
-        raise InputError(argument, "a string", type(text).__name__)
+        raise InputError(
+            argument,
+            "a string",
+            type(text).__name__,
+            "pass the text as a str, e.g. 'Limits of the Panda'",
+        )
     text = _WHITESPACE.sub(" ", text)
     bad = sorted({c for c in text if unicodedata.category(c) in ("Cc", "Cs")})
     if bad:

@@ -64,7 +64,12 @@ def _names(
 ) -> tuple[str, ...]:
     """A non-empty tuple of distinct strings among ``valid`` (or candidate names)."""
     if isinstance(value, str) or not isinstance(value, list | tuple) or not value:
-        raise InputError(argument, f"a non-empty list of {what}", _describe(value))
+        raise InputError(
+            argument,
+            f"a non-empty list of {what}",
+            _describe(value),
+            f"pass a list, e.g. [{value if isinstance(value, str) and value else valid[0]!r}]",
+        )
     for item in value:
         if not isinstance(item, str) or (
             item not in valid and not (candidates and CANDIDATE_NAME.fullmatch(item))
@@ -74,11 +79,18 @@ def _names(
                 argument,
                 f"{what} among {list(valid)}" + (" or candidate names" if candidates else ""),
                 _describe(item),
-                f"did you mean {close[0]!r}?" if close else "",
+                f"did you mean {close[0]!r}?"
+                if close
+                else f"use one of the names listed, e.g. {valid[0]!r}",
             )
     repeated = sorted({item for item in value if list(value).count(item) > 1})
     if repeated:
-        raise InputError(argument, f"distinct {what}", f"{repeated} more than once")
+        raise InputError(
+            argument,
+            f"distinct {what}",
+            f"{repeated} more than once",
+            f"list each name once: drop the repeats of {repeated[0]!r}",
+        )
     return tuple(value)
 
 
@@ -101,7 +113,9 @@ def _captions(value: object) -> Mapping[str, LabelText] | None:
                 "layout.captions",
                 f"keys among {list(CAPTION_TABLES)}",
                 _describe(key),
-                f"did you mean {close[0]!r}?" if close else "",
+                f"did you mean {close[0]!r}?"
+                if close
+                else f"key each caption by a table name listed, e.g. {CAPTION_TABLES[1]!r}",
             )
         checked[key] = _label_value(f"layout.captions[{key!r}]", caption)
     return MappingProxyType(checked)
@@ -197,14 +211,21 @@ class TableLayout:
             object.__setattr__(self, "scores", scores)
         for name in ("transpose", "percent", "siunitx"):
             if not isinstance(getattr(self, name), bool):
-                raise InputError(f"layout.{name}", "True or False", _describe(getattr(self, name)))
+                raise InputError(
+                    f"layout.{name}",
+                    "True or False",
+                    _describe(getattr(self, name)),
+                    f"pass a bool, e.g. pe.TableLayout({name}=True)",
+                )
         if self.split not in SPLITS:
             close = get_close_matches(str(self.split), SPLITS, n=1)
             raise InputError(
                 "layout.split",
                 "'posture' (one table per posture) or 'combined' (one table)",
                 _describe(self.split),
-                f"did you mean {close[0]!r}?" if close else "",
+                f"did you mean {close[0]!r}?"
+                if close
+                else "pass split='posture' or split='combined'",
             )
         check_integer("layout.digits", self.digits, 1, MAX_DIGITS)
         object.__setattr__(self, "labels", check_labels(self.labels, "layout.labels"))

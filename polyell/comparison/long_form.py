@@ -185,7 +185,12 @@ def score_columns(
         names = list(frame)
         wrong = [name for name in names if not isinstance(name, str)]
         if wrong:
-            raise InputError("frame", "column names (str)", f"a column {wrong[0]!r}"[:120])
+            raise InputError(
+                "frame",
+                "column names (str)",
+                f"a column {wrong[0]!r}"[:120],
+                "pass the names as str, e.g. [str(name) for name in names]",
+            )
     extra = [] if kinds is None else _names("kinds", kinds)
     recorded_capacity = (
         check_capacity(attrs["capacity"], "frame.attrs['capacity']")
@@ -402,7 +407,12 @@ def to_wide(long: pd.DataFrame, *, capacity: str | None = None) -> pd.DataFrame:
             )
         capacity = str(held[0])
     elif capacity not in held:
-        raise InputError("capacity", f"one of the long frame's capacities {held}", repr(capacity))
+        raise InputError(
+            "capacity",
+            f"one of the long frame's capacities {held}",
+            repr(capacity),
+            f"pass one of those, e.g. capacity={held[0]!r}",
+        )
     record = records.get(capacity)
     if isinstance(record, dict) and not {"columns", "dtypes", "attrs", "kinds"} <= set(record):
         raise InputError(
@@ -520,12 +530,18 @@ def _names(argument: str, value: object) -> list[str]:
     names = list(value)
     wrong = [name for name in names if not isinstance(name, str) or not name]
     if wrong:
-        raise InputError(argument, "non-empty names (str)", f"an item {wrong[0]!r}"[:120])
+        raise InputError(
+            argument,
+            "non-empty names (str)",
+            f"an item {wrong[0]!r}"[:120],
+            "drop that item or name it with a non-empty str, e.g. ['heavy_wrist']",
+        )
     if "polytope" in names:
         raise InputError(
             argument,
             "ellipsoid names ('polytope' is the exact set's: its columns are per configuration)",
             "'polytope'",
+            "leave 'polytope' out and list only ellipsoids, e.g. ['heavy_wrist']",
         )
     return list(dict.fromkeys(names))
 
@@ -534,7 +550,12 @@ def _score_names(argument: str, value: object) -> list[str]:
     names = _names(argument, value)
     unknown = [name for name in names if name not in SCORE_NAMES]
     if unknown:
-        raise InputError(argument, f"score names among {list(SCORE_NAMES)}", repr(unknown[0]))
+        raise InputError(
+            argument,
+            f"score names among {list(SCORE_NAMES)}",
+            repr(unknown[0]),
+            f"drop {unknown[0]!r} or use one of the names listed, e.g. 'coverage'",
+        )
     return names
 
 
@@ -565,7 +586,12 @@ def _pieces(frames: Any, capacity: str | None) -> list[tuple[str, pd.DataFrame, 
             try:
                 return [("frames", pd.DataFrame([dict(frames)]), capacity)]
             except (TypeError, ValueError) as exn:  # pragma: no cover - pandas takes scalars
-                raise InputError("frames", "a to_row() record", str(exn)[:120]) from None
+                raise InputError(
+                    "frames",
+                    "a to_row() record",
+                    str(exn)[:120],
+                    "pass the dict Comparison.to_row() returns, one scalar per column",
+                ) from None
     if isinstance(frames, Sequence) and not isinstance(frames, str | bytes) and frames:
         if all(isinstance(frame, pd.DataFrame) for frame in frames):
             if capacity is not None and len(frames) > 1:
@@ -576,6 +602,7 @@ def _pieces(frames: Any, capacity: str | None) -> list[tuple[str, pd.DataFrame, 
         "a wide results DataFrame (pe.sweep), a Comparison.to_row() record, or several "
         "capacities' frames (a list, or a dict {capacity: frame})",
         f"{type(frames).__name__} {frames!r}"[:120],
+        "pass e.g. the frame pe.sweep returns, or {'acceleration': frame, 'velocity': frame2}",
     )
 
 
@@ -588,10 +615,20 @@ def _long_block(
     names = list(frame.columns)
     wrong = [name for name in names if not isinstance(name, str)]
     if wrong:
-        raise InputError(argument, "column names (str)", f"a column {wrong[0]!r}"[:120])
+        raise InputError(
+            argument,
+            "column names (str)",
+            f"a column {wrong[0]!r}"[:120],
+            "rename the columns to str, e.g. frame.rename(columns=str)",
+        )
     repeated = sorted({name for name in names if names.count(name) > 1})
     if repeated:
-        raise InputError(argument, "distinct column names", f"{repeated[0]!r} more than once")
+        raise InputError(
+            argument,
+            "distinct column names",
+            f"{repeated[0]!r} more than once",
+            "drop the repeats, e.g. frame.loc[:, ~frame.columns.duplicated()]",
+        )
     try:
         layout = score_columns(frame, kinds=kinds, capacity=capacity)
     except InputError as exn:
@@ -752,7 +789,10 @@ def _as_long(value: object) -> pd.DataFrame:
     if long.index.has_duplicates:
         at = long.index[long.index.duplicated()][0]
         raise InputError(
-            "long", "one row per (configuration, capacity, kind)", f"{_shown(at)} twice"
+            "long",
+            "one row per (configuration, capacity, kind)",
+            f"{_shown(at)} twice",
+            "drop the repeated rows, e.g. long[~long.index.duplicated()]",
         )
     return long
 

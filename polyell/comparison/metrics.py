@@ -220,7 +220,10 @@ def direction_errors(ellipsoid: DirectionalLimits, polytope: DirectionalLimits) 
     hi_e, hi_p = (np.atleast_1d(limits.hi).reshape(1, -1) for limits in (ellipsoid, polytope))
     if hi_e.shape != hi_p.shape:
         raise InputError(
-            "ellipsoid", f"limits on the polytope's {hi_p.size} directions", f"{hi_e.size}"
+            "ellipsoid",
+            f"limits on the polytope's {hi_p.size} directions",
+            f"{hi_e.size}",
+            "compute both on the same directions T, e.g. E.limits(T) and P.limits(T)",
         )
     feasible_e, feasible_p = (
         np.atleast_1d(limits.feasible).reshape(1, -1) for limits in (ellipsoid, polytope)

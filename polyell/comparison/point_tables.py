@@ -104,9 +104,21 @@ def write_point_tables(
     wanted = [formats] if isinstance(formats, str) else list(formats)
     unknown = [f for f in wanted if f not in TABLE_FORMATS]
     if unknown or not wanted:
-        raise InputError("formats", f"some of {list(TABLE_FORMATS)}", repr(formats)[:80])
+        raise InputError(
+            "formats",
+            f"some of {list(TABLE_FORMATS)}",
+            repr(formats)[:80],
+            "pass formats among those listed, e.g. formats=('tex', 'md')",
+        )
     if not isinstance(folder, str | os.PathLike) or not Path(folder).is_dir():
-        raise InputError("folder", "an existing folder", repr(folder)[:120])
+        raise InputError(
+            "folder",
+            "an existing folder",
+            repr(folder)[:120],
+            "create it first, e.g. Path(folder).mkdir(parents=True, exist_ok=True)"
+            if isinstance(folder, str | os.PathLike)
+            else "pass the folder's path as a str or Path, e.g. 'tables'",
+        )
     title = check_text("title", title)
     about = f"{check_text('description', description)}\n\n" if description else ""
     layout = TableLayout() if layout is None else layout

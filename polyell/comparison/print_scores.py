@@ -76,7 +76,10 @@ def _cell(row: pd.Series, quantity: Quantity, percent: bool) -> Cell:
         stderr = float(row[quantity.stderr]) if quantity.stderr in row.index else 0.0
     except (KeyError, TypeError, ValueError):
         raise InputError(
-            "frame", f"a number in the column {quantity.name!r}", repr(row.get(quantity.name))[:60]
+            "frame",
+            f"a number in the column {quantity.name!r}",
+            repr(row.get(quantity.name))[:60],
+            f"pass frames from Comparison.to_frame(), with a number (or NaN) in {quantity.name!r}",
         ) from None
     shift = 2 if quantity.kind == "share" and percent else 0
     return Cell(value, shift, stderr, count=quantity.kind == "count")

@@ -471,7 +471,12 @@ def score_ellipsoids(
         As :func:`shape_scores`.
     """
     if sets.slabs is None:
-        raise InputError("sets", "a SetBatch with its slabs", "slabs=None")
+        raise InputError(
+            "sets",
+            "a SetBatch with its slabs",
+            "slabs=None",
+            "pass a batch built with slabs, e.g. batch.as_set_batch(), or use shape_scores",
+        )
     records, undecided = shape_scores(sets, ellipsoids, samples, seed)
     # The directional limits: slabs about their own middles (Polytope.limits' tolerances).
     slabs = sets.slabs

@@ -101,7 +101,12 @@ def _kind_names(kinds: object) -> tuple[str, ...]:
     names = tuple(kinds)
     wrong = [name for name in names if not isinstance(name, str)]
     if wrong:
-        raise InputError("kinds", "ellipsoid names (str)", f"an item {wrong[0]!r}"[:80])
+        raise InputError(
+            "kinds",
+            "ellipsoid names (str)",
+            f"an item {wrong[0]!r}"[:80],
+            "pass the names as str, e.g. ('chiacchio', 'mvie') or result_kinds(frame)",
+        )
     return names
 
 
@@ -130,7 +135,12 @@ def result_kinds(
         study: its capacity's kinds and its candidates) passes them, and no name is split.
     """
     if (isinstance(columns, str) or not hasattr(columns, "__iter__")) and not _is_frame(columns):
-        raise InputError("columns", "column names (e.g. frame.columns)", repr(columns)[:80])
+        raise InputError(
+            "columns",
+            "column names (e.g. frame.columns)",
+            repr(columns)[:80],
+            "pass frame.columns, or a list of names such as ['chiacchio_coverage']",
+        )
     found = score_columns(
         columns if _is_frame(columns) else [str(column) for column in columns],
         kinds=None if kinds is None else list(_kind_names(kinds)),

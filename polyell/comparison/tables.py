@@ -165,7 +165,12 @@ def render_tables(
 
         plain = caption[0] if isinstance(caption, tuple) else caption
         return html_tables(tables, digits, None if plain is None else check_text("caption", plain))
-    raise InputError("style", f"one of {list(STYLES)}", repr(style)[:80])
+    raise InputError(
+        "style",
+        f"one of {list(STYLES)}",
+        repr(style)[:80],
+        "pass one of the styles listed, e.g. style='markdown'",
+    )
 
 
 def _caption(caption: Caption | None, layout: TableLayout, table: str) -> Caption | None:

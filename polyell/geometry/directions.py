@@ -53,7 +53,10 @@ def sphere_directions(k: int, r: int) -> NDArray[np.float64]:
     """
     if isinstance(k, bool) or not isinstance(k, int | np.integer) or not 1 <= k <= MAX_DIRECTIONS:
         raise InputError(
-            "directions", f"a positive number of directions, at most {MAX_DIRECTIONS:,}", repr(k)
+            "directions",
+            f"a positive number of directions, at most {MAX_DIRECTIONS:,}",
+            repr(k),
+            f"pass an int from 1 to {MAX_DIRECTIONS:,}, e.g. 360",
         )
     r = check_integer("r", r, 0, MAX_DIMENSION)
     if r == 0:

@@ -38,8 +38,12 @@ def canonical_axes(
     mapped into it (the quasi-Monte-Carlo points of a coverage) do not depend on how its
     axes were computed.  Works on one ellipsoid or a batch.
     """
-    axes = _as_float_array("axes", axes, "an array of axes, shape (..., m, r)", 2)
-    semi_axes = _as_float_array("semi_axes", semi_axes, "an array of semi-axes, shape (..., r)", 1)
+    axes = _as_float_array(
+        "axes", axes, "an array of axes, shape (..., m, r)", 2, "np.eye(2) (columns: the axes)"
+    )
+    semi_axes = _as_float_array(
+        "semi_axes", semi_axes, "an array of semi-axes, shape (..., r)", 1, "[2.0, 1.0]"
+    )
     if axes.shape[:-2] + axes.shape[-1:] != semi_axes.shape:
         raise InputError(
             "semi_axes",
@@ -57,14 +61,29 @@ def canonical_axes(
     return axes * np.where(pivots < 0, -1.0, 1.0), semi_axes
 
 
-def _as_float_array(name: str, value: object, expected: str, ndim: int) -> NDArray[np.float64]:
-    """``value`` as a float array of at least ``ndim`` dimensions (NaN kept), or an InputError."""
+def _as_float_array(
+    name: str, value: object, expected: str, ndim: int, example: str
+) -> NDArray[np.float64]:
+    """``value`` as a float array of at least ``ndim`` dimensions (NaN kept), or an InputError.
+
+    ``example`` shows a valid value in the error's fix.
+    """
     try:
         array = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
-        raise InputError(name, expected, f"{type(value).__name__} {value!r:.80}") from None
+        raise InputError(
+            name,
+            expected,
+            f"{type(value).__name__} {value!r:.80}",
+            f"pass {name} as an array of real numbers, e.g. {example}",
+        ) from None
     if array.ndim < ndim:
-        raise InputError(name, expected, f"shape {array.shape}")
+        raise InputError(
+            name,
+            expected,
+            f"shape {array.shape}",
+            f"pass {name} with at least {ndim} dimension(s), e.g. {example}",
+        )
     return array
 
 
@@ -171,7 +190,11 @@ class Ellipsoid(ConvexSet):
         eigenvalues, eigenvectors = np.linalg.eigh(0.5 * (N + N.T))
         if eigenvalues[0] <= 0:
             raise InputError(
-                "core", "a positive-definite core", f"smallest eigenvalue {eigenvalues[0]:.3g}"
+                "core",
+                "a positive-definite core",
+                f"smallest eigenvalue {eigenvalues[0]:.3g}",
+                "pass a symmetric positive-definite N, e.g. np.diag([4.0, 1.0]); a flat "
+                "ellipsoid takes its axes: Ellipsoid(center, axes, semi_axes)",
             )
         return cls(c, eigenvectors, 1.0 / np.sqrt(eigenvalues), kind=kind)
 
@@ -231,11 +254,25 @@ class Ellipsoid(ConvexSet):
         """
         count = check_integer("count", count, 2, MAX_DIRECTIONS)
         if not isinstance(closed, bool | np.bool_):
-            raise InputError("closed", "True or False", repr(closed))
+            raise InputError(
+                "closed",
+                "True or False",
+                repr(closed),
+                "pass closed=True to repeat the first point at the end, or closed=False",
+            )
         if self.rank == 1:
             return self.center + np.outer([-1.0, 1.0], self.semi_axes[0] * self.axes[:, 0])
         if self.rank != 2:
-            raise InputError("ellipsoid", "a rank-1 or rank-2 ellipsoid", f"rank {self.rank}")
+            raise InputError(
+                "ellipsoid",
+                "a rank-1 or rank-2 ellipsoid",
+                f"rank {self.rank}",
+                "use E.center for a single point"
+                if self.rank == 0
+                else "draw it as a surface with polyell.export.mesh(E) instead"
+                if self.rank == 3 and self.ambient_dim == 3
+                else "evaluate its extent along chosen directions with E.limits(directions)",
+            )
         angles = 2.0 * np.pi * np.arange(count) / count
         circle = np.column_stack([np.cos(angles), np.sin(angles)])
         curve: NDArray[np.float64] = self.center + (circle * self.semi_axes) @ self.axes.T

@@ -79,7 +79,12 @@ class HPolytope(ConvexSet):
     ) -> None:
         A = check_array("A", A, ("k", "m"))
         if A.shape[1] == 0:
-            raise InputError("A", "at least one column (the task dimension m)", "shape (k, 0)")
+            raise InputError(
+                "A",
+                "at least one column (the task dimension m)",
+                "shape (k, 0)",
+                "give A one column per task coordinate, e.g. shape (2 * m, m) for a box in R^m",
+            )
         b = check_array("b", b, (A.shape[0],))
         norms = scaled_norm(A, axis=1)  # rows of 1e-200 (units of forces) are no zero rows
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -679,7 +684,10 @@ class HPolytope(ConvexSet):
         m = V.shape[1]
         if m == 0:
             raise InputError(
-                "vertices", "at least one column (the task dimension m)", "shape (V, 0)"
+                "vertices",
+                "at least one column (the task dimension m)",
+                "shape (V, 0)",
+                "give each point its m task coordinates, e.g. vertices of shape (8, 3) in 3-D",
             )
         limit = magnitude_limit(m)
         if len(V) and float(np.abs(V).max()) > 10.0**limit:  # (squares overflow below)

@@ -44,9 +44,19 @@ def _checked(center: object, axes: object, semi_axes: object) -> tuple[Array, Ar
     ):
         array = as_floats(name, value)
         if array.ndim != ndim:
-            raise InputError(name, f"an array of shape {shape}", f"shape {array.shape}")
+            raise InputError(
+                name,
+                f"an array of shape {shape}",
+                f"shape {array.shape}",
+                f"stack one row per ellipsoid, e.g. {name}[None] for a single ellipsoid",
+            )
         if np.isinf(array).any():
-            raise InputError(name, "finite values (NaN marks an unknown ellipsoid)", "inf")
+            raise InputError(
+                name,
+                "finite values (NaN marks an unknown ellipsoid)",
+                "inf",
+                f"set the inf entries of {name} to NaN to mark those ellipsoids unknown",
+            )
         arrays.append(array)
     c, U, s = arrays
     K, m = c.shape
@@ -58,7 +68,12 @@ def _checked(center: object, axes: object, semi_axes: object) -> tuple[Array, Ar
             "give full-dimensional ellipsoids, one per centre.",
         )
     if (s <= 0).any():
-        raise InputError("semi_axes", "strictly positive lengths", f"{s[s <= 0][0]:.3g}")
+        raise InputError(
+            "semi_axes",
+            "strictly positive lengths",
+            f"{s[s <= 0][0]:.3g}",
+            "pass full-dimensional ellipsoids only, or set the rows with a semi-axis <= 0 to NaN",
+        )
     return c, U, s
 
 

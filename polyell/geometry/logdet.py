@@ -209,6 +209,8 @@ def centred_mvee_batch(
             "points",
             "an array of shape (K, N, r >= 1), finite (NaN: a problem left uncertified)",
             f"shape {points.shape}" + (" with inf" if np.isinf(points).any() else ""),
+            "stack the point sets as shape (K, N, r), e.g. points[None] for one set of "
+            "shape (N, r), with inf entries set to NaN",
         )
     K, _, r = points.shape
     if not (
@@ -216,7 +218,12 @@ def centred_mvee_batch(
         and not isinstance(gap, bool)
         and 0 < float(gap) < np.inf
     ):
-        raise InputError("gap", "a positive number (a gap in log det X)", repr(gap))
+        raise InputError(
+            "gap",
+            "a positive number (a gap in log det X)",
+            repr(gap),
+            "pass a positive float, e.g. gap=1e-8 (the default)",
+        )
     check_integer("max_iterations", max_iterations, 0, 10_000)
     basis = _symmetric_basis(r)
     Phi = np.einsum("Kia,kab,Kib->Kik", points, basis, points)  # (K, N, d)

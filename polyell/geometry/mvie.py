@@ -52,7 +52,12 @@ MVIE_METHODS = ("logdet", "cvxpy")
 def check_method(method: object) -> str:
     """A method of :data:`MVIE_METHODS`, or an InputError naming ``method``."""
     if not isinstance(method, str) or method not in MVIE_METHODS:
-        raise InputError("method", f"one of {MVIE_METHODS}", repr(method)[:80])
+        raise InputError(
+            "method",
+            f"one of {MVIE_METHODS}",
+            repr(method)[:80],
+            "pass method='logdet' (the default) or method='cvxpy' (a cross-check)",
+        )
     return method
 
 
@@ -113,7 +118,12 @@ def log_det_shape(points: NDArray[np.float64], method: str, what: str) -> NDArra
     """The shape X of the centred log-det program on ``points`` (N, r) by ``method``."""
     check_method(method)
     if not isinstance(what, str):
-        raise InputError("what", "a description of the problem (str)", repr(what)[:80])
+        raise InputError(
+            "what",
+            "a description of the problem (str)",
+            repr(what)[:80],
+            "pass a str naming the set, e.g. 'the maximum-volume inscribed ellipsoid'",
+        )
     if method == "logdet":
         return centred_mvee(points, gap=MVIE_GAP).shape
     return centred_mvee_by_cvxpy(points, what)
@@ -127,9 +137,19 @@ def ellipsoid_from_shape(P: Polytope, X: NDArray[np.float64], power: float, kind
     check_instance("P", P, Polytope, "pass a zonotope, such as analysis.polytope.")
     X = check_spd("X", X, P.dim, fix="X is the whitened shape of an ellipsoid (positive definite).")
     if isinstance(power, bool) or not isinstance(power, int | float) or not np.isfinite(power):
-        raise InputError("power", "a finite real exponent (1/2: MVIE, -1/2: outer)", repr(power))
+        raise InputError(
+            "power",
+            "a finite real exponent (1/2: MVIE, -1/2: outer)",
+            repr(power),
+            "pass power=0.5 for the MVIE or power=-0.5 for the outer ellipsoid",
+        )
     if not isinstance(kind, str):
-        raise InputError("kind", "the name of the ellipsoid (str)", repr(kind)[:80])
+        raise InputError(
+            "kind",
+            "the name of the ellipsoid (str)",
+            repr(kind)[:80],
+            "pass the name as a str, e.g. kind='mvie' or kind='outer'",
+        )
     eigenvalues, eigenvectors = np.linalg.eigh(X)
     root = (eigenvectors * eigenvalues**power) @ eigenvectors.T
     W, semi_axes, _ = np.linalg.svd(P.svd.sigma[:, None] * root)

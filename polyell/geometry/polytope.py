@@ -220,7 +220,12 @@ class Polytope(ConvexSet):
         if method == "zonotope":
             return self.A, self.b
         if method != "cdd":
-            raise InputError("method", "'zonotope' or 'cdd'", repr(method))
+            raise InputError(
+                "method",
+                "'zonotope' or 'cdd'",
+                repr(method),
+                "pass method='zonotope' (the default, closed-form facets) or method='cdd'",
+            )
         if self.dim == 0:
             return np.zeros((0, self.ambient_dim)), np.zeros(0)
         A_red, b_red = halfspaces_from_vertices(self.affine_set.coordinates(self.vertices))
@@ -259,7 +264,12 @@ class Polytope(ConvexSet):
         if method == "closed_form":
             return super().limits(directions)
         if method != "lp":
-            raise InputError("method", "'closed_form' or 'lp'", repr(method))
+            raise InputError(
+                "method",
+                "'closed_form' or 'lp'",
+                repr(method),
+                "pass method='closed_form' (the default) or method='lp' (the cvxpy reference)",
+            )
         # The same decisions about the affine set as the closed form; LPs on in-set lines.
         return self._limits(
             directions, lambda lines: polytope_limits_lp(self.generators, self.center, lines)
