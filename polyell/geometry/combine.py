@@ -63,7 +63,13 @@ Set = Polytope | HPolytope
 def _check_pair(P1: object, P2: object) -> tuple[Set, Set]:
     for name, P in (("P1", P1), ("P2", P2)):
         if not isinstance(P, Polytope | HPolytope):
-            raise InputError(name, "a pe.Polytope or a pe.HPolytope", type(P).__name__)
+            raise InputError(
+                name,
+                "a pe.Polytope or a pe.HPolytope",
+                type(P).__name__,
+                "pass a set the library builds, e.g. pe.analyze(...).polytope or "
+                "pe.HPolytope(A, b).",
+            )
     assert isinstance(P1, Polytope | HPolytope) and isinstance(P2, Polytope | HPolytope)
     if P1.ambient_dim != P2.ambient_dim:
         raise InputError(
@@ -463,7 +469,12 @@ def in_frame(
     [1.0, 2.0]
     """
     if not isinstance(P, Polytope | HPolytope):
-        raise InputError("P", "a pe.Polytope or a pe.HPolytope", type(P).__name__)
+        raise InputError(
+            "P",
+            "a pe.Polytope or a pe.HPolytope",
+            type(P).__name__,
+            "pass a set the library builds, e.g. pe.analyze(...).polytope or pe.HPolytope(A, b).",
+        )
     rows = _pose_rows(P, task)
     T, T_inverse = _pose_maps(rows, rotation, translation)
     center = T @ P.center
