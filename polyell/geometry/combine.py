@@ -373,7 +373,12 @@ def intersection(P1: Set, P2: Set) -> HPolytope:
 
 def _inside_rows(A: np.ndarray, b: np.ndarray, points: np.ndarray) -> bool:
     """Whether every point satisfies ``A x <= b`` to the rounding of evaluating the rows."""
-    floor = 8 * (A.shape[1] + 2) * np.finfo(float).eps * (np.abs(A) @ np.abs(points.T) + np.abs(b)[:, None])
+    floor = (
+        8
+        * (A.shape[1] + 2)
+        * np.finfo(float).eps
+        * (np.abs(A) @ np.abs(points.T) + np.abs(b)[:, None])
+    )
     return bool(np.all(A @ points.T - b[:, None] <= floor))
 
 
