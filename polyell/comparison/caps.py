@@ -404,13 +404,9 @@ def cap_union_share(
         :data:`ROUNDING_STDERR` (the sums' rounding: an estimate never claims more digits
         than double precision keeps).
     """
-    if int(replicates) < 2 or int(samples) < 1:
-        raise InputError(
-            "replicates",
-            "at least 2 replicates of at least 1 sample",
-            f"{replicates} replicates of {samples}",
-            "pass replicates >= 2 and samples >= 1, e.g. the defaults replicates=8, samples=8192",
-        )
+    samples = check_integer("samples", samples, 1, 2**24)
+    replicates = check_integer("replicates", replicates, 2, 1024)
+    seed = check_integer("seed", seed, 0, 2**63 - 1)
     exact, caps = _cap_geometry(reach_vectors, slack)
     shape, r = exact.shape, np.shape(reach_vectors)[-1]
     share = exact.reshape(-1).copy()
@@ -425,9 +421,9 @@ def cap_union_share(
             caps.share.reshape(-1, cut)[rows],
             caps.pairs.reshape(-1, cut, cut)[rows],
             caps.cut.reshape(-1, cut)[rows],
-            int(samples),
-            int(replicates),
-            int(seed),
+            samples,
+            replicates,
+            seed,
         )
         positive = stderr[rows] > 0  # (0: every sample gave the exact share)
         stderr[rows] = np.where(positive, np.maximum(stderr[rows], ROUNDING_STDERR), 0.0)

@@ -323,8 +323,11 @@ def test_seeded_and_reproducible():
     other = cap_union_share(W, slack, seed=4)
     assert np.all(other[0][estimated] != first[0][estimated])
     assert np.array_equal(other[0][~estimated], first[0][~estimated])
-    with pytest.raises(pe.InputError, match="replicates"):
+    with pytest.raises(pe.InputError, match=r"^replicates: "):
         cap_union_share(W, slack, replicates=1)
+    for name, value in (("samples", 2.7), ("replicates", "8"), ("seed", None)):
+        with pytest.raises(pe.InputError, match=f"^{name}: expected an integer"):
+            cap_union_share(W, slack, **{name: value})
 
 
 @pytest.mark.parametrize("unit", [1e-150, 1e150])
