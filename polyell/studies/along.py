@@ -170,6 +170,8 @@ def limits_along(
             "directions",
             f"one unit direction per configuration, shape ({len(dyn)}, {dyn.m})",
             f"shape {T.shape}",
+            f"give {len(dyn)} directions, e.g. an array of shape ({len(dyn)}, {dyn.m}) such as "
+            f"np.tile(t, ({len(dyn)}, 1)) for one vector t, or [{dyn.task[0]!r}] * {len(dyn)}.",
         )
     sets = ("polytope", *cls.ellipsoid_kinds)
     lo = {name: np.full(len(dyn), np.nan) for name in sets}
@@ -287,17 +289,40 @@ def _inputs(
                 "source",
                 "a batched Dynamics without configurations, or a robot with them",
                 "a single Dynamics" if source.batch_size is None else "both",
+                "pass a batched robot.dynamics(q) of a (K, n) q with configurations=None, "
+                "or the robot and q, e.g. limits_along(robot, q, directions)."
+                if source.batch_size is None
+                else "drop the configurations, e.g. limits_along(dyn, None, directions), "
+                "or pass the robot instead of its Dynamics.",
             )
         dyn = source
     elif hasattr(source, "dynamics"):
         if configurations is None:
-            raise InputError("configurations", "a (K, n) array of joint angles", "None")
+            raise InputError(
+                "configurations",
+                "a (K, n) array of joint angles",
+                "None",
+                f"pass the joint angles [rad] as an array of shape (K, {source.n}), "
+                f"e.g. limits_along(robot, q, directions) with q.shape == (K, {source.n}).",
+            )
         q = check_array("configurations", configurations, ("K", source.n))
         if len(q) == 0:
-            raise InputError("configurations", "at least one configuration", "none")
+            raise InputError(
+                "configurations",
+                "at least one configuration",
+                "none",
+                f"pass at least one row of {source.n} joint angles, "
+                f"e.g. configurations=[[0.0] * {source.n}].",
+            )
         dyn = source.dynamics(q) if state is None else moving_dynamics(source, q, state.qd)
     else:
-        raise InputError("source", "a robot or a batched pe.Dynamics", type(source).__name__)
+        raise InputError(
+            "source",
+            "a robot or a batched pe.Dynamics",
+            type(source).__name__,
+            "pass a robot, e.g. pe.robots.load('chiacchio2000'), with its configurations, "
+            "or its batched robot.dynamics(q) with configurations=None.",
+        )
     return (dyn, *capacity.source_limits(source, upper, lower, dyn.n))
 
 

@@ -58,7 +58,12 @@ def check_scheduler(scheduler: object) -> str | None:
     if scheduler is None:
         return None
     if not isinstance(scheduler, str):
-        raise InputError("scheduler", SCHEDULERS, f"{type(scheduler).__name__} {scheduler!r}"[:120])
+        raise InputError(
+            "scheduler",
+            SCHEDULERS,
+            f"{type(scheduler).__name__} {scheduler!r}"[:120],
+            "pass the address as a string, e.g. 'tcp://127.0.0.1:8786', or None to run here.",
+        )
     if scheduler == "processes":
         return scheduler
     match = _ADDRESS.fullmatch(scheduler)
@@ -107,7 +112,12 @@ def local_cluster(n_workers: int | None = None) -> Any:
         ) from exn
     count = (os.cpu_count() or 1) if n_workers is None else n_workers
     if not isinstance(count, int) or isinstance(count, bool) or count < 1:
-        raise InputError("n_workers", "a positive number of worker processes", repr(n_workers))
+        raise InputError(
+            "n_workers",
+            "a positive number of worker processes",
+            repr(n_workers),
+            "pass an int of at least 1, e.g. n_workers=4, or None for one per core.",
+        )
     # None unsets a variable of the nannies' environment (distributed.nanny).  The nannies
     # take a thread count from this process's environment before their own defaults of 1,
     # and numpy reads it when a worker imports it: set it for the spawns, then restore it.

@@ -63,11 +63,22 @@ def uniform_rows(
         )
     low = check_array("low", low, (None,))
     if not low.size:
-        raise InputError("low", "a bound for at least one joint", "an empty array")
+        raise InputError(
+            "low",
+            "a bound for at least one joint",
+            "an empty array",
+            "pass one lower bound per joint, e.g. low=np.full(n, -np.pi).",
+        )
     high = check_array("high", high, (low.size,))
     count = check_integer("count", count, 0, MAX_AXIS_VALUES)
     if np.any(low > high):
-        raise InputError("high", "bounds with low <= high", f"high {high} below low {low}")
+        raise InputError(
+            "high",
+            "bounds with low <= high",
+            f"high {high} below low {low}",
+            "swap the bounds where they are reversed, e.g. low=np.minimum(low, high), "
+            "high=np.maximum(low, high).",
+        )
     with np.errstate(over="ignore"):
         wide = not np.all(np.isfinite(high - low))
     if not wide:
@@ -157,7 +168,12 @@ def grid(*axes: float | tuple[float, float, int] | ArrayLike) -> Grid:
     (6, [1.5707963267948966, -3.141592653589793, 1.0])
     """
     if not axes:
-        raise InputError("axes", "one value, range or array per joint", "none")
+        raise InputError(
+            "axes",
+            "one value, range or array per joint",
+            "none",
+            "give one argument per joint, e.g. pe.grid(np.pi / 2, (-np.pi, np.pi, 5), 0.0).",
+        )
     values = []
     for i, axis in enumerate(axes):
         if isinstance(axis, tuple):  # always a range: explicit values go as a list or array
@@ -166,6 +182,8 @@ def grid(*axes: float | tuple[float, float, int] | ArrayLike) -> Grid:
                     f"q{i + 1}",
                     "a (start, stop, num) range; explicit values as a list or an array",
                     repr(axis),
+                    f"give a range of three numbers, e.g. q{i + 1}=(-np.pi, np.pi, 5), or explicit "
+                    f"values as a list, e.g. {list(axis)!r}.",
                 )
             start, stop = check_array(f"q{i + 1}", axis[:2], (2,))
             num = check_integer(f"q{i + 1} num", axis[2], 1, MAX_AXIS_VALUES)
@@ -174,7 +192,13 @@ def grid(*axes: float | tuple[float, float, int] | ArrayLike) -> Grid:
             shape: tuple[None, ...] = () if array_ndim(axis) == 0 else (None,)
             values.append(np.atleast_1d(check_array(f"q{i + 1}", axis, shape)))
             if values[-1].size == 0:
-                raise InputError(f"q{i + 1}", "at least one value", "an empty array")
+                raise InputError(
+                    f"q{i + 1}",
+                    "at least one value",
+                    "an empty array",
+                    f"give at least one angle, e.g. q{i + 1}=[0.0], or a range such as "
+                    "(-np.pi, np.pi, 5).",
+                )
     return Grid(values)
 
 
@@ -192,7 +216,11 @@ class RandomConfigurations(ConfigurationSet):
         self.high = check_array("high", high, (self.low.size,))
         if np.any(self.low > self.high):
             raise InputError(
-                "low", "low <= high for every joint", f"low={self.low}, high={self.high}"
+                "low",
+                "low <= high for every joint",
+                f"low={self.low}, high={self.high}",
+                "swap the bounds where they are reversed, e.g. low=np.minimum(low, high), "
+                "high=np.maximum(low, high).",
             )
         self.count = check_integer("count", count, 1, 2**62)
         self.seed = check_integer("seed", seed, 0, 2**63 - 1)
@@ -238,6 +266,8 @@ def joint_bounds(robot: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
             "robot",
             "a robot (pe.PlanarArm, pe.UrdfRobot, pe.robots.load(...))",
             type(robot).__name__,
+            "pass a robot, e.g. pe.robots.load('chiacchio2000'); for a box without a robot, "
+            "call random_configurations(count, low, high).",
         )
     limits = getattr(robot, "position_limits", None)
     if limits is None:

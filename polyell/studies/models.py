@@ -155,13 +155,25 @@ def _numbers(value: object) -> tuple[float, ...]:
 
 def _string(value: object) -> str:
     if not isinstance(value, str):
-        raise InputError("", "a string", _describe(value))
+        raise InputError(
+            "",
+            "a string",
+            _describe(value),
+            f'put it in double quotes: "{value}"'
+            if isinstance(value, int | float) and not isinstance(value, bool)
+            else 'write the text in double quotes, e.g. "panda".',
+        )
     return value
 
 
 def _strings(value: object) -> tuple[str, ...]:
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        raise InputError("", "a list of strings", _describe(value))
+        raise InputError(
+            "",
+            "a list of strings",
+            _describe(value),
+            'write the strings in double quotes within brackets, e.g. ["j6", "j7"].',
+        )
     return tuple(value)
 
 
@@ -191,7 +203,12 @@ def _library(value: object) -> str:
     name = _string(value)
     if name not in robots.names():
         raise InputError(
-            "", f"one of {robots.names()}", repr(name), did_you_mean([name], robots.names())
+            "",
+            f"one of {robots.names()}",
+            repr(name),
+            did_you_mean([name], robots.names())
+            or f'use a robot of the library, e.g. library = "{robots.names()[0]}", or your '
+            'own with urdf = "arm.urdf".',
         )
     return name
 
@@ -204,25 +221,47 @@ def _task(value: object) -> str | tuple[str, ...]:
             "",
             'a list of task rows (among x y z wx wy wz), or "linear", "angular" or "planar"',
             _describe(value),
+            'e.g. task = ["x", "z"] or task = "linear".',
         )
     return tuple(value)
 
 
 def _vector3(value: object) -> tuple[float, ...]:
     if not isinstance(value, list):
-        raise InputError("", "a list of 3 numbers (x, y, z)", _describe(value))
+        raise InputError(
+            "",
+            "a list of 3 numbers (x, y, z)",
+            _describe(value),
+            "write the three coordinates in brackets, e.g. [0, 0, 0.05].",
+        )
     vector = _numbers(value)
     if len(vector) != 3:
-        raise InputError("", "3 numbers (x, y, z)", f"{len(vector)}: {_describe(value)}")
+        raise InputError(
+            "",
+            "3 numbers (x, y, z)",
+            f"{len(vector)}: {_describe(value)}",
+            "give exactly x, y and z, e.g. [0, 0, 0.05].",
+        )
     return vector
 
 
 def _matrix3(value: object) -> tuple[tuple[float, ...], ...]:
+    example = "e.g. [[1e-3, 0, 0], [0, 1e-3, 0], [0, 0, 1e-3]]."
     if not isinstance(value, list) or len(value) != 3:
-        raise InputError("", "a 3 x 3 list of lists", _describe(value))
+        raise InputError(
+            "",
+            "a 3 x 3 list of lists",
+            _describe(value),
+            f"write three rows of three numbers, {example}",
+        )
     rows = tuple(tuple(evaluate_list(f"[{i}]", row)) for i, row in enumerate(value))
     if any(len(row) != 3 for row in rows):
-        raise InputError("", "a 3 x 3 list of lists", f"rows of {[len(r) for r in rows]}")
+        raise InputError(
+            "",
+            "a 3 x 3 list of lists",
+            f"rows of {[len(r) for r in rows]}",
+            f"give every row three numbers, {example}",
+        )
     return rows
 
 
@@ -230,13 +269,22 @@ def _matrix(value: object) -> tuple[tuple[float, ...], ...]:
     """A square matrix: a list of rows, or a list of numbers (its diagonal)."""
     if not isinstance(value, list):
         raise InputError(
-            "", "a list of rows, or a list of numbers (the diagonal)", _describe(value)
+            "",
+            "a list of rows, or a list of numbers (the diagonal)",
+            _describe(value),
+            "e.g. [1, 1, 4] for a diagonal matrix, or rows such as [[1e-3, 0], [0, 2e-3]].",
         )
     if value and all(isinstance(row, list) for row in value):
         rows = tuple(tuple(evaluate_list(f"[{i}]", row)) for i, row in enumerate(value))
         if any(len(row) != len(rows) for row in rows):
             lengths = [len(row) for row in rows]
-            raise InputError("", f"{len(rows)} rows of {len(rows)} numbers", f"{lengths}")
+            raise InputError(
+                "",
+                f"{len(rows)} rows of {len(rows)} numbers",
+                f"{lengths}",
+                f"give each of the {len(rows)} rows {len(rows)} numbers (a square matrix), or "
+                "a list of numbers for a diagonal one.",
+            )
         return rows
     diagonal = evaluate_list("", value)
     return tuple(
@@ -247,7 +295,12 @@ def _matrix(value: object) -> tuple[tuple[float, ...], ...]:
 def _rows(value: object) -> tuple[tuple[float, ...], ...]:
     """A list of rows of numbers (one per joint), of any lengths (checked where used)."""
     if not isinstance(value, list) or not value or not all(isinstance(r, list) for r in value):
-        raise InputError("", "a list of rows, one list of numbers per joint", _describe(value))
+        raise InputError(
+            "",
+            "a list of rows, one list of numbers per joint",
+            _describe(value),
+            "write one bracketed list per joint, e.g. [[150, 120, 0], [40, 30, 0]].",
+        )
     return tuple(tuple(evaluate_list(f"[{i}]", row)) for i, row in enumerate(value))
 
 
@@ -266,6 +319,8 @@ def _direction(value: object) -> str | tuple[float, ...]:
                 "",
                 'a direction named by task rows ("x", "-z", "xy", "wx") or a unit vector',
                 repr(value)[:60],
+                'name task rows, each with an optional sign, e.g. "x", "-z" or "x-y", or give '
+                'a unit vector such as ["-1/2", "sqrt(3)/2"].',
             )
         return value
     if not isinstance(value, list):
@@ -273,6 +328,7 @@ def _direction(value: object) -> str | tuple[float, ...]:
             "",
             'a direction named by task rows ("x", "-z", "xy", "wx") or a unit vector',
             _describe(value),
+            'write a name in quotes, e.g. "x", or a vector in brackets, e.g. [0, 1].',
         )
     vector = _numbers(value)
     norm = math.sqrt(math.fsum(v * v for v in vector))
@@ -311,7 +367,13 @@ def _per_robot(value: object) -> tuple[float, ...] | dict[str, tuple[float, ...]
     if isinstance(value, dict):
         for name in value:
             if not ROBOT_NAME.fullmatch(name):
-                raise InputError("", "a table of joint angles by robot name", f"a key {name!r}")
+                raise InputError(
+                    "",
+                    "a table of joint angles by robot name",
+                    f"a key {name!r}",
+                    "key the angles by the names of [[robots]] (letters, digits, '_' or '-'), "
+                    "e.g. { panda = [...], ur5 = [...] }.",
+                )
         return {name: tuple(evaluate_list(f".{name}", q)) for name, q in value.items()}
     return _numbers(value)
 
@@ -326,7 +388,10 @@ def Choices(valid: tuple[str, ...]) -> Check:
         if unknown:
             at = value.index(unknown[0])
             raise InputError(
-                f"[{at}]", f"one of {list(valid)}", repr(unknown[0]), did_you_mean(unknown, valid)
+                f"[{at}]",
+                f"one of {list(valid)}",
+                repr(unknown[0]),
+                did_you_mean(unknown, valid) or f'use names of the list only, e.g. ["{valid[0]}"].',
             )
         return tuple(value)
 
@@ -339,9 +404,7 @@ def Integer(low: int, high: int) -> Check:
     def check(value: object) -> int:
         try:
             return check_integer("", value, low, high)
-        except InputError as exn:
-            if exn.fix:
-                raise
+        except InputError as exn:  # check_integer's fix speaks Python: a file's, in TOML
             number = isinstance(value, int | float) and not isinstance(value, bool)
             near = low
             if number and math.isfinite(float(value)):  # type: ignore[arg-type]
@@ -681,7 +744,11 @@ _GRID_SCHEMA: dict[str, Any] = {
 def _grid(value: object) -> dict[str, float | RangeTable]:
     if not isinstance(value, dict):
         raise InputError(
-            "", "a table: q1 = value or q1 = { start, stop, num } per joint", _describe(value)
+            "",
+            "a table: q1 = value or q1 = { start, stop, num } per joint",
+            _describe(value),
+            'e.g. grid = { q1 = "pi/2", q2 = { start = "-pi", stop = "pi", num = 61 } }, or '
+            "a [grid] table with one key per joint.",
         )
     values = {}
     for name, item in value.items():
@@ -690,6 +757,7 @@ def _grid(value: object) -> dict[str, float | RangeTable]:
                 "",
                 "keys q1, q2, ... (one per joint)",
                 f"a key {name!r}",
+                "name the joints q1, q2, ... in order, e.g. q1 = 0.5.",
             )
         try:
             values[name] = _grid_value(item)
@@ -750,7 +818,12 @@ class Table(BaseModel):
     def _known_keys(cls, data: Any) -> Any:
         valid = list(cls.model_fields)
         if not isinstance(data, dict):
-            raise InputError("", f"a table with keys among {valid}", _describe(data))
+            raise InputError(
+                "",
+                f"a table with keys among {valid}",
+                _describe(data),
+                f"write a table of these keys, e.g. {{ {valid[0]} = {_example(cls, valid[0])} }}.",
+            )
         unknown = sorted(str(name) for name in set(data) - set(valid))
         if unknown:
             raise InputError(
@@ -767,7 +840,9 @@ class Table(BaseModel):
                     "",
                     f"a '{name}' {phrase(field.annotation, field.metadata)}",
                     "no such key",
-                    f"add {name} = {extra['x-example']}" if extra["x-example"] else "",
+                    f"add {name} = {extra['x-example']}"
+                    if extra["x-example"]
+                    else f"add the key {name} to the table.",
                 )
         return data
 
@@ -1886,23 +1961,103 @@ def _join(path: str, argument: str) -> str:
     return f"{path}.{argument}"
 
 
+def _tables() -> dict[str, type[Table]]:
+    """Every table model by its class name (a ValidationError's ``title``)."""
+    found: dict[str, type[Table]] = {}
+    pending: list[type[Table]] = [Table]
+    while pending:
+        model = pending.pop()
+        found[model.__name__] = model
+        pending.extend(model.__subclasses__())
+    return found
+
+
+def _table_in(annotation: Any) -> type[Table] | None:
+    """The table model within a field's annotation (``list[PointTable] | None``), if any."""
+    if isinstance(annotation, type) and issubclass(annotation, Table):
+        return annotation
+    for arg in get_args(annotation):
+        model = _table_in(arg)
+        if model is not None:
+            return model
+    return None
+
+
+def _field_at(model: type[Table] | None, loc: Sequence[int | str]) -> tuple[str, Any] | None:
+    """The key and field where a validation error's location ends, if it names a key."""
+    found = None
+    for step in loc:
+        if isinstance(step, int):  # an item of a list of tables
+            continue
+        if model is None or step not in model.model_fields:
+            return None
+        found = (step, model.model_fields[step])
+        model = _table_in(found[1].annotation)
+    return found
+
+
+def _example(model: type[Table], name: str) -> str:
+    """The TOML example of a key's value (the reference page's), ``...`` without one."""
+    extra = model.model_fields[name].json_schema_extra
+    example = extra.get("x-example") if isinstance(extra, dict) else None
+    return str(example) if example else "..."
+
+
+def _list_of(field: Any) -> str:
+    """What a list key that is not a list of tables holds (``posture.components``)."""
+    for annotation in (field.annotation, *get_args(field.annotation)):
+        if get_origin(annotation) is list and get_args(annotation):
+            return f"a list, each item a {phrase(get_args(annotation)[0])}"
+    return "a list"
+
+
+def _type_fix(kind: str, name: str, field: Any, example: str, path: str) -> str:
+    """How to write a key's value that pydantic refused as of the wrong type ``kind``."""
+    inner = None if field is None else _table_in(field.annotation)
+    if kind == "bool_type":
+        return f"write true or false without quotes, e.g. {name} = true."
+    if kind == "string_type":
+        quoted = example or '"..."'
+        return f"put the text in double quotes, e.g. {name} = {quoted}."
+    if kind == "list_type" and inner is not None:
+        return f"write each entry as a [[{path}]] table with its keys below it."
+    if kind in ("model_type", "dict_type") and inner is not None:
+        return f"write a [{path}] table with its keys below it."
+    if kind == "literal_error":
+        valid = [] if field is None else list(get_args(field.annotation))
+        if valid:
+            return f'use one of them in double quotes, e.g. {name} = "{valid[0]}".'
+    if example:
+        return f"e.g. {name} = {example}."
+    return f"write {name} as the reference page docs/study_format.md shows."
+
+
 def as_input_error(error: ValidationError, root: str = "") -> InputError:
     """The first error of a validation as an InputError naming the key's path.
 
     ``root`` names the file for errors of its top level; ``""`` leaves the argument
-    relative (``".num"``), for a caller that prefixes its own path.
+    relative (``".num"``), for a caller that prefixes its own path.  Every error has a
+    fix: the cause's own, else one from the key's type and the reference page's example.
     """
     first = error.errors(include_url=False)[0]
     path = "".join(f"[{step}]" if isinstance(step, int) else f".{step}" for step in first["loc"])
+    field = _field_at(_tables().get(error.title), first["loc"])
+    name = field[0] if field is not None else (path.lstrip(".").rsplit(".", 1)[-1] or "value")
+    extra = None if field is None else field[1].json_schema_extra
+    example = str(extra.get("x-example") or "") if isinstance(extra, dict) else ""
+    where = re.sub(r"\[[0-9]+\]", "", path.lstrip(".")) or name
     cause = first.get("ctx", {}).get("error")
     if isinstance(cause, InputError):
         argument = _join(path, cause.argument)
         expected, got, fix = cause.expected, cause.got, cause.fix
+        if not fix:
+            fix = _type_fix("", name, None, example, where)
     else:
+        listed = field is not None and _table_in(field[1].annotation) is not None
         expected = {
             "bool_type": "true or false",
             "string_type": "a string",
-            "list_type": "a list of tables",
+            "list_type": "a list of tables" if listed or field is None else _list_of(field[1]),
             "model_type": "a table",
             "dict_type": "a table",
             "literal_error": str(first.get("ctx", {}).get("expected", "")),
@@ -1911,6 +2066,10 @@ def as_input_error(error: ValidationError, root: str = "") -> InputError:
         if first["type"] == "literal_error" and isinstance(first["input"], str):
             valid = re.findall(r"'([^']*)'", expected)
             fix = did_you_mean([first["input"]], valid)
+        if not fix:
+            fix = _type_fix(
+                first["type"], name, None if field is None else field[1], example, where
+            )
     if root:
         argument = argument.lstrip(".") or root
     return InputError(argument, expected, got, fix)
@@ -1924,7 +2083,11 @@ def validate(model: type[Table], data: object, root: str = "") -> Any:
         raise as_input_error(error, root) from None
     except RecursionError:  # nesting deeper than the validators follow
         raise InputError(
-            root or "", "values nested at most a few levels", "nesting too deep to follow"
+            root or "",
+            "values nested at most a few levels",
+            "nesting too deep to follow",
+            "write the values as the reference (docs/study_format.md) shows: lists of "
+            "numbers, or of rows of numbers.",
         ) from None
 
 

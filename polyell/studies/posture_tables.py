@@ -79,7 +79,10 @@ def joint_units(robot: object) -> tuple[str, ...]:
     n = getattr(robot, "n", None)
     if not isinstance(n, int) or n < 1:
         raise InputError(
-            "robot", "a robot model (pe.PlanarArm or pe.UrdfRobot)", type(robot).__name__
+            "robot",
+            "a robot model (pe.PlanarArm or pe.UrdfRobot)",
+            type(robot).__name__,
+            "pass the robot itself, e.g. joint_units(pe.robots.load('chiacchio2000')).",
         )
     units = [JOINT_UNIT] * n
     model = getattr(robot, "model", None)  # a URDF robot's Pinocchio model
@@ -154,7 +157,12 @@ def _criterion(criterion: str, unit: object) -> Label:
     if unit is None or unit is NA or (isinstance(unit, float) and math.isnan(unit)):
         return text_label(criterion, "criterion")  # (a row without a unit)
     if not isinstance(unit, str) or not unit:
-        raise InputError("table['unit']", "units such as 'm/s^2'", repr(unit)[:80])
+        raise InputError(
+            "table['unit']",
+            "units such as 'm/s^2'",
+            repr(unit)[:80],
+            "give each row's unit as a non-empty string, e.g. 'm/s^2', or None for none.",
+        )
     # the volume's: (m/s^2)^3, or N^3 (a unit of one symbol)
     power = re.fullmatch(r"\((.+)\)\^([0-9]+)|([A-Za-z]+)\^([0-9]+)", unit)
     if power is None:
@@ -169,12 +177,16 @@ def _criterion(criterion: str, unit: object) -> Label:
 
 def _number(value: object, column: str) -> float:
     """A cell of the choice table as a float, or an InputError naming its column."""
+    fix = (
+        f"convert the column to numbers, e.g. table[{column!r}] = "
+        f"pd.to_numeric(table[{column!r}]), or pass the table posture_choice returned."
+    )
     if isinstance(value, str | bytes):
-        raise InputError(f"table[{column!r}]", "numbers", repr(value)[:80])
+        raise InputError(f"table[{column!r}]", "numbers", repr(value)[:80], fix)
     try:
         return float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError):
-        raise InputError(f"table[{column!r}]", "numbers", repr(value)[:80]) from None
+        raise InputError(f"table[{column!r}]", "numbers", repr(value)[:80], fix) from None
 
 
 def _print_table(
@@ -198,7 +210,13 @@ def _print_table(
         )
     columns = [c for c in table.columns if _shown(c)]
     if not any(c in _COLUMNS for c in columns):
-        raise InputError("table", f"columns among {list(_COLUMNS)}", f"{list(table.columns)}")
+        raise InputError(
+            "table",
+            f"columns among {list(_COLUMNS)}",
+            f"{list(table.columns)}",
+            "pass PostureChoice.table or PostureChoiceOverTargets.summary, or keep one "
+            "of these columns, e.g. 'regret'.",
+        )
     headers = [_header(column, units) for column in columns]
     with_units = "unit" in table.columns
     from pandas import NA
@@ -277,7 +295,12 @@ def format_posture_table(
     table, digits = _laid_out(table, layout)
     layout = layout or TableLayout(digits=DIGITS)
     if style not in ("latex", "markdown", "csv"):
-        raise InputError("style", "'latex', 'markdown' or 'csv'", repr(style))
+        raise InputError(
+            "style",
+            "'latex', 'markdown' or 'csv'",
+            repr(style),
+            "pass one of the three names, e.g. style='latex'.",
+        )
     joints = [c for c in table.columns if re.fullmatch(r"q\d+", str(c))]
     angles = None
     if style == "latex" and joints:  # a one-column page: the angles in a table of their own
@@ -330,12 +353,23 @@ def _laid_out(table: pd.DataFrame, layout: TableLayout | None) -> tuple[pd.DataF
     if layout is None:
         return table, DIGITS
     if not isinstance(layout, TableLayout):
-        raise InputError("layout", "a pe.TableLayout", type(layout).__name__)
+        raise InputError(
+            "layout",
+            "a pe.TableLayout",
+            type(layout).__name__,
+            "pass pe.TableLayout(...), e.g. layout=pe.TableLayout(digits=3), or None.",
+        )
     if layout.sets is not None and table.index.nlevels == 2:
         present = list(dict.fromkeys(table.index.get_level_values(0)))
         shown = [name for name in layout.sets if name in present]
         if not shown:
-            raise InputError("layout.sets", f"some of {present}", repr(layout.sets))
+            raise InputError(
+                "layout.sets",
+                f"some of {present}",
+                repr(layout.sets),
+                f"name sets of the table, e.g. pe.TableLayout(sets={tuple(present[:2])!r}), or "
+                "sets=None for every set.",
+            )
         table = table.loc[shown]
     return table, layout.digits
 
@@ -391,7 +425,13 @@ def write_posture_tables(
     if not isinstance(folder, str | os.PathLike) or not str(folder) or not Path(folder).is_dir():
         raise InputError("folder", "an existing folder", repr(folder), "create it first.")
     if not isinstance(stem, str) or not stem or "/" in stem or "\\" in stem or stem[0] == ".":
-        raise InputError("stem", "a file name without a path", repr(stem))
+        raise InputError(
+            "stem",
+            "a file name without a path",
+            repr(stem),
+            f"give a bare name that does not start with '.', e.g. stem={POSTURE_TABLE_STEM!r}; "
+            "choose the folder with folder=.",
+        )
     units = joint_units
     texts = {
         "latex": format_posture_table(

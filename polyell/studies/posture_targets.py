@@ -155,6 +155,7 @@ def posture_choice_over_targets(
             "robot",
             "a redundant robot (pe.PlanarArm, pe.UrdfRobot, pe.robots.load(...))",
             type(robot).__name__,
+            "pass a robot with more joints than task rows, e.g. pe.robots.load('chiacchio2000').",
         )
     if (starts is None) == (count is None):
         raise InputError(
@@ -164,14 +165,25 @@ def posture_choice_over_targets(
             "pass starts=... or count=... (with seed=...).",
         )
     if not isinstance(progress, bool):
-        raise InputError("progress", "True or False", repr(progress)[:60])
+        raise InputError(
+            "progress",
+            "True or False",
+            repr(progress)[:60],
+            "pass progress=True for progress bars, or False (the default) for none.",
+        )
     seed = check_integer("seed", seed, 0, 2**62)
     postures = check_integer("postures", postures, 2, MAX_COUNT)
     motions = []
     if starts is not None:
         q = check_array("starts", starts, ("K", robot.n), what="joint positions")
         if len(q) == 0:
-            raise InputError("starts", "at least one configuration", "none")
+            raise InputError(
+                "starts",
+                "at least one configuration",
+                "none",
+                f"give at least one row of {robot.n} joint positions, or count=... for "
+                "random targets instead.",
+            )
         with posture_bar(len(q), f"{capacity}: sampling self-motions", progress, " targets") as bar:
             for i, start in enumerate(q):
                 try:

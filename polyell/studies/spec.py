@@ -499,6 +499,8 @@ def _point_q(
                 key,
                 f"a list of {n} {what} (a table of them per robot needs [[robots]])",
                 f"a table with keys {sorted(given)}",
+                f"give {field} as one list, e.g. {field} = [{', '.join(['0.0'] * n)}], or list "
+                "the robots in [[robots]] to give one per robot.",
             )
         unknown = sorted(set(given) - set(names))
         missing = [name for name in names if name not in given]
@@ -511,7 +513,10 @@ def _point_q(
                 if field == "q"
                 else f"lists of {what} by robot name, among {names} (robots left out are at rest)",
                 f"unknown robot(s) {unknown}" if unknown else f"none for {missing}",
-                did_you_mean(unknown, names),
+                did_you_mean(unknown, names)
+                or f"give {field} by the names of [[robots]]: {field} = {{ "
+                + ", ".join(f"{name} = [...]" for name in names)
+                + " }.",
             )
         if robot.name not in given:  # (qd only) a robot left out of the table is at rest
             return None
@@ -529,7 +534,9 @@ def _point_q(
             + ", ".join(f"{name} = [...]" for name in names or ())
             + " }."
             if several and not isinstance(given, dict)
-            else "",
+            else f"give one value per joint: {n} {what}"
+            + (f" for robot {robot.name!r}" if several else "")
+            + ".",
         )
     return np.array(values, dtype=float)
 
@@ -736,6 +743,8 @@ def _posture(table: models.PostureTable, robot: Robot) -> Posture:
                 "a posture with q0's task coordinates (another component of its self-motion)",
                 f"task coordinates {np.round(motion.target, 6).tolist()}, q0's "
                 f"{np.round(targets[0], 6).tolist()}",
+                f"give {key} a posture reaching q0's task coordinates (e.g. q0's other elbow "
+                "branch, found with pe.self_motion), or drop it from posture.components.",
             )
     q0 = np.array(table.q0, dtype=float)
     with _within("posture.q0"):
@@ -764,7 +773,16 @@ def _candidates(
             except InputError as exn:
                 key = exn.argument.split(".")[-1]
                 on = f" of robot {robot.name!r}" if robot.name else ""
-                raise InputError(f"{where}.{key}", exn.expected + on, exn.got) from None
+                size, rows = (
+                    (robot.model.n, "joint") if key == "weighting" else (m[robot.name], "task row")
+                )
+                raise InputError(
+                    f"{where}.{key}",
+                    exn.expected + on,
+                    exn.got,
+                    f"give {key} {size} rows of {size} numbers (one per {rows}), or its "
+                    f"diagonal, e.g. {key} = {[1] * size}.",
+                ) from None
         candidates.append(candidate)
     with _within("candidates"):
         return check_candidates(tuple(candidates))

@@ -24,6 +24,7 @@ import time
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
+from difflib import get_close_matches
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn, cast
 
@@ -458,6 +459,7 @@ def _client(scheduler: str) -> Any:
         "scheduler",
         "None, 'processes' or a Dask scheduler address (tcp://host:port)",
         repr(scheduler),
+        "pass 'processes', or the address 'dask scheduler' prints, e.g. tcp://127.0.0.1:8786.",
     )
 
 
@@ -480,26 +482,65 @@ def _job(
         )
     if isinstance(source, Dynamics):
         if source.batch_size is None:
-            raise InputError("source", "a batched Dynamics (J of shape (K, m, n))", "a single one")
+            raise InputError(
+                "source",
+                "a batched Dynamics (J of shape (K, m, n))",
+                "a single one",
+                "pass robot.dynamics(q) of a (K, n) q, or the robot and q: pe.sweep(robot, q).",
+            )
         if configurations is not None:
-            raise InputError("configurations", "None with a batched Dynamics", "configurations")
+            raise InputError(
+                "configurations",
+                "None with a batched Dynamics",
+                "configurations",
+                "drop them (the Dynamics holds its configurations): pe.sweep(dyn), or pass "
+                "the robot instead: pe.sweep(robot, q).",
+            )
         if len(source) == 0:
-            raise InputError("source", "at least one configuration", "a batch of none")
+            raise InputError(
+                "source",
+                "at least one configuration",
+                "a batch of none",
+                "pass the dynamics of at least one configuration: robot.dynamics(q) with "
+                "q of shape (K, n), K >= 1.",
+            )
         n, m = source.n, source.m
     else:
         if not hasattr(source, "dynamics"):
-            raise InputError("source", "a robot or a batched pe.Dynamics", type(source).__name__)
+            raise InputError(
+                "source",
+                "a robot or a batched pe.Dynamics",
+                type(source).__name__,
+                "pass a robot, e.g. pe.sweep(pe.robots.load('panda'), q), or a batched "
+                "robot.dynamics(q).",
+            )
         n = source.n
         if configurations is None:
-            raise InputError("configurations", "a (K, n) array or pe.grid(...)", "None")
+            raise InputError(
+                "configurations",
+                "a (K, n) array or pe.grid(...)",
+                "None",
+                f"pass the configurations, e.g. pe.sweep(robot, pe.random_configurations(robot, "
+                f"1000)) or a (K, {n}) array of joint angles.",
+            )
         if not isinstance(configurations, ConfigurationSet):
             configurations = check_array("configurations", configurations, ("K", n))
             if len(configurations) == 0:
                 raise InputError(
-                    "configurations", "at least one configuration", "an empty (0, n) array"
+                    "configurations",
+                    "at least one configuration",
+                    "an empty (0, n) array",
+                    f"pass at least one row of {n} joint angles, e.g. "
+                    "pe.random_configurations(robot, 100).",
                 )
         elif configurations.n != n:
-            raise InputError("configurations", f"{n} joints", f"{configurations.n}")
+            raise InputError(
+                "configurations",
+                f"{n} joints",
+                f"{configurations.n}",
+                f"make the set for this {n}-joint robot, e.g. pe.random_configurations(robot, "
+                f"1000), or a pe.grid of {n} axes.",
+            )
         m = source.dynamics(
             configurations.rows(0, 1)[0]
             if isinstance(configurations, ConfigurationSet)
@@ -509,7 +550,15 @@ def _job(
     upper, lower = capacity_class(options.capacity).source_limits(source, tau_max, tau_min, n)
     unknown = sorted(set(scores) - set(SCORE_NAMES))
     if unknown:
-        raise InputError("scores", f"names among {list(SCORE_NAMES)}", f"unknown {unknown}")
+        close = get_close_matches(unknown[0], SCORE_NAMES, n=1)
+        raise InputError(
+            "scores",
+            f"names among {list(SCORE_NAMES)}",
+            f"unknown {unknown}",
+            f"did you mean {close[0]!r} for {unknown[0]!r}?"
+            if close
+            else "use names of the list, e.g. scores=['coverage', 'inscribed_scale'].",
+        )
     for kind, wanted in (("mvie", options.mvie), ("outer", options.outer)):
         if f"{kind}_ratio" in scores and not wanted:
             raise InputError(
@@ -695,17 +744,28 @@ def sweep(
         chunk = check_integer("chunk", chunk, 1, 10_000_000)
     for name, flag in (("mvie", mvie), ("outer", outer), ("progress", progress)):
         if not isinstance(flag, bool | np.bool_):
-            raise InputError(name, "True or False", repr(flag))
+            raise InputError(
+                name, "True or False", repr(flag), f"pass {name}=True or {name}=False."
+            )
     if scores is None:  # the ratios to the optima computed
         optima = {"mvie_ratio": mvie, "outer_ratio": outer}
         scores = tuple(name for name in SCORE_NAMES if optima.get(name, name in DEFAULT_SCORES))
     scores = _check_scores(scores)
     rank_rtol = check_fraction("rank_rtol", rank_rtol)
     if out is not None and not isinstance(out, str | os.PathLike):
-        raise InputError("out", "a folder path (str or pathlib.Path) or None", repr(out))
+        raise InputError(
+            "out",
+            "a folder path (str or pathlib.Path) or None",
+            repr(out),
+            "pass a folder, e.g. out='results', or None to get a DataFrame back.",
+        )
     if scheduler is not None and not isinstance(scheduler, str):
         raise InputError(
-            "scheduler", "None, 'processes' or a Dask scheduler address", repr(scheduler)
+            "scheduler",
+            "None, 'processes' or a Dask scheduler address",
+            repr(scheduler),
+            "pass None to run here, 'processes' for a local cluster, or an address as a "
+            "string, e.g. 'tcp://127.0.0.1:8786'.",
         )
     capacity = check_capacity(capacity)
     limits = None
@@ -797,7 +857,14 @@ def _named(argument: str, value: Mapping[Any, Any] | Sequence[Any], what: str) -
     """A dict of checked names to items, from a dict or a list (named by position)."""
     items = dict(value) if isinstance(value, Mapping) else {str(i): v for i, v in enumerate(value)}
     if not items:
-        raise InputError(argument, f"at least one of the {what}", "an empty collection")
+        raise InputError(
+            argument,
+            f"at least one of the {what}",
+            "an empty collection",
+            f"pass at least one, e.g. {argument}={{'panda': pe.robots.load('panda')}}."
+            if argument == "source"
+            else f"pass one per robot by its name, e.g. {argument}={{'panda': q}}.",
+        )
     for name in items:
         if not isinstance(name, str) or not _ROBOT_NAME.fullmatch(name):
             raise InputError(
@@ -815,7 +882,10 @@ def _folder(out: Any) -> Path:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exn:
         raise InputError(
-            "out", "a folder polyell can create", f"{folder} ({exn.strerror})"
+            "out",
+            "a folder polyell can create",
+            f"{folder} ({exn.strerror})",
+            "choose a folder where you may write, e.g. out='results' in the working folder.",
         ) from None
     return folder
 
@@ -883,7 +953,13 @@ def _sweep_robots(
             )
     for name, robot in robots.items():
         if isinstance(robot, Dynamics) or not hasattr(robot, "dynamics"):
-            raise InputError(f"source[{name!r}]", "a robot", type(robot).__name__)
+            raise InputError(
+                f"source[{name!r}]",
+                "a robot",
+                type(robot).__name__,
+                f"pass robots only, e.g. {{{name!r}: pe.robots.load('panda')}}; sweep a batched "
+                "Dynamics on its own.",
+            )
     if isinstance(configurations, Mapping | list | tuple) and not _is_rows(configurations):
         sets = _named("configurations", configurations, "configuration sets")
         if set(sets) != set(robots):
@@ -891,6 +967,7 @@ def _sweep_robots(
                 "configurations",
                 f"one set per robot, for {sorted(robots)}",
                 f"sets for {sorted(sets)}",
+                f"key the sets by the robots' names {sorted(robots)}, or pass one set for all.",
             )
     else:
         sets = dict.fromkeys(robots, configurations)
@@ -940,9 +1017,19 @@ def _check_scores(scores: object) -> tuple[str, ...]:
     names = tuple(scores)
     wrong = [item for item in names if not isinstance(item, str)]
     if wrong:
-        raise InputError("scores", "score names (str)", f"an item {wrong[0]!r}")
+        raise InputError(
+            "scores",
+            "score names (str)",
+            f"an item {wrong[0]!r}",
+            "give each score by its name as a str, e.g. scores=['coverage', 'volume'].",
+        )
     if not names:
-        raise InputError("scores", "at least one score name", "an empty sequence")
+        raise InputError(
+            "scores",
+            "at least one score name",
+            "an empty sequence",
+            "name at least one, e.g. scores=['coverage'], or leave scores=None for the default.",
+        )
     return names
 
 

@@ -90,7 +90,14 @@ def _float_rows(name: str, value: object, shape: tuple[int, ...] | None) -> NDAr
     wrong = array.ndim != 2 or array.shape[1] == 0 if shape is None else array.shape != shape
     if wrong:
         expected = "shape (K, n)" if shape is None else f"shape {shape}"
-        raise InputError(name, f"an array of {expected}", f"shape {array.shape}")
+        raise InputError(
+            name,
+            f"an array of {expected}",
+            f"shape {array.shape}",
+            "pass one row per sample and one column per joint, e.g. q of shape (K, robot.n)"
+            if shape is None
+            else f"pass {name} with one entry per sample of q, shape {shape}",
+        )
     return array
 
 
@@ -119,7 +126,12 @@ class Trajectory(ConfigurationSet):
         source: str = "trajectory",
     ) -> None:
         if not isinstance(source, str):
-            raise InputError("source", "the name of the file (str)", repr(source)[:80])
+            raise InputError(
+                "source",
+                "the name of the file (str)",
+                repr(source)[:80],
+                "pass the file's name as a string, e.g. source='path.csv'.",
+            )
         q = _float_rows("q", q, None)
         qd = None if qd is None else _float_rows("qd", qd, q.shape)
         t = None if t is None else _float_rows("t", t, q.shape[:1])
@@ -141,7 +153,7 @@ class Trajectory(ConfigurationSet):
 # ----------------------------------------------------------------------------- columns
 
 
-def _bad(source: str, expected: str, got: str, fix: str = "") -> InputError:
+def _bad(source: str, expected: str, got: str, fix: str) -> InputError:
     return InputError(source, expected, got, fix)
 
 
@@ -331,7 +343,12 @@ def _read_csv(file: Path, source: str, n: int) -> Trajectory:
             ) from None
         names = [cell.strip().strip('"').strip() for cell in header.split(",")]
         if not header.strip():
-            raise _bad(source, "a header row of column names (q1, q2, ...)", "an empty file")
+            raise _bad(
+                source,
+                "a header row of column names (q1, q2, ...)",
+                "an empty file",
+                "start the file with a header row, e.g. q1,q2,q3, then one sample per line.",
+            )
         if any(not name for name in names):
             raise _bad(
                 source,
@@ -439,7 +456,12 @@ def _read_parquet(file: Path, source: str, n: int) -> Trajectory:
             columns.add(block)
             first += batch.num_rows
         if first != parquet.metadata.num_rows:
-            raise _bad(source, f"{parquet.metadata.num_rows} rows", f"{first} read")
+            raise _bad(
+                source,
+                f"{parquet.metadata.num_rows} rows",
+                f"{first} read",
+                "the file is truncated or damaged: write it again.",
+            )
         return columns.trajectory(n)
     except (pa.ArrowException, OSError, ValueError, TypeError, OverflowError) as exn:
         if isinstance(exn, InputError):
@@ -474,7 +496,10 @@ def _npy_header(handle: IO[bytes], source: str, label: str) -> tuple[tuple[int, 
                 shape, fortran, dtype = fmt.read_array_header_2_0(handle)
             else:
                 raise _bad(
-                    source, f"{label}: a .npy array of format version 1 or 2", f"version {version}"
+                    source,
+                    f"{label}: a .npy array of format version 1 or 2",
+                    f"version {version}",
+                    "save it again with np.save, which writes version 1 (2 for large headers).",
                 )
     except (ValueError, TypeError, KeyError, SyntaxError, TokenError, RecursionError) as exn:
         if isinstance(exn, InputError):
@@ -536,7 +561,12 @@ def _read_array(
         )
     data = handle.read(count * dtype.itemsize)
     if len(data) != count * dtype.itemsize:
-        raise _bad(source, f"{label}: {count * dtype.itemsize:,} bytes of data", f"{len(data):,}")
+        raise _bad(
+            source,
+            f"{label}: {count * dtype.itemsize:,} bytes of data",
+            f"{len(data):,}",
+            "the file is truncated or damaged: write it again.",
+        )
     array = np.frombuffer(data, dtype=dtype, count=count)
     return array.reshape(shape, order="F" if fortran else "C")
 
@@ -589,9 +619,20 @@ def _read_npz(file: Path, source: str, n: int) -> Trajectory:
             arrays = [name[:-4] for name in names if name.endswith(".npy")]
             repeated = sorted({name for name in arrays if arrays.count(name) > 1})
             if repeated:
-                raise _bad(source, "distinct array names", f"{repeated} more than once")
+                raise _bad(
+                    source,
+                    "distinct array names",
+                    f"{repeated} more than once",
+                    "write the archive again with one array per name, e.g. "
+                    "np.savez(file, q=q, qd=qd, t=t).",
+                )
             if "q" not in arrays:
-                raise _bad(source, "an array 'q' (K, n)", f"arrays {sorted(arrays)[:12]}")
+                raise _bad(
+                    source,
+                    "an array 'q' (K, n)",
+                    f"arrays {sorted(arrays)[:12]}",
+                    "name the joint angles q when saving, e.g. np.savez(file, q=q, qd=qd, t=t).",
+                )
             info = {name[:-4]: item for name, item in zip(names, members, strict=True)}
             read: dict[str, NDArray[Any]] = {}
             for name in ("q", "qd", "t"):
@@ -671,12 +712,29 @@ def load_trajectory(path: str | Path, n: int) -> Trajectory:
     source = file.name
     try:
         if not file.is_file():
-            raise InputError("trajectory", "an existing file", repr(str(path)))
+            raise InputError(
+                "trajectory",
+                "an existing file",
+                repr(str(path)),
+                "check the path's spelling; a relative path is read from the current "
+                "working folder.",
+            )
     except OSError:  # a name too long, a loop of links
-        raise InputError("trajectory", "an existing file", repr(str(path))) from None
+        raise InputError(
+            "trajectory",
+            "an existing file",
+            repr(str(path)),
+            "check the path: it is too long or loops through links.",
+        ) from None
     reader = _READERS.get(file.suffix.lower())
     if reader is None:
-        raise InputError("trajectory", "a .csv, .parquet, .npy or .npz file", repr(file.name))
+        raise InputError(
+            "trajectory",
+            "a .csv, .parquet, .npy or .npz file",
+            repr(file.name),
+            "save the trajectory in one of these formats, e.g. as CSV with columns q1..qn, "
+            "or with np.save as a (K, n) .npy array.",
+        )
     try:
         return reader(file, source, n)
     except MemoryError:
@@ -753,16 +811,23 @@ def tangent_limits(
             "source",
             "a robot (pe.PlanarArm, pe.UrdfRobot, pe.robots.load(...))",
             type(source).__name__,
+            "pass the robot the trajectory is for, e.g. pe.robots.load('chiacchio2000').",
         )
     if not isinstance(trajectory, Trajectory):
         raise InputError(
             "trajectory",
             "a Trajectory (polyell.studies.load_trajectory)",
             type(trajectory).__name__,
+            "read it with load_trajectory(path, robot.n), or build Trajectory(q, qd) from "
+            "arrays of shape (K, n).",
         )
     if trajectory.qd is None:
         raise InputError(
-            "trajectory", "joint velocities qd1..qdn for the tangent", f"{trajectory!r}"
+            "trajectory",
+            "joint velocities qd1..qdn for the tangent",
+            f"{trajectory!r}",
+            "add the columns qd1..qdn to the file (an array qd to a .npz), or pass "
+            "Trajectory(q, qd) with qd of shape (K, n).",
         )
     if trajectory.q.shape[1] != source.n:
         raise InputError(
