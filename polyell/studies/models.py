@@ -2123,7 +2123,11 @@ def phrase(annotation: Any, metadata: Sequence[Any] = ()) -> str:
     if origin in (Union, types.UnionType):
         return " or ".join(phrase(arg) for arg in get_args(annotation) if arg is not type(None))
     if origin is list:
-        return "array of tables"
+        item = get_args(annotation)[0]
+        inner = get_args(item)[0] if get_origin(item) is Annotated else item
+        if isinstance(inner, type) and issubclass(inner, BaseModel):
+            return "array of tables"
+        return f"array, each item a {phrase(item)}"
     if origin is Literal:
         return "string"
     if isinstance(annotation, type) and issubclass(annotation, BaseModel):

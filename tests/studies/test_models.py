@@ -762,3 +762,16 @@ def test_bad_output_labels_are_refused_naming_the_key(tmp_path, labels, start):
 def test_bad_output_csv_is_refused_naming_the_key(tmp_path, text, start):
     message = refused(tmp_path, text)
     assert message.startswith(start), message
+
+
+def test_the_reference_names_lists_of_numbers_apart_from_arrays_of_tables():
+    """``posture.components`` is a list of lists of numbers, not an array of tables (the
+    reference page said so); ``points`` is one."""
+    from polyell.studies import models
+
+    posture = models.PostureTable.model_fields["components"]
+    assert models.phrase(posture.annotation, posture.metadata) == (
+        "array, each item a list of numbers or expressions"
+    )
+    points = models.StudyFile.model_fields["points"]
+    assert models.phrase(points.annotation, points.metadata) == "array of tables"
