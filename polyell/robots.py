@@ -82,6 +82,13 @@ def _suggest(name: str, known: list[str]) -> str:
 
 def urdf_path(name: str) -> Path:
     """The URDF file of a library arm inside the installed ``example-robot-data``."""
+    if not isinstance(name, str):
+        raise InputError(
+            "name",
+            f"one of {sorted(URDF_ARMS)}",
+            f"{type(name).__name__} {name!r}"[:120],
+            "pass a URDF arm's name as a str, e.g. pe.robots.urdf_path('panda')",
+        )
     if name not in URDF_ARMS:
         raise InputError(
             "name", f"one of {sorted(URDF_ARMS)}", repr(name), _suggest(name, sorted(URDF_ARMS))
@@ -125,7 +132,12 @@ def load(name: str, **options: Any) -> PlanarArm | UrdfRobot:
     [100.0, 30.0, 4.0]
     """
     if not isinstance(name, str):
-        raise InputError("name", f"one of {names()}", f"{type(name).__name__} {name!r}"[:120])
+        raise InputError(
+            "name",
+            f"one of {names()}",
+            f"{type(name).__name__} {name!r}"[:120],
+            "pass a robot's name as a str, e.g. pe.robots.load('chiacchio2000')",
+        )
     if name == "chiacchio2000":
         unknown = sorted(set(options) - set(PLANAR_OPTIONS))
         if unknown:

@@ -52,7 +52,7 @@ from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.polytope import Polytope
 from polyell.geometry.subspace import AFFINE_RTOL, RANK_RTOL, RankRevealingSVD
 from polyell.models.dynamics import Dynamics
-from polyell.validation import array_ndim, check_array
+from polyell.validation import array_ndim, as_floats, check_array
 
 __all__ = [
     "HorizonAnalysis",
@@ -370,10 +370,35 @@ def acceleration_interval(
         keeps the joint within its limits: a position outside its range, or one that the
         velocity reaches within the horizon whatever the joint does.
     """
-    dt = horizon
+    dt = check_horizon("horizon", horizon)
+    q, qd, q_min, q_max, qd_min, qd_max = _interval_arrays(
+        q=q, qd=qd, q_min=q_min, q_max=q_max, qd_min=qd_min, qd_max=qd_max
+    )
+    if braking is not None:
+        braking = _interval_arrays(braking=braking)[0]
     hi = np.minimum((qd_max - qd) / dt, _upper_position_bound(q_max - q, qd, dt, braking))
     lo = np.maximum((qd_min - qd) / dt, -_upper_position_bound(q - q_min, -qd, dt, braking))
     return lo, hi
+
+
+def _interval_arrays(**arrays: object) -> list[Array]:
+    """The arguments of :func:`acceleration_interval` as float arrays of one joint count.
+
+    NaN is refused (an interval of NaN ends would read as empty); infinite limits are
+    allowed (a continuous joint).
+    """
+    values = [as_floats(name, value) for name, value in arrays.items()]
+    n = {np.shape(value)[-1] if np.ndim(value) else None for value in values}
+    for name, value in zip(arrays, values, strict=True):
+        if np.ndim(value) not in (1, 2) or len(n) != 1 or np.isnan(value).any():
+            raise InputError(
+                name,
+                "an array of one value per joint, shape (n,) or (K, n), without NaN",
+                f"shape {np.shape(value)}" + (" with NaN" if np.isnan(value).any() else ""),
+                "pass q, qd and the limits with the same number of joints, e.g. "
+                "acceleration_interval(0.001, q, qd, *robot.position_limits, qd_min, qd_max)",
+            )
+    return values
 
 
 def _upper_position_bound(room: Array, qd: Array, dt: float, braking: Array | None) -> Array:

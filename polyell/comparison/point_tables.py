@@ -37,6 +37,8 @@ def default_captions(
     >>> comparison[0]
     'Scores of each ellipsoid against the exact polytope.'
     """
+    if not (isinstance(comparisons, Mapping) and not comparisons):  # {}: no posture yet
+        comparisons = posture_comparisons(comparisons)
     capacities = {c.analysis.capacity for c in comparisons.values()}
     paper = bool(comparisons) and all(c.analysis.paper for c in comparisons.values())
     what = "" if paper or not capacities else f"{' and '.join(sorted(capacities))} "

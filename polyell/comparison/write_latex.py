@@ -33,7 +33,7 @@ from dataclasses import replace
 from polyell.comparison.labels import LabelText, check_markup
 from polyell.comparison.latex_text import check_latex_label, check_text, escape_latex
 from polyell.comparison.printable import Cell, Label, PrintTable, estimate_parts
-from polyell.errors import TableWidthWarning
+from polyell.errors import InputError, TableWidthWarning
 
 __all__ = [
     "PAGE_LINES",
@@ -282,9 +282,21 @@ def table_width(lines: Sequence[str]) -> float:
         The tabular's natural width: each column's widest cell plus ``\tabcolsep`` on
         either side, widened where a spanning header or a posture line is wider.
     """
+    given = lines
+    rows = list(given) if isinstance(given, Sequence) and not isinstance(given, str) else []
+    start = next(
+        (k for k, line in enumerate(rows) if str(line).startswith(r"\begin{tabular}{")), None
+    )
+    if start is None or not all(isinstance(line, str) for line in rows):
+        raise InputError(
+            "lines",
+            "the lines (str) of a table float, one of them \\begin{tabular}{...}",
+            f"{type(given).__name__} {given!r}"[:120],
+            "pass the float's text split in lines, e.g. table_width(latex.splitlines())",
+        )
+    lines = rows
     size = next((line for line in lines if line in SIZE_EM), r"\normalsize")
     em = SIZE_EM[size]
-    start = next(k for k, line in enumerate(lines) if line.startswith(r"\begin{tabular}{"))
     spec = re.findall(r"S\[[^\]]*\]|[lrcS]", lines[start][len(r"\begin{tabular}{") : -1])
     aligned = [column.startswith("S[table-format=") for column in spec]
     widths = [0.0] * len(spec)
