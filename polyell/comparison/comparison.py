@@ -30,7 +30,7 @@ from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.polytope import Polytope
 from polyell.models.task import default_task
-from polyell.validation import check_integer
+from polyell.validation import check_array, check_instance, check_integer
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
@@ -154,6 +154,9 @@ class Comparison(ScoredSet):
         candidates: tuple[Candidate, ...] = (),
         ellipsoids: Mapping[str, Ellipsoid] | None = None,
     ) -> None:
+        check_instance("analysis", analysis, Analysis, "use pe.compare(pe.analyze(...)).")
+        m = analysis.m
+        directions = check_array("directions", directions, (None, m), what="unit directions")
         self.analysis = analysis
         self._keep(directions, samples, seed, {"mvie": mvie, "outer": outer}, candidates,
                    ellipsoids)  # fmt: skip
