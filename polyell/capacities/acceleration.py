@@ -266,6 +266,6 @@ class AccelerationAnalysis(ZonotopeAnalysis):
             x = self._on_affine_set(x, "xdd")
         return InverseSolution(self.joint_map(kind)(x), self.torque_map(kind)(x))
 
-    def witness_map(self, kind: str) -> AffineMap:
+    def _witness_map(self, kind: str) -> AffineMap:
         """``xdd -> tau_n`` by the classic inverse for ``"yoshikawa"``, else eq. 33/40."""
         return self.torque_map("yoshikawa" if kind == "yoshikawa" else "chiacchio")

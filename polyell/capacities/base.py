@@ -33,7 +33,7 @@ from polyell.inverse import AffineMap
 from polyell.models.dynamics import Dynamics
 from polyell.models.kinematics import Kinematics
 from polyell.models.task import check_task, task_unit
-from polyell.validation import check_points, source_torque_limits
+from polyell.validation import check_instance, check_points, source_torque_limits
 
 __all__ = ["Analysis", "InverseSolution", "JointLimited", "centre_and_half_range", "label_rows"]
 
@@ -332,13 +332,18 @@ class Analysis(ABC):
     def _build_ellipsoid(self, kind: str) -> Ellipsoid:
         """The ellipsoid of a checked kind."""
 
-    @abstractmethod
     def witness_map(self, kind: str) -> AffineMap:
         """The affine map from task points to normalized joint quantities of a kind's inverse.
 
         ``kind`` is one of :attr:`ellipsoid_kinds`, or any other scored set (the MVIE, the
         outer ellipsoid, a candidate), which takes the capacity's own minimum-norm inverse.
         """
+        check_instance("kind", kind, str, "pass a kind's name, e.g. 'chiacchio' or 'mvie'.")
+        return self._witness_map(kind)
+
+    @abstractmethod
+    def _witness_map(self, kind: str) -> AffineMap:
+        """:meth:`witness_map` of a kind given as a str."""
 
     @abstractmethod
     def inverse(self, x: ArrayLike, kind: str | None = None) -> InverseSolution:

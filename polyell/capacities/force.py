@@ -262,7 +262,7 @@ class ForceAnalysis(Analysis):
             vertices = order_polygon(vertices)
         facet = found.facet[0]  # (rows tight at a vertex: used ones)
         norms = norms.compress(facet)
-        return HPolytope.from_enumeration(
+        return HPolytope._from_enumeration(
             A.compress(facet, axis=0) / norms[:, None],
             offsets.compress(facet),
             vertices,
@@ -315,7 +315,7 @@ class ForceAnalysis(Analysis):
         U, s, _ = np.linalg.svd(pseudo_inverse * self.half_range, full_matrices=False)
         return Ellipsoid(center, U, s, kind=kind)
 
-    def witness_map(self, kind: str) -> AffineMap:
+    def _witness_map(self, kind: str) -> AffineMap:
         """``h -> tau_n = A h + c`` (the torque a force needs is unique), about ``h0``."""
         return AffineMap(self.A, self.center, self.c_perp)
 

@@ -666,7 +666,7 @@ def cut_set(
         if flat == m:  # full-dimensional: facets and vertices known and certified
             center = z.mean(axis=0)
             A = normals @ basis.T
-            return HPolytope.from_enumeration(
+            return HPolytope._from_enumeration(
                 A, offsets + A @ x0, x0 + z @ basis.T, x0 + basis @ center,
                 (z - center, basis, np.ones(m)),
             )  # fmt: skip

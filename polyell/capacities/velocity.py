@@ -143,7 +143,7 @@ class VelocityAnalysis(ZonotopeAnalysis):
     def _build_ellipsoid(self, kind: str) -> Ellipsoid:
         return self._image_ellipsoid(kind)
 
-    def witness_map(self, kind: str) -> AffineMap:
+    def _witness_map(self, kind: str) -> AffineMap:
         """``xd -> u = (J L_v)^+ (xd - J qd_c)``, the minimum-norm normalized velocities."""
         return self._minimum_norm_map()
 

@@ -33,7 +33,8 @@ from polyell.errors import InputError, UndefinedEllipsoidError
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope
 from polyell.geometry.polytope import Polytope
-from polyell.validation import check_points, check_spd
+from polyell.models.task import MAX_TASK_ROWS
+from polyell.validation import check_instance, check_integer, check_points, check_spd
 
 __all__ = ["BUILT_IN_KINDS", "CANDIDATE_NAME", "Candidate", "check_candidates"]
 
@@ -156,6 +157,7 @@ class Candidate:
 
     def check_sizes(self, m: int, n: int) -> None:
         """Raise unless the candidate fits a task of dimension m and an n-joint arm."""
+        m, n = check_integer("m", m, 1, MAX_TASK_ROWS), check_integer("n", n, 1, 10**4)
         if self.weighting is not None and self.weighting.shape[0] != n:
             raise InputError(
                 f"{self.name}.weighting",
@@ -181,6 +183,7 @@ class Candidate:
         UndefinedEllipsoidError
             If a core-defined ellipsoid misses the polytope's affine set.
         """
+        check_instance("analysis", analysis, Analysis, "pass pe.analyze(...) of the arm.")
         self.check_sizes(analysis.m, analysis.n)
         try:
             return self._ellipsoid(analysis)

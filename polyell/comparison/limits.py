@@ -41,9 +41,7 @@ LIMIT_COLUMNS = ("direction", "set", "defined", *LIMIT_QUANTITIES, "unit")
 Directions = Sequence[DirectionSpec] | Mapping[str, Sequence[DirectionSpec] | None] | None
 
 
-def table_sets(
-    comparison: ScoredSet, sets: str | Sequence[str] | None, argument: str
-) -> list[str]:
+def table_sets(comparison: ScoredSet, sets: str | Sequence[str] | None, argument: str) -> list[str]:
     """The sets of a table: ``"polytope"`` and the comparison's kinds, checked.
 
     None gives the polytope and every kind the comparison computed (an MVIE or outer

@@ -41,6 +41,7 @@ from polyell.geometry.outer import min_volume_enclosing_ellipsoid
 from polyell.geometry.polytope import Polytope
 from polyell.models.task import default_task
 from polyell.storage import write_text_atomically
+from polyell.validation import check_instance
 
 if TYPE_CHECKING:  # pandas is imported where it is used (start-up time)
     import pandas as pd
@@ -354,6 +355,7 @@ class ScoredSet:
 
     def ellipsoid(self, kind: str) -> Ellipsoid:
         """The ellipsoid scored under ``kind`` (raises where it is undefined)."""
+        check_instance("kind", kind, str, f"pass one of the names {list(self.kinds)}.")
         if kind == "mvie":
             return self.mvie
         if kind == "outer":

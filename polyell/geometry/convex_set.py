@@ -194,7 +194,7 @@ class ConvexSet(ABC):
         T = np.atleast_2d(directions)
         lo = np.full(T.shape[0], np.nan)
         hi = np.full(T.shape[0], np.nan)
-        meeting = self.affine_set.meet_lines(T, self.affine_rtol)
+        meeting = self.affine_set._meet_lines(T, self.affine_rtol)
         if meeting.inside.any():
             lines = meeting.projected[meeting.inside]
             moved = np.linalg.norm(lines - T[meeting.inside], axis=1)

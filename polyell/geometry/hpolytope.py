@@ -612,7 +612,7 @@ class HPolytope(ConvexSet):
         return self.A, self.b
 
     @classmethod
-    def from_enumeration(
+    def _from_enumeration(
         cls,
         A: NDArray[np.float64],
         b: NDArray[np.float64],
@@ -743,7 +743,7 @@ class HPolytope(ConvexSet):
             angle = np.arctan2(*(y_vertices - y_vertices.mean(axis=0)).T[::-1])
             order = np.argsort(angle if turn > 0 else -angle)
             points, y_vertices = points[order], y_vertices[order]
-        polytope = cls.from_enumeration(A, b, points, center, (y_vertices, frame, stretch))
+        polytope = cls._from_enumeration(A, b, points, center, (y_vertices, frame, stretch))
         polytope._volume_y = hull.volume
         return polytope
 

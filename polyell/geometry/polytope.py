@@ -95,7 +95,7 @@ class Polytope(ConvexSet):
         self.generators = np.asarray(generators, dtype=float)
         self.center = np.asarray(center, dtype=float)
         self._svd = svd if svd is not None else rank_revealing_svd(self.generators, rank_rtol)
-        self.affine_set = AffineSubspace.from_svd(self.center, self._svd)
+        self.affine_set = AffineSubspace._from_svd(self.center, self._svd)
 
     @property
     def svd(self) -> RankRevealingSVD:

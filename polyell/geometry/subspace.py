@@ -13,11 +13,11 @@ from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import lapack
 
 from polyell.errors import SolverError
-from polyell.validation import ROUNDED_INPUT_RTOL, check_array, check_fraction
+from polyell.validation import ROUNDED_INPUT_RTOL, check_array, check_fraction, check_points
 
 __all__ = [
     "AFFINE_RTOL",
@@ -192,7 +192,7 @@ class AffineSubspace:
     normals: NDArray[np.float64]
 
     @classmethod
-    def from_svd(cls, point: NDArray[np.float64], svd: RankRevealingSVD) -> AffineSubspace:
+    def _from_svd(cls, point: NDArray[np.float64], svd: RankRevealingSVD) -> AffineSubspace:
         """The set ``point + Im(M)``; the whole space (identity basis) when M has full rank."""
         m = point.size
         if svd.rank == m:
@@ -214,24 +214,28 @@ class AffineSubspace:
         """``(A_eq, b_eq)``, shapes (m - r, m) and (m - r,): the set is ``{x : A_eq x = b_eq}``."""
         return self.normals.T.copy(), self.normals.T @ self.point
 
-    def coordinates(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+    def coordinates(self, x: ArrayLike) -> NDArray[np.float64]:
         """Coordinates ``basis^T (x - point)`` of points, shape ``(..., r)``."""
-        return (x - self.point) @ self.basis
+        return (check_points("x", x, self.ambient_dim) - self.point) @ self.basis
 
-    def distance(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+    def distance(self, x: ArrayLike) -> NDArray[np.float64]:
         """Euclidean distance of points ``x`` (shape ``(..., m)``) from the set."""
+        x = check_points("x", x, self.ambient_dim)
         return np.linalg.norm((x - self.point) @ self.normals, axis=-1)
 
-    def near(self, x: NDArray[np.float64], rtol: float = AFFINE_RTOL) -> NDArray[np.bool_]:
+    def near(self, x: ArrayLike, rtol: float = AFFINE_RTOL) -> NDArray[np.bool_]:
         """Whether points ``x`` (shape ``(..., m)``) lie on the set to ``rtol`` (AFFINE_RTOL)."""
+        x = check_points("x", x, self.ambient_dim)
         scale = np.maximum(np.linalg.norm(x, axis=-1), np.linalg.norm(self.point))
-        return self.distance(x) <= rtol * scale
+        return self.distance(x) <= check_fraction("rtol", rtol) * scale
 
-    def project(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+    def project(self, x: ArrayLike) -> NDArray[np.float64]:
         """Orthogonal projection of points ``x`` (shape ``(..., m)``) onto the set."""
         return self.point + self.coordinates(x) @ self.basis.T
 
-    def meet_lines(self, directions: NDArray[np.float64], rtol: float = AFFINE_RTOL) -> LineMeeting:
+    def _meet_lines(
+        self, directions: NDArray[np.float64], rtol: float = AFFINE_RTOL
+    ) -> LineMeeting:
         """Intersect the lines ``{a t : a real}`` with the set.
 
         Parameters
