@@ -91,3 +91,88 @@ def test_wrong_arguments_give_a_polyell_error_or_a_result(
             except Exception as exn:  # the test's point: any other exception is a defect
                 raw.append(f"{value!r:.30}: {type(exn).__name__}: {exn}"[:200])
     assert not raw, f"{name}:\n" + "\n".join(raw)
+
+
+def _documented_members() -> dict[str, list[str] | None]:
+    """Per documented class, its ``:members:`` (None: every public one)."""
+    text = API.read_text(encoding="utf-8")
+    members: dict[str, list[str] | None] = {}
+    for target, options in re.findall(r"^\.\. autoclass:: (\S+)\n((?:   :.*\n)*)", text, re.M):
+        listed = re.search(r":members:(.*)", options)
+        if listed is not None:
+            names = [name.strip() for name in listed.group(1).split(",") if name.strip()]
+            members[target] = names or None
+    return members
+
+
+@pytest.fixture(scope="module")
+def instances():
+    """One valid instance of every documented class with documented members."""
+    arm = pe.robots.load("chiacchio2000")
+    q = [0.3, 0.6, 0.9]
+    acceleration = pe.analyze(arm.dynamics(q), arm.tau_max)
+    velocity = pe.analyze(arm.dynamics(q), capacity="velocity", qd_max=[2.0, 3.0, 4.0])
+    force = pe.analyze(arm.dynamics(q), arm.tau_max, capacity="force")
+    panda = pe.robots.load("panda")
+    horizon = panda.analyze(np.mean(panda.position_limits, axis=0), np.zeros(7), horizon=1e-3)
+    box = pe.HPolytope(np.vstack([np.eye(2), -np.eye(2)]), np.ones(4))
+    bare = pe.compare(box)
+    comparison = pe.compare(acceleration)
+    columns = pe.comparison.long_form.score_columns(["q1", "chiacchio_coverage"])
+    return {
+        "polyell.InverseSolution": [acceleration.inverse([[0.0, 0.0]])],
+        "polyell.Polytope": [acceleration.polytope, velocity.polytope],
+        "polyell.Ellipsoid": [acceleration.ellipsoid("chiacchio"), comparison.mvie],
+        "polyell.Scores": [comparison["chiacchio"]],
+        "polyell.Dynamics": [arm.dynamics(q)],
+        "polyell.PlanarArm": [arm],
+        "polyell.UrdfRobot": [panda],
+        "polyell.TorqueSpeed": [
+            pe.TorqueSpeed.linear(tau_stall=[100.0, 30.0], qd_no_load=[4.0, 6.0])
+        ],
+        "polyell.comparison.long_form.ScoreColumns": [columns],
+        "polyell.Analysis": [acceleration, velocity, force, horizon],
+        "polyell.capacities.AccelerationAnalysis": [acceleration],
+        "polyell.capacities.horizon.HorizonAnalysis": [horizon],
+        "polyell.HPolytope": [box, force.polytope, horizon.polytope],
+        "polyell.DirectionalLimits": [acceleration.polytope.limits(np.eye(2))],
+        "polyell.AffineSubspace": [acceleration.polytope.affine_set],
+        "polyell.Comparison": [comparison],
+        "polyell.Candidate": [pe.Candidate("w", weighting=np.diag([1.0, 2.0, 3.0]))],
+        "polyell.comparison.set_comparison.SetComparison": [bare],
+        "polyell.comparison.set_comparison.SetScores": [bare["mvie"]],
+    }
+
+
+def test_every_documented_class_with_members_has_an_instance(instances):
+    assert set(_documented_members()) == set(instances)
+
+
+@pytest.mark.parametrize("target", sorted(_documented_members()))
+def test_documented_methods_give_a_polyell_error_or_a_result(
+    target, instances, tmp_path, monkeypatch
+):
+    """Each documented method with required positional arguments, all of one wrong kind."""
+    monkeypatch.chdir(tmp_path)
+    listed = _documented_members()[target]
+    raw = []
+    for instance in instances[target]:
+        names = listed or [name for name in dir(type(instance)) if not name.startswith("_")]
+        for name in names:
+            method = getattr(instance, name)
+            if not callable(method) or inspect.isclass(method):
+                continue
+            count = _required(method)
+            if count is None:
+                continue
+            for value in WRONG:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    try:
+                        method(*[value] * count)
+                    except pe.PolyellError:
+                        pass
+                    except Exception as exn:  # the test's point: any other is a defect
+                        text = f"{type(instance).__name__}.{name}({value!r:.30}): "
+                        raw.append(f"{text}{type(exn).__name__}: {exn}"[:200])
+    assert not raw, "\n".join(raw)

@@ -205,7 +205,7 @@ class Analysis(ABC):
         return dict(zip(cls.limit_keywords, (upper, lower), strict=True))
 
     @classmethod
-    def robot_limits(
+    def _robot_limits(
         cls, robot: JointLimited, qd: ArrayLike | None = None
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """A robot's own joint limits of this capacity, ``(upper, lower)``.
@@ -216,7 +216,7 @@ class Analysis(ABC):
         return robot.torque_limits(qd)
 
     @classmethod
-    def source_limits(
+    def _source_limits(
         cls, source: object, upper: ArrayLike | None, lower: ArrayLike | None, n: int
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The joint limits given, checked, or else those of ``source`` (a robot).

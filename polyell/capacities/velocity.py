@@ -75,7 +75,7 @@ class VelocityAnalysis(ZonotopeAnalysis):
     }
 
     @classmethod
-    def acceleration_dynamics(cls, dyn: Dynamics) -> Dynamics:
+    def _acceleration_dynamics(cls, dyn: Dynamics) -> Dynamics:
         """A batch with ``B = I``, ``g = 0`` and no bias: ``M = J L_v``, ``x_g = J qd_c``.
 
         Its image ellipsoid (``"chiacchio"``) is the velocity capacity's ``"yoshikawa"``.
@@ -84,14 +84,14 @@ class VelocityAnalysis(ZonotopeAnalysis):
         return Dynamics(dyn.J, np.broadcast_to(np.eye(n), (K, n, n)), np.zeros((K, n)))
 
     @classmethod
-    def robot_limits(
+    def _robot_limits(
         cls, robot: JointLimited, qd: ArrayLike | None = None
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The robot's joint velocity limits ``(qd_max, qd_min)`` (``qd`` unused)."""
         return robot.velocity_limits()
 
     @classmethod
-    def source_limits(
+    def _source_limits(
         cls, source: object, upper: ArrayLike | None, lower: ArrayLike | None, n: int
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Joint velocity limits given, checked, or else ``source.velocity_limits()``."""

@@ -55,7 +55,7 @@ class ZonotopeAnalysis(Analysis):
         "xg (eq. 8)",
     )
     #: The block paths (:mod:`polyell.studies.batch`) compute the acceleration zonotope of
-    #: :meth:`acceleration_dynamics` and its sets: this capacity's sets by the names of
+    #: :meth:`_acceleration_dynamics` and its sets: this capacity's sets by the names of
     #: the acceleration sets that are them (``{acceleration set: set}``).
     acceleration_names: ClassVar[dict[str, str]] = {
         "polytope": "polytope",
@@ -64,17 +64,17 @@ class ZonotopeAnalysis(Analysis):
     }
 
     @classmethod
-    def acceleration_dynamics(cls, dyn: Dynamics) -> Dynamics:
+    def _acceleration_dynamics(cls, dyn: Dynamics) -> Dynamics:
         """The batch whose acceleration zonotope, within this capacity's limits, is its set."""
         return dyn
 
     @classmethod
-    def check_generators(cls, M: NDArray[np.float64], xg: NDArray[np.float64]) -> None:
+    def _check_generators(cls, M: NDArray[np.float64], xg: NDArray[np.float64]) -> None:
         """Refuse generators and centres (one set or a batch) beyond floating point."""
         check_magnitudes(M, xg, quantity=cls.magnitude_names, limits=cls.limit_keywords[0])
 
     def _set_generators(self, M: NDArray[np.float64], xg: NDArray[np.float64], rtol: float) -> None:
-        self.check_generators(M, xg)
+        self._check_generators(M, xg)
         self.M, self.xg = M, xg
         self.svd = rank_revealing_svd(M, rtol)
 

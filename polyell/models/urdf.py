@@ -105,6 +105,7 @@ def _task_rows(task: str | Sequence[str | int]) -> list[int]:
                 "task",
                 f"one of {list(TASKS)} or a list of rows among {list(TASK_ROWS)}",
                 repr(task),
+                "pass a named task, e.g. task='linear', or a list of rows, e.g. task=['x', 'z']",
             )
         return [TASK_ROWS[name] for name in TASKS[task]]
     if not isinstance(task, list | tuple):
@@ -112,6 +113,8 @@ def _task_rows(task: str | Sequence[str | int]) -> list[int]:
             "task",
             f"one of {list(TASKS)} or a list of rows among {list(TASK_ROWS)}",
             f"{type(task).__name__} {task!r}",
+            "pass a named task, e.g. task='linear', or convert the rows to a list, "
+            "e.g. task=list(rows) or task=['x', 'z']",
         )
     rows = []
     for item in task:
@@ -121,10 +124,19 @@ def _task_rows(task: str | Sequence[str | int]) -> list[int]:
             rows.append(int(item))
         else:
             raise InputError(
-                "task", f"rows among {list(TASK_ROWS)} or indices 0..5", f"row {item!r}"
+                "task",
+                f"rows among {list(TASK_ROWS)} or indices 0..5",
+                f"row {item!r}",
+                "name each row as 'x', 'y', 'z', 'wx', 'wy' or 'wz' (or its index 0..5), "
+                "e.g. task=['x', 'z']",
             )
     if not rows or len(set(rows)) != len(rows):
-        raise InputError("task", "a non-empty list of distinct rows", repr(list(task)))
+        raise InputError(
+            "task",
+            "a non-empty list of distinct rows",
+            repr(list(task)),
+            "list each row once, e.g. task=['x', 'z']",
+        )
     return rows
 
 
@@ -191,9 +203,19 @@ class UrdfRobot(JointLimits):
         if not isinstance(locked_joints, list | tuple) or not all(
             isinstance(name, str) for name in locked_joints
         ):
-            raise InputError("locked_joints", "a list of joint names", repr(locked_joints))
+            raise InputError(
+                "locked_joints",
+                "a list of joint names",
+                repr(locked_joints),
+                "pass the joint names as a list of str, e.g. locked_joints=['panda_finger_joint1']",
+            )
         if not isinstance(tip, str):
-            raise InputError("tip", "a frame name", repr(tip))
+            raise InputError(
+                "tip",
+                "a frame name",
+                repr(tip),
+                "pass the name of the tip's link or joint as a str, e.g. tip='panda_hand'",
+            )
         self._pin = pin
         self._arguments = {
             "urdf": urdf if str(urdf).lstrip().startswith("<") else str(urdf),
@@ -220,7 +242,10 @@ class UrdfRobot(JointLimits):
         for name in locked_joints:
             if not full.existJointName(name):
                 raise InputError(
-                    "locked_joints", f"joint names among {list(full.names)[1:]}", repr(name)
+                    "locked_joints",
+                    f"joint names among {list(full.names)[1:]}",
+                    repr(name),
+                    f"use one of the joint names listed, e.g. {list(full.names)[-1]!r}",
                 )
             locked.append(full.getJointId(name))
         model = pin.buildReducedModel(full, locked, pin.neutral(full)) if locked else full
@@ -235,7 +260,12 @@ class UrdfRobot(JointLimits):
         matches = [i for i, frame in enumerate(model.frames) if frame.name == tip]
         if not matches:
             frames = [f.name for f in model.frames]
-            raise InputError("tip", f"a frame of the robot, e.g. {frames[-3:]}", repr(tip))
+            raise InputError(
+                "tip",
+                f"a frame of the robot, e.g. {frames[-3:]}",
+                repr(tip),
+                f"use the name of one of the robot's links or joints, e.g. tip={frames[-1]!r}",
+            )
         # A link and its parent joint may share a name: the link (body) frame is the tip.
         bodies = [i for i in matches if model.frames[i].type == pin.FrameType.BODY]
         self.tip = tip
@@ -259,7 +289,13 @@ class UrdfRobot(JointLimits):
         else:
             self.weights = check_array("weights", weights, (len(self.rows),))
             if np.any(self.weights <= 0):
-                raise InputError("weights", "positive scales", f"{self.weights}")
+                raise InputError(
+                    "weights",
+                    "positive scales",
+                    f"{self.weights}",
+                    f"give every one of the {len(self.rows)} rows a scale > 0, "
+                    f"e.g. weights={[1.0] * len(self.rows)}",
+                )
         model.gravity.linear = check_array("gravity", gravity, (3,))
         if payload is not None:
             if not isinstance(payload, Payload):
@@ -318,19 +354,37 @@ class UrdfRobot(JointLimits):
     @staticmethod
     def _build(pin: ModuleType, urdf: str | os.PathLike[str]) -> Any:
         text = str(urdf)
+        document = text.lstrip().startswith("<")
+        if not document and not Path(text).is_file():  # outside the try: not re-wrapped below
+            raise InputError(
+                "urdf",
+                "an existing URDF file",
+                repr(text),
+                "check the path (relative paths start at os.getcwd()), or pass the URDF "
+                "document itself as a str starting with '<'",
+            )
         try:
-            if text.lstrip().startswith("<"):
+            if document:
                 return pin.buildModelFromXML(text)
-            if not Path(text).is_file():
-                raise InputError("urdf", "an existing URDF file", repr(text))
             return pin.buildModelFromUrdf(text)
         except (ValueError, RuntimeError) as exn:
-            raise InputError("urdf", "a valid URDF description", f"{exn}"[:200]) from None
+            raise InputError(
+                "urdf",
+                "a valid URDF description",
+                f"{exn}"[:200],
+                "correct the URDF where the parser's message points (e.g. an unclosed tag), "
+                "then load it again",
+            ) from None
 
     def _attach(self, pin: ModuleType, model: Any, payload: Payload) -> None:
         mass = float(check_array("payload.mass", payload.mass, ()))
         if mass <= 0:
-            raise InputError("payload.mass", "a positive mass [kg]", f"{mass}")
+            raise InputError(
+                "payload.mass",
+                "a positive mass [kg]",
+                f"{mass}",
+                "give the payload's mass in kg, e.g. pe.Payload(mass=1.0), or pass payload=None",
+            )
         com = check_array("payload.com", payload.com, (3,))
         inertia = np.asarray(check_array("payload.inertia", payload.inertia, (3, 3)))
         if np.any(inertia):
@@ -760,7 +814,7 @@ class UrdfRobot(JointLimits):
                 "nonzero joint velocities",
                 "leave qd out, or analyse accelerations or forces of the robot in motion.",
             )
-        limits = cls.limit_arguments(*cls.robot_limits(self, qd if cls.in_motion else None))
+        limits = cls.limit_arguments(*cls._robot_limits(self, qd if cls.in_motion else None))
         tolerances: dict[str, Any] = {
             name: value
             for name, value in (("rank_rtol", rank_rtol), ("affine_rtol", affine_rtol))
@@ -770,7 +824,12 @@ class UrdfRobot(JointLimits):
             from polyell.capacities import state_of
 
             if horizon is None:
-                raise InputError("braking", "braking only with a horizon", f"{braking!r}")
+                raise InputError(
+                    "braking",
+                    "braking only with a horizon",
+                    f"{braking!r}",
+                    "pass the control period too, e.g. horizon=0.01, or leave braking out",
+                )
             from polyell.capacities.horizon import robot_horizon
 
             state_of(cls, horizon)  # accelerations only

@@ -182,7 +182,7 @@ def limits_along(
         part = dyn[rows]
         scalar = np.ones(len(part), dtype=bool)  # forces: one configuration at a time
         if issubclass(cls, ZonotopeAnalysis):  # a block at once, as acceleration zonotopes
-            part = cls.acceleration_dynamics(part)
+            part = cls._acceleration_dynamics(part)
             block_lo = {name: np.full(len(part), np.nan) for name in SETS}
             block_hi = {name: np.full(len(part), np.nan) for name in SETS}
             scalar = _block(part, upper, lower, T[rows], rank_rtol, block_lo, block_hi, cls)
@@ -323,7 +323,7 @@ def _inputs(
             "pass a robot, e.g. pe.robots.load('chiacchio2000'), with its configurations, "
             "or its batched robot.dynamics(q) with configurations=None.",
         )
-    return (dyn, *capacity.source_limits(source, upper, lower, dyn.n))
+    return (dyn, *capacity._source_limits(source, upper, lower, dyn.n))
 
 
 def _block(

@@ -301,7 +301,7 @@ def block_sets(
         M = np.swapaxes(Binv_Jt, -1, -2) * half
         xg = xdd_bias - np.einsum("knm,kn->km", Binv_Jt, bias)
     zonotope = cast(type[ZonotopeAnalysis], capacity_class(options.capacity))
-    zonotope.check_generators(M, xg)  # (velocities: B = I, g = 0)
+    zonotope._check_generators(M, xg)  # (velocities: B = I, g = 0)
     if m > n:
         return None, np.ones(K, dtype=bool)
     U, s, Vt = np.linalg.svd(M, full_matrices=False)

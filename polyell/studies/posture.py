@@ -276,7 +276,7 @@ def posture_choice(
         qd_max = qd_min = None
     upper, lower = joint_limits_of(capacity, tau_max, tau_min, qd_max, qd_min)
     dyn = robot.dynamics(q)
-    upper, lower = cls.source_limits(robot, upper, lower, dyn.n)
+    upper, lower = cls._source_limits(robot, upper, lower, dyn.n)
     if isinstance(direction, str):  # a name of the task rows: "x", "-z", "xy"
         d = named_direction(direction, dyn.task, "direction")[0]
     else:
@@ -366,7 +366,7 @@ def _block_values(
     """
     K, m, n = len(dyn), dyn.m, dyn.n
     names = {kind: name for kind, name in capacity.acceleration_names.items() if kind != "polytope"}
-    dyn = capacity.acceleration_dynamics(dyn)
+    dyn = capacity._acceleration_dynamics(dyn)
     B, g, bias = dyn.B, dyn.g, dyn.xdd_bias
     options = BatchOptions(
         mvie=mvie, outer=outer, vertices=outer, candidates=candidates, rank_rtol=rank_rtol

@@ -163,7 +163,7 @@ def _analyze_point(spec: StudySpec, point: Point, capacity: str) -> Analysis:
     """A point's analysis; in motion (``qd``, a URDF robot) with the torque limits at qd."""
     robot = _robot_of(spec, point.robot)
     cls = capacity_class(capacity)
-    limits = cls.limit_arguments(*cls.robot_limits(robot, point.qd))
+    limits = cls.limit_arguments(*cls._robot_limits(robot, point.qd))
     if point.qd is None:
         dynamics = robot.model.dynamics(point.q)
     else:  # (no points in motion in a study of velocities: checked at load)
@@ -357,7 +357,7 @@ def _posture_outputs(
         "capacity": capacity,
     }
     # velocities: the robot's own joint velocity limits; the others its torque limits
-    limits = cls.limit_arguments(*cls.robot_limits(robot))
+    limits = cls.limit_arguments(*cls._robot_limits(robot))
     options |= _horizon(spec, capacity)
     choice = posture_choice(robot.model, configurations, **limits, **options, progress=progress)
     along = f"along {posture.label}"
@@ -1337,7 +1337,7 @@ def _sweep(
     """
     started = time.perf_counter()
     cls = capacity_class(capacity)
-    limits = cls.limit_arguments(*cls.robot_limits(robot))
+    limits = cls.limit_arguments(*cls._robot_limits(robot))
     dataset = sweep(
         robot.model,
         configurations,
@@ -1482,7 +1482,7 @@ def _run_trajectory_capacity(
     x = "t" if trajectory.t is not None else "configuration"
     tangent = trajectory.qd is not None
     cls = capacity_class(capacity)
-    limits = cls.limit_arguments(*cls.robot_limits(robot)) if tangent else {}
+    limits = cls.limit_arguments(*cls._robot_limits(robot)) if tangent else {}
     series = {
         score: SeriesDecimator(count, [f"{k}_{score}" for k in kinds if f"{k}_{score}" in columns])
         for score in spec.file.series

@@ -547,7 +547,7 @@ def _job(
             else configurations[0]
         ).m
     # (the joint velocity limits come in the torque slots)
-    upper, lower = capacity_class(options.capacity).source_limits(source, tau_max, tau_min, n)
+    upper, lower = capacity_class(options.capacity)._source_limits(source, tau_max, tau_min, n)
     unknown = sorted(set(scores) - set(SCORE_NAMES))
     if unknown:
         close = get_close_matches(unknown[0], SCORE_NAMES, n=1)

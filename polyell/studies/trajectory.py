@@ -849,7 +849,7 @@ def tangent_limits(
     for start, stop in _blocks(K, TANGENT_BLOCK):
         dyn = source.dynamics(trajectory.q[start:stop])
         if upper is None:
-            upper, lower = cls.source_limits(source, *given, dyn.n)
+            upper, lower = cls._source_limits(source, *given, dyn.n)
         # The direction does not depend on the speed's scale: each sample's velocities
         # divided by their largest first, so that up to 1e308 nothing overflows in J qd
         # (and one fast sample does not flush the others' to 0, as the path's largest did).

@@ -49,13 +49,15 @@ def test_limit_keywords_are_those_analyze_takes(capacity):
     keywords = cls.limit_keywords
     assert len(set(keywords)) == 2
     assert set(keywords) <= set(inspect.signature(pe.analyze).parameters)
-    upper, lower = cls.robot_limits(arm)
+    upper, lower = cls._robot_limits(arm)
     analysis = pe.analyze(arm.dynamics(Q), capacity=capacity, **cls.limit_arguments(upper, lower))
     assert type(analysis) is cls
     assert tuple(analysis.joint_limits()) == keywords
     np.testing.assert_array_equal(analysis.joint_limits()[keywords[0]], upper)
     np.testing.assert_array_equal(analysis.joint_limits()[keywords[1]], lower)
-    for checked, own in zip(cls.source_limits(arm, None, None, arm.n), (upper, lower), strict=True):
+    for checked, own in zip(
+        cls._source_limits(arm, None, None, arm.n), (upper, lower), strict=True
+    ):
         np.testing.assert_array_equal(checked, own)
     with pytest.raises(pe.InputError) as missing:
         pe.analyze(arm.dynamics(Q), capacity=capacity)
@@ -97,7 +99,7 @@ def test_exactly_one_capacity_is_the_papers():
 def test_a_unique_inverse_is_the_same_for_every_kind(capacity):
     cls = capacity_class(capacity)
     arm = _arm()
-    limits = cls.limit_arguments(*cls.robot_limits(arm))
+    limits = cls.limit_arguments(*cls._robot_limits(arm))
     analysis = pe.analyze(arm.dynamics(Q), capacity=capacity, **limits)
     x = analysis.center + 0.1 * analysis.polytope.limits(np.eye(analysis.m)[0])[1]
     witnesses = [analysis.witness_map(kind)(x) for kind in cls.ellipsoid_kinds]
@@ -119,8 +121,8 @@ def test_zonotope_capacities_name_the_block_paths_sets(capacity):
     assert sorted(names.values()) == sorted(["polytope", *cls.ellipsoid_kinds])
     arm = _arm()
     batch = arm.dynamics(np.array([Q, [0.1, 0.2, 0.3]]))
-    as_zonotope = cls.acceleration_dynamics(batch)
-    upper, lower = cls.robot_limits(arm)
+    as_zonotope = cls._acceleration_dynamics(batch)
+    upper, lower = cls._robot_limits(arm)
     one = pe.analyze(batch[0], capacity=capacity, **cls.limit_arguments(upper, lower))
     same = pe.analyze(as_zonotope[0], upper, lower)  # the acceleration zonotope
     for acceleration, own in names.items():
