@@ -136,12 +136,24 @@ def mesh(S: Polytope | HPolytope | Ellipsoid, resolution: int = RESOLUTION) -> M
         outside ``[2, MAX_RESOLUTION]``.
     """
     if not isinstance(S, Polytope | HPolytope | Ellipsoid):
-        raise InputError("set", "a pe.Polytope or a pe.Ellipsoid", type(S).__name__)
+        raise InputError(
+            "set",
+            "a pe.Polytope or a pe.Ellipsoid",
+            type(S).__name__,
+            "pass a set of an analysis, e.g. analysis.polytope or "
+            "comparison.ellipsoid('chiacchio')",
+        )
     require_drawable(S, "set")
     resolution = check_resolution(resolution)
     m = S.ambient_dim
     if m not in (2, 3):
-        raise InputError("set", "a set of a 2-D or 3-D task space", f"m = {m}")
+        raise InputError(
+            "set",
+            "a set of a 2-D or 3-D task space",
+            f"m = {m}",
+            "analyze a task of 2 or 3 rows (task='planar' or 'linear'), or read the scores "
+            "(comparison.to_markdown())",
+        )
     none = np.zeros((0, 3), dtype=int)
     rank = S.rank if isinstance(S, Ellipsoid) else S.dim
     if not isinstance(S, Ellipsoid):
@@ -189,10 +201,17 @@ def polytope_edges(P: Polytope | HPolytope) -> NDArray[np.int_]:
         the polygon's sides (a flat polytope), one segment, or none (a point).
     """
     if not isinstance(P, Polytope | HPolytope):
-        raise InputError("P", "a pe.Polytope", type(P).__name__)
+        raise InputError(
+            "P", "a pe.Polytope", type(P).__name__, "pass a polytope, e.g. analysis.polytope"
+        )
     require_drawable(P, "P")
     if P.ambient_dim not in (2, 3):
-        raise InputError("P", "a polytope of a 2-D or 3-D task space", f"m = {P.ambient_dim}")
+        raise InputError(
+            "P",
+            "a polytope of a 2-D or 3-D task space",
+            f"m = {P.ambient_dim}",
+            "analyze a task of 2 or 3 rows (task='planar' or 'linear')",
+        )
     count = len(P.vertices)
     if P.dim == 3:
         from scipy.spatial import ConvexHull
@@ -239,7 +258,12 @@ def _header(unit: str, task: tuple[str, ...] | None, capacity: str) -> list[str]
     capacity = check_capacity(capacity)
     unit = check_text("unit", unit)
     if task is not None and (isinstance(task, str) or not isinstance(task, tuple | list)):
-        raise InputError("task", "a tuple of task rows such as ('x', 'y')", repr(task))
+        raise InputError(
+            "task",
+            "a tuple of task rows such as ('x', 'y')",
+            repr(task),
+            "pass the rows as a tuple, e.g. task=analysis.task or task=('x', 'y', 'z')",
+        )
     frame = ", ".join(check_text("task", row) for row in task) if task else "x, y, z"
     return [
         f"polyell {__version__}: {capacity} sets in the task frame ({frame})",
@@ -250,14 +274,24 @@ def _header(unit: str, task: tuple[str, ...] | None, capacity: str) -> list[str]
 def _check_meshes(meshes: object) -> dict[str, Mesh]:
     """Check meshes by name: a name is one line of text without spaces at its ends."""
     if not isinstance(meshes, Mapping):
-        raise InputError("meshes", "a mapping of names to pe.export.Mesh", type(meshes).__name__)
+        raise InputError(
+            "meshes",
+            "a mapping of names to pe.export.Mesh",
+            type(meshes).__name__,
+            "pass a dict of meshes by name, e.g. pe.export.comparison_meshes(comparison)",
+        )
     for name, item in meshes.items():
         if not isinstance(name, str) or not name.strip() or check_text("name", name) != name:
             raise InputError(
                 "name", "a one-line name such as 'polytope'", repr(name), "remove line breaks."
             )
         if not isinstance(item, Mesh):
-            raise InputError(f"meshes[{name!r}]", "a pe.export.Mesh", type(item).__name__)
+            raise InputError(
+                f"meshes[{name!r}]",
+                "a pe.export.Mesh",
+                type(item).__name__,
+                f"map each name to a mesh, e.g. {{{name!r}: pe.export.mesh(analysis.polytope)}}",
+            )
         _check_mesh(f"meshes[{name!r}]", item)
     return dict(meshes)
 
@@ -270,13 +304,19 @@ def _check_mesh(name: str, item: Mesh) -> None:
             f"{name}.vertices",
             "finite points of shape (V, 3)",
             f"shape {vertices.shape}" + ("" if np.isfinite(vertices).all() else " with NaN or inf"),
+            "give finite x, y, z columns, e.g. np.column_stack([x, y, np.zeros_like(x)]) for a "
+            "2-D set",
         )
     for field, width in (("faces", 3), ("lines", 2)):
         try:
             indices = np.asarray(getattr(item, field))
         except ValueError:  # a ragged list
             raise InputError(
-                f"{name}.{field}", f"integer indices of shape (k, {width})", "a ragged list"
+                f"{name}.{field}",
+                f"integer indices of shape (k, {width})",
+                "a ragged list",
+                f"give every row {width} vertex indices, "
+                f"e.g. np.array([{list(range(width))}], dtype=int)",
             ) from None
         if indices.size == 0:
             continue
@@ -286,12 +326,15 @@ def _check_mesh(name: str, item: Mesh) -> None:
                 f"{name}.{field}",
                 f"integer indices of shape (k, {width})",
                 f"{indices.dtype} of shape {indices.shape}",
+                f"convert with np.asarray({name}.{field}, dtype=int).reshape(-1, {width})",
             )
         if indices.min() < 0 or indices.max() >= len(vertices):
             raise InputError(
                 f"{name}.{field}",
                 f"indices of its {len(vertices)} vertices (0 to {len(vertices) - 1})",
                 f"indices from {indices.min()} to {indices.max()}",
+                f"keep every index in [0, {len(vertices)}) (0-based, as in {name}.vertices), "
+                "or add the vertices the others name",
             )
 
 
@@ -352,9 +395,19 @@ def write_ply(
     """
     path = as_path("path", path)
     if not isinstance(name, str):
-        raise InputError("name", "a one-line name such as 'polytope'", repr(name)[:80])
+        raise InputError(
+            "name",
+            "a one-line name such as 'polytope'",
+            repr(name)[:80],
+            "pass the set's name as a str, e.g. name='polytope'",
+        )
     if not isinstance(item, Mesh):
-        raise InputError("item", "a pe.export.Mesh", type(item).__name__)
+        raise InputError(
+            "item",
+            "a pe.export.Mesh",
+            type(item).__name__,
+            "pass a mesh, e.g. pe.export.mesh(analysis.polytope)",
+        )
     (item,) = _check_meshes({name: item}).values()
     header = ["ply", "format ascii 1.0"]
     header += [f"comment {text}" for text in [f"set: {name}", *_header(unit, task, capacity)]]
@@ -382,7 +435,13 @@ def export_comparison(
     N, N m, ...).
     """
     if not isinstance(path, str | Path) or Path(path).suffix not in (".obj", ".ply"):
-        raise InputError("path", "a file name ending in .obj or .ply", repr(path))
+        raise InputError(
+            "path",
+            "a file name ending in .obj or .ply",
+            repr(path),
+            "pass a str or Path ending in .obj (one file) or .ply (a file per set), "
+            "e.g. 'sets.obj'",
+        )
     target = Path(path)
     meshes = comparison_meshes(comparison, resolution)
     analysis = comparison.analysis
@@ -401,4 +460,9 @@ def export_comparison(
             )
             for name, item in meshes.items()
         ]
-    raise InputError("path", "a file name ending in .obj or .ply", repr(str(path)))
+    raise InputError(
+        "path",
+        "a file name ending in .obj or .ply",
+        repr(str(path)),
+        "pass a path ending in .obj (one file) or .ply (a file per set), e.g. 'sets.obj'",
+    )

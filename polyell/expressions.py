@@ -59,23 +59,51 @@ def evaluate(name: str, text: str | float | int) -> float:
         ``+ - * / **``.
     """
     if isinstance(text, bool):
-        raise InputError(name, "a number or an expression like 'pi/2'", repr(text))
+        raise InputError(
+            name,
+            "a number or an expression like 'pi/2'",
+            repr(text),
+            "write a number, e.g. 1.0, or an expression, e.g. 'pi/2' (true and false are not "
+            "numbers)",
+        )
     expected = "a number or an expression of numbers, pi, sqrt(), + - * / ** (e.g. '-pi/2')"
     if isinstance(text, int | float):
         value = float(text)
     elif not isinstance(text, str) or len(text) > MAX_EXPRESSION_LENGTH:
         shown = repr(text) if len(repr(text)) <= 60 else f"{repr(text)[:57]}..."
-        raise InputError(name, f"{expected}, of at most {MAX_EXPRESSION_LENGTH} characters", shown)
+        raise InputError(
+            name,
+            f"{expected}, of at most {MAX_EXPRESSION_LENGTH} characters",
+            shown,
+            f"write one number or a str of at most {MAX_EXPRESSION_LENGTH} characters, "
+            "e.g. '-pi/2' or 1.5708",
+        )
     else:
         try:
             value = _value(ast.parse(text.strip(), mode="eval").body)
         except (SyntaxError, ValueError, TypeError, ZeroDivisionError, OverflowError):
             # TypeError: a complex power such as (-8)**0.5
-            raise InputError(name, expected, repr(text)) from None
+            raise InputError(
+                name,
+                expected,
+                repr(text),
+                "use only numbers, pi, sqrt(...) and + - * / ** (no division by zero, no "
+                "root of a negative number), e.g. '-pi/2' or 'sqrt(3)/2'",
+            ) from None
         except RecursionError:  # nesting too deep for the parser
-            raise InputError(name, f"{expected}, not nested so deeply", repr(text[:60])) from None
+            raise InputError(
+                name,
+                f"{expected}, not nested so deeply",
+                repr(text[:60]),
+                "remove the redundant parentheses, or give the value as a number, e.g. 0.5",
+            ) from None
     if not math.isfinite(value):
-        raise InputError(name, "a finite number", repr(text))
+        raise InputError(
+            name,
+            "a finite number",
+            repr(text),
+            "give a finite value, e.g. 1e3 rather than inf or 1e400 (beyond a double)",
+        )
     return value
 
 
@@ -83,7 +111,10 @@ def evaluate_list(name: str, values: str | Sequence[str | float | int]) -> list[
     """Evaluate a list of numbers/expressions, or one comma-separated string of them."""
     if not isinstance(values, str | list | tuple):
         raise InputError(
-            name, "a list of numbers or expressions", f"{type(values).__name__} {values!r}"
+            name,
+            "a list of numbers or expressions",
+            f"{type(values).__name__} {values!r}",
+            "pass a list such as [0.0, 'pi/2'], or one comma-separated str such as '0, pi/2'",
         )
     items = values.split(",") if isinstance(values, str) else list(values)
     return [evaluate(f"{name}[{i}]", item) for i, item in enumerate(items)]

@@ -104,7 +104,12 @@ def check_title(title: object, argument: str = "title") -> str:
         a literal dollar sign as ``\$`` (or to correct the formula).
     """
     if not isinstance(title, str):
-        raise InputError(argument, "a string", type(title).__name__)
+        raise InputError(
+            argument,
+            "a string",
+            type(title).__name__,
+            "pass the text as a str, e.g. 'Chiacchio arm' (str(value) converts a number)",
+        )
     from matplotlib import cbook
     from matplotlib.font_manager import FontProperties
     from matplotlib.mathtext import MathTextParser
@@ -150,7 +155,11 @@ def _check_ellipsoid(argument: str, E: Ellipsoid, m: int) -> None:
     check_instance(argument, E, Ellipsoid, _FIX_ELLIPSOID)
     if E.center.size != m:
         raise InputError(
-            argument, f"an ellipsoid of the {m}-D task space", f"one of {E.center.size}-D"
+            argument,
+            f"an ellipsoid of the {m}-D task space",
+            f"one of {E.center.size}-D",
+            "pass an ellipsoid of the same analysis, e.g. analysis.ellipsoid('chiacchio') "
+            "or pe.compare(analysis).mvie",
         )
 
 
@@ -169,7 +178,13 @@ def _check_pair(
         and (not finite or bool(np.all(np.isfinite(items))))
     ):
         return float(items[0]), float(items[1])
-    raise InputError(argument, expected, f"{type(value).__name__} {value!r:.80}")
+    example = "(30.0, -60.0)" if argument == "view" else "(0.0, 1.0)"
+    raise InputError(
+        argument,
+        expected,
+        f"{type(value).__name__} {value!r:.80}",
+        f"pass two real numbers as a tuple, e.g. {argument}={example}",
+    )
 
 
 def _check_view(view: object) -> tuple[float, float]:
@@ -228,7 +243,13 @@ def _ellipsoids(
     for kind in analysis.ellipsoid_kinds if kinds is None else _check_kinds(kinds):
         if kind == "mvie":
             if mvie is None:
-                raise InputError("kinds", "an 'mvie' ellipsoid passed as mvie=", "None")
+                raise InputError(
+                    "kinds",
+                    "an 'mvie' ellipsoid passed as mvie=",
+                    "None",
+                    "pass mvie=comparison.mvie (comparison = pe.compare(analysis)), or drop "
+                    "'mvie' from kinds",
+                )
             found[kind] = mvie
             continue
         try:
@@ -546,7 +567,12 @@ def plot_directional_limits(
         "pass an analysis (pe.analyze(...)); of a comparison, its .analysis.",
     )
     if analysis.m != 2:
-        raise InputError("analysis", "a 2-D task space", f"m = {analysis.m}")
+        raise InputError(
+            "analysis",
+            "a 2-D task space",
+            f"m = {analysis.m}",
+            "analyze a task of 2 rows (task='planar'), or draw a 3-D task's sets with plot_sets_3d",
+        )
     _check_texts(unit=unit, title=title)
     labels = _check_labels(labels)
     T = sphere_directions(directions, 2)
@@ -597,11 +623,19 @@ def plot_score_map(
         values = np.asarray(values, dtype=float)
     except (TypeError, ValueError):
         raise InputError(
-            "values", "an array of numbers (NaN: undefined)", type(values).__name__
+            "values",
+            "an array of numbers (NaN: undefined)",
+            type(values).__name__,
+            "pass a 2-D float array, with np.nan where the score is undefined, e.g. "
+            "results[column].to_numpy(dtype=float).reshape(len(y), len(x))",
         ) from None
     if values.shape != (len(y), len(x)):
         raise InputError(
-            "values", f"shape (len(y), len(x)) = {(len(y), len(x))}", f"shape {values.shape}"
+            "values",
+            f"shape (len(y), len(x)) = {(len(y), len(x))}",
+            f"shape {values.shape}",
+            f"give one row per y value and one column per x value, e.g. "
+            f"values.reshape({len(y)}, {len(x)}) (values.T if x and y are swapped)",
         )
     if not values.size:
         raise InputError(
@@ -631,7 +665,10 @@ def _score_columns(
     present = [kind for kind in _check_kinds(kinds) if f"{kind}_{score}" in results]
     if not present:
         raise InputError(
-            "score", f"a score with columns in the results, e.g. {list(results)[:4]}", repr(score)
+            "score",
+            f"a score with columns in the results, e.g. {list(results)[:4]}",
+            repr(score),
+            _score_fix(results, score, kinds),
         )
     columns = {}
     for kind in present:
@@ -648,6 +685,22 @@ def _score_columns(
                 "errors='coerce') (text becomes NaN).",
             ) from None
     return columns
+
+
+def _score_fix(results: pd.DataFrame, score: object, kinds: object) -> str:
+    """How to name a score that ``results`` has columns ``<kind>_<score>`` of."""
+    columns = [str(column) for column in results.columns]
+    names = _check_kinds(kinds)
+    scores = sorted({c[len(k) + 1 :] for c in columns for k in names if c.startswith(f"{k}_")})
+    if scores:
+        return f"use a score these kinds have columns of, e.g. score={scores[0]!r}"
+    owners = [c[: -len(f"_{score}")] for c in columns if c.endswith(f"_{score}")]
+    if owners:
+        return f"pass kinds that have this score, e.g. kinds={owners[:3]}"
+    return (
+        "pass the results of pe.sweep or of a study, whose columns are '<kind>_<score>' "
+        "such as 'chiacchio_coverage'"
+    )
 
 
 def _bin_edges(data: NDArray[np.float64], bins: int) -> list[float]:
@@ -893,10 +946,20 @@ def plot_posture_indices(
     labels = _check_labels(labels)
     if not isinstance(values, pd.DataFrame) or values.columns.nlevels != 2:
         raise InputError(
-            "values", "PostureChoice.values (columns (kind, quantity))", type(values).__name__
+            "values",
+            "PostureChoice.values (columns (kind, quantity))",
+            f"a DataFrame of {values.columns.nlevels} column level(s)",
+            "pass choice.values of pe.posture_choice, unchanged (two column levels)",
         )
     if not isinstance(table, pd.DataFrame) or "picked" not in table.columns:
-        raise InputError("table", "PostureChoice.table (a 'picked' column)", type(table).__name__)
+        raise InputError(
+            "table",
+            "PostureChoice.table (a 'picked' column)",
+            f"columns {list(table.columns)[:6]}"
+            if isinstance(table, pd.DataFrame)
+            else type(table).__name__,
+            "pass choice.table of the same pe.posture_choice as values",
+        )
     count = len(values)
     if position is None:
         x = np.arange(count, dtype=float)
@@ -905,7 +968,11 @@ def plot_posture_indices(
         x = np.asarray(position, dtype=float)
         if x.shape != (count,) or not np.all(np.isfinite(x)):
             raise InputError(
-                "position", f"{count} finite positions, one per posture", f"shape {x.shape}"
+                "position",
+                f"{count} finite positions, one per posture",
+                f"shape {x.shape}" + ("" if np.all(np.isfinite(x)) else " with NaN or inf"),
+                f"pass {count} finite values, one per row of values (e.g. SelfMotion.position), "
+                "or leave position out",
             )
         xlabel = "position along the self-motion [rad]" if xlabel is None else xlabel
     order = np.argsort(x, kind="stable")
@@ -994,7 +1061,12 @@ def save_figure(
     """
     check_instance("figure", figure, Figure, _FIX_FIGURE)
     if not isinstance(stem, str | Path):
-        raise InputError("stem", "a file name without extension (str or Path)", repr(stem))
+        raise InputError(
+            "stem",
+            "a file name without extension (str or Path)",
+            repr(stem),
+            "pass a str or pathlib.Path, e.g. stem='figures/sets'",
+        )
     if str(stem).replace(os.sep, "/").rsplit("/", 1)[-1] in ("", ".", ".."):
         raise InputError(
             "stem",
@@ -1008,7 +1080,12 @@ def save_figure(
         or not isinstance(formats, Sequence)
         or not all(fmt in supported for fmt in formats)
     ):
-        raise InputError("formats", f"a sequence of formats among {supported}", repr(formats))
+        raise InputError(
+            "formats",
+            f"a sequence of formats among {supported}",
+            repr(formats),
+            "pass a list of formats listed, e.g. formats=['pdf', 'png'] (one format: ['png'])",
+        )
     suffix = Path(stem).suffix[1:].lower()
     targets: list[tuple[Path, str]]
     if formats is not None and not len(formats):
@@ -1031,7 +1108,12 @@ def save_figure(
         or not isinstance(dpi, int | float | np.integer | np.floating)
         or not MIN_DPI <= dpi <= MAX_DPI
     ):
-        raise InputError("dpi", f"dots per inch from {MIN_DPI} to {MAX_DPI}", repr(dpi))
+        raise InputError(
+            "dpi",
+            f"dots per inch from {MIN_DPI} to {MAX_DPI}",
+            repr(dpi),
+            "pass a number in that range, e.g. dpi=300",
+        )
     paths = []
     for path, fmt in targets:
         metadata = {"CreationDate": None} if fmt == "pdf" else None

@@ -219,7 +219,7 @@ def interactive_sets(
             "a 2-D or 3-D task space",
             f"m = {m}",
             "analyze a task of 2 or 3 rows (task='planar' or 'linear'), or read the "
-            "comparison's tables (pe.format_comparison_table).",
+            "comparison's scores (comparison.to_markdown()).",
         )
     if kinds is not None and (
         isinstance(kinds, str)

@@ -50,7 +50,7 @@ def inverse_at_end(
     end = float(getattr(first.limits(direction), inverse_at))
     if math.isnan(end):
         return None, {}
-    xdd = end * P.affine_set.meet_lines(direction[None], P.affine_rtol).projected[0]
+    xdd = end * P.affine_set._meet_lines(direction[None], P.affine_rtol).projected[0]
     solutions: dict[str, InverseSolution] = {}
     for kind in analysis.ellipsoid_kinds:
         try:
@@ -111,7 +111,12 @@ def format_analysis(
     P, svd = analysis.polytope, analysis.svd  # type: ignore[attr-defined]
     unit = analysis.unit()
     if equations is not None and not isinstance(equations, bool):
-        raise InputError("equations", "True, False or None", repr(equations)[:60])
+        raise InputError(
+            "equations",
+            "True, False or None",
+            repr(equations)[:60],
+            "pass equations=True or equations=False, or leave it None to follow the analysis",
+        )
     labels = check_labels(labels)
 
     def called(kind: str) -> str:

@@ -83,7 +83,12 @@ def _names(only: Sequence[str] | None) -> list[ShowcaseStudy]:
     if only is None:
         return list(SHOWCASE_STUDIES)
     if isinstance(only, str) or not all(isinstance(name, str) for name in only):
-        raise InputError("only", "a list of showcase study names", repr(only)[:80])
+        raise InputError(
+            "only",
+            "a list of showcase study names",
+            repr(only)[:80],
+            f"pass a list of names, e.g. only=[{SHOWCASE_STUDIES[0].name!r}]",
+        )
     unknown = [name for name in only if name not in _BY_NAME]
     if unknown:
         raise InputError(

@@ -54,10 +54,18 @@ def as_path(name: str, value: object) -> Path:
     """``value`` (a str or an os.PathLike) as a Path, or an InputError naming ``name``."""
     if isinstance(value, bytes) or not isinstance(value, str | os.PathLike) or not str(value):
         raise InputError(
-            name, "a path (a str or a pathlib.Path)", f"{type(value).__name__} {value!r:.80}"
+            name,
+            "a path (a str or a pathlib.Path)",
+            f"{type(value).__name__} {value!r:.80}",
+            f"pass a non-empty str or pathlib.Path, e.g. {name}=Path('results')",
         )
     if "\x00" in str(value):
-        raise InputError(name, "a path without NUL characters", repr(str(value))[:80])
+        raise InputError(
+            name,
+            "a path without NUL characters",
+            repr(str(value))[:80],
+            "remove the NUL characters ('\\x00') from the path",
+        )
     return Path(value)
 
 
@@ -81,7 +89,13 @@ def write_atomically(path: Path, write: Callable[[str], Any]) -> Path:
     """
     path = as_path("path", path)
     if not callable(write):
-        raise InputError("write", "a function of the temporary file name", repr(write)[:80])
+        raise InputError(
+            "write",
+            "a function of the temporary file name",
+            repr(write)[:80],
+            "pass a callable that writes the file it is given, "
+            "e.g. lambda name: Path(name).write_text(text)",
+        )
     name = path.name
     if not name or name in (".", ".."):
         raise InputError("path", "the path of a file", repr(str(path)), "name the file.")
@@ -130,7 +144,12 @@ def _umask() -> int:
 def write_text_atomically(path: Path, text: str) -> Path:
     """:func:`write_atomically` for UTF-8 text."""
     if not isinstance(text, str):
-        raise InputError("text", "a str", f"{type(text).__name__} {text!r:.80}")
+        raise InputError(
+            "text",
+            "a str",
+            f"{type(text).__name__} {text!r:.80}",
+            "pass the text as a str, e.g. decode bytes with data.decode('utf-8')",
+        )
     return write_atomically(path, lambda name: Path(name).write_text(text, encoding="utf-8"))
 
 
@@ -144,11 +163,21 @@ def write_csv(frame: Any, handle: Any, header: bool = True) -> None:
     import pyarrow as pa
     import pyarrow.csv as pa_csv
 
-    check_frame("frame", frame)
+    check_frame("frame", frame, "pass a pandas DataFrame, e.g. pd.DataFrame(rows)")
     if not callable(getattr(handle, "write", None)):
-        raise InputError("handle", "a file open for binary writing", repr(handle)[:80])
+        raise InputError(
+            "handle",
+            "a file open for binary writing",
+            repr(handle)[:80],
+            "pass a file opened in binary mode, e.g. open(path, 'wb')",
+        )
     if not isinstance(header, bool):
-        raise InputError("header", "True or False", repr(header)[:80])
+        raise InputError(
+            "header",
+            "True or False",
+            repr(header)[:80],
+            "pass header=True to write the column names, header=False to leave them out",
+        )
     table = pa.Table.from_pandas(frame, preserve_index=False)
     options = pa_csv.WriteOptions(include_header=header, quoting_style="needed")
     pa_csv.write_csv(table, handle, options)
@@ -225,7 +254,12 @@ def remove_stale_temporaries(folder: Path, names: re.Pattern[str]) -> list[Path]
     """
     folder = as_path("folder", folder)
     if not isinstance(names, re.Pattern):
-        raise InputError("names", "a compiled regular expression (re.compile)", repr(names)[:80])
+        raise InputError(
+            "names",
+            "a compiled regular expression (re.compile)",
+            repr(names)[:80],
+            "compile the pattern of the file names first, e.g. re.compile(r'_sweep\\.json')",
+        )
     removed = []
     try:
         entries = list(os.scandir(folder))
@@ -277,9 +311,17 @@ def folder_lock(folder: Path, name: str, what: str) -> Iterator[None]:
     folder = as_path("folder", folder)
     for label, text in (("name", name), ("what", what)):
         if not isinstance(text, str) or not text:
-            raise InputError(label, "a non-empty str", repr(text)[:80])
+            example = "name='_sweep.lock'" if label == "name" else "what='sweep'"
+            raise InputError(
+                label, "a non-empty str", repr(text)[:80], f"pass a non-empty str, e.g. {example}"
+            )
     if Path(name).name != name:
-        raise InputError("name", "a file name without folders", repr(name)[:80])
+        raise InputError(
+            "name",
+            "a file name without folders",
+            repr(name)[:80],
+            "pass the lock file's bare name, e.g. '_sweep.lock', and its folder as folder",
+        )
     path = folder / name
     refusal = InputError(
         "out",

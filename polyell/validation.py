@@ -65,15 +65,31 @@ def _as_finite_float(
 ) -> NDArray[np.float64]:
     """Convert to a float64 array and reject NaN and infinity (``expected()``: for messages)."""
     if value is None:  # np.array(None, dtype=float) would be a silent NaN
-        raise InputError(name, expected(), "None")
+        raise InputError(
+            name,
+            expected(),
+            "None",
+            "pass numbers instead of None, as a list or an array, e.g. [0.0, 1.0]",
+        )
     try:
         raw = np.asarray(value)
         complex_values = np.iscomplexobj(raw)
         array = np.array(raw.real if complex_values else raw, dtype=np.float64)
     except (TypeError, ValueError):  # a ragged list: "inhomogeneous shape"
-        raise InputError(name, expected(), _describe(value)) from None
+        raise InputError(
+            name,
+            expected(),
+            _describe(value),
+            "pass numbers only, in rows of one length, e.g. [[1.0, 0.0], [0.0, 1.0]] "
+            "(np.asarray(value, dtype=float) must accept it)",
+        ) from None
     if complex_values:  # a float conversion would silently drop the imaginary part
-        raise InputError(name, expected(), f"complex values ({_describe(value)})")
+        raise InputError(
+            name,
+            expected(),
+            f"complex values ({_describe(value)})",
+            "pass real numbers, e.g. np.real(value) where the imaginary parts are rounding noise",
+        )
     if not np.isfinite(array).all():
         bad = np.argwhere(~np.isfinite(array))[0]
         raise InputError(
@@ -172,7 +188,12 @@ def check_spd(
     """
     matrix = check_array(name, value, (*batch, n, n))
     if matrix.shape[-1] != matrix.shape[-2]:
-        raise InputError(name, f"a square ({n}, {n}) matrix", f"shape {matrix.shape}")
+        raise InputError(
+            name,
+            f"a square ({n}, {n}) matrix",
+            f"shape {matrix.shape}",
+            "pass a square matrix: as many rows as columns",
+        )
     transposed = np.swapaxes(matrix, -1, -2)
     scale = float(np.max(np.abs(matrix))) if matrix.size else 0.0
     # Differences of entries above 1 scaled to at most 1: no overflow near 1e308 (and no
@@ -373,7 +394,12 @@ def check_instance(name: str, value: object, kind: type | tuple[type, ...], fix:
     if not isinstance(value, kind):
         kinds = kind if isinstance(kind, tuple) else (kind,)
         expected = " or ".join(k.__name__ for k in kinds)
-        raise InputError(name, f"a {expected}", _describe(value)[:120], fix)
+        raise InputError(
+            name,
+            f"a {expected}",
+            _describe(value)[:120],
+            fix or f"pass a {expected} as {name}, not a {type(value).__name__}",
+        )
 
 
 def check_frame(name: str, value: object, fix: str = "") -> None:
@@ -388,7 +414,12 @@ def as_floats(name: str, value: object) -> NDArray[np.float64]:
     try:
         return np.asarray(value, dtype=float)
     except (TypeError, ValueError):
-        raise InputError(name, "an array of real numbers", repr(value)[:80]) from None
+        raise InputError(
+            name,
+            "an array of real numbers",
+            repr(value)[:80],
+            "pass numbers only, in rows of one length, e.g. [[0.0, 1.0], [1.0, 0.0]]",
+        ) from None
 
 
 def check_integer(name: str, value: object, low: int, high: int) -> int:
@@ -398,8 +429,22 @@ def check_integer(name: str, value: object, low: int, high: int) -> int:
         or not isinstance(value, int | np.integer)
         or not (low <= int(value) <= high)
     ):
-        raise InputError(name, f"an integer from {low:,} to {high:,}", _describe(value))
+        raise InputError(
+            name,
+            f"an integer from {low:,} to {high:,}",
+            _describe(value),
+            f"pass an int in that range, e.g. {_integer_example(value, low, high)}",
+        )
     return int(value)
+
+
+def _integer_example(value: object, low: int, high: int) -> int:
+    """An integer of ``[low, high]`` near ``value`` (a real number), else ``low``."""
+    if isinstance(value, int | np.integer) and not isinstance(value, bool):
+        return min(max(int(value), low), high)
+    if isinstance(value, float | np.floating) and not np.isnan(value):
+        return high if value >= high else low if value <= low else round(float(value))
+    return low
 
 
 def check_fraction(name: str, value: object) -> float:
@@ -411,7 +456,12 @@ def check_fraction(name: str, value: object) -> float:
         or not isinstance(value, int | float | np.integer | np.floating)
         or not 0.0 <= float(value) < 1.0
     ):
-        raise InputError(name, "a relative tolerance in [0, 1)", repr(value))
+        raise InputError(
+            name,
+            "a relative tolerance in [0, 1)",
+            repr(value),
+            f"pass a float from 0 up to (not including) 1, e.g. {name}=1e-9, or leave it out",
+        )
     return float(value)
 
 
@@ -652,7 +702,12 @@ def check_directions(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]
     """
     directions = check_points(name, value, m)
     if directions.ndim > 2:
-        raise InputError(name, "shape (m,) or (k, m)", f"shape {directions.shape}")
+        raise InputError(
+            name,
+            "shape (m,) or (k, m)",
+            f"shape {directions.shape}",
+            f"stack the directions in rows, e.g. np.reshape({name}, (-1, {m}))",
+        )
     # The norm of the rows scaled by their largest entry: no overflow for entries of 1e308
     # and no underflow for 1e-300 (either is then refused as far from unit length).
     largest = np.max(np.abs(directions), axis=-1)

@@ -89,7 +89,12 @@ class MotionLimits:
         }
         names = tuple(str(name) for name in joints)
         if len(names) != n:
-            raise InputError("joints", f"{n} joint names", f"{len(names)}: {list(names)}"[:200])
+            raise InputError(
+                "joints",
+                f"{n} joint names",
+                f"{len(names)}: {list(names)}"[:200],
+                f"pass one name per column of qd ({n}), e.g. joints=robot.joint_names",
+            )
         for name, array in arrays.items():
             array.flags.writeable = False
             object.__setattr__(self, name, array)
@@ -174,7 +179,12 @@ class Dynamics:
         jacobian = check_array("J", J, shape, what="Jacobian entries")
         *batch, m, n = jacobian.shape
         if m == 0 or n == 0:
-            raise InputError("J", "at least one task row and one joint", f"shape {jacobian.shape}")
+            raise InputError(
+                "J",
+                "at least one task row and one joint",
+                f"shape {jacobian.shape}",
+                "pass a Jacobian of shape (m, n) with m, n >= 1, e.g. J=[[1.0, 0.5]]",
+            )
         object.__setattr__(self, "J", jacobian)
         object.__setattr__(self, "B", check_spd("B", B, n, tuple(batch)))
         object.__setattr__(self, "g", check_array("g", g, (*batch, n)))
@@ -198,6 +208,8 @@ class Dynamics:
                     "motion",
                     f"joint velocities of shape {(*batch, n)} (one row per configuration)",
                     f"shape {motion.qd.shape}",
+                    "pass the motion of the same configurations, e.g. "
+                    "robot.dynamics(q, qd).motion, or leave motion out",
                 )
         object.__setattr__(self, "motion", motion)
         for array in (self.J, self.B, self.g, self.xdd_bias):
@@ -226,7 +238,13 @@ class Dynamics:
     def __getitem__(self, index: int | slice) -> Dynamics:
         """One configuration (an int) or a sub-batch (a slice) of a batch."""
         if self.batch_size is None:
-            raise InputError("index", "a batched Dynamics (J of shape (K, m, n))", "a single one")
+            raise InputError(
+                "index",
+                "a batched Dynamics (J of shape (K, m, n))",
+                "a single one",
+                "use this Dynamics as it is (it is one configuration), or index a batch, "
+                "e.g. robot.dynamics(Q)[0] for Q of shape (K, n)",
+            )
         return Dynamics(
             self.J[index],
             self.B[index],
@@ -243,9 +261,19 @@ def _limits_like(name: str, value: ArrayLike, shape: tuple[int, ...]) -> NDArray
     try:
         array = np.broadcast_to(array, shape)
     except ValueError:
-        raise InputError(name, f"torque limits of shape {shape}", f"shape {array.shape}") from None
+        raise InputError(
+            name,
+            f"torque limits of shape {shape}",
+            f"shape {array.shape}",
+            f"pass one limit per joint, shape {shape}, or one number for all, e.g. {name}=100.0",
+        ) from None
     if np.isnan(array).any():
-        raise InputError(name, "torque limits without NaN", f"{array}")
+        raise InputError(
+            name,
+            "torque limits without NaN",
+            f"{array}",
+            "replace each NaN by the joint's limit [N m], or by np.inf where it has none",
+        )
     return array
 
 

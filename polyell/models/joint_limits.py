@@ -38,6 +38,8 @@ def check_torque_speed(
             "torque_speed",
             f"a torque-speed model of {n} joints (one curve per joint of the robot)",
             f"one of {torque_speed.n} joints",
+            f"give one curve per joint, e.g. pe.TorqueSpeed.linear(tau_stall, qd_no_load) "
+            f"with {n} values in each",
         )
     if tau_max is not None:
         torque_speed.limits(np.zeros(n), tau_max, tau_min)

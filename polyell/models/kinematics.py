@@ -42,7 +42,12 @@ class Kinematics:
     def __init__(self, J: ArrayLike, task: Sequence[str] | None = None) -> None:
         jacobian = check_array("J", J, ("m", "n"), what="Jacobian entries")
         if 0 in jacobian.shape:
-            raise InputError("J", "at least one task row and one joint", f"shape {jacobian.shape}")
+            raise InputError(
+                "J",
+                "at least one task row and one joint",
+                f"shape {jacobian.shape}",
+                "pass a Jacobian of shape (m, n) with m, n >= 1, e.g. pe.Kinematics([[1.0, 0.5]])",
+            )
         jacobian.flags.writeable = False
         self.J = jacobian
         self.task = check_task(task, jacobian.shape[0])

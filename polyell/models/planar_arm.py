@@ -128,7 +128,12 @@ class PlanarArm(JointLimits):
         self.lengths = _positive("lengths", lengths)
         n = self.lengths.size
         if n == 0:
-            raise InputError("lengths", "at least one link", "an empty sequence")
+            raise InputError(
+                "lengths",
+                "at least one link",
+                "an empty sequence",
+                "give one length [m] per link, e.g. lengths=[1.0, 0.8, 0.5]",
+            )
         self.masses = _positive("masses", masses, n)
         self.com = (
             0.5 * self.lengths if com is None else _bounded("com", check_array("com", com, (n,)))
@@ -139,7 +144,13 @@ class PlanarArm(JointLimits):
             else _bounded("inertia", check_array("inertia", inertia, (n,)))
         )
         if np.any(self.inertia < 0):
-            raise InputError("inertia", "non-negative inertias", f"{self.inertia}")
+            raise InputError(
+                "inertia",
+                "non-negative inertias",
+                f"{self.inertia}",
+                "give each link's inertia about its centre of mass [kg m^2] as a value >= 0, "
+                "or leave inertia out for thin rods (m l^2 / 12)",
+            )
         self.gravity = float(_bounded("gravity", check_array("gravity", gravity, ())))
         self.tau_max: NDArray[np.float64] | None = None
         self.tau_min: NDArray[np.float64] | None = None

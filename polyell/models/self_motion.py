@@ -160,6 +160,8 @@ class _Task:
                 "robot",
                 "a pe.PlanarArm or a pe.UrdfRobot (e.g. pe.robots.load('panda'))",
                 type(robot).__name__,
+                "pass the robot itself, not its Dynamics or Kinematics, "
+                "e.g. pe.robots.load('panda')",
             )
         self.n = n
 

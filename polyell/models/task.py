@@ -54,7 +54,14 @@ def check_task(task: Sequence[str] | None, m: int) -> tuple[str, ...]:
     usable = not isinstance(task, str) and isinstance(task, Iterable)
     rows = tuple(task) if usable else ()
     if not usable or not all(isinstance(row, str) and row for row in rows):
-        raise InputError("task", f"{m} row names such as ('x', 'z')", repr(task)[:80])
+        example = repr(default_task(m)) if m <= 6 else f"('x1', 'x2', ..., 'x{m}')"
+        raise InputError(
+            "task",
+            f"{m} row names such as ('x', 'z')",
+            repr(task)[:80],
+            f"pass the {m} names as a tuple of non-empty str, e.g. {example}, "
+            "or None for these defaults",
+        )
     if len(rows) != m or len(set(rows)) != m:
         raise InputError(
             "task",
@@ -67,7 +74,12 @@ def check_task(task: Sequence[str] | None, m: int) -> tuple[str, ...]:
 
 def _check_capacity(capacity: object) -> None:
     if not isinstance(capacity, str) or capacity not in _UNITS:
-        raise InputError("capacity", f"one of {tuple(_UNITS)}", repr(capacity)[:80])
+        raise InputError(
+            "capacity",
+            f"one of {tuple(_UNITS)}",
+            repr(capacity)[:80],
+            "use one of the names listed, e.g. capacity='acceleration'",
+        )
 
 
 def _kind(row: str) -> str:
@@ -88,9 +100,19 @@ def task_unit(task: Sequence[str], tex: bool = False, capacity: str = "accelerat
     """
     _check_capacity(capacity)
     if not isinstance(tex, bool):
-        raise InputError("tex", "True or False", repr(tex)[:80])
+        raise InputError(
+            "tex",
+            "True or False",
+            repr(tex)[:80],
+            "pass tex=True for a LaTeX unit (m/s$^2$), tex=False for plain text (m/s^2)",
+        )
     if isinstance(task, str) or not isinstance(task, Iterable):
-        raise InputError("task", "a sequence of row names such as ('x', 'z')", repr(task)[:80])
+        raise InputError(
+            "task",
+            "a sequence of row names such as ('x', 'z')",
+            repr(task)[:80],
+            "pass the row names as a tuple, e.g. ('x', 'z'), not one str",
+        )
     rows = list(task)
     if not rows:  # no quantity, hence no unit (a set has one row at least)
         raise InputError(
@@ -100,7 +122,12 @@ def task_unit(task: Sequence[str], tex: bool = False, capacity: str = "accelerat
             "name the task's rows.",
         )
     if not all(isinstance(row, str) and row for row in rows):
-        raise InputError("task", "non-empty row names such as ('x', 'z')", repr(rows)[:80])
+        raise InputError(
+            "task",
+            "non-empty row names such as ('x', 'z')",
+            repr(rows)[:80],
+            "name every row with a non-empty str, e.g. ('x', 'z')",
+        )
     kinds = {_kind(row) for row in rows}
     if len(kinds) != 1:
         return "weighted units"
@@ -114,7 +141,12 @@ def row_label(row: str, capacity: str = "acceleration") -> str:
     """
     _check_capacity(capacity)
     if not isinstance(row, str) or not row:
-        raise InputError("row", "a non-empty row name such as 'x' or 'wz'", repr(row)[:80])
+        raise InputError(
+            "row",
+            "a non-empty row name such as 'x' or 'wz'",
+            repr(row)[:80],
+            "pass one row's name as a str, e.g. row_label('x') or row_label('wz')",
+        )
     linear, angular = _SYMBOLS[capacity]
     if row in ANGULAR_ROWS:
         return rf"${angular}_{row[1]}$"

@@ -191,7 +191,13 @@ class TorqueSpeed:
         """
         stall = check_array("tau_stall", tau_stall, (None,), what="stall torques [N m]")
         if stall.size == 0:
-            raise InputError("tau_stall", "one stall torque per joint", "an empty list")
+            raise InputError(
+                "tau_stall",
+                "one stall torque per joint",
+                "an empty list",
+                "give each joint's stall torque [N m], e.g. "
+                "pe.TorqueSpeed.linear([87.0, 87.0], [2.6, 2.6])",
+            )
         _positive_sizes("tau_stall", stall, MAX_TORQUE, "N m")
         n = stall.size
         speed = check_array("qd_no_load", qd_no_load, (None,), what="no-load speeds [rad/s]")
