@@ -86,11 +86,11 @@ class InputError(PolyellError, ValueError):
         What the argument should have been.
     got : str
         What arrived instead.
-    fix : str, optional
-        A concrete way to repair the call.
+    fix : str
+        A concrete way to repair the call (required: every refusal says how to repair it).
     """
 
-    def __init__(self, argument: str, expected: str, got: str, fix: str = "") -> None:
+    def __init__(self, argument: str, expected: str, got: str, fix: str) -> None:
         self.argument = argument
         self.expected = expected
         self.got = got

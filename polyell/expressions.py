@@ -68,7 +68,7 @@ def evaluate(name: str, text: str | float | int) -> float:
         )
     expected = "a number or an expression of numbers, pi, sqrt(), + - * / ** (e.g. '-pi/2')"
     if isinstance(text, int | float):
-        value = float(text)
+        value = float(text) if abs(text) < 2**1024 else math.inf  # an int beyond a double
     elif not isinstance(text, str) or len(text) > MAX_EXPRESSION_LENGTH:
         shown = repr(text) if len(repr(text)) <= 60 else f"{repr(text)[:57]}..."
         raise InputError(
@@ -101,7 +101,7 @@ def evaluate(name: str, text: str | float | int) -> float:
         raise InputError(
             name,
             "a finite number",
-            repr(text),
+            repr(text) if len(repr(text)) <= 60 else f"{repr(text)[:57]}...",
             "give a finite value, e.g. 1e3 rather than inf or 1e400 (beyond a double)",
         )
     return value
@@ -113,7 +113,7 @@ def evaluate_list(name: str, values: str | Sequence[str | float | int]) -> list[
         raise InputError(
             name,
             "a list of numbers or expressions",
-            f"{type(values).__name__} {values!r}",
+            f"{type(values).__name__} {values!r}"[:80],
             "pass a list such as [0.0, 'pi/2'], or one comma-separated str such as '0, pi/2'",
         )
     items = values.split(",") if isinstance(values, str) else list(values)

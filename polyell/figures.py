@@ -29,7 +29,7 @@ from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import require_drawable
 from polyell.models.task import row_label
 from polyell.storage import write_atomically
-from polyell.validation import check_array, check_instance, check_integer
+from polyell.validation import as_floats, check_array, check_instance, check_integer
 
 __all__ = [
     "STYLES",
@@ -965,7 +965,7 @@ def plot_posture_indices(
         x = np.arange(count, dtype=float)
         xlabel = "posture" if xlabel is None else xlabel
     else:
-        x = np.asarray(position, dtype=float)
+        x = as_floats("position", position)
         if x.shape != (count,) or not np.all(np.isfinite(x)):
             raise InputError(
                 "position",

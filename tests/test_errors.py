@@ -51,7 +51,7 @@ def test_clause_and_sentence():
 
 
 def test_a_long_value_cut_with_an_ellipsis_ends_the_message_once():
-    message = str(pe.InputError("x", "a number", "'" + "a" * 40 + "'..."))
+    message = str(pe.InputError("x", "a number", "'" + "a" * 40 + "'...", ""))
     assert message.endswith("'...") and not doubled_period(message)
 
 

@@ -4,8 +4,9 @@ The public surface is what docs/api.md documents (``autofunction`` entries and t
 ``__all__`` of each ``automodule``), not only ``pe.__all__``.  Each function is called with
 its required positional arguments all of one wrong kind (None, NaN, a str, empty
 containers, 1e300, negative, 0, a bool, a 3-D array, 1e-300): it must raise
-a :class:`~polyell.PolyellError` or return, never raise a raw Python exception (a
-TypeError, AttributeError, KeyError, StopIteration...).
+a :class:`~polyell.PolyellError` (an InputError with its "Fix: ..." sentence) or
+return, never raise a raw Python exception (a TypeError, AttributeError, KeyError,
+StopIteration...).
 """
 
 from __future__ import annotations
@@ -86,6 +87,9 @@ def test_wrong_arguments_give_a_polyell_error_or_a_result(
             warnings.simplefilter("ignore")
             try:
                 function(*[value] * count)
+            except pe.InputError as exn:
+                if "Fix: " not in str(exn):
+                    raw.append(f"{value!r:.30}: InputError without a fix: {exn}"[:200])
             except pe.PolyellError:
                 pass
             except Exception as exn:  # the test's point: any other exception is a defect
@@ -170,6 +174,9 @@ def test_documented_methods_give_a_polyell_error_or_a_result(
                     warnings.simplefilter("ignore")
                     try:
                         method(*[value] * count)
+                    except pe.InputError as exn:
+                        if "Fix: " not in str(exn):
+                            raw.append(f"{name}({value!r:.30}): no fix: {exn}"[:200])
                     except pe.PolyellError:
                         pass
                     except Exception as exn:  # the test's point: any other is a defect

@@ -271,7 +271,7 @@ def _limits_like(name: str, value: ArrayLike, shape: tuple[int, ...]) -> NDArray
         raise InputError(
             name,
             "torque limits without NaN",
-            f"{array}",
+            f"{array}"[:120],
             "replace each NaN by the joint's limit [N m], or by np.inf where it has none",
         )
     return array

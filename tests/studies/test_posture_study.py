@@ -209,6 +209,8 @@ def test_the_figure_marks_the_picks_on_normalised_curves():
     from polyell.figures import plot_posture_indices
 
     figure = plot_posture_indices(choice.values, choice.table, position=motion.position)
+    with pytest.raises(pe.InputError, match=r"^position: expected an array of real numbers"):
+        plot_posture_indices(choice.values, choice.table, position=["a"] * 20)
     axes = figure.axes
     assert len(axes) == 3
     for ax, criterion in zip(axes, ("limit", "radius", "volume"), strict=True):
