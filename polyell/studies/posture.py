@@ -324,9 +324,10 @@ def posture_choice(
         lo, hi = values[kind]["lo"], values[kind]["hi"]
         with np.errstate(invalid="ignore"):
             limit = np.maximum(np.fmin(-lo, hi), 0.0)
+        # an empty interval (NaN): nothing available; an unbounded one stays inf
         values[kind]["limit"] = np.where(
-            defined[kind], np.nan_to_num(limit, nan=0.0), np.nan
-        )  # an empty interval: nothing available
+            defined[kind], np.where(np.isnan(limit), 0.0, limit), np.nan
+        )
     import pandas as pd
 
     frame = pd.DataFrame(
@@ -384,7 +385,7 @@ def _block_values(
             continue
         rows = sets.rows + start
         radius = polytope_columns(sets.as_set_batch())["polytope_origin_radius"]
-        values["polytope"]["radius"][rows] = np.nan_to_num(radius, nan=0.0)
+        values["polytope"]["radius"][rows] = np.where(np.isnan(radius), 0.0, radius)
         values["polytope"]["volume"][rows] = sets.volume
         for kind, (axes, semi, _, center) in sets.ellipsoids.items():
             if kind in ("chiacchio", "yoshikawa") and kind not in names:

@@ -227,3 +227,20 @@ def test_the_closing_message_lists_the_posture_outputs(tmp_path, capsys):
     assert "joint angles" in listed["posture_choice.md"]
     assert "posture_indices.svg" not in listed and "posture_indices.pdf" not in listed
     assert re.search(r"wrote \d+ files", printed)
+
+
+def test_an_unbounded_limit_is_inf_in_the_choice_and_its_tables(tmp_path):
+    """A force posture choice along the ray of a singular posture's set: the polytope's
+    limit there is inf, as ``limits`` says, not the largest float (numpy.nan_to_num turned
+    inf into 1.797693e+308 and the tables printed 1.80 x 10^308)."""
+    arm = pe.robots.load("chiacchio2000")
+    q0 = np.array([0.3, 0.0, 0.0])  # stretched: rank J = 1, the force set has a line
+    ray = pe.analyze(arm.dynamics(q0), arm.tau_max, capacity="force").polytope.rays[0]
+    postures = q0 + np.array([[0.0, 0.0, 0.0], [0.0, 0.5, 0.5], [0.0, 1.0, 1.0]])
+    choice = pe.posture_choice(
+        arm, postures, direction=ray, capacity="force", mvie=False, outer=False
+    )
+    assert choice.values[("polytope", "limit")].iloc[0] == np.inf
+    assert choice.table.loc[("polytope", "limit"), "true_best"] == np.inf
+    for path in pe.write_posture_tables(choice.table, tmp_path).values():
+        assert not re.search(r"308|1\.797", Path(path).read_text()), path
