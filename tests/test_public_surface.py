@@ -13,8 +13,10 @@ from __future__ import annotations
 
 import importlib
 import inspect
+import operator
 import re
 import warnings
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -57,7 +59,7 @@ def _required(function: object) -> int | None:
     ]
     if any(p.kind is p.KEYWORD_ONLY for p in required):
         return None
-    return len(required) or None
+    return len(required)
 
 
 FUNCTIONS = [
@@ -167,7 +169,7 @@ def test_documented_methods_give_a_polyell_error_or_a_result(
             if not callable(method) or inspect.isclass(method):
                 continue
             count = _required(method)
-            if count is None:
+            if not count:
                 continue
             for value in WRONG:
                 with warnings.catch_warnings():
@@ -182,4 +184,144 @@ def test_documented_methods_give_a_polyell_error_or_a_result(
                     except Exception as exn:  # the test's point: any other is a defect
                         text = f"{type(instance).__name__}.{name}({value!r:.30}): "
                         raw.append(f"{text}{type(exn).__name__}: {exn}"[:200])
+    assert not raw, "\n".join(raw)
+
+
+@pytest.mark.parametrize("target", sorted(_documented_members()))
+def test_documented_options_give_a_polyell_error_or_a_result(
+    target, instances, tmp_path, monkeypatch
+):
+    """Each optional argument of a documented method without required ones, and each
+    instance's ``[...]``, given values of every wrong kind."""
+    monkeypatch.chdir(tmp_path)
+    listed = _documented_members()[target]
+    raw = []
+    for instance in instances[target]:
+        calls = []
+        if hasattr(type(instance), "__getitem__") and not isinstance(instance, tuple):
+            calls += [
+                (f"[{value!r:.30}]", partial(operator.getitem, instance, value)) for value in WRONG
+            ]
+        names = listed or [name for name in dir(type(instance)) if not name.startswith("_")]
+        for name in names:
+            method = getattr(instance, name)
+            if not callable(method) or inspect.isclass(method) or _required(method) != 0:
+                continue
+            for parameter in inspect.signature(method).parameters.values():
+                if parameter.kind in (parameter.VAR_POSITIONAL, parameter.VAR_KEYWORD):
+                    continue
+                for value in WRONG:
+                    label = f"{name}({parameter.name}={value!r:.30})"
+                    calls.append((label, partial(method, **{parameter.name: value})))
+        for label, call in calls:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                try:
+                    call()
+                except pe.InputError as exn:
+                    if "Fix: " not in str(exn):
+                        raw.append(f"{type(instance).__name__}{label}: no fix: {exn}"[:200])
+                except pe.PolyellError:
+                    pass
+                except Exception as exn:  # the test's point: any other is a defect
+                    text = f"{type(instance).__name__}{label}: {type(exn).__name__}: {exn}"
+                    raw.append(text[:200])
+    assert not raw, "\n".join(raw)
+
+
+@pytest.fixture(scope="module")
+def valid_calls():
+    """A valid call of documented functions: positional and keyword arguments."""
+    arm = pe.robots.load("chiacchio2000")
+    q = np.array([0.3, 0.6, 0.9])
+    configurations = np.array([[0.3, 0.6, 0.9], [0.5, 0.2, -0.4], [1.0, -0.7, 0.3]])
+    acceleration = pe.analyze(arm.dynamics(q), arm.tau_max)
+    comparison = pe.compare(acceleration, mvie=False, outer=False, directions=36)
+    results = pe.sweep(arm, configurations, directions=36)
+    box = pe.HPolytope(np.vstack([np.eye(2), -np.eye(2)]), np.ones(4))
+    motion = pe.self_motion(arm, [np.pi / 2, -np.pi / 2, -np.pi / 2], count=6)
+    choice = pe.posture_choice(arm, motion, direction="x", mvie=False, outer=False)
+    task = ("x", "y")
+    return {
+        "polyell.analyze": ((arm.dynamics(q), arm.tau_max), {}),
+        "polyell.compare": ((acceleration,), {"mvie": False, "outer": False}),
+        "polyell.sweep": ((arm, configurations), {"directions": 36}),
+        "polyell.limits_along": ((arm, configurations, [[1.0, 0.0]] * 3), {}),
+        "polyell.limits_table": ((comparison,), {}),
+        "polyell.self_motion": ((arm, [np.pi / 2, -np.pi / 2, -np.pi / 2]), {"count": 4}),
+        "polyell.posture_choice": (
+            (arm, motion),
+            {"direction": "x", "mvie": False, "outer": False},
+        ),
+        "polyell.to_long": ((results,), {}),
+        "polyell.to_wide": ((pe.to_long(results),), {}),
+        "polyell.write_posture_tables": ((choice.table, "."), {}),
+        "polyell.studies.posture_tables.format_posture_table": ((choice.table, "latex"), {}),
+        "polyell.comparison.directions.named_direction": (("x", task), {}),
+        "polyell.comparison.directions.resolve_directions": ((["x"], task), {}),
+        "polyell.comparison.labels.ellipsoid_label": (("chiacchio",), {}),
+        "polyell.comparison.labels.label_text": (("chiacchio",), {}),
+        "polyell.comparison.labels.set_label": (("polytope",), {}),
+        "polyell.comparison.long_form.score_columns": ((results,), {}),
+        "polyell.comparison.summary.summarize": ((results,), {}),
+        "polyell.comparison.tables.format_comparison_table": ((comparison, "latex"), {}),
+        "polyell.comparison.tables.format_limits_table": ((comparison.limits_table(), "latex"), {}),
+        "polyell.comparison.point_tables.write_point_tables": (({"a": comparison}, None, "."), {}),
+        "polyell.export.mesh": ((acceleration.polytope,), {}),
+        "polyell.export.comparison_meshes": ((comparison,), {}),
+        "polyell.export.export_comparison": ((comparison, "sets.obj"), {}),
+        "polyell.figures.plot_sets": ((acceleration,), {}),
+        "polyell.figures.plot_directional_limits": ((acceleration,), {}),
+        "polyell.figures.plot_score_histogram": ((results, "coverage"), {}),
+        "polyell.figures.plot_score_series": ((results, "coverage"), {}),
+        "polyell.interactive.interactive_sets": ((comparison,), {}),
+        "polyell.interactive.interactive_histogram": ((results, "coverage"), {}),
+        "polyell.interactive.interactive_series": ((results, "coverage"), {}),
+        "polyell.geometry.combine.minkowski_sum": ((box, box), {}),
+        "polyell.geometry.combine.intersection": ((box, box), {}),
+        "polyell.geometry.combine.in_frame": ((box, np.eye(2)), {}),
+        "polyell.geometry.mvie.max_volume_inscribed_ellipsoid": ((box,), {}),
+        "polyell.geometry.outer.min_volume_enclosing_ellipsoid": ((box,), {}),
+        "polyell.models.task.task_unit": ((task,), {}),
+        "polyell.models.task.row_label": (("x",), {}),
+        "polyell.robots.load": (("chiacchio2000",), {}),
+    }
+
+
+def test_the_valid_calls_are_valid_and_documented(valid_calls):
+    documented = dict(_documented_functions())
+    for name, (args, kwargs) in valid_calls.items():
+        assert name in documented, name
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            documented[name](*args, **kwargs)
+
+
+def test_documented_function_options_give_a_polyell_error_or_a_result(
+    valid_calls, tmp_path, monkeypatch
+):
+    """Each optional argument of a documented function, in an otherwise valid call, given
+    values of every wrong kind."""
+    monkeypatch.chdir(tmp_path)
+    documented = dict(_documented_functions())
+    raw = []
+    for name, (args, kwargs) in valid_calls.items():
+        function = documented[name]
+        parameters = list(inspect.signature(function).parameters.values())
+        for parameter in parameters[len(args) :]:
+            if parameter.kind in (parameter.VAR_POSITIONAL, parameter.VAR_KEYWORD):
+                continue
+            for value in WRONG:
+                label = f"{name}({parameter.name}={value!r:.30})"
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    try:
+                        function(*args, **{**kwargs, parameter.name: value})
+                    except pe.InputError as exn:
+                        if "Fix: " not in str(exn):
+                            raw.append(f"{label}: no fix: {exn}"[:200])
+                    except pe.PolyellError:
+                        pass
+                    except Exception as exn:  # the test's point: any other is a defect
+                        raw.append(f"{label}: {type(exn).__name__}: {exn}"[:200])
     assert not raw, "\n".join(raw)

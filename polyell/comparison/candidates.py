@@ -157,7 +157,7 @@ class Candidate:
 
     def check_sizes(self, m: int, n: int) -> None:
         """Raise unless the candidate fits a task of dimension m and an n-joint arm."""
-        m, n = check_integer("m", m, 1, MAX_TASK_ROWS), check_integer("n", n, 1, 10**4)
+        m, n = check_integer("m", m, 1, MAX_TASK_ROWS), check_integer("n", n, 0, 10**4)
         if self.weighting is not None and self.weighting.shape[0] != n:
             raise InputError(
                 f"{self.name}.weighting",

@@ -59,6 +59,13 @@ def table_sets(comparison: ScoredSet, sets: str | Sequence[str] | None, argument
             if kind == "polytope" or "not computed" not in comparison[kind].reason
         ]
     sets = [sets] if isinstance(sets, str) else sets
+    if not isinstance(sets, Sequence) or not all(isinstance(kind, str) for kind in sets):
+        raise InputError(
+            argument,
+            f"a set's name or a list of names among {available}",
+            f"{type(sets).__name__} {sets!r}"[:80],
+            f"pass names from the list, e.g. {argument}=['polytope', '{available[-1]}'].",
+        )
     unknown = [kind for kind in sets if kind not in available]
     if unknown:
         raise InputError(

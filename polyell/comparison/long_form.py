@@ -406,7 +406,7 @@ def to_wide(long: pd.DataFrame, *, capacity: str | None = None) -> pd.DataFrame:
                 f"pass capacity={held[0]!r}, or loop over long.index.unique('capacity').",
             )
         capacity = str(held[0])
-    elif capacity not in held:
+    elif not isinstance(capacity, str) or capacity not in held:
         raise InputError(
             "capacity",
             f"one of the long frame's capacities {held}",

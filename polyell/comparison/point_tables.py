@@ -13,6 +13,7 @@ from polyell.comparison.limits import Directions, limits_table, posture_comparis
 from polyell.comparison.tables import Style, format_comparison_table, format_limits_table
 from polyell.errors import InputError
 from polyell.storage import write_text_atomically
+from polyell.validation import check_instance
 
 if TYPE_CHECKING:
     from polyell.comparison.comparison import Comparison
@@ -103,9 +104,9 @@ def write_point_tables(
     StorageError
         If a file cannot be written.
     """
-    wanted = [formats] if isinstance(formats, str) else list(formats)
-    unknown = [f for f in wanted if f not in TABLE_FORMATS]
-    if unknown or not wanted:
+    wanted = [formats] if isinstance(formats, str) else formats
+    names = isinstance(wanted, Sequence) and all(isinstance(f, str) for f in wanted)
+    if not names or not wanted or any(f not in TABLE_FORMATS for f in wanted):
         raise InputError(
             "formats",
             f"some of {list(TABLE_FORMATS)}",
@@ -122,8 +123,10 @@ def write_point_tables(
             else "pass the folder's path as a str or Path, e.g. 'tables'",
         )
     title = check_text("title", title)
-    about = f"{check_text('description', description)}\n\n" if description else ""
+    description = check_text("description", description)
+    about = f"{description}\n\n" if description else ""
     layout = TableLayout() if layout is None else layout
+    check_instance("layout", layout, TableLayout, "pass pe.TableLayout(...) or leave it out.")
     named = posture_comparisons(comparisons)
     limits = limits_table(named, directions_per_point)
     prefix = f"{title}: " if title else ""

@@ -369,7 +369,7 @@ class ScoredSet:
         raise NotImplementedError
 
     def __getitem__(self, kind: str) -> SetScores:
-        if kind not in self.records:
+        if not isinstance(kind, str) or kind not in self.records:
             raise InputError(
                 "kind",
                 f"one of {list(self.records)}",

@@ -193,6 +193,14 @@ def summarize(
         ``max``; NaN values (undefined ellipsoids) are left out of the statistics.
     """
     check_frame("results", results, "pass a pandas DataFrame (e.g. the results of pe.sweep).")
+    scores = (scores,) if isinstance(scores, str) else scores
+    if not isinstance(scores, Sequence) or not all(isinstance(s, str) for s in scores):
+        raise InputError(
+            "scores",
+            "score names (str), e.g. ('coverage', 'volume')",
+            f"{type(scores).__name__} {scores!r}"[:80],
+            f"pass a tuple of names, e.g. scores={SUMMARY_SCORES[:2]!r}",
+        )
     rows = {}
     for kind in result_kinds(results, kinds):
         for score in scores:

@@ -217,15 +217,15 @@ class Polytope(ConvexSet):
         A : ndarray, shape (F, m)
         b : ndarray, shape (F,)
         """
-        if method == "zonotope":
-            return self.A, self.b
-        if method != "cdd":
+        if not isinstance(method, str) or method not in ("zonotope", "cdd"):
             raise InputError(
                 "method",
                 "'zonotope' or 'cdd'",
-                repr(method),
+                repr(method)[:80],
                 "pass method='zonotope' (the default, closed-form facets) or method='cdd'",
             )
+        if method == "zonotope":
+            return self.A, self.b
         if self.dim == 0:
             return np.zeros((0, self.ambient_dim)), np.zeros(0)
         A_red, b_red = halfspaces_from_vertices(self.affine_set.coordinates(self.vertices))
@@ -261,15 +261,15 @@ class Polytope(ConvexSet):
             ``(lo, hi)`` of the leading shape of ``directions``; NaN where the line
             misses P.
         """
-        if method == "closed_form":
-            return super().limits(directions)
-        if method != "lp":
+        if not isinstance(method, str) or method not in ("closed_form", "lp"):
             raise InputError(
                 "method",
                 "'closed_form' or 'lp'",
-                repr(method),
+                repr(method)[:80],
                 "pass method='closed_form' (the default) or method='lp' (the cvxpy reference)",
             )
+        if method == "closed_form":
+            return super().limits(directions)
         # The same decisions about the affine set as the closed form; LPs on in-set lines.
         return self._limits(
             directions, lambda lines: polytope_limits_lp(self.generators, self.center, lines)

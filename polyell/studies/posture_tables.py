@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from polyell.comparison.latex_text import check_latex_label, latex_unit, markdown_text
+from polyell.comparison.latex_text import check_latex_label, check_text, latex_unit, markdown_text
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.printable import Cell, Label, PrintTable, given_label, text_label
 from polyell.comparison.tables import Caption, escape_latex, escape_markdown, render_tables
@@ -290,6 +290,7 @@ def format_posture_table(
         else ``"rad"`` for every joint.
     """
     check_frame("table", table, "pass PostureChoice.table or PostureChoiceOverTargets.summary.")
+    title = check_text("title", title)
     units = _joint_units(joint_units, table)
     name = "posture_choice" if "picked" in table.columns else "posture_targets"
     table, digits = _laid_out(table, layout)
