@@ -326,7 +326,9 @@ def _direction(
     if isinstance(values, tuple):  # a name: a unit vector already
         return values[0], values[1], []
     direction = check_points("--direction", values, m)
-    norm = float(np.linalg.norm(direction))
+    largest = float(np.max(np.abs(direction)))  # scaled first: no underflow at 1e-300
+    scaled = direction / largest if largest > 0 else direction
+    norm = float(np.linalg.norm(scaled)) * largest
     if not args.normalize and abs(norm - 1.0) > DIRECTION_NORM_RTOL:
         raise InputError(
             "--direction",
@@ -336,7 +338,7 @@ def _direction(
         )
     if norm == 0 or abs(norm - 1.0) <= 1e-12:
         return check_directions("--direction", direction, m), "t", []  # or an InputError
-    unit = direction / norm
+    unit = scaled / np.linalg.norm(scaled)
     return unit, "t", [f"--direction normalised to {_rounded(unit, 6)}"]
 
 

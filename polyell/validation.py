@@ -729,8 +729,13 @@ def check_directions(name: str, value: ArrayLike, m: int) -> NDArray[np.float64]
             name,
             f"unit direction vectors, to {DIRECTION_NORM_RTOL:g} (the limits are the values a "
             "with a * t in the set, in the task's unit)",
-            f"a direction of norm {norm!r} (1 {'+' if norm >= 1 else '-'} "
-            f"{abs(norm - 1.0):.3g}) at row {i}",
+            f"a direction of norm {norm!r}"
+            + (  # how far from 1, where that is what the rounding of the input decides
+                f" (1 {'+' if norm >= 1 else '-'} {abs(norm - 1.0):.3g})"
+                if abs(norm - 1.0) < 0.5
+                else ""
+            )
+            + f" at row {i}",
             "normalise with T / np.linalg.norm(T, axis=-1, keepdims=True).",
         )
     unit: NDArray[np.float64] = scaled / np.linalg.norm(scaled, axis=-1)[..., None]

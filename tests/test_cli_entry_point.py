@@ -71,6 +71,11 @@ def test_direction_normalised_or_as_an_angle_and_nothing_before_an_error():
     refused = run("analyze", "--direction", "1,1", "--no-mvie")
     assert refused.returncode == 2 and refused.stdout == ""
     assert "add --normalize" in refused.stderr
+    # a tiny vector is scaled before its norm (its square underflowed: norm 0, then a
+    # refusal that contradicted the fix it had given)
+    tiny = run("analyze", "--direction", "1e-300,0", "--normalize", "--no-mvie")
+    assert "along t = [1.0, 0.0]" in tiny.stdout, tiny.stderr
+    assert "--direction normalised to [1.0, 0.0]" in tiny.stderr
 
 
 def test_a_closed_pipe_is_not_an_error():

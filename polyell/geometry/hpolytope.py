@@ -306,7 +306,7 @@ class HPolytope(ConvexSet):
         # replaced by an enumeration of every r rows where it fails (_complete).
         description = _double_description(array)
         if svd.rank == m and float(shifted.min()) > 0:  # solid: the walk's decision was close
-            complete, self._volume_y = _checked(description, V1, array[:, 0])
+            complete, self._volume_y, description = _checked(description, V1, array[:, 0])
             if not complete:
                 rows, points, self._volume_y = _complete(array[:, 0], V1)
                 self._vertices_and_facets(rows, points, S, U1, unit, origin)
@@ -1158,7 +1158,9 @@ def _hull_if_complete(
     :data:`CERTIFIED`) the plane of a row, since the set is on the inner side of every
     row.  A vertex a floating-point enumeration missed leaves a facet of the hull across
     the set, on no row's plane: None then (and when the points do not span r dimensions).
-    Qhull computes the hull (joggled where its exact merging fails, a "dupridge" in 6-D).
+    Qhull computes the hull (joggled where its exact merging fails, a "dupridge" in 6-D:
+    a joggled hull splits a facet of more than r vertices into simplices, slivers among
+    them with normals on no row, so that only a simplicial set passes there).
     """
     from scipy.spatial import ConvexHull, QhullError
 
@@ -1221,20 +1223,40 @@ def _by_enumeration(offsets: NDArray[np.float64], normals: NDArray[np.float64]) 
 
 def _checked(
     description: Description | None, normals: NDArray[np.float64], offsets: NDArray[np.float64]
-) -> tuple[bool, float | None]:
+) -> tuple[bool, float | None, Description | None]:
     """Whether cddlib's description of a set with the origin strictly inside holds.
 
     Not empty (the origin is inside), and where bounded (no rays, no equalities) every
-    vertex there: the hull of its points is the set (:func:`_hull_if_complete`).  Returns
-    the verdict and that hull's whitened volume (None where not computed).
+    vertex there (:func:`_certified`).  Returns the verdict, the whitened volume of the
+    hull that certified it (None where not computed) and the description, its points
+    solved again on their rows where the edge graph certified them.
     """
     if description is None:
-        return False, None
-    _, linear, points, _ = description
+        return False, None, None
+    rows, linear, points, paired = description
     if linear or not _is_point(points).all():  # unbounded: rays (not checked here)
-        return True, None
-    volume = _hull_if_complete(points[:, 1:] / points[:, :1], normals, offsets)
-    return volume is not None, volume
+        return True, None, description
+    y, volume = _certified(points[:, 1:] / points[:, :1], normals, offsets)
+    if y is None:
+        return False, None, description
+    return True, volume, (rows, linear, np.hstack([np.ones((len(y), 1)), y]), paired)
+
+
+def _certified(
+    points: NDArray[np.float64], normals: NDArray[np.float64], offsets: NDArray[np.float64]
+) -> tuple[NDArray[np.float64] | None, float | None]:
+    """The vertices (V, r) of ``{y : normals y <= offsets}`` if ``points`` are all of them.
+
+    Certified by the hull of the points (:func:`_hull_if_complete`, which also gives the
+    whitened volume), or where that fails, by the edge graph (:func:`_edge_closed`, the
+    points then solved again on their rows): the hull check rejects a complete answer
+    where Qhull cannot build the hull exactly (a "dupridge" among many coplanar vertices
+    in 6-D, whose joggled hull has sliver facets on no row).  None where neither does.
+    """
+    volume = _hull_if_complete(points, normals, offsets)
+    if volume is not None:
+        return points, volume
+    return _edge_closed(points, normals, offsets), None
 
 
 def _complete(
@@ -1252,14 +1274,69 @@ def _complete(
         return rows, points[:, 1:], None
     cause = SolverError("cddlib missed vertices of a full-dimensional set")
     rows, _, points, _ = _by_qhull(offsets, normals, cause)
-    volume = _hull_if_complete(points[:, 1:], normals, offsets)
-    if volume is None:
+    y, volume = _certified(points[:, 1:], normals, offsets)
+    if y is None:
         raise SolverError(
             f"half-spaces to vertices: cddlib and Qhull missed vertices of this set ({k} "
             f"half-spaces in {r} dimensions, too many to try every {r} of them); express "
             "it with fewer half-spaces or report it."
         )
-    return rows, points[:, 1:], volume
+    return rows, y, volume
+
+
+def _rank(normals: NDArray[np.float64]) -> int:
+    """The rank of unit rows (t, r), by :data:`RANK_RTOL` of the largest singular value."""
+    sigma = np.linalg.svd(normals, compute_uv=False)
+    return int(np.count_nonzero(sigma > RANK_RTOL * sigma[0])) if len(sigma) else 0
+
+
+def _edge_closed(
+    points: NDArray[np.float64], normals: NDArray[np.float64], offsets: NDArray[np.float64]
+) -> NDArray[np.float64] | None:
+    """The vertices (V, r) of a bounded ``{y : normals y <= offsets}`` if ``points`` are all.
+
+    Each point, solved again on the rows through it (:func:`_polish`), must be a vertex
+    (rows of rank r).  The points are all the vertices when, at each, the directions to the
+    others it shares an edge with (rows of rank r - 1 through both) generate its whole
+    tangent cone ``{d : N_T d <= 0}``
+    (:func:`_cone_is`): every extreme ray of that cone is then the direction to a point
+    found, which lies on the edge of the set along it (inside the set) and, a vertex, is
+    the edge's other end; the vertices found are closed under the edges of the set, whose
+    graph is connected.  A missed vertex leaves the cone of a neighbour's directions short
+    of an edge.  Exact combinatorics, no hull of the points: it holds where Qhull's merging
+    fails.  None where not certified (a decision too close to call, a vertex with too many
+    neighbours to try every r - 1 of them, or a vertex missing).
+    """
+    r = normals.shape[1]
+    if r < 2 or len(points) < r + 1:
+        return None
+    n, o = _unit_rows(normals, offsets)
+    try:
+        y, tight = _polish(n, o, points)
+    except _Ambiguous:
+        return None
+    keys = _keys(tight)
+    first = np.sort(np.unique(keys, return_index=True)[1])  # a point on the same rows: once
+    y, tight = y[first], tight[first]
+    incidence = tight.astype(np.float64)
+    shared = incidence @ incidence.T  # (V, V): the rows through both
+    np.fill_diagonal(shared, 0.0)
+    for v in range(len(y)):
+        through = n[tight[v]]
+        if _rank(through) < r:
+            return None  # not a vertex, to rounding
+        near = [
+            u
+            for u in np.flatnonzero(shared[v] >= r - 1)
+            if _rank(n[tight[v] & tight[u]]) == r - 1  # an edge: their common face a segment
+        ]
+        D = y[near] - y[v]
+        lengths = np.sqrt((D * D).sum(axis=1))
+        if not len(near) or lengths.min() <= 0.0:
+            return None
+        if not _cone_is(D / lengths[:, None], through):
+            return None
+    return y
 
 
 # --- the hull of points (HPolytope.from_vertices) ------------------------------------------
