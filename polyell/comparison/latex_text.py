@@ -123,13 +123,14 @@ def escape_markdown(text: object, argument: str = "text") -> str:
     (``&lt;``): a label such as ``<script>`` shows as text, never as live HTML where the
     Markdown is rendered.
     """
-    clean = _ENTITY.sub("&amp;", check_text(argument, text))
+    clean = check_text(argument, text)
     return markdown_text(clean.replace("\\", "\\\\").replace("|", r"\|"))
 
 
 def markdown_text(text: str) -> str:
-    """Plain text in Markdown without live HTML: ``<`` and ``>`` as entities (no tag opens)."""
-    return text.replace("<", "&lt;").replace(">", "&gt;")
+    """Plain text in Markdown without live HTML: ``<`` and ``>`` as entities (no tag opens),
+    and ``&`` where it would start one (``&amp;`` shows as itself)."""
+    return _ENTITY.sub("&amp;", text).replace("<", "&lt;").replace(">", "&gt;")
 
 
 _LABEL = re.compile(r"[A-Za-z0-9:._/+-]{1,200}")

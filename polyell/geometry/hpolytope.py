@@ -1034,13 +1034,51 @@ def _by_qhull(
                 ) from cause
     if not offsets.min() > 0:
         raise SolverError(f"half-spaces to vertices: cddlib failed ({cause}).") from cause
+    halfspaces = np.hstack([normals, -offsets[:, None]])
     try:
-        hull = HalfspaceIntersection(np.hstack([normals, -offsets[:, None]]), np.zeros(r))
+        hull = HalfspaceIntersection(halfspaces, np.zeros(r))
+        vertices = np.unique(np.round(hull.intersections, 12), axis=0)
     except (QhullError, ValueError) as exn:
-        raise SolverError(f"half-spaces to vertices: cddlib ({cause}) and Qhull failed.") from exn
-    vertices = np.unique(np.round(hull.intersections, 12), axis=0)
+        # A "dupridge" where many rows meet at a vertex (6-D): joggled input, each point
+        # then solved again on the rows within JOGGLE_REACH times the joggle's reach (the
+        # largest r-th smallest slack) and kept once per set of rows; the caller checks.
+        try:
+            hull = HalfspaceIntersection(halfspaces, np.zeros(r), qhull_options="QJ")
+        except (QhullError, ValueError):
+            raise SolverError(
+                f"half-spaces to vertices: cddlib ({cause}) and Qhull failed."
+            ) from exn
+        vertices = _snapped(normals, offsets, hull.intersections)
     # A row is a facet when it holds at least r affinely independent vertices.
     return _description_of(vertices, normals, offsets)
+
+
+def _snapped(
+    normals: NDArray[np.float64], offsets: NDArray[np.float64], points: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Vertices of ``{y : normals y <= offsets}`` near joggled ones (V, r), each once.
+
+    A point is solved again (least squares) on the rows within :data:`JOGGLE_REACH` times
+    the joggle's reach (the largest r-th smallest slack of a point) where they have rank
+    r, and kept where it then satisfies every row, once per set of rows through it; the
+    others are dropped (the caller checks that none is missing).
+    """
+    r = normals.shape[1]
+    n, o = _unit_rows(normals, offsets)
+    slack = o[None, :] - points @ n.T
+    reach = JOGGLE_REACH * float(np.abs(np.sort(slack, axis=1)[:, :r]).max(initial=0.0))
+    found: dict[bytes, NDArray[np.float64]] = {}
+    for j in range(len(points)):
+        near = slack[j] <= reach
+        if int(near.sum()) < r or _rank(n[near]) < r:
+            continue
+        y = np.linalg.lstsq(n[near], o[near], rcond=None)[0]
+        after = o - n @ y
+        on = _on_plane(o, y[None, :])[0]
+        if bool((after < -on).any()):
+            continue
+        found.setdefault(np.packbits(after <= on).tobytes(), y)
+    return np.array(list(found.values())).reshape(-1, r)
 
 
 def _description_of(
@@ -1144,12 +1182,19 @@ def _cone_sum(
 #: are within this of the row's (whitened units: offsets at most 1).  Then every point of
 #: the set lies within ``(1 + R) CERTIFIED`` of the hull (R: the largest vertex norm).
 CERTIFIED = 1e-8
+#: A joggled half-space intersection's point is on the rows whose slack is at most this
+#: times the largest r-th smallest slack of any of its points (how far the joggle moved
+#: them), before it is solved again on them.
+JOGGLE_REACH = 10.0
 #: Row subsets the last fallback (every r rows solved) may try.
 MAX_SUBSETS = 200_000
 
 
 def _hull_if_complete(
-    points: NDArray[np.float64], normals: NDArray[np.float64], offsets: NDArray[np.float64]
+    points: NDArray[np.float64],
+    normals: NDArray[np.float64],
+    offsets: NDArray[np.float64],
+    joggle: bool = False,
 ) -> float | None:
     """The volume of the hull of ``points`` (V, r) if it is all of ``{y : normals y <= offsets}``.
 
@@ -1158,11 +1203,12 @@ def _hull_if_complete(
     :data:`CERTIFIED`) the plane of a row, since the set is on the inner side of every
     row.  A vertex a floating-point enumeration missed leaves a facet of the hull across
     the set, on no row's plane: None then (and when the points do not span r dimensions).
-    Qhull computes the hull (joggled where its exact merging fails, a "dupridge" in 6-D:
-    a joggled hull splits a facet of more than r vertices into simplices, slivers among
-    them with normals on no row, so that only a simplicial set passes there).
+    Qhull computes the hull, exactly (its merges), or with ``joggle`` by joggled input;
+    :class:`~scipy.spatial.QhullError` where it fails (a "dupridge" in 6-D).  A joggled
+    hull splits a facet of more than r vertices into simplices, slivers among them with
+    normals on no row: only a simplicial set passes there.
     """
-    from scipy.spatial import ConvexHull, QhullError
+    from scipy.spatial import ConvexHull
 
     r = normals.shape[1]
     norms = np.sqrt((normals * normals).sum(axis=1))
@@ -1172,13 +1218,7 @@ def _hull_if_complete(
         return None  # a point outside a row: not a vertex of this set
     if r < 2 or len(points) < r + 1:  # (an interval is always walked: never checked here)
         return None
-    try:
-        hull = ConvexHull(points)
-    except QhullError:
-        try:
-            hull = ConvexHull(points, qhull_options="QJ")
-        except QhullError:
-            return None
+    hull = ConvexHull(points, qhull_options="QJ") if joggle else ConvexHull(points)
     facet_normals, facet_offsets = hull.equations[:, :r], -hull.equations[:, r]
     on_row = np.zeros(len(facet_offsets), dtype=bool)
     for start in range(0, len(unit), 64):  # (facets, rows, r) differences, a few rows at a time
@@ -1249,14 +1289,28 @@ def _certified(
 
     Certified by the hull of the points (:func:`_hull_if_complete`, which also gives the
     whitened volume), or where that fails, by the edge graph (:func:`_edge_closed`, the
-    points then solved again on their rows): the hull check rejects a complete answer
-    where Qhull cannot build the hull exactly (a "dupridge" among many coplanar vertices
-    in 6-D, whose joggled hull has sliver facets on no row).  None where neither does.
+    points then solved again on their rows): Qhull may not build the hull exactly (a
+    "dupridge" among many coplanar vertices in 6-D, where its joggled hull has sliver
+    facets on no row and rejects a complete answer), or merge facets off their rows.  A
+    joggled hull last, where the exact one failed.  None where none certifies them.
     """
-    volume = _hull_if_complete(points, normals, offsets)
+    from scipy.spatial import QhullError
+
+    try:
+        volume = _hull_if_complete(points, normals, offsets)
+        built = True
+    except QhullError:
+        volume, built = None, False
     if volume is not None:
         return points, volume
-    return _edge_closed(points, normals, offsets), None
+    y = _edge_closed(points, normals, offsets)
+    if y is not None or built:
+        return y, None
+    try:  # (after the edge graph: a joggled hull certifies only a simplicial set)
+        volume = _hull_if_complete(points, normals, offsets, joggle=True)
+    except QhullError:
+        volume = None
+    return (None, None) if volume is None else (points, volume)
 
 
 def _complete(

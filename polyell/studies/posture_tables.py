@@ -312,10 +312,10 @@ def format_posture_table(
         own = layout.caption(name)
         caption = (own.plain, own.latex) if own is not None else None
     if style == "markdown":  # the heading, and the caption given (if any) under it
-        heading = f"# {markdown_text(escape_markdown(title, 'title'))}\n\n" if title else ""
+        heading = f"# {escape_markdown(title, 'title')}\n\n" if title else ""
         if caption is not None:
             plain = caption[0] if isinstance(caption, tuple) else caption
-            heading += f"{markdown_text(escape_markdown(plain, 'caption'))}\n\n"
+            heading += f"{escape_markdown(plain, 'caption')}\n\n"
         return heading + render_tables([printable], "markdown", digits)
     caption = caption if caption is not None else (title or None)
     text = render_tables(

@@ -10,6 +10,7 @@ from __future__ import annotations
 import re
 import string
 import unicodedata
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -315,3 +316,23 @@ def test_the_summary_table_takes_the_layout_sets_scores_and_digits(paper, singul
     assert [(row[0], row[1]) for row in parsed.rows] == [("Yoshikawa", "coverage [%]")]
     mean = summary.loc[("yoshikawa", "coverage"), "mean"]
     assert parsed.rows[0][parsed.stub + 1] == f"{100 * mean:.2g}"  # the mean, 2 digits
+
+
+def test_markdown_text_shows_an_entity_as_itself():
+    """``&amp;`` typed in a title shows as ``&amp;`` where the Markdown is rendered: the
+    ``&`` that would start an entity is written as one (titles, captions and headings of
+    every writer go through ``markdown_text``; ``escape_markdown`` escapes once)."""
+    from polyell.comparison.latex_text import markdown_text
+
+    assert markdown_text("R&amp;D <b> & co") == "R&amp;amp;D &lt;b&gt; & co"
+    assert escape_markdown("R&amp;D|x") == r"R&amp;amp;D\|x"  # once, not twice
+
+
+def test_a_points_study_title_with_an_entity_is_written_as_typed(tmp_path):
+    from polyell.comparison.point_tables import write_point_tables
+
+    arm = pe.robots.load("chiacchio2000")
+    comparison = pe.compare(pe.analyze(arm.dynamics([0.3, 0.6, 0.9]), arm.tau_max), mvie=False)
+    paths = write_point_tables({"home": comparison}, None, tmp_path, title="R&amp;D")
+    text = next(Path(p) for p in paths if str(p).endswith(".md")).read_text()
+    assert "R&amp;amp;D" in text and "R&amp;D:" not in text
