@@ -128,8 +128,11 @@ def escape_markdown(text: object, argument: str = "text") -> str:
 
 
 def markdown_text(text: str) -> str:
-    """Plain text in Markdown without live HTML: ``<`` and ``>`` as entities (no tag opens),
-    and ``&`` where it would start one (``&amp;`` shows as itself)."""
+    """Plain text in Markdown without live HTML.
+
+    ``<`` and ``>`` as entities (no tag opens), and ``&`` where it would start one
+    (``&amp;`` shows as itself).
+    """
     return _ENTITY.sub("&amp;", text).replace("<", "&lt;").replace(">", "&gt;")
 
 

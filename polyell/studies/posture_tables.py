@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from polyell.comparison.latex_text import check_latex_label, check_text, latex_unit, markdown_text
+from polyell.comparison.latex_text import check_latex_label, check_text, latex_unit
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.printable import Cell, Label, PrintTable, given_label, text_label
 from polyell.comparison.tables import Caption, escape_latex, escape_markdown, render_tables
