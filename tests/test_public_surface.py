@@ -62,6 +62,22 @@ def _required(function: object) -> int | None:
     return len(required)
 
 
+def _defect(label: str, call) -> str | None:
+    """What is wrong with ``call()``'s outcome, or None: a result, a PolyellError, or an
+    InputError with its fix are fine; a raw exception or a fix-less InputError is not."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            call()
+        except pe.InputError as exn:
+            return None if "Fix: " in str(exn) else f"{label}: no fix: {exn}"[:200]
+        except pe.PolyellError:
+            return None
+        except Exception as exn:  # the test's point: any other exception is a defect
+            return f"{label}: {type(exn).__name__}: {exn}"[:200]
+    return None
+
+
 FUNCTIONS = [
     (name, f, _required(f))
     for name, f in _documented_functions()
@@ -83,20 +99,11 @@ def test_wrong_arguments_give_a_polyell_error_or_a_result(
     name, function, count, tmp_path, monkeypatch
 ):
     monkeypatch.chdir(tmp_path)  # a function that writes a file writes it here
-    raw = []
-    for value in WRONG:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            try:
-                function(*[value] * count)
-            except pe.InputError as exn:
-                if "Fix: " not in str(exn):
-                    raw.append(f"{value!r:.30}: InputError without a fix: {exn}"[:200])
-            except pe.PolyellError:
-                pass
-            except Exception as exn:  # the test's point: any other exception is a defect
-                raw.append(f"{value!r:.30}: {type(exn).__name__}: {exn}"[:200])
-    assert not raw, f"{name}:\n" + "\n".join(raw)
+    found = [
+        _defect(f"{name}({value!r:.30})", partial(function, *[value] * count)) for value in WRONG
+    ]
+    raw = [text for text in found if text]
+    assert not raw, "\n".join(raw)
 
 
 def _documented_members() -> dict[str, list[str] | None]:
@@ -172,18 +179,9 @@ def test_documented_methods_give_a_polyell_error_or_a_result(
             if not count:
                 continue
             for value in WRONG:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")
-                    try:
-                        method(*[value] * count)
-                    except pe.InputError as exn:
-                        if "Fix: " not in str(exn):
-                            raw.append(f"{name}({value!r:.30}): no fix: {exn}"[:200])
-                    except pe.PolyellError:
-                        pass
-                    except Exception as exn:  # the test's point: any other is a defect
-                        text = f"{type(instance).__name__}.{name}({value!r:.30}): "
-                        raw.append(f"{text}{type(exn).__name__}: {exn}"[:200])
+                label = f"{type(instance).__name__}.{name}({value!r:.30})"
+                raw.append(_defect(label, partial(method, *[value] * count)))
+    raw = [text for text in raw if text]
     assert not raw, "\n".join(raw)
 
 
@@ -213,19 +211,8 @@ def test_documented_options_give_a_polyell_error_or_a_result(
                 for value in WRONG:
                     label = f"{name}({parameter.name}={value!r:.30})"
                     calls.append((label, partial(method, **{parameter.name: value})))
-        for label, call in calls:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                try:
-                    call()
-                except pe.InputError as exn:
-                    if "Fix: " not in str(exn):
-                        raw.append(f"{type(instance).__name__}{label}: no fix: {exn}"[:200])
-                except pe.PolyellError:
-                    pass
-                except Exception as exn:  # the test's point: any other is a defect
-                    text = f"{type(instance).__name__}{label}: {type(exn).__name__}: {exn}"
-                    raw.append(text[:200])
+        raw += [_defect(f"{type(instance).__name__}{label}", call) for label, call in calls]
+    raw = [text for text in raw if text]
     assert not raw, "\n".join(raw)
 
 
@@ -314,15 +301,23 @@ def test_documented_function_options_give_a_polyell_error_or_a_result(
                 continue
             for value in WRONG:
                 label = f"{name}({parameter.name}={value!r:.30})"
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")
-                    try:
-                        function(*args, **{**kwargs, parameter.name: value})
-                    except pe.InputError as exn:
-                        if "Fix: " not in str(exn):
-                            raw.append(f"{label}: no fix: {exn}"[:200])
-                    except pe.PolyellError:
-                        pass
-                    except Exception as exn:  # the test's point: any other is a defect
-                        raw.append(f"{label}: {type(exn).__name__}: {exn}"[:200])
+                call = partial(function, *args, **{**kwargs, parameter.name: value})
+                raw.append(_defect(label, call))
+    raw = [text for text in raw if text]
     assert not raw, "\n".join(raw)
+
+
+def test_the_judge_itself():
+    """:func:`_defect` flags a raw exception and a fix-less InputError, and passes the rest."""
+
+    def raises(error):
+        def call():
+            raise error
+
+        return call
+
+    assert _defect("f", raises(ZeroDivisionError("x"))) == "f: ZeroDivisionError: x"
+    assert "no fix" in _defect("f", raises(pe.InputError("a", "b", "c", "")))
+    assert _defect("f", raises(pe.InputError("a", "b", "c", "do d"))) is None
+    assert _defect("f", raises(pe.SolverError("s"))) is None
+    assert _defect("f", lambda: 1) is None
