@@ -80,19 +80,22 @@ def _suggest(name: str, known: list[str]) -> str:
     return f"use one of {known}, or a URDF file with pe.UrdfRobot(path, tip=...)."
 
 
-def urdf_path(name: str) -> Path:
-    """The URDF file of a library arm inside the installed ``example-robot-data``."""
+def _check_name(name: object, known: list[str], example: str) -> None:
+    """An InputError naming ``name`` unless it is one of ``known`` (a str)."""
     if not isinstance(name, str):
         raise InputError(
             "name",
-            f"one of {sorted(URDF_ARMS)}",
+            f"one of {known}",
             f"{type(name).__name__} {name!r}"[:120],
-            "pass a URDF arm's name as a str, e.g. pe.robots.urdf_path('panda')",
+            f"pass the name as a str, e.g. {example}",
         )
-    if name not in URDF_ARMS:
-        raise InputError(
-            "name", f"one of {sorted(URDF_ARMS)}", repr(name), _suggest(name, sorted(URDF_ARMS))
-        )
+    if name not in known:
+        raise InputError("name", f"one of {known}", repr(name), _suggest(name, known))
+
+
+def urdf_path(name: str) -> Path:
+    """The URDF file of a library arm inside the installed ``example-robot-data``."""
+    _check_name(name, sorted(URDF_ARMS), "pe.robots.urdf_path('panda')")
     try:
         distribution = importlib.metadata.distribution("example-robot-data")
     except importlib.metadata.PackageNotFoundError as exn:
@@ -131,13 +134,7 @@ def load(name: str, **options: Any) -> PlanarArm | UrdfRobot:
     >>> pe.robots.load("chiacchio2000").tau_max.tolist()
     [100.0, 30.0, 4.0]
     """
-    if not isinstance(name, str):
-        raise InputError(
-            "name",
-            f"one of {names()}",
-            f"{type(name).__name__} {name!r}"[:120],
-            "pass a robot's name as a str, e.g. pe.robots.load('chiacchio2000')",
-        )
+    _check_name(name, names(), "pe.robots.load('chiacchio2000')")
     if name == "chiacchio2000":
         unknown = sorted(set(options) - set(PLANAR_OPTIONS))
         if unknown:
@@ -153,8 +150,6 @@ def load(name: str, **options: Any) -> PlanarArm | UrdfRobot:
         return PlanarArm(
             lengths=[1.0, 0.8, 0.5], masses=[4.0, 2.0, 0.6], com=[0.5, 0.4, 0.25], **planar
         )
-    if name not in URDF_ARMS:
-        raise InputError("name", f"one of {names()}", repr(name), _suggest(name, names()))
     unknown = sorted(set(options) - set(URDF_OPTIONS))
     if unknown:
         raise InputError(
