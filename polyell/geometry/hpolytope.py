@@ -1067,9 +1067,10 @@ def _snapped(
     n, o = _unit_rows(normals, offsets)
     slack = o[None, :] - points @ n.T
     reach = JOGGLE_REACH * float(np.abs(np.sort(slack, axis=1)[:, :r]).max(initial=0.0))
+    close = slack <= reach
     found: dict[bytes, NDArray[np.float64]] = {}
-    for j in range(len(points)):
-        near = slack[j] <= reach
+    for j in np.sort(np.unique(_keys(close), return_index=True)[1]):  # each set of rows once
+        near = close[j]
         if int(near.sum()) < r or _rank(n[near]) < r:
             continue
         y = np.linalg.lstsq(n[near], o[near], rcond=None)[0]
@@ -1352,14 +1353,14 @@ def _edge_closed(
     Each point, solved again on the rows through it (:func:`_polish`), must be a vertex
     (rows of rank r).  The points are all the vertices when, at each, the directions to the
     others it shares an edge with (rows of rank r - 1 through both) generate its whole
-    tangent cone ``{d : N_T d <= 0}``
-    (:func:`_cone_is`): every extreme ray of that cone is then the direction to a point
-    found, which lies on the edge of the set along it (inside the set) and, a vertex, is
-    the edge's other end; the vertices found are closed under the edges of the set, whose
-    graph is connected.  A missed vertex leaves the cone of a neighbour's directions short
-    of an edge.  Exact combinatorics, no hull of the points: it holds where Qhull's merging
-    fails.  None where not certified (a decision too close to call, a vertex with too many
-    neighbours to try every r - 1 of them, or a vertex missing).
+    tangent cone ``{d : N_T d <= 0}`` (:func:`_spans_cone`): every extreme ray of that
+    cone is then the direction to a point found, which lies on the edge of the set along
+    it (inside the set) and, a vertex, is the edge's other end; the vertices found are
+    closed under the edges of the set, whose graph is connected.  A missed vertex leaves
+    the cone of a neighbour's directions short of an edge.  Exact combinatorics, no hull
+    of the points: it holds where Qhull's merging fails.  None where not certified (a
+    decision too close to call, a vertex with too many neighbours to try every r - 1 of
+    them, or a vertex missing).
     """
     r = normals.shape[1]
     if r < 2 or len(points) < r + 1:
@@ -1388,9 +1389,27 @@ def _edge_closed(
         lengths = np.sqrt((D * D).sum(axis=1))
         if not len(near) or lengths.min() <= 0.0:
             return None
-        if not _cone_is(D / lengths[:, None], through):
+        if not _spans_cone(D / lengths[:, None], through):
             return None
     return y
+
+
+def _spans_cone(rays: NDArray[np.float64], normals: NDArray[np.float64]) -> bool:
+    """Whether unit ``rays`` (p, r) generate all of ``{d : normals d <= 0}`` (unit rows).
+
+    :func:`_cone_is` with each facet of the rays' cone on a row's plane to
+    :data:`CERTIFIED` (unit normals within it of a row's, as the hull check's facets)
+    rather than to an angle of sqrt(2 WALK_ON_PLANE): a vertex missed past a thin sliver
+    leaves a facet that far off every row.
+    """
+    p, r = rays.shape
+    if float((rays @ normals.T).max()) > WALK_ON_PLANE or math.comb(p, r - 1) > MAX_CONE_SUBSETS:
+        return False
+    facets, _ = _supporting(rays, rays)
+    if not len(facets):
+        return False
+    gap = np.abs(facets[:, None, :] - normals[None, :, :]).max(axis=-1).min(axis=1)
+    return bool((gap <= CERTIFIED).all())
 
 
 # --- the hull of points (HPolytope.from_vertices) ------------------------------------------
