@@ -613,14 +613,15 @@ def cut_set(
     r"""The set :math:`\{\ddot x_g + M u : |u|_\infty \le 1, lo \le a_0 + W u \le hi\}`.
 
     Its hull is grown from support points (linear programs over the cut cube, a batch per
-    round, :func:`support_points`): start from the points along the axes of its affine
-    set, then ask every facet of the hull so far for the set's support point along its
-    normal; a point beyond the facet is a new vertex, and when none is, every facet of the
-    hull supports the set, so the hull is the set (the convex hull method of Lassez and
-    Lassez, 1992).  The vertices are LP vertices, solved from n rows each: exact to
-    rounding.  In the coordinates of the set's affine hull (flat where M is singular, or
-    where the intervals pin joints so that the rest cannot span the task), found the same
-    way: the support along each normal of the points' hull, both ways, until none leaves it.
+    round, :func:`support_points`): start from the points along the axes of its affine set,
+    then ask every facet of the hull so far (each normal once: the hull only grows) for the
+    set's support point along its normal; a point beyond the facet is a new vertex, and when
+    none is, every facet of the hull supports the set, so the hull is the set (the convex
+    hull method of Lassez and Lassez, 1992). The vertices are LP vertices, solved from n
+    rows each: exact to rounding. In the coordinates of the set's affine hull (flat where M
+    is singular, or where the intervals pin joints so that the rest cannot span the task),
+    found the same way: the support along each normal of the points' hull, both ways, until
+    none leaves it.
 
     Returns
     -------
@@ -728,9 +729,19 @@ def _grow_hull(
     ``z = basis^T (M u - shift)``: coordinates about ``xg + shift`` in the columns of
     ``basis`` (m, flat).
     """
+    asked: set[bytes] = set()  # the normals queried so far (rounded, as queried)
     for _ in range(MAX_ROUNDS):
         hull = _convex_hull(z)
         normals = np.unique(np.round(hull.equations[:, :-1], 12), axis=0)
+        # A facet whose normal was queried before: the same LP, the same support point,
+        # then added or not beyond it, and the hull has only grown since: it supports the
+        # set still (asking again gave the same answer: no new vertex).
+        keys = [row.tobytes() for row in normals]
+        new = np.array([key not in asked for key in keys], dtype=bool)
+        asked.update(keys)
+        normals = normals[new]
+        if not len(normals):
+            return z
         normals /= np.linalg.norm(normals, axis=1, keepdims=True)
         u, _ = _support(M, W, a0, lo, hi, normals @ basis.T)
         found = (u @ M.T - shift) @ basis  # the support points, (F, flat)
