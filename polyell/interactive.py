@@ -311,11 +311,13 @@ def interactive_sets(
         color, text = _color(kind, chosen), _hover_text(kind, comparison, unit, labels)
         name = _name(kind, analysis.capacity, labels)
         if m == 2 or E.rank < 3:
-            curve = E.boundary_curve(240, closed=True)
+            # a point (rank 0: a set pinned to one point) as a marker, else its outline
+            curve = E.boundary_curve(240, closed=True) if E.rank else E.center[None]
+            mode = "lines" if E.rank else "markers"
             if m == 2:
-                trace = go.Scatter(x=curve[:, 0], y=curve[:, 1], mode="lines")
+                trace = go.Scatter(x=curve[:, 0], y=curve[:, 1], mode=mode)
             else:
-                trace = go.Scatter3d(x=curve[:, 0], y=curve[:, 1], z=curve[:, 2], mode="lines")
+                trace = go.Scatter3d(x=curve[:, 0], y=curve[:, 1], z=curve[:, 2], mode=mode)
             trace.update(name=name, line={"color": color, "width": 3}, text=text, hoverinfo="text")
             figure.add_trace(trace)
             continue

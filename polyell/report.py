@@ -160,7 +160,10 @@ def format_analysis(
         _matrix(P.vertices),
     ]
     if isinstance(P, HPolytope) and P.is_empty:
-        lines.append("  empty: the arm cannot hold itself against gravity within its limits")
+        why = getattr(analysis, "empty_reason", None)
+        lines.append(
+            f"  empty: {why or 'the arm cannot hold itself against gravity within its limits'}"
+        )
     if isinstance(P, HPolytope) and not P.is_bounded:
         lines += ["  unbounded along the rays:", _matrix(P.rays)]
     if P.A_eq.size:

@@ -186,10 +186,12 @@ def joint_horizon(
     shape: tuple[str | int, ...] = ("K", n) if array_ndim(q) == 2 else (n,)
     positions = check_array("q", q, shape, what="joint positions [rad or m]")
     velocities = check_array("qd", qd, positions.shape, what="joint velocities [rad/s or m/s]")
-    if qd_max is not None and qd_min is None:  # symmetric velocity limits
-        qd_min = -np.asarray(qd_max, dtype=float) if _numeric(qd_max) else qd_max
-    limits = {}
-    for name, value in (("q_min", q_min), ("q_max", q_max), ("qd_min", qd_min), ("qd_max", qd_max)):
+    derived = qd_min is None  # -qd_max: what is wrong with it is qd_max's
+    limits: dict[str, NDArray[np.float64]] = {}
+    for name, value in (("q_min", q_min), ("q_max", q_max), ("qd_max", qd_max), ("qd_min", qd_min)):
+        if name == "qd_min" and derived:
+            limits[name] = -limits["qd_max"]
+            continue
         if value is None:
             raise InputError(
                 name,
@@ -209,6 +211,13 @@ def joint_horizon(
         bad = limits[low] >= limits[high] if strict else limits[low] > limits[high]
         if bad.any():
             j = int(np.flatnonzero(bad)[0])
+            if low == "qd_min" and derived:
+                raise InputError(
+                    "qd_max",
+                    "qd_max >= 0 for every joint (qd_min defaults to -qd_max)",
+                    f"joint {j + 1}: qd_max = {limits[high][j]:g}",
+                    "give speeds as positive limits, or pass qd_min= as well.",
+                )
             raise InputError(
                 low,
                 f"{low} {'<' if strict else '<='} {high} for every joint",
@@ -582,7 +591,11 @@ def _joint_reason(state: JointHorizon, lo: Array, hi: Array) -> str | None:
     j = int(np.flatnonzero(empty)[0])
     q, low, high = state.q[j], state.q_min[j], state.q_max[j]
     if not low <= q <= high:
-        return f"joint {j + 1} is at q = {q:.6g}, outside its limits [{low:.6g}, {high:.6g}]"
+        side, excess = ("below", low - q) if q < low else ("above", q - high)
+        return (
+            f"joint {j + 1} is at q = {q:.6g}, {excess:.3g} {side} its limits "
+            f"[{low:.6g}, {high:.6g}]"
+        )
     return (
         f"no acceleration of joint {j + 1} keeps it within its limits over the horizon "
         f"{state.horizon:g} s (q = {q:.6g}, qd = {state.qd[j]:.6g}: it reaches a limit "

@@ -85,7 +85,11 @@ class Scores(SetScores):
     volume : float
         Volume of the ellipsoid in its affine set [(m/s^2)^r].
     inscribed_scale : float
-        Largest k with ``c + k (E - c)`` inside P; >= 1 iff E is inside P.
+        Largest k with ``c + k (E - c)`` inside P; >= 1 iff E is inside P; negative when
+        even E's centre c lies outside P (no copy of E scaled about c fits: the ellipsoids
+        are centred at ``x_g``, which a horizon's joint limits can leave outside the set;
+        a candidate centred elsewhere): minus the farthest c lies beyond a facet plane of P,
+        in E's reach along that facet's normal.
     enclosing_scale : float
         Smallest k with P inside ``c + k (E - c)``; <= 1 iff E contains P (the outer
         ellipsoid: exactly 1).
@@ -196,10 +200,14 @@ class Comparison(ScoredSet):
             # other configurations must not depend on it.
             return str(exn)
         if E.rank > P.dim and isinstance(P, HPolytope):  # a zonotope has its ellipsoids' rank
-            return (  # the exact set flat to rounding at the edge of emptiness
+            cause = (  # a horizon's joint intervals pin joints; else the torques' own edge
+                "joints pinned by their limits over the horizon"
+                if getattr(self.analysis, "state", None) is not None
+                else "gravity alone nearly exhausts some torque range: the set is flat to rounding"
+            )
+            return (
                 f"the exact {self.analysis.capacity} set is {P.dim}-dimensional here "
-                "(gravity alone nearly exhausts some torque range: the set is flat to "
-                f"rounding), the ellipsoid {E.rank}-dimensional: no section of it to score."
+                f"({cause}), the ellipsoid {E.rank}-dimensional: no section of it to score."
             )
         check_same_affine_set(E, P)
         return E

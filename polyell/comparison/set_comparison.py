@@ -91,7 +91,8 @@ class SetScores:
     inscribed_scale : float
         Largest k with ``c + k (E - c)`` inside P; >= 1 iff E is inside P; negative when
         even E's centre c lies outside P (no copy of E scaled about c fits, e.g. a
-        candidate centred elsewhere).
+        candidate centred elsewhere): minus the farthest c lies beyond a facet plane of
+        P, in E's reach along that facet's normal.
     enclosing_scale : float
         Smallest k with P inside ``c + k (E - c)``; <= 1 iff E contains P.
     coverage, overreach : float

@@ -130,7 +130,7 @@ class ConvexSet(ABC):
         inside : ndarray of bool, shape () or (k,)
         """
         x = check_points("points", points, self.ambient_dim)
-        return self.affine_set.near(x, self.affine_rtol) & self._inside_hull(x)
+        return self.affine_set.near(x, self.affine_rtol, self._size()) & self._inside_hull(x)
 
     @abstractmethod
     def _inside_hull(self, x: NDArray[np.float64]) -> NDArray[np.bool_]:
@@ -194,7 +194,7 @@ class ConvexSet(ABC):
         T = np.atleast_2d(directions)
         lo = np.full(T.shape[0], np.nan)
         hi = np.full(T.shape[0], np.nan)
-        meeting = self.affine_set._meet_lines(T, self.affine_rtol)
+        meeting = self.affine_set._meet_lines(T, self.affine_rtol, self._size())
         if meeting.inside.any():
             lines = meeting.projected[meeting.inside]
             moved = np.linalg.norm(lines - T[meeting.inside], axis=1)

@@ -853,8 +853,10 @@ def require_drawable(S: object, argument: str) -> None:
             "a bounded, non-empty set",
             "an empty set" if S.is_empty else f"a set unbounded along {len(S.rays)} ray(s)",
             (
-                "an empty set has nothing to draw: check the half-spaces (a force polytope "
-                "is empty where the arm cannot hold itself: take another posture)."
+                "an empty set has nothing to draw: take another posture or state (a force "
+                "set is empty where the arm cannot hold itself, a set over a horizon where "
+                "a joint reaches its limit whatever it does: analysis.empty_reason says), "
+                "or check the half-spaces."
                 if S.is_empty
                 else "bound it first, e.g. HPolytope(np.vstack([S.A, C]), np.r_[S.b, d]) "
                 "with a box C x <= d around the part to draw (a force polytope is "

@@ -173,6 +173,12 @@ class LineMeeting(NamedTuple):
     projected: NDArray[np.float64]
 
 
+#: An affine set offset from the origin by at most this share of its set's extent passes
+#: through the origin (the rounding of a computed centre, e.g. an MVIE's of a segment on an
+#: axis), whatever ``rtol``: :meth:`AffineSubspace.near` and the lines of ``limits``.
+OFFSET_RTOL = 1e-12
+
+
 @dataclass(frozen=True)
 class AffineSubspace:
     """The affine set ``point + Im(basis)`` in the m-dimensional task space.
@@ -223,18 +229,24 @@ class AffineSubspace:
         x = check_points("x", x, self.ambient_dim)
         return np.linalg.norm((x - self.point) @ self.normals, axis=-1)
 
-    def near(self, x: ArrayLike, rtol: float = AFFINE_RTOL) -> NDArray[np.bool_]:
-        """Whether points ``x`` (shape ``(..., m)``) lie on the set to ``rtol`` (AFFINE_RTOL)."""
+    def near(self, x: ArrayLike, rtol: float = AFFINE_RTOL, size: float = 0.0) -> NDArray[np.bool_]:
+        """Whether points ``x`` (shape ``(..., m)``) lie on the set to ``rtol`` (AFFINE_RTOL).
+
+        Within ``rtol * max(|x|, |point|)``, plus :data:`OFFSET_RTOL` times ``size`` (the
+        extent of a set in this affine set): a set whose offset from the origin is the
+        rounding of its computation holds the origin.
+        """
         x = check_points("x", x, self.ambient_dim)
         scale = np.maximum(np.linalg.norm(x, axis=-1), np.linalg.norm(self.point))
-        return self.distance(x) <= check_fraction("rtol", rtol) * scale
+        floor = OFFSET_RTOL * size if np.isfinite(size) else 0.0
+        return self.distance(x) <= check_fraction("rtol", rtol) * scale + floor
 
     def project(self, x: ArrayLike) -> NDArray[np.float64]:
         """Orthogonal projection of points ``x`` (shape ``(..., m)``) onto the set."""
         return self.point + self.coordinates(x) @ self.basis.T
 
     def _meet_lines(
-        self, directions: NDArray[np.float64], rtol: float = AFFINE_RTOL
+        self, directions: NDArray[np.float64], rtol: float = AFFINE_RTOL, size: float = 0.0
     ) -> LineMeeting:
         """Intersect the lines ``{a t : a real}`` with the set.
 
@@ -246,25 +258,29 @@ class AffineSubspace:
             :data:`AFFINE_RTOL`: a direction whose component off the set is at most this
             is parallel to it (and is projected onto it), and a point within
             ``rtol * max(|x|, |point|)`` of the set lies on it.
+        size : float
+            The extent of the set in this affine set: offsets below :data:`OFFSET_RTOL`
+            times it are the rounding of the set's computation (see :meth:`near`).
 
         Returns
         -------
         LineMeeting
         """
         k = directions.shape[0]
+        floor = OFFSET_RTOL * size if np.isfinite(size) else 0.0
         if self.dim == self.ambient_dim:
             return LineMeeting(np.ones(k, bool), np.zeros(k, bool), np.full(k, np.nan), directions)
         off = directions @ self.normals  # (k, m - r)
         target = self.point @ self.normals  # (m - r,): solve a * off = target
         off_norm2 = np.einsum("ij,ij->i", off, off)
         parallel = off_norm2 <= rtol**2
-        through_origin = np.linalg.norm(target) <= rtol * np.linalg.norm(self.point)
+        through_origin = np.linalg.norm(target) <= rtol * np.linalg.norm(self.point) + floor
         with np.errstate(invalid="ignore", divide="ignore"):
             a0 = np.where(parallel, np.nan, (off @ target) / off_norm2)
         if through_origin:  # a line not parallel to a set through 0 crosses it at a = 0
             a0 = np.where(parallel, np.nan, 0.0)
         crossing = np.where(parallel, 0.0, a0)[:, None] * directions
-        single = ~parallel & self.near(crossing, rtol)
+        single = ~parallel & self.near(crossing, rtol, size)
         inside = parallel & through_origin
         projected = directions.copy()
         if inside.any():

@@ -421,7 +421,9 @@ def test_a_state_outside_its_limits_is_an_empty_set_with_its_reason():
     state["q"][2] = state["q_max"][2] + 0.01
     analysis = analysis_of(dyn, tau_max, state)
     assert analysis.polytope.is_empty
-    assert "joint 3" in analysis.empty_reason and "outside its limits" in analysis.empty_reason
+    assert "joint 3" in analysis.empty_reason and "0.01 above its limits" in analysis.empty_reason
+    state["q"][2] = state["q_max"][2] + 1e-9  # said with its excess, not rounded to inside
+    assert "1e-09 above its limits" in analysis_of(dyn, tau_max, state).empty_reason
     comparison = pe.compare(analysis)
     for kind in ("chiacchio", "yoshikawa"):
         assert not comparison[kind].defined
@@ -467,6 +469,10 @@ def test_torques_too_weak_for_the_interval_give_an_empty_set():
         ({"q_min": None}, "q_min"),
         ({"q_max": np.ones(3)}, "q_max"),
         ({"qd_max": np.ones(8)}, "qd_max"),
+        # qd_min defaulting to -qd_max: what is wrong is qd_max's (qd_min was named)
+        ({"qd_min": None, "qd_max": np.full(7, np.inf)}, "qd_max"),
+        ({"qd_min": None, "qd_max": -np.ones(7)}, "qd_max"),
+        ({"qd_min": None, "qd_max": None}, "qd_max"),
         ({"q": np.full(7, np.nan)}, "q"),
         ({"braking": -1.0}, "braking"),
     ],
@@ -620,3 +626,33 @@ def test_a_robot_in_place_of_its_dynamics_is_refused_as_dyn():
     q = np.mean(robot.position_limits, axis=0)
     with pytest.raises(InputError, match=r"^dyn: expected a polyell\.Dynamics, got UrdfRobot"):
         pe.analyze(robot, robot.tau_max, horizon=1e-3, q=q, qd=np.zeros(7))
+
+
+def test_flat_and_empty_sets_over_a_horizon_say_their_own_cause():
+    """A set pinned to a point by zero velocity limits is blamed on the joints' limits
+    over the horizon, not on gravity; the report of an empty set gives its
+    ``empty_reason``; the interactive view draws a point ellipsoid as a marker (it raised
+    an error naming an argument it does not have)."""
+    from polyell.interactive import interactive_sets
+    from polyell.report import format_analysis
+
+    arm = pe.robots.load("chiacchio2000")
+    q0 = np.array([np.pi / 2, -np.pi / 2, -np.pi / 2])
+    limits = {"q_min": [-3.0] * 3, "q_max": [3.0] * 3}
+    pinned = pe.analyze(
+        arm.dynamics(q0), arm.tau_max, horizon=0.01, q=q0, qd=np.zeros(3), **limits,
+        qd_max=[0.0, 0.0, 0.0],
+    )  # fmt: skip
+    cmp = pe.compare(pinned, 16)
+    reasons = [cmp[kind].reason for kind in ("chiacchio", "yoshikawa")]
+    assert all("pinned by their limits over the horizon" in r for r in reasons), reasons
+    assert not any("gravity" in r for r in reasons)
+    interactive_sets(cmp)  # a figure: the point ellipsoids as markers
+    outside = np.array([np.pi / 2, -np.pi / 2, 3.2])  # beyond q_max
+    empty = pe.analyze(
+        arm.dynamics(outside), arm.tau_max, horizon=0.01, q=outside, qd=np.zeros(3),
+        **limits, qd_max=[1.0, 1.0, 1.0],
+    )  # fmt: skip
+    assert empty.polytope.is_empty
+    text = format_analysis(empty, np.array([1.0, 0.0]), "x")
+    assert f"empty: {empty.empty_reason}" in text and "gravity" not in text

@@ -157,3 +157,22 @@ def test_a_thin_ellipsoid_refuses_a_point_at_twice_its_thin_semi_axis():
     E = pe.Ellipsoid([0.0, 0.0], np.eye(2), [1.0, 1e-9])
     assert not E.contains([0.0, 1.9e-9])
     assert E.contains([0.0, 1e-9])
+
+
+def test_a_flat_ellipsoid_offset_by_rounding_holds_the_origin():
+    """A segment's ellipsoid whose centre is off its axis by the rounding of a solver
+    (1e-15 of a 40-long set) holds the lines through the origin along it and the origin
+    (the limits were NaN and ``contains`` False: the MVIE and the outer ellipsoid of a
+    segment reported two feasibility mismatches); an offset beyond that rounding
+    (OFFSET_RTOL of the size) is a set that misses the origin."""
+    for offset in (1e-15, 1e-13):
+        E = pe.Ellipsoid([0.0, offset], [[1.0], [0.0]], [40.0])
+        np.testing.assert_allclose(E.limits([1.0, 0.0]), [-40.0, 40.0], rtol=1e-15)
+        np.testing.assert_array_equal(E.limits([0.6, 0.8]), [0.0, 0.0])
+        assert E.contains([0.0, 0.0])
+    apart = pe.Ellipsoid([0.0, 1e-9], [[1.0], [0.0]], [40.0])
+    assert np.isnan(apart.limits([1.0, 0.0]).lo) and not apart.contains([0.0, 0.0])
+    for offset in (0.0, 1e-15, 1.78e-15):
+        segment = pe.HPolytope([[1, 0], [-1, 0], [0, 1], [0, -1]], [40, 40, offset, -offset])
+        cmp = pe.compare(segment)
+        assert cmp["mvie"].feasibility_mismatch == cmp["outer"].feasibility_mismatch == 0
