@@ -18,9 +18,10 @@ __all__ = ["analysis_to_json", "format_analysis"]
 
 
 def _matrix(a: NDArray[np.float64], indent: str = "    ") -> str:
-    """Five significant digits; entries below 1e-12 of the largest print as 0 (rounding)."""
+    """Five significant digits; entries below 1e-12 of the largest finite one print as 0."""
     a = np.atleast_2d(a)
-    scale = np.max(np.abs(a)) if a.size else 0.0
+    finite = np.abs(a[np.isfinite(a)])  # an inf end (an empty interval) scales nothing
+    scale = float(finite.max()) if finite.size else 0.0
     shown = np.where(np.abs(a) <= 1e-12 * scale, 0.0, a)
     text = np.array2string(
         shown, max_line_width=100, formatter={"float_kind": lambda v: f"{v:11.5g}"}
@@ -154,7 +155,7 @@ def format_analysis(
         "  V1^T:",
         _matrix(svd.V1.T),
         "",
-        f"{exact}: dimension {P.dim}, "
+        f"{exact}: {'empty' if P.dim < 0 else f'dimension {P.dim}'}, "
         f"{len(P.vertices)} vertices, {len(P.A)} facets, volume {P.volume:.6g}",
         f"  vertices [{unit}]:",
         _matrix(P.vertices),

@@ -186,11 +186,11 @@ def scores_print_tables(
     groups = [{name: frame} for name, frame in frames.items()] if split else [dict(frames)]
     for group in groups:
         rows = []
-        powers = {str(dimensions.get(name) or "r") for name in group}
+        powers = {_power(dimensions.get(name)) for name in group}
         common_power = powers.pop() if len(powers) == 1 else "r"
         for name, frame in group.items():
             stub = (text_label(name, "posture"),) if named else ()
-            power = str(dimensions.get(name) or "r")
+            power = _power(dimensions.get(name))
             if layout.transpose:
                 for kind, label in zip(kinds, sets, strict=True):
                     record = frame.loc[kind]
@@ -215,3 +215,12 @@ def scores_print_tables(
             PrintTable(stub_head, columns, tuple(rows), title=title, grouped=named, mixed=mixed)
         )
     return tables
+
+
+def _power(dimension: int | None) -> str:
+    """The volume's power in a unit: the set's dimension, else ``r``.
+
+    ``r`` where it is unknown, mixed, or the set is empty (of no dimension: its volume 0
+    has no unit of its own).
+    """
+    return str(dimension) if dimension is not None and dimension > 0 else "r"

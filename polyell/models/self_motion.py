@@ -42,6 +42,7 @@ __all__ = [
     "SINGULAR_RTOL",
     "WALK_STEPS",
     "SelfMotion",
+    "check_step",
     "self_motion",
 ]
 
@@ -203,6 +204,27 @@ def _rank_ratio(J: Array) -> tuple[float, Array]:
     return float(s[-1] / s[0]) if s[0] > 0 else 0.0, Vt
 
 
+def check_step(step: object) -> float:
+    """A step along the self-motion manifold [rad], from :data:`MIN_STEP` to 1.
+
+    Else an InputError naming ``step``.
+    """
+    if (
+        isinstance(step, bool)
+        or not isinstance(step, int | float | np.integer | np.floating)
+        or not MIN_STEP <= float(step) <= 1.0
+    ):
+        raise InputError(
+            "step",
+            f"a step along the manifold from {MIN_STEP:g} to 1 rad (below it a joint angle "
+            "of about 1 rad does not change in double precision)",
+            repr(step),
+            f"leave it out (default {TRACE_STEP:g} for a one-dimensional self-motion, "
+            f"{WALK_STEP:g} above).",
+        )
+    return float(step)
+
+
 def self_motion(
     robot: PlanarArm | UrdfRobot,
     q0: ArrayLike,
@@ -296,20 +318,7 @@ def self_motion(
     seed = check_integer("seed", seed, 0, 2**63 - 1)
     dimension = n - m
     default = TRACE_STEP if dimension == 1 else WALK_STEP
-    if step is None:
-        step = default
-    if (
-        isinstance(step, bool)
-        or not isinstance(step, int | float | np.integer | np.floating)
-        or not MIN_STEP <= float(step) <= 1.0
-    ):
-        raise InputError(
-            "step",
-            f"a step along the manifold from {MIN_STEP:g} to 1 rad (below it a joint angle "
-            "of about 1 rad does not change in double precision)",
-            repr(step),
-            f"leave it out (default {default:g}).",
-        )
+    step = default if step is None else check_step(step)
     target = (position, rotation)
     # The arm's length scale: lengths in any unit (J's entries are lengths per radian).
     scale = max(float(np.linalg.norm(position)), float(np.linalg.norm(J, 2)))

@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from polyell.comparison.candidates import Candidate
 from polyell.errors import InputError, SolverError
-from polyell.models.self_motion import MAX_COUNT, self_motion
+from polyell.models.self_motion import MAX_COUNT, check_step, self_motion
 from polyell.studies.posture import posture_bar, posture_choice
 from polyell.validation import check_array, check_integer
 
@@ -173,6 +173,7 @@ def posture_choice_over_targets(
         )
     seed = check_integer("seed", seed, 0, 2**62)
     postures = check_integer("postures", postures, 2, MAX_COUNT)
+    step = None if step is None else check_step(step)  # (not each target's SolverError)
     motions = []
     if starts is not None:
         q = check_array("starts", starts, ("K", robot.n), what="joint positions")

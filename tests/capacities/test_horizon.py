@@ -656,3 +656,21 @@ def test_flat_and_empty_sets_over_a_horizon_say_their_own_cause():
     assert empty.polytope.is_empty
     text = format_analysis(empty, np.array([1.0, 0.0]), "x")
     assert f"empty: {empty.empty_reason}" in text and "gravity" not in text
+
+
+def test_an_infinite_interval_end_prints_beside_the_finite_ones():
+    """A joint at its limit moving into it: its interval's upper end is -inf, which the
+    report printed as a row of zeros (the largest entry, inf, scaled the others away);
+    the empty set reads "empty", not "dimension -1", and its tables have no unit^-1."""
+    from polyell.report import format_analysis
+
+    panda = pe.robots.load("panda")
+    q = np.array([0.0, -0.5, 0.0, -0.0698, 0.0, 1.6, 0.8])
+    qd = np.array([0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0])
+    analysis = panda.analyze(q, qd, horizon=0.01)
+    assert analysis.qdd_hi[3] == -np.inf and analysis.polytope.is_empty
+    text = format_analysis(analysis, np.array([1.0, 0.0, 0.0]), "x")
+    block = text[text.index("qdd_hi:") :].splitlines()[1]
+    assert "-inf" in block and "217.5" in block, block
+    assert "Exact set: empty," in text and "dimension -1" not in text
+    assert "^-1" not in pe.compare(analysis).to_markdown()

@@ -244,3 +244,14 @@ def test_an_unbounded_limit_is_inf_in_the_choice_and_its_tables(tmp_path):
     assert choice.table.loc[("polytope", "limit"), "true_best"] == np.inf
     for path in pe.write_posture_tables(choice.table, tmp_path).values():
         assert not re.search(r"308|1\.797", Path(path).read_text()), path
+
+
+@pytest.mark.parametrize("step", [5.0, -0.1, 1e-12, float("nan")])
+def test_posture_choice_over_random_targets_refuses_a_bad_step_by_name(step):
+    """An invalid step made every random target's self-motion fail: a SolverError about
+    the joint limits, without naming step."""
+    arm = pe.robots.load("chiacchio2000")
+    with pytest.raises(pe.InputError, match=r"^step: .*Fix: "):
+        pe.posture_choice_over_targets(
+            arm, direction="x", count=2, postures=5, step=step, mvie=False, outer=False
+        )
