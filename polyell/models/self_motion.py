@@ -72,6 +72,11 @@ NEWTON_ITERATIONS, NEWTON_RTOL = 30, 1e-13
 #: A trace closes when it comes back within this many steps of q0 after leaving by more
 #: than CLOSE_AFTER steps.
 CLOSE_WITHIN, CLOSE_AFTER = 0.75, 3.0
+#: A closed self-motion smaller than this [rad] (every point within it of q0) is refused:
+#: near a singular posture, where it shrinks to a point, the corrector's rounding is a share
+#: of it (:func:`self_motion`). Larger loops below the step are traced again at a tenth of
+#: their extent.
+SMALLEST_LOOP = 1e-5
 #: Consecutive failed walks (every step refused) before a random walk gives up.
 MAX_FAILED_WALKS = 50
 
@@ -445,6 +450,26 @@ def _trace(
     """Trace a 1-D manifold both ways (or once round a loop), resample ``count`` points."""
     J0 = tracer.task.error(q0, tracer.target)[1]
     forward, why_forward = _trace_one_way(tracer, q0, J0, 1.0, step)
+    if why_forward == "closed":
+        # A loop smaller than the step (near a singular posture, where the self-motion
+        # shrinks to a point): its points zig-zag on it and their sum is no length. Traced
+        # again at a tenth of its extent; below SMALLEST_LOOP, refused (the corrector's
+        # rounding is then a share of the loop).
+        spread = max(
+            (float(np.linalg.norm(_shortest(tracer.task, p - q0))) for p in forward),
+            default=0.0,
+        )
+        if spread < SMALLEST_LOOP:
+            raise InputError(
+                "q0",
+                f"a configuration whose self-motion reaches {SMALLEST_LOOP:g} rad or more from it",
+                f"a loop of extent {spread:.2g} rad at q0 = {np.round(q0, 9).tolist()} (the "
+                "self-motion shrinks to a point at a singular posture nearby)",
+                "start further from the singular posture (e.g. 1e-3 rad in a joint), or "
+                "take q0 as its one posture",
+            )
+        if spread < step:
+            return _trace(tracer, q0, count, spread / 10.0)
     if why_forward == "closed":
         # The loop: q0, the points, and back to q0 (shifted by the turns of the periodic
         # joints, so that the closing segment is short).

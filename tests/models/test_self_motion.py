@@ -220,3 +220,25 @@ def test_the_self_motion_does_not_depend_on_the_unit_of_length(unit):
     )
     np.testing.assert_allclose(scaled.configurations, reference.configurations, atol=1e-12)
     assert scaled.residual <= 1e-12 * unit
+
+
+@pytest.mark.parametrize("eps", [1e-3, 1e-4])
+def test_a_loop_smaller_than_the_step_is_traced_at_its_own_scale(eps):
+    """Near the stretched arm the self-motion is a loop of some 5 eps rad: with the
+    default step of 0.01 its points zig-zagged and its length read 0.03 whatever eps. It
+    is traced again at a tenth of its extent: its length is the closed polyline's through
+    its samples (to 1 %) and at most pi times its diameter (0.03 was twice that at 1e-3)."""
+    arm = pe.robots.load("chiacchio2000")
+    motion = pe.self_motion(arm, [0.3, eps, eps], count=60)
+    C = motion.configurations
+    polyline = np.linalg.norm(np.diff(np.vstack([C, C[:1]]), axis=0), axis=1).sum()
+    diameter = np.linalg.norm(C[:, None] - C[None], axis=-1).max()
+    assert motion.length == pytest.approx(polyline, rel=1e-2)
+    assert motion.length <= np.pi * diameter
+    assert np.all(np.diff(motion.position) > 0) and motion.position[-1] < motion.length
+
+
+def test_a_loop_below_the_tracers_resolution_is_refused_by_name():
+    arm = pe.robots.load("chiacchio2000")
+    with pytest.raises(pe.InputError, match=r"^q0: .*shrinks to a point.*Fix: "):
+        pe.self_motion(arm, [0.3, 1e-7, 1e-7], count=20)
