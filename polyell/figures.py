@@ -20,7 +20,7 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from numpy.typing import NDArray
 from scipy.spatial import ConvexHull
 
-from polyell.capacities import Analysis, capacity_class, check_capacity
+from polyell.capacities import CAPACITIES, Analysis, capacity_class, check_capacity
 from polyell.comparison.labels import Labels, ellipsoid_label, resolve_labels
 from polyell.comparison.tables import score_display
 from polyell.errors import InputError, UndefinedEllipsoidError
@@ -865,6 +865,14 @@ def plot_tangent_limits(
 
     ``capacity`` chooses the sets (accelerations by default; velocities, forces), ``unit``
     is its task unit and ``labels`` (a table layout's) name the sets.
+
+    Raises
+    ------
+    InputError
+        Naming ``results`` if it has no pair of columns ``tangent_<set>_lo`` and
+        ``tangent_<set>_hi`` of the capacity's sets (the results of a ``[trajectory]``
+        study with velocities, or :func:`polyell.studies.trajectory.tangent_limits`), or
+        only one column of a pair, or neither ``t`` nor ``configuration``.
     """
     check_instance(
         "results",
@@ -875,12 +883,11 @@ def plot_tangent_limits(
     capacity = check_capacity(capacity)
     _check_texts(unit=unit)
     labels = _check_labels(labels)
+    drawn = _tangent_sets(results, capacity)
     x = _abscissa(results)
     figure = Figure(figsize=(6.0, 3.4), layout="constrained")
     ax = figure.add_subplot()
-    for name in ("polytope", *capacity_class(capacity).ellipsoid_kinds):
-        if f"tangent_{name}_hi" not in results:
-            continue
+    for name in drawn:
         style = _style(name, (), capacity, labels)
         for end in ("lo", "hi"):
             ax.plot(
@@ -895,6 +902,54 @@ def plot_tangent_limits(
     ax.set_ylabel(f"along the tangent [{unit}]")
     ax.legend(fontsize="small")
     return figure
+
+
+def _tangent_sets(results: pd.DataFrame, capacity: str) -> list[str]:
+    """The sets of ``capacity`` with both ``tangent_<set>_lo`` and ``_hi`` in ``results``.
+
+    An InputError naming ``results`` if there is none, or a set has one of the two only.
+    """
+    names = ("polytope", *capacity_class(capacity).ellipsoid_kinds)
+    ends = {name: [f"tangent_{name}_{end}" in results for end in ("lo", "hi")] for name in names}
+    half = [name for name, found in ends.items() if any(found) and not all(found)]
+    if half:
+        name = half[0]
+        missing = "hi" if ends[name][0] else "lo"
+        raise InputError(
+            "results",
+            f"both columns tangent_{name}_lo and tangent_{name}_hi",
+            f"no column tangent_{name}_{missing}",
+            "pass both ends of each interval, as pe.studies.trajectory.tangent_limits(...) "
+            "returns them (or drop the other column).",
+        )
+    drawn = [name for name, found in ends.items() if all(found)]
+    if not drawn:
+        tangents = [str(c) for c in results.columns if str(c).startswith("tangent_")]
+        got = (
+            f"tangent columns of other sets {tangents[:4]}"
+            if tangents
+            else f"no tangent_* columns (columns {[str(c) for c in results.columns][:6]})"
+        )
+        fix = (
+            "pass the results of a [trajectory] study whose path has velocities qd1..qdn "
+            "(pd.read_parquet(out / 'results')), or a frame with the columns of "
+            "pe.studies.tangent_limits(robot, trajectory): "
+            "frame.assign(**pe.studies.tangent_limits(robot, trajectory))"
+        )
+        owners = [
+            other
+            for other in CAPACITIES
+            if any(f"tangent_{k}_hi" in results for k in capacity_class(other).ellipsoid_kinds)
+        ]
+        if owners:
+            fix = f"pass the capacity the columns are of, capacity={owners[0]!r}; or {fix}"
+        raise InputError(
+            "results",
+            f"columns tangent_<set>_lo and tangent_<set>_hi of the {capacity} sets {list(names)}",
+            got,
+            fix,
+        )
+    return drawn
 
 
 #: The criteria of a posture choice and how a figure names them.

@@ -1188,11 +1188,16 @@ high = [1, 1, 1]"""
 class TrajectoryTable(Table):
     """A path the user already has.
 
-    CSV, Parquet, .npy or .npz with columns `q1..qn`, optionally `qd1..qdn` (then the
-    accelerations along the path's tangent) and `t`. One robot only. The sets along the
-    path are those of the robot at rest with its rated limits: `qd` gives the tangent
-    only (no Coriolis terms, no torque-speed derating; a `[[points]]` entry with `qd`
-    analyzes one configuration in motion).
+    CSV, Parquet, .npy or .npz with columns `q1..qn`, optionally `qd1..qdn` (then what
+    each capacity allows along the path's tangent, the columns `tangent_<set>_lo` and
+    `_hi`) and `t`. One robot only. The sets along the path have the robot's rated
+    limits (no torque-speed derating). Without `[compare] horizon` they are those of the
+    robot at rest: `qd` gives the tangent only (no Coriolis or centrifugal terms). With
+    it, the acceleration sets (scores and tangent limits) are those of each sample's state
+    `q`, `qd`: the dynamics in motion (Coriolis and centrifugal torques, `Jdot qd`), within
+    the joint limits over the period (a planar arm's dynamics take no velocities: its path
+    with `qd` is then refused); the velocity and force sets stay at rest. A `[[points]]`
+    entry with `qd` analyzes one configuration in motion, its torque limits derated.
     """
 
     heading: ClassVar[str] = "[trajectory]"
@@ -1318,8 +1323,10 @@ braking = 50"""
         what="A control period [s]: the acceleration set becomes the accelerations that also "
         "keep every joint within its position limits over the period and within its "
         "velocity limits at its end (`pe.analyze(..., horizon=)`), from the state: a point's "
-        "`q` and `qd`, a trajectory's samples (their `qd` then also gives the Coriolis "
-        "terms), every other configuration at rest. The limits are the robot's own (a planar "
+        "`q` and `qd`, a trajectory's samples (whose `qd` then also gives the dynamics in "
+        "motion: Coriolis and centrifugal torques and `Jdot qd`, at the rated torque limits, "
+        "not derated; without a horizon a trajectory's sets are at rest, `qd` its tangent "
+        "only), every other configuration at rest. The limits are the robot's own (a planar "
         "arm's joints turn freely: velocity limits only). Only the acceleration capacity "
         "takes it (a study without it among its capacities refuses the key); the "
         "ellipsoids ignore these limits, which is what the comparison then measures.",

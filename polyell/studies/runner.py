@@ -1429,7 +1429,8 @@ def _run_trajectory(
     """A trajectory study, its memory independent of the number of samples but for one term.
 
     The sweep writes one Parquet part per chunk; the parts are then read one at a time:
-    the tangent limits of a part's samples are computed, its rows appended to
+    the tangent limits of a part's samples are computed and added to the part (rewritten:
+    the dataset holds every column the study reports), its rows appended to
     ``results.csv`` (``[output] csv``) and passed to the series' decimators
     (:class:`SeriesDecimator`: the figures and the report draw at most a few thousand
     points per curve, and say so), to the summary's statistics (:class:`StreamedSummary`)
@@ -1456,7 +1457,8 @@ def _run_trajectory_capacity(
     The acceleration outputs keep their names; another capacity's carry its name
     (``results_force.csv``, ``series_coverage_velocity.png``).  Where the trajectory has
     velocities, what the capacity allows along the path's tangent is added to its results
-    (``tangent_<set>_lo``, ``_hi``) and drawn (``tangent_limits_force.png``).
+    (``tangent_<set>_lo``, ``_hi``: the dataset's parts and the CSV) and drawn
+    (``tangent_limits_force.png``).
     """
     from polyell.figures import plot_score_histogram, plot_score_series, plot_tangent_limits
     from polyell.interactive import SeriesDecimator
@@ -1516,13 +1518,16 @@ def _run_trajectory_capacity(
             statistics.add(frame)
             sample.add(frame)
             stop = start + len(frame)
+            along_path = {}
             if tangent:  # what the capacity allows along the path, where the arm moves
                 assert trajectory.qd is not None
                 piece = Trajectory(trajectory.q[start:stop], trajectory.qd[start:stop])
                 along_path = tangent_limits(
                     model, piece, capacity=capacity, **limits, **_horizon(spec, capacity)
                 )
-                frame = frame.assign(**along_path)
+            # The tangent limits are part of the dataset (its part rewritten with them), so
+            # that the CSV streamed from the parts is the dataset, column for column.
+            frame = _with_tangents(part, frame, along_path)
             if handle is not None:
                 write_csv(frame, handle, header=index == 0)
             for decimator in series.values():
@@ -1543,9 +1548,8 @@ def _run_trajectory_capacity(
             else f'{count:,} samples, more than [output] csv = "auto" writes'
         )
         note = (
-            f"results{suffix}.csv not written ({why}): the scores are in the Parquet dataset "
-            f"results{suffix}/ (pandas.read_parquet), the tangent limits only in the CSV; "
-            "csv = true writes it, streamed"
+            f"results{suffix}.csv not written ({why}): every row is in the Parquet dataset "
+            f"results{suffix}/ (pandas.read_parquet); csv = true writes it, streamed"
         )
         _log.info("note: %s", note)
         notes.append(note)
@@ -1599,6 +1603,28 @@ def _run_trajectory_capacity(
         text = format_summary_table(summary, "html", layout=layout, capacity=capacity)
         sections.append((f"{by}Summary over {count} configurations", HtmlTable(text)))
     return written, sections
+
+
+def _with_tangents(
+    part: Path, frame: pd.DataFrame, along_path: dict[str, NDArray[np.float64]]
+) -> pd.DataFrame:
+    """A trajectory part's rows with its tangent limits, the part rewritten to hold them.
+
+    The columns ``tangent_<set>_lo``, ``_hi`` of ``along_path`` (none: a path without
+    velocities) replace those the part holds (of an earlier run into the folder, whose
+    dataset this one resumed): the part is written again, atomically, unless it already
+    holds exactly these columns with the same values.  A run killed meanwhile leaves whole
+    parts, each with or without its tangent columns; the next run rewrites them all.
+    """
+    held = [str(name) for name in frame.columns if str(name).startswith("tangent_")]
+    if held == list(along_path) and all(
+        np.array_equal(frame[name].to_numpy(dtype=float), values, equal_nan=True)
+        for name, values in along_path.items()
+    ):
+        return frame
+    rows = frame.drop(columns=held).assign(**along_path)
+    write_atomically(part, lambda name: rows.to_parquet(name, index=False))
+    return rows
 
 
 def _many_report(
