@@ -644,6 +644,13 @@ def plot_score_map(
     vmin, vmax = (None, None)
     if limits is not None:  # NaN or infinite limits are accepted, as before
         vmin, vmax = _check_pair("limits", limits, "(low, high), two numbers", finite=False)
+        if vmin > vmax:  # (NaN compares False: an unknown end, as before)
+            raise InputError(
+                "limits",
+                "(low, high) with low <= high",
+                f"({vmin:g}, {vmax:g})",
+                f"swap them: limits=({vmax:g}, {vmin:g})",
+            )
     figure = Figure(figsize=(5.0, 4.0), layout="constrained")
     ax = figure.add_subplot()
     mesh = ax.pcolormesh(

@@ -48,6 +48,10 @@ def test_other_figures_and_saving(tmp_path):
     grid = np.arange(12.0).reshape(3, 4)
     grid[0, 0] = np.nan
     plot_score_map(grid, np.arange(4.0), np.arange(3.0), xlabel="x", ylabel="y", label="v")
+    with pytest.raises(pe.InputError, match=r"^limits: .*Fix: swap them"):  # not silently
+        plot_score_map(
+            grid, np.arange(4.0), np.arange(3.0), xlabel="x", ylabel="y", label="v", limits=(1, 0)
+        )
     spatial = random_problem(0, 3, 5)
     assert isinstance(plot_sets_3d(spatial), Figure)
 
