@@ -837,12 +837,18 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
     output = study.output
     if output.maps and sum(axis.values.size > 1 for axis in grid) != 2:
         varying = sum(axis.values.size > 1 for axis in grid)
+        sampled = next(
+            (f"a [{name}] study" for name in ("random", "trajectory", "points", "posture")
+             if getattr(study, name) is not None), "no [grid]"
+        )  # fmt: skip
         raise InputError(
             "output.maps",
-            "a grid with exactly two varying joints",
-            f"{varying} varying of {len(grid)} grid axes",
+            "a [grid] study with exactly two varying joints (a map is over their plane)",
+            f"{varying} varying of {len(grid)} grid axes" if grid else sampled,
             "give two joints a range (start, stop, num) and the others one value, or drop "
-            "maps (histograms show any grid).",
+            "maps (histograms show any grid)"
+            if grid
+            else "drop maps = true (histograms show any sample), or sample a [grid] instead",
         )
     with _within("output"):  # the layout's own checks, before anything is written
         output.layout  # noqa: B018

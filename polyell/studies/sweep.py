@@ -50,6 +50,7 @@ from polyell.comparison.comparison import (
     compare,
     compared_kinds,
 )
+from polyell.comparison.directions import direction_vectors, has_names
 from polyell.comparison.long_form import wide_attrs
 from polyell.errors import (
     InputError,
@@ -504,7 +505,7 @@ def _job(
                 "pass the dynamics of at least one configuration: robot.dynamics(q) with "
                 "q of shape (K, n), K >= 1.",
             )
-        n, m = source.n, source.m
+        n, m, task = source.n, source.m, source.task
     else:
         if not hasattr(source, "dynamics"):
             raise InputError(
@@ -541,11 +542,12 @@ def _job(
                 f"make the set for this {n}-joint robot, e.g. pe.random_configurations(robot, "
                 f"1000), or a pe.grid of {n} axes.",
             )
-        m = source.dynamics(
+        first = source.dynamics(
             configurations.rows(0, 1)[0]
             if isinstance(configurations, ConfigurationSet)
             else configurations[0]
-        ).m
+        )
+        m, task = first.m, first.task
     # (the joint velocity limits come in the torque slots)
     upper, lower = capacity_class(options.capacity)._source_limits(source, tau_max, tau_min, n)
     unknown = sorted(set(scores) - set(SCORE_NAMES))
@@ -583,6 +585,9 @@ def _job(
     if isinstance(count, int | np.integer) and not isinstance(count, bool):
         T = sphere_directions(int(count), m)
         scalar_directions = None if directions is None else int(count)
+    elif has_names(directions):  # names of the task's rows, as compare reads them
+        T = np.atleast_2d(direction_vectors(cast(Any, directions), task, "directions"))
+        scalar_directions = T
     else:
         T = np.atleast_2d(check_directions("directions", cast(ArrayLike, directions), m))
         scalar_directions = T
@@ -644,10 +649,11 @@ def sweep(
         (None): :data:`DEFAULT_SCORES`, all but ``enclosing_scale`` (a vertex enumeration,
         about a fifth of the time) and the ratios to the optimal ellipsoids not computed:
         ``mvie_ratio`` with ``mvie=True``, ``outer_ratio`` with ``outer=True``.
-    directions : int, array-like (k, m) or None
+    directions : int, array-like (k, m), sequence of names or None
         The directional-statistics set, exactly as :func:`polyell.compare` takes it: a count
         of the default near-uniform set (at a singular configuration, drawn in its affine
-        set), or unit vectors used at every configuration; default, as in
+        set), or unit vectors (or names of the task's rows, ``["x", "-z"]``) used at every
+        configuration; default, as in
         :func:`polyell.compare`, 360 in 2-D, 256 in 3-D and 2,000 above (see
         :func:`~polyell.geometry.directions.default_direction_count` for why).
     out : path, optional

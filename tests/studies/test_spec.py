@@ -81,7 +81,10 @@ def test_robot_file(tmp_path):
         (POINTS.replace('"pi/2",', '"pi/two",'), "points[0].q[0]: expected a number"),
         (POINTS + "[compare]\ndirection = 3\n", "unknown key(s) ['direction']"),
         (POINTS + "[output]\nformats = ['jpg']\n", "output.formats[0]: expected one of"),
-        (POINTS + "[output]\nmaps = ['chiacchio_coverage']\n", "output.maps: expected a grid"),
+        (
+            POINTS + "[output]\nmaps = ['chiacchio_coverage']\n",
+            "varying joints (a map is over their plane), got a [points] study. Fix: drop maps",
+        ),
         (POINTS + "[output]\nmaps = ['coverage']\n", "output.maps: expected names"),
         (
             POINTS + "[grid]\nq1 = 0\n",

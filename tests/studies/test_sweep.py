@@ -407,3 +407,18 @@ def test_the_per_row_note_of_a_dataset_is_counted_part_by_part(tmp_path):
     assert frame["per_row"].sum() == 2  # the two singular configurations
     assert per_row_note(folder, "acceleration") == per_row_note(frame, "acceleration")
     assert per_row_note(folder, "acceleration") == "acceleration: 2 of 4 rows per row (50.00 %)"
+
+
+def test_named_directions_as_compare_reads_them():
+    """``directions=["x", "y"]`` (its docstring: exactly as compare takes it) gives the rows
+    of the unit vectors and of compare with the same names (it was refused)."""
+    arm = pe.robots.load("chiacchio2000")
+    q = np.array([[0.1, 0.2, 0.3], [0.5, 0.2, -0.4]])
+    named = pe.sweep(arm, q, directions=["x", "y"])
+    vectors = pe.sweep(arm, q, directions=np.eye(2))
+    pd.testing.assert_frame_equal(named, vectors)
+    row = pe.compare(pe.analyze(arm.dynamics(q[1]), arm.tau_max), ["x", "y"], mvie=False,
+                     outer=False).to_row()  # fmt: skip
+    assert named.loc[1, "chiacchio_direction_error_mean"] == pytest.approx(
+        row["chiacchio_direction_error_mean"], rel=1e-12
+    )
