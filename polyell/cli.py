@@ -30,6 +30,7 @@ from polyell.comparison import compare
 from polyell.comparison.directions import named_direction
 from polyell.errors import InputError, PolyellError, ProjectedInputWarning
 from polyell.expressions import evaluate_list
+from polyell.geometry.subspace import scaled_norm
 from polyell.models import UrdfRobot
 from polyell.report import analysis_to_json, format_analysis
 from polyell.studies import load_robot_file, load_study, run_study
@@ -326,9 +327,7 @@ def _direction(
     if isinstance(values, tuple):  # a name: a unit vector already
         return values[0], values[1], []
     direction = check_points("--direction", values, m)
-    largest = float(np.max(np.abs(direction)))  # scaled first: no underflow at 1e-300
-    scaled = direction / largest if largest > 0 else direction
-    norm = float(np.linalg.norm(scaled)) * largest
+    norm = float(scaled_norm(direction))  # (no underflow of the squares at 1e-300)
     if not args.normalize and abs(norm - 1.0) > DIRECTION_NORM_RTOL:
         raise InputError(
             "--direction",
@@ -338,7 +337,7 @@ def _direction(
         )
     if norm == 0 or abs(norm - 1.0) <= 1e-12:
         return check_directions("--direction", direction, m), "t", []  # or an InputError
-    unit = scaled / np.linalg.norm(scaled)
+    unit = direction / norm
     return unit, "t", [f"--direction normalised to {_rounded(unit, 6)}"]
 
 

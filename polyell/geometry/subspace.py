@@ -267,14 +267,13 @@ class AffineSubspace:
         LineMeeting
         """
         k = directions.shape[0]
-        floor = OFFSET_RTOL * size if np.isfinite(size) else 0.0
         if self.dim == self.ambient_dim:
             return LineMeeting(np.ones(k, bool), np.zeros(k, bool), np.full(k, np.nan), directions)
         off = directions @ self.normals  # (k, m - r)
         target = self.point @ self.normals  # (m - r,): solve a * off = target
         off_norm2 = np.einsum("ij,ij->i", off, off)
         parallel = off_norm2 <= rtol**2
-        through_origin = np.linalg.norm(target) <= rtol * np.linalg.norm(self.point) + floor
+        through_origin = bool(self.near(np.zeros(self.ambient_dim), rtol, size))
         with np.errstate(invalid="ignore", divide="ignore"):
             a0 = np.where(parallel, np.nan, (off @ target) / off_norm2)
         if through_origin:  # a line not parallel to a set through 0 crosses it at a = 0
