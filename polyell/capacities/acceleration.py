@@ -15,13 +15,13 @@ accelerations are :math:`\ddot x = M \tilde\tau + \ddot x_g` (eq. 13) with
 
 from __future__ import annotations
 
-from functools import cached_property
 from typing import ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import lapack
 
+from polyell.cached import cached_property
 from polyell.capacities.base import InverseSolution, centre_and_half_range
 from polyell.capacities.zonotope import ZonotopeAnalysis
 from polyell.errors import InputError, UndefinedEllipsoidError

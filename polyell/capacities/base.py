@@ -17,12 +17,13 @@ and :mod:`~polyell.capacities.force` implement it.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from functools import cached_property, lru_cache
+from functools import lru_cache
 from typing import Any, ClassVar, NamedTuple, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from polyell.cached import cached_property
 from polyell.errors import InputError
 from polyell.geometry.convex_set import ConvexSet
 from polyell.geometry.ellipsoid import Ellipsoid

@@ -43,13 +43,14 @@ cddlib (:class:`~polyell.HPolytope`) decides where the batch cannot certify the 
 from __future__ import annotations
 
 import math
-from functools import cached_property, lru_cache
+from functools import lru_cache
 from typing import ClassVar, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import lapack
 
+from polyell.cached import cached_property
 from polyell.capacities.acceleration import check_dynamics
 from polyell.capacities.base import (
     Analysis,

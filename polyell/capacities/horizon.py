@@ -36,7 +36,6 @@ from __future__ import annotations
 import inspect
 import math
 from dataclasses import dataclass, replace
-from functools import cached_property
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -44,6 +43,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linprog
 from scipy.spatial import ConvexHull, QhullError
 
+from polyell.cached import cached_property
 from polyell.capacities.acceleration import AccelerationAnalysis
 from polyell.capacities.base import centre_and_half_range
 from polyell.errors import InputError, SolverError

@@ -11,12 +11,12 @@ M` (eq. 38).  Its inverse is the minimum-norm one, :math:`u = M^+ (x - x_c)`.
 from __future__ import annotations
 
 import warnings
-from functools import cached_property
 from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
+from polyell.cached import cached_property
 from polyell.capacities.base import Analysis, label_rows
 from polyell.errors import ProjectedInputWarning, UnreachableAccelerationError
 from polyell.geometry.ellipsoid import Ellipsoid

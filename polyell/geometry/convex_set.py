@@ -5,11 +5,11 @@ from __future__ import annotations
 import warnings
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Sequence
-from functools import cached_property
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from polyell.cached import cached_property
 from polyell.errors import InputError, ProjectedInputWarning
 from polyell.geometry.limits import ATOL_RELATIVE, DirectionalLimits
 from polyell.geometry.subspace import AFFINE_RTOL, AffineSubspace

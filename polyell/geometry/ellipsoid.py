@@ -2,13 +2,12 @@ r"""Ellipsoids in the task space, possibly degenerate (eq. 16-24, 38)."""
 
 from __future__ import annotations
 
-from functools import cached_property
-
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import null_space
 from scipy.special import gammaln
 
+from polyell.cached import cached_property
 from polyell.errors import InputError
 from polyell.geometry.convex_set import ConvexSet
 from polyell.geometry.limits import (

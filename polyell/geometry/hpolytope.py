@@ -15,13 +15,14 @@ from __future__ import annotations
 
 import math
 import warnings
-from functools import cached_property, lru_cache
+from functools import lru_cache
 from typing import NamedTuple
 
 import cdd
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from polyell.cached import cached_property
 from polyell.errors import InputError, ProjectedInputWarning, SolverError
 from polyell.geometry.convex_set import PROJECTION_NOTICE, ConvexSet
 from polyell.geometry.limits import facet_slack, line_interval_in_halfspaces, rounding_floor

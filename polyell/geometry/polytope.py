@@ -2,12 +2,12 @@ r"""The exact task-space acceleration polytope (eq. 15), a zonotope."""
 
 from __future__ import annotations
 
-from functools import cached_property
 from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from polyell.cached import cached_property
 from polyell.errors import InputError
 from polyell.geometry.cddlib import halfspaces_from_vertices
 from polyell.geometry.convex_set import ConvexSet

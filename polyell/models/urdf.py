@@ -25,7 +25,6 @@ import os
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import cached_property
 from pathlib import Path
 from types import ModuleType
 from typing import TYPE_CHECKING, Any
@@ -33,6 +32,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from polyell.cached import cached_property
 from polyell.errors import InputError, JointLimitWarning, MissingDependencyError, install_hint
 from polyell.models.dynamics import Dynamics, MotionLimits
 from polyell.models.joint_limits import JointLimits, check_torque_speed
