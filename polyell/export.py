@@ -154,33 +154,38 @@ def mesh(S: Polytope | HPolytope | Ellipsoid, resolution: int = RESOLUTION) -> M
             "analyze a task of 2 or 3 rows (task='planar' or 'linear'), or read the scores "
             "(comparison.to_markdown())",
         )
-    none = np.zeros((0, 3), dtype=int)
-    rank = S.rank if isinstance(S, Ellipsoid) else S.dim
-    if not isinstance(S, Ellipsoid):
-        vertices = S.vertices
-        if rank == 3:
-            from scipy.spatial import ConvexHull
-
-            faces = _orient(vertices, ConvexHull(vertices).simplices)
-            return Mesh(vertices, faces, np.zeros((0, 2), dtype=int))
-        if rank == 2:  # a polygon: its vertices in order around it
-            basis = S.affine_set.basis if m == 3 else np.eye(2)
-            local = (vertices - vertices.mean(axis=0)) @ basis
-            vertices = vertices[np.argsort(np.arctan2(local[:, 1], local[:, 0]))]
-            return Mesh(_lift(vertices), _fan(len(vertices)), np.zeros((0, 2), dtype=int))
-    else:
+    no_lines = np.zeros((0, 2), dtype=int)
+    if isinstance(S, Ellipsoid):
+        rank = S.rank
         if rank == 3:
             vertices, faces = _ellipsoid_surface(S, resolution)
-            return Mesh(vertices, _orient(vertices, faces), np.zeros((0, 2), dtype=int))
-        if rank == 2:
+        elif rank == 2:
             vertices = S.boundary_curve(8 * resolution)
-            return Mesh(_lift(vertices), _fan(len(vertices)), np.zeros((0, 2), dtype=int))
-        if rank == 1:
+        elif rank == 1:
             vertices = S.boundary_curve(2)
         else:
             vertices = S.center[None, :]
-    lines = np.array([[0, 1]]) if len(vertices) == 2 else np.zeros((0, 2), dtype=int)
-    return Mesh(_lift(np.asarray(vertices)), none, lines)
+    else:
+        rank, vertices = S.dim, S.vertices
+        if rank == 3:
+            from scipy.spatial import ConvexHull
+
+            faces = ConvexHull(vertices).simplices
+        elif rank == 2:  # a polygon: its vertices in order around it
+            vertices = vertices[_around(S)]
+    if rank == 3:
+        return Mesh(vertices, _orient(vertices, faces), no_lines)
+    if rank == 2:
+        return Mesh(_lift(vertices), _fan(len(vertices)), no_lines)
+    lines = np.array([[0, 1]]) if len(vertices) == 2 else no_lines
+    return Mesh(_lift(np.asarray(vertices)), np.zeros((0, 3), dtype=int), lines)
+
+
+def _around(P: Polytope | HPolytope) -> NDArray[np.int_]:
+    """The order of a flat (2-D) polytope's vertices around it."""
+    basis = P.affine_set.basis if P.ambient_dim == 3 else np.eye(2)
+    local = (P.vertices - P.vertices.mean(axis=0)) @ basis
+    return np.argsort(np.arctan2(local[:, 1], local[:, 0]))
 
 
 def polytope_edges(P: Polytope | HPolytope) -> NDArray[np.int_]:
@@ -227,9 +232,7 @@ def polytope_edges(P: Polytope | HPolytope) -> NDArray[np.int_]:
                     pairs.add((i, j))
         return np.array(sorted(pairs), dtype=int).reshape(-1, 2)
     if P.dim == 2:
-        basis = P.affine_set.basis if P.ambient_dim == 3 else np.eye(2)
-        local = (P.vertices - P.vertices.mean(axis=0)) @ basis
-        order = np.argsort(np.arctan2(local[:, 1], local[:, 0]))
+        order = _around(P)
         sides = np.column_stack([order, np.roll(order, -1)])
         return np.sort(sides, axis=1)
     if P.dim == 1 and count == 2:
@@ -448,21 +451,14 @@ def export_comparison(
     task, unit, capacity = analysis.task, analysis.unit(), analysis.capacity
     if target.suffix == ".obj":
         return [write_obj(target, meshes, unit=unit, task=task, capacity=capacity)]
-    if target.suffix == ".ply":
-        return [
-            write_ply(
-                target.with_name(f"{target.stem}_{name}.ply"),
-                item,
-                name=name,
-                unit=unit,
-                task=task,
-                capacity=capacity,
-            )
-            for name, item in meshes.items()
-        ]
-    raise InputError(
-        "path",
-        "a file name ending in .obj or .ply",
-        repr(str(path)),
-        "pass a path ending in .obj (one file) or .ply (a file per set), e.g. 'sets.obj'",
-    )
+    return [
+        write_ply(
+            target.with_name(f"{target.stem}_{name}.ply"),
+            item,
+            name=name,
+            unit=unit,
+            task=task,
+            capacity=capacity,
+        )
+        for name, item in meshes.items()
+    ]

@@ -14,17 +14,15 @@ from polyell.capacities import Analysis, capacity_class
 from polyell.comparison.candidates import BUILT_IN_KINDS, Candidate, check_candidates
 from polyell.comparison.directions import DirectionSpec, direction_vectors
 from polyell.comparison.layout import TableLayout
-from polyell.comparison.metrics import check_same_affine_set
 from polyell.comparison.set_comparison import (
     ScoredSet,
     SetComparison,
     SetScores,
     check_bare_set,
     check_given_ellipsoids,
-    score_records,
 )
 from polyell.comparison.tables import format_comparison_table
-from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
+from polyell.errors import InputError
 from polyell.geometry.directions import directions_in
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope
@@ -146,6 +144,8 @@ class Comparison(ScoredSet):
         ellipsoids' names.
     """
 
+    _record = Scores
+
     def __init__(
         self,
         analysis: Analysis,
@@ -165,7 +165,7 @@ class Comparison(ScoredSet):
         self._keep(directions, samples, seed, {"mvie": mvie, "outer": outer}, candidates,
                    ellipsoids)  # fmt: skip
         self.kinds = (*compared_kinds(analysis.capacity), *self._candidates, *self._given)
-        self.records: dict[str, Scores] = self._score()
+        self.records = cast(dict[str, Scores], self._score())
 
     def __getitem__(self, kind: str) -> Scores:
         return cast(Scores, super().__getitem__(kind))
@@ -183,22 +183,17 @@ class Comparison(ScoredSet):
             return self._candidates[kind].ellipsoid(self.analysis)
         return self.analysis.ellipsoid(kind)
 
-    def _undefined(self, kind: str) -> Ellipsoid | str:
+    def _found(self, kind: str) -> Ellipsoid | str:
         """The ellipsoid scored under ``kind``, or why it has no scores here."""
-        if not self._computed.get(kind, True):
-            return f"not computed ({kind}=False)"
-        P = self.analysis.polytope
-        if getattr(P, "is_empty", False):
+        if self._computed.get(kind, True) and getattr(self.polytope, "is_empty", False):
             why = getattr(self.analysis, "empty_reason", None) or (
                 "the arm cannot hold itself against gravity within its limits here"
             )
             return f"the exact {self.analysis.capacity} set is empty: {why}."
-        try:
-            E = self.ellipsoid(kind)
-        except (UndefinedEllipsoidError, SolverError) as exn:
-            # A score that cannot be computed here is reported, never raised: a sweep's
-            # other configurations must not depend on it.
-            return str(exn)
+        return super()._found(kind)
+
+    def _unscorable(self, E: Ellipsoid) -> str:
+        P = self.analysis.polytope
         if E.rank > P.dim and isinstance(P, HPolytope):  # a zonotope has its ellipsoids' rank
             cause = (  # a horizon's joint intervals pin joints; else the torques' own edge
                 "joints pinned by their limits over the horizon"
@@ -209,35 +204,14 @@ class Comparison(ScoredSet):
                 f"the exact {self.analysis.capacity} set is {P.dim}-dimensional here "
                 f"({cause}), the ellipsoid {E.rank}-dimensional: no section of it to score."
             )
-        check_same_affine_set(E, P)
-        return E
+        return ""
 
-    def _score(self) -> dict[str, Scores]:
-        """Every kind's scores: the array scorer's batch of one."""
-        found = {kind: self._undefined(kind) for kind in self.kinds}
-        ellipsoids = {kind: E for kind, E in found.items() if isinstance(E, Ellipsoid)}
+    def _witnesses(self, ellipsoids: Mapping[str, Ellipsoid]) -> dict[str, tuple[Any, Any]]:
         witnesses = {}
         for kind, E in ellipsoids.items():
             torques = self.analysis.witness_map(kind)
             witnesses[kind] = (torques.matrix, torques(E.center))
-        records = (
-            score_records(
-                self.analysis.polytope,
-                ellipsoids,
-                self.directions,
-                self.polytope_limits,
-                self._samples,
-                self._seed,
-                witnesses,
-            )
-            if ellipsoids
-            else {}
-        )
-        scores = {kind: Scores(kind=kind, **values) for kind, values in records.items()}
-        return {
-            kind: Scores(kind=kind, defined=False, reason=E) if isinstance(E, str) else scores[kind]
-            for kind, E in found.items()
-        }
+        return witnesses
 
     def to_row(self) -> dict[str, float]:
         """One flat record of the polytope's numbers and every ``<kind>_<score>``.
@@ -246,15 +220,7 @@ class Comparison(ScoredSet):
         (about xg) and ``polytope_origin_radius`` (about the origin), then the column naming
         of study results (e.g. ``chiacchio_coverage``).
         """
-        row: dict[str, float] = {
-            "polytope_dim": float(self.analysis.polytope.dim),
-            "polytope_volume": self.analysis.polytope.volume,
-            "polytope_ball_radius": self.analysis.polytope.ball_radius,
-            "polytope_origin_radius": self.analysis.polytope.origin_radius,
-        }
-        for kind, record in self.records.items():
-            row.update({f"{kind}_{name}": float(getattr(record, name)) for name in SCORE_NAMES})
-        return row
+        return self._row(SCORE_NAMES)
 
     def to_frame(self) -> pd.DataFrame:
         """One row per ellipsoid, one column per score (full precision)."""

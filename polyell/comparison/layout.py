@@ -43,7 +43,7 @@ __all__ = [
 #: ellipsoid definitions, the maximum-volume inscribed and the minimum-volume enclosing one.
 LAYOUT_SETS = ("polytope", *BUILT_IN_KINDS, "static")  # "static": a force ellipsoid
 #: The quantities of the directional-limits table (its columns), beside the score names of
-#: the comparison table.
+#: the comparison table: the two ends [task unit] and their errors [-], in order.
 LIMIT_QUANTITIES = ("lower", "upper", "lower_error", "upper_error")
 #: One table per posture, or one table for all postures.
 SPLITS = ("posture", "combined")

@@ -11,8 +11,10 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import NDArray
 
 from polyell.comparison.directions import DirectionSpec, resolve_directions
+from polyell.comparison.layout import LIMIT_QUANTITIES
 from polyell.comparison.metrics import relative_error
 from polyell.errors import InputError
 from polyell.validation import check_instance
@@ -32,8 +34,6 @@ __all__ = [
     "table_sets",
 ]
 
-#: The quantities of the table, in order: the two ends [task unit] and their errors [-].
-LIMIT_QUANTITIES = ("lower", "upper", "lower_error", "upper_error")
 #: Columns of :func:`limits_table` (``posture`` first in the multi-posture form).
 LIMIT_COLUMNS = ("direction", "set", "defined", *LIMIT_QUANTITIES, "unit")
 
@@ -88,15 +88,24 @@ def limits_frame(
     from polyell.comparison.comparison import Comparison  # (a circle at import time)
 
     check_instance("comparison", comparison, Comparison, "pass pe.compare(analysis).")
+    found = resolve_directions(directions, comparison.analysis.task, argument)
+    frame = _limit_rows(comparison, found, sets, comparison.analysis.unit())
+    frame.attrs["capacity"] = comparison.analysis.capacity  # for the labels of its tables
+    return frame
+
+
+def _limit_rows(
+    comparison: ScoredSet,
+    found: Sequence[tuple[NDArray[np.float64], str]],
+    sets: Sequence[str] | None,
+    unit: str,
+) -> pd.DataFrame:
+    """The rows of a limits table: each set's interval along the ``found`` directions."""
     import pandas as pd
 
-    task = comparison.analysis.task
-    found = resolve_directions(directions, task, argument)
     kinds = table_sets(comparison, sets, "sets")
     T = np.array([vector for vector, _ in found])
-    labels = [label for _, label in found]
-    polytope = comparison.analysis.polytope.limits(T)
-    unit = comparison.analysis.unit()
+    polytope = comparison.polytope.limits(T)
     columns = {}
     for kind in kinds:
         defined = kind == "polytope" or comparison[kind].defined
@@ -110,13 +119,11 @@ def limits_frame(
         columns[kind] = (defined, lo, hi, *errors)
     rows = [
         (label, kind, defined, lo[k], hi[k], lo_error[k], hi_error[k], unit)
-        for k, label in enumerate(labels)
+        for k, (_, label) in enumerate(found)
         for kind, (defined, lo, hi, lo_error, hi_error) in columns.items()
     ]
     frame = pd.DataFrame(rows, columns=list(LIMIT_COLUMNS))
-    frame = frame.astype({quantity: float for quantity in LIMIT_QUANTITIES})
-    frame.attrs["capacity"] = comparison.analysis.capacity  # for the labels of its tables
-    return frame
+    return frame.astype({quantity: float for quantity in LIMIT_QUANTITIES})
 
 
 def posture_comparisons(

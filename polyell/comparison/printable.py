@@ -179,6 +179,7 @@ def decimal_text(value: float, shift: int = 0) -> str:
     return _g(Decimal(repr(value)).scaleb(shift), 17)
 
 
+#: A number as :func:`rounded_text` writes it: sign, mantissa, fraction, exponent.
 _NUMBER = re.compile(r"(-?)([0-9]+(?:\.([0-9]+))?)(?:e([+-]?[0-9]+))?")
 
 

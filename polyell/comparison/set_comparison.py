@@ -30,7 +30,7 @@ from polyell.comparison.candidates import CANDIDATE_NAME, Candidate
 from polyell.comparison.directional import statistics
 from polyell.comparison.directions import DirectionSpec, resolve_directions
 from polyell.comparison.layout import TableLayout
-from polyell.comparison.metrics import check_same_affine_set, relative_error
+from polyell.comparison.metrics import check_same_affine_set
 from polyell.comparison.scores import ellipsoid_of, set_of, shape_scores
 from polyell.errors import InputError, SolverError, UndefinedEllipsoidError
 from polyell.geometry.ellipsoid import Ellipsoid
@@ -336,6 +336,8 @@ class ScoredSet:
     directions: Array
     records: Mapping[str, SetScores]
     kinds: tuple[str, ...]
+    #: The record of one kind's scores.
+    _record: type[SetScores] = SetScores
 
     def _keep(
         self,
@@ -368,6 +370,69 @@ class ScoredSet:
     def _own_ellipsoid(self, kind: str) -> Ellipsoid:
         """A candidate's ellipsoid, or one the subclass defines (else an InputError)."""
         raise NotImplementedError
+
+    def _found(self, kind: str) -> Ellipsoid | str:
+        """The ellipsoid scored under ``kind``, or why it has no scores here."""
+        if not self._computed.get(kind, True):
+            return f"not computed ({kind}=False)"
+        try:
+            E = self.ellipsoid(kind)
+        except (UndefinedEllipsoidError, SolverError) as exn:
+            # A score that cannot be computed here is reported, never raised: a sweep's
+            # other configurations must not depend on it.
+            return str(exn)
+        why = self._unscorable(E)
+        if why:
+            return why
+        check_same_affine_set(E, self.polytope)
+        return E
+
+    def _unscorable(self, E: Ellipsoid) -> str:
+        """Why ``E`` has no section of the set to score; empty where it has one."""
+        return ""
+
+    def _witnesses(
+        self, ellipsoids: Mapping[str, Ellipsoid]
+    ) -> dict[str, tuple[Array, Array]] | None:
+        """Per kind, the witness map's ``W`` and ``W c + w`` (None: no arm, no witness)."""
+        return None
+
+    def _score(self) -> dict[str, SetScores]:
+        """Every kind's scores: the array scorer's batch of one."""
+        found = {kind: self._found(kind) for kind in self.kinds}
+        ellipsoids = {kind: E for kind, E in found.items() if isinstance(E, Ellipsoid)}
+        records = (
+            score_records(
+                self.polytope,
+                ellipsoids,
+                self.directions,
+                self.polytope_limits,
+                self._samples,
+                self._seed,
+                self._witnesses(ellipsoids),
+            )
+            if ellipsoids
+            else {}
+        )
+        return {
+            kind: self._record(kind=kind, defined=False, reason=E)
+            if isinstance(E, str)
+            else self._record(kind=kind, **records[kind])
+            for kind, E in found.items()
+        }
+
+    def _row(self, names: Sequence[str]) -> dict[str, float]:
+        """The polytope's numbers, then ``<kind>_<score>`` for the scores ``names``."""
+        P = self.polytope
+        row: dict[str, float] = {
+            "polytope_dim": float(P.dim),
+            "polytope_volume": P.volume,
+            "polytope_ball_radius": P.ball_radius,
+            "polytope_origin_radius": P.origin_radius,
+        }
+        for kind, record in self.records.items():
+            row.update({f"{kind}_{name}": float(getattr(record, name)) for name in names})
+        return row
 
     def __getitem__(self, kind: str) -> SetScores:
         if not isinstance(kind, str) or kind not in self.records:
@@ -484,50 +549,12 @@ class SetComparison(ScoredSet):
             f"use one of the kinds listed, e.g. ellipsoid({self.kinds[0]!r})",
         )
 
-    def _found(self, kind: str) -> Ellipsoid | str:
-        """The ellipsoid scored under ``kind``, or why it has no scores here."""
-        if not self._computed.get(kind, True):
-            return f"not computed ({kind}=False)"
-        try:
-            E = self.ellipsoid(kind)
-        except (UndefinedEllipsoidError, SolverError) as exn:
-            return str(exn)  # reported, never raised (as for an analysis)
-        check_same_affine_set(E, self.polytope)
-        return E
-
-    def _score(self) -> dict[str, SetScores]:
-        found = {kind: self._found(kind) for kind in self.kinds}
-        ellipsoids = {kind: E for kind, E in found.items() if isinstance(E, Ellipsoid)}
-        records = score_records(
-            self.polytope,
-            ellipsoids,
-            self.directions,
-            self.polytope_limits,
-            self._samples,
-            self._seed,
-        )
-        return {
-            kind: SetScores(kind=kind, defined=False, reason=E)
-            if isinstance(E, str)
-            else SetScores(kind=kind, **records[kind])
-            for kind, E in found.items()
-        }
-
     def to_row(self) -> dict[str, float]:
         """One flat record: ``polytope_dim``, ``polytope_volume``, the radii, ``<kind>_<score>``.
 
         As ``Comparison.to_row`` without the witness columns.
         """
-        P = self.polytope
-        row: dict[str, float] = {
-            "polytope_dim": float(P.dim),
-            "polytope_volume": P.volume,
-            "polytope_ball_radius": P.ball_radius,
-            "polytope_origin_radius": P.origin_radius,
-        }
-        for kind, record in self.records.items():
-            row.update({f"{kind}_{name}": float(getattr(record, name)) for name in SET_SCORE_NAMES})
-        return row
+        return self._row(SET_SCORE_NAMES)
 
     def to_frame(self) -> pd.DataFrame:
         """One row per ellipsoid, one column per score (full precision, no witness column)."""
@@ -577,28 +604,8 @@ class SetComparison(ScoredSet):
         z`` up to three rows, the rows of a frame for six); the ``unit`` column holds
         :attr:`unit`.
         """
-        import pandas as pd
-
-        from polyell.comparison.limits import LIMIT_COLUMNS, LIMIT_QUANTITIES, table_sets
+        from polyell.comparison.limits import _limit_rows
 
         P = self.polytope
         found = resolve_directions(directions, P.task or default_task(P.ambient_dim))
-        kinds = table_sets(self, sets, "sets")
-        T = np.array([vector for vector, _ in found])
-        polytope = P.limits(T)
-        rows = []
-        for kind in kinds:
-            defined = kind == "polytope" or self[kind].defined
-            if not defined:
-                lo = hi = np.full(len(T), np.nan)
-            else:
-                lo, hi = polytope if kind == "polytope" else self.ellipsoid(kind).limits(T)
-            lo_error, hi_error = relative_error(lo, polytope.lo), relative_error(hi, polytope.hi)
-            rows.append((kind, defined, lo, hi, lo_error, hi_error))
-        table = [
-            (label, kind, defined, lo[k], hi[k], lo_error[k], hi_error[k], self.unit)
-            for k, (_, label) in enumerate(found)
-            for kind, defined, lo, hi, lo_error, hi_error in rows
-        ]
-        frame = pd.DataFrame(table, columns=list(LIMIT_COLUMNS))
-        return frame.astype({quantity: float for quantity in LIMIT_QUANTITIES})
+        return _limit_rows(self, found, sets, self.unit)

@@ -19,7 +19,7 @@ from polyell.comparison.printable import (
     quantity_label,
     text_label,
 )
-from polyell.comparison.tables import Style, render_tables
+from polyell.comparison.tables import Style, _caption, render_tables
 from polyell.errors import InputError
 from polyell.validation import check_frame, check_instance
 
@@ -313,6 +313,5 @@ def format_summary_table(
         grouped=True,
         mixed=True,  # a row per score
     )
-    own = layout.caption("summary") if caption is None else None
-    caption = caption if own is None else (own.plain, own.latex)
+    caption = _caption(caption, layout, "summary")
     return render_tables([table], style, layout.digits, caption, label, layout=layout)

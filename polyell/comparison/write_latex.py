@@ -32,7 +32,7 @@ from dataclasses import replace
 
 from polyell.comparison.labels import LabelText, check_markup
 from polyell.comparison.latex_text import check_latex_label, check_text, escape_latex
-from polyell.comparison.printable import Cell, Label, PrintTable, estimate_parts
+from polyell.comparison.printable import _NUMBER, Cell, Label, PrintTable, estimate_parts
 from polyell.errors import InputError, TableWidthWarning
 
 __all__ = [
@@ -55,11 +55,6 @@ def _stacked(label: Label, align: str) -> str:
     # "\\{}": a line starting with "[" (a unit) is text, not the optional argument of \\
     inner = r"\\{}".join(label.lines)
     return rf"\begin{{tabular}}[b]{{@{{}}{align}@{{}}}}{inner}\end{{tabular}}"
-
-
-#: A number as :func:`~polyell.comparison.printable.rounded_text` writes it: sign,
-#: mantissa, exponent.
-_NUMBER = re.compile(r"(-?)([0-9]+(?:\.([0-9]+))?)(?:e([+-]?[0-9]+))?")
 
 
 def latex_number(text: str, siunitx: bool = False) -> str:
