@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from numpy.typing import NDArray
 from scipy.spatial import ConvexHull
@@ -217,9 +218,46 @@ def _check_labels(labels: object) -> Labels:
     return labels  # type: ignore[return-value]
 
 
-def _centre_label(analysis: Analysis) -> str:
-    """The legend of the centre marker: the paper's symbol for accelerations."""
-    return analysis.centre_label_tex
+def _check_analysis(
+    analysis: Analysis, m: int, fix: str, labels: object, **texts: object
+) -> Labels:
+    """Refuse what is not an analysis of an m-D task space (``fix``), check texts and labels."""
+    check_instance("analysis", analysis, Analysis, _FIX_ANALYSIS)
+    if analysis.m != m:
+        raise InputError("analysis", f"a {m}-D task space", f"m = {analysis.m}", fix)
+    _check_texts(**texts)
+    return _check_labels(labels)
+
+
+def _check_results(
+    results: object, capacity: object, labels: object, **texts: object
+) -> tuple[str, Labels]:
+    """Refuse what is not a results frame, check texts; the checked capacity and labels."""
+    check_instance("results", results, pd.DataFrame, _FIX_RESULTS)
+    capacity = check_capacity(capacity)
+    _check_texts(**texts)
+    return capacity, _check_labels(labels)
+
+
+def _mark_centre(ax: Axes, analysis: Analysis) -> list[Line2D]:
+    """Mark the centre (its legend the paper's symbol for accelerations) and the origin."""
+    (centre,) = ax.plot(
+        *analysis.center,
+        marker="+",
+        color="black",
+        markersize=9,
+        linestyle="none",
+        label=analysis.centre_label_tex,
+    )
+    (origin,) = ax.plot(
+        *np.zeros(analysis.m),
+        marker="o",
+        color="black",
+        markerfacecolor="white",
+        linestyle="none",
+        label="origin",
+    )
+    return [centre, origin]
 
 
 def _ellipsoids(
@@ -310,24 +348,13 @@ def plot_sets(
     -------
     Figure
     """
-    check_instance(
-        "analysis",
-        analysis,
-        Analysis,
-        "pass an analysis (pe.analyze(...)); of a comparison, its .analysis.",
-    )
-    if analysis.m != 2:
-        raise InputError("analysis", "a 2-D task space", f"m = {analysis.m}", "use plot_sets_3d.")
-    _check_texts(unit=unit, title=title)
-    labels = _check_labels(labels)
+    labels = _check_analysis(analysis, 2, "use plot_sets_3d.", labels, unit=unit, title=title)
     drawn = _ellipsoids(analysis, kinds, mvie, extra)  # checked before drawing on ax
     if ax is None:
         ax = Figure(figsize=(4.8, 5.2), layout="constrained").add_subplot()
     check_instance("ax", ax, Axes, "pass a matplotlib Axes (figure.add_subplot()), or no ax.")
     P = analysis.polytope
     vertices = P.vertices if P.dim < 2 else np.vstack([P.vertices, P.vertices[:1]])
-    # Segments (a singular configuration) lie on one line: the polytope is drawn wide and
-    # light underneath, and every set marks its end points so that each stays readable.
     # Segments (a singular configuration) share one line: layered solid strokes of
     # decreasing width, each with its own end marks, so every set stays readable and the
     # legend shows each stroke as drawn.
@@ -345,23 +372,7 @@ def plot_sets(
             ends |= {"linewidth": widths.get(kind, 1.3), "solid_capstyle": "butt"}
         style = _style(kind, list(drawn), analysis.capacity, labels)
         ax.plot(*E.boundary_curve(720, closed=True).T, **(style | ends))  # type: ignore[arg-type]
-    ax.plot(
-        *analysis.center,
-        marker="+",
-        color="black",
-        markersize=9,
-        linestyle="none",
-        label=_centre_label(analysis),
-    )
-    ax.plot(
-        0.0,
-        0.0,
-        marker="o",
-        color="black",
-        markerfacecolor="white",
-        linestyle="none",
-        label="origin",
-    )
+    _mark_centre(ax, analysis)
     ax.set_aspect("equal", adjustable="datalim")
     _label_axes(ax, analysis, unit)
     ax.grid(True, color="0.9", linewidth=0.6)
@@ -450,21 +461,12 @@ def plot_sets_3d(
 
     Arguments as for :func:`plot_sets`; the view is ``(elevation, azimuth)`` in degrees.
     """
-    check_instance(
-        "analysis",
-        analysis,
-        Analysis,
-        "pass an analysis (pe.analyze(...)); of a comparison, its .analysis.",
-    )
     from matplotlib.patches import Patch
     from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
     from polyell.export import polytope_edges
 
-    if analysis.m != 3:
-        raise InputError("analysis", "a 3-D task space", f"m = {analysis.m}", "use plot_sets.")
-    _check_texts(unit=unit, title=title)
-    labels = _check_labels(labels)
+    labels = _check_analysis(analysis, 3, "use plot_sets.", labels, unit=unit, title=title)
     view = _check_view(view)
     figure = Figure(figsize=(5.5, 5.0), layout="constrained")
     ax = figure.add_subplot(projection="3d", proj_type="ortho")
@@ -502,18 +504,7 @@ def plot_sets_3d(
         for section in sections:
             ax.plot(*section.T, linewidth=0.6, alpha=0.55, **line_style)
         handles.append(line)
-    (centre,) = ax.plot(
-        *analysis.center,
-        "+",
-        color="black",
-        markersize=9,
-        linestyle="none",
-        label=_centre_label(analysis),
-    )
-    (origin,) = ax.plot(
-        0.0, 0.0, 0.0, "o", color="black", markerfacecolor="white", linestyle="none", label="origin"
-    )
-    handles += [centre, origin]
+    handles += _mark_centre(ax, analysis)
     reach = [np.linalg.norm(E.axes * E.semi_axes, axis=1) for E in drawn.values()]
     boxes = [
         np.vstack([E.center - r, E.center + r]) for E, r in zip(drawn.values(), reach, strict=True)
@@ -560,21 +551,8 @@ def plot_directional_limits(
     Only directions with a positive upper limit are drawn (the radius of a polar plot
     cannot be negative); the others are gaps.  Arguments as for :func:`plot_sets`.
     """
-    check_instance(
-        "analysis",
-        analysis,
-        Analysis,
-        "pass an analysis (pe.analyze(...)); of a comparison, its .analysis.",
-    )
-    if analysis.m != 2:
-        raise InputError(
-            "analysis",
-            "a 2-D task space",
-            f"m = {analysis.m}",
-            "analyze a task of 2 rows (task='planar'), or draw a 3-D task's sets with plot_sets_3d",
-        )
-    _check_texts(unit=unit, title=title)
-    labels = _check_labels(labels)
+    fix = "analyze a task of 2 rows (task='planar'), or draw a 3-D task's sets with plot_sets_3d"
+    labels = _check_analysis(analysis, 2, fix, labels, unit=unit, title=title)
     T = sphere_directions(directions, 2)
     angles = np.arctan2(T[:, 1], T[:, 0])
     order = np.argsort(angles)
@@ -751,15 +729,7 @@ def plot_score_histogram(
     labels : str or mapping, optional
         Names of the sets and of the score, as a table layout's ``labels``.
     """
-    check_instance(
-        "results",
-        results,
-        pd.DataFrame,
-        "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
-    )
-    capacity = check_capacity(capacity)
-    _check_texts(title=title)
-    labels = _check_labels(labels)
+    capacity, labels = _check_results(results, capacity, labels, title=title)
     bins = check_integer("bins", bins, 1, MAX_BINS)
     columns = _score_columns(results, score, kinds)
     present = list(columns)
@@ -828,15 +798,7 @@ def plot_score_series(
     labels : str or mapping, optional
         Names of the sets and of the score, as a table layout's ``labels``.
     """
-    check_instance(
-        "results",
-        results,
-        pd.DataFrame,
-        "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
-    )
-    capacity = check_capacity(capacity)
-    _check_texts(title=title)
-    labels = _check_labels(labels)
+    capacity, labels = _check_results(results, capacity, labels, title=title)
     columns = _score_columns(results, score, kinds)
     present = list(columns)
     x = _abscissa(results)
@@ -881,15 +843,7 @@ def plot_tangent_limits(
         study with velocities, or :func:`polyell.studies.trajectory.tangent_limits`), or
         only one column of a pair, or neither ``t`` nor ``configuration``.
     """
-    check_instance(
-        "results",
-        results,
-        pd.DataFrame,
-        "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
-    )
-    capacity = check_capacity(capacity)
-    _check_texts(unit=unit)
-    labels = _check_labels(labels)
+    capacity, labels = _check_results(results, capacity, labels, unit=unit)
     drawn = _tangent_sets(results, capacity)
     x = _abscissa(results)
     figure = Figure(figsize=(6.0, 3.4), layout="constrained")

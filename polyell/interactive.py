@@ -30,7 +30,7 @@ from polyell.comparison.tables import score_display
 from polyell.errors import InputError
 from polyell.export import mesh, polytope_edges
 from polyell.storage import as_path, write_text_atomically
-from polyell.validation import _describe, check_instance, check_integer
+from polyell.validation import _describe, check_frame, check_instance, check_integer
 
 if TYPE_CHECKING:  # plotly and pandas are imported where they are used (start-up time)
     import pandas as pd
@@ -74,8 +74,6 @@ POLYTOPE_EDGE_COLOR = "#222222"
 #: largest value (and its first NaN, so that gaps stay visible): a series of any length is
 #: drawn with at most ``3 * traces`` points per bucket.
 DECIMATION_BUCKETS = 1000
-#: Series up to this many samples are drawn whole.
-DECIMATION_THRESHOLD = 2 * DECIMATION_BUCKETS
 #: Scores shown when hovering over an ellipsoid.
 _HOVER_SCORES = ("inscribed_scale", "enclosing_scale", "coverage", "mvie_ratio", "outer_ratio")
 
@@ -150,6 +148,22 @@ def _plotly() -> Any:
     import plotly.graph_objects as go
 
     return go
+
+
+def _results_figure(
+    results: object, title: object, capacity: str, labels: object
+) -> tuple[str, Labels, str | None, Any]:
+    """The checked capacity, labels and title of a figure of ``results``, and plotly."""
+    check_frame("results", results, _FIX_RESULTS)
+    return check_capacity(capacity), _labels(labels), _plot_title(title), _plotly()
+
+
+def _xyz(
+    points: NDArray[np.float64], faces: NDArray[np.int64] | None = None
+) -> dict[str, NDArray[Any]]:
+    """A trace's coordinates: the columns of ``points`` (k, 2 or 3), the faces' vertices."""
+    columns = dict(zip("xyz", points.T, strict=False))
+    return columns if faces is None else columns | dict(zip("ijk", faces.T, strict=True))
 
 
 def _color(kind: str, kinds: Sequence[str]) -> str:
@@ -245,8 +259,7 @@ def interactive_sets(
         outline = P.vertices if P.dim < 2 else np.vstack([P.vertices, P.vertices[:1]])
         figure.add_trace(
             go.Scatter(
-                x=outline[:, 0],
-                y=outline[:, 1],
+                **_xyz(outline),
                 mode="lines+markers",
                 name=polytope_name,
                 line={"color": COLORS["polytope"], "dash": "dash", "width": 3},
@@ -259,12 +272,7 @@ def interactive_sets(
         if len(faces):
             figure.add_trace(
                 go.Mesh3d(
-                    x=vertices[:, 0],
-                    y=vertices[:, 1],
-                    z=vertices[:, 2],
-                    i=faces[:, 0],
-                    j=faces[:, 1],
-                    k=faces[:, 2],
+                    **_xyz(vertices, faces),
                     color=COLORS["polytope"],
                     opacity=POLYTOPE_OPACITY,
                     flatshading=True,
@@ -281,9 +289,7 @@ def interactive_sets(
         path = np.concatenate([ends, gaps], axis=1).reshape(-1, 3)
         figure.add_trace(
             go.Scatter3d(
-                x=path[:, 0],
-                y=path[:, 1],
-                z=path[:, 2],
+                **_xyz(path),
                 mode="lines",
                 line={"color": POLYTOPE_EDGE_COLOR, "width": 4},
                 name=polytope_name,
@@ -294,9 +300,7 @@ def interactive_sets(
         )
         figure.add_trace(
             go.Scatter3d(
-                x=P.vertices[:, 0],
-                y=P.vertices[:, 1],
-                z=P.vertices[:, 2],
+                **_xyz(P.vertices),
                 mode="markers",
                 marker={"size": 3, "color": POLYTOPE_EDGE_COLOR},
                 name=f"{polytope} vertices",
@@ -314,22 +318,14 @@ def interactive_sets(
             # a point (rank 0: a set pinned to one point) as a marker, else its outline
             curve = E.boundary_curve(240, closed=True) if E.rank else E.center[None]
             mode = "lines" if E.rank else "markers"
-            if m == 2:
-                trace = go.Scatter(x=curve[:, 0], y=curve[:, 1], mode=mode)
-            else:
-                trace = go.Scatter3d(x=curve[:, 0], y=curve[:, 1], z=curve[:, 2], mode=mode)
+            trace = (go.Scatter if m == 2 else go.Scatter3d)(**_xyz(curve), mode=mode)
             trace.update(name=name, line={"color": color, "width": 3}, text=text, hoverinfo="text")
             figure.add_trace(trace)
             continue
         vertices, faces, _ = mesh(E)
         figure.add_trace(
             go.Mesh3d(
-                x=vertices[:, 0],
-                y=vertices[:, 1],
-                z=vertices[:, 2],
-                i=faces[:, 0],
-                j=faces[:, 1],
-                k=faces[:, 2],
+                **_xyz(vertices, faces),
                 color=color,
                 opacity=ELLIPSOID_OPACITY,
                 name=name,
@@ -339,32 +335,19 @@ def interactive_sets(
                 hoverinfo="text",
             )
         )
-    centre = analysis.center
-    centre_name = analysis.centre_label
-    marker = {"symbol": "cross", "color": "black", "size": 6}
-    if m == 2:
-        figure.add_trace(
-            go.Scatter(
-                x=[centre[0]],
-                y=[centre[1]],
-                mode="markers",
-                marker=marker,
-                name=centre_name,
-            )
+    centre = {axis: [value] for axis, value in zip("xyz", analysis.center, strict=False)}
+    figure.add_trace(
+        (go.Scatter if m == 2 else go.Scatter3d)(
+            **centre,
+            mode="markers",
+            marker={"symbol": "cross", "color": "black", "size": 6},
+            name=analysis.centre_label,
         )
+    )
+    if m == 2:
         figure.update_yaxes(scaleanchor="x", scaleratio=1)
         figure.update_layout(xaxis_title=f"{rows[0]} [{unit}]", yaxis_title=f"{rows[1]} [{unit}]")
     else:
-        figure.add_trace(
-            go.Scatter3d(
-                x=[centre[0]],
-                y=[centre[1]],
-                z=[centre[2]],
-                mode="markers",
-                marker=marker,
-                name=centre_name,
-            )
-        )
         figure.update_layout(
             scene={
                 "aspectmode": "data",
@@ -422,16 +405,7 @@ def interactive_map(
     """
     import pandas as pd
 
-    check_instance(
-        "results",
-        results,
-        pd.DataFrame,
-        "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
-    )
-    capacity = check_capacity(capacity)
-    labels = _labels(labels)
-    title = _plot_title(title)
-    go = _plotly()
+    capacity, labels, title, go = _results_figure(results, title, capacity, labels)
     if isinstance(columns, str):
         mapped = [columns]
     elif isinstance(columns, Sequence) and columns and all(isinstance(c, str) for c in columns):
@@ -631,18 +605,7 @@ def interactive_histogram(
     :func:`interactive_map`; ``labels`` name the sets (legend) and the score (axis), as
     :func:`interactive_sets` takes them.
     """
-    import pandas as pd
-
-    check_instance(
-        "results",
-        results,
-        pd.DataFrame,
-        "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
-    )
-    capacity = check_capacity(capacity)
-    labels = _labels(labels)
-    title = _plot_title(title)
-    go = _plotly()
+    capacity, labels, title, go = _results_figure(results, title, capacity, labels)
     chosen = _kinds_with(results, score, kinds)
     label, factor = _score(score, capacity, labels)
     values = {}
@@ -782,14 +745,7 @@ def decimate_series(
     frame: pd.DataFrame, traces: Sequence[str], buckets: int = DECIMATION_BUCKETS
 ) -> pd.DataFrame:
     """The rows of ``frame`` a plot of the columns ``traces`` needs (:class:`SeriesDecimator`)."""
-    import pandas as pd
-
-    check_instance(
-        "frame",
-        frame,
-        pd.DataFrame,
-        "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
-    )
+    check_frame("frame", frame, _FIX_RESULTS)
     decimator = SeriesDecimator(len(frame), traces, buckets)
     decimator.add(frame.reset_index(drop=True))
     return decimator.result()
@@ -845,18 +801,7 @@ def interactive_series(
         (:class:`SeriesDecimator`: every bucket's extremes kept), and the figure says so
         under its title: "N samples, shown decimated to K".
     """
-    import pandas as pd
-
-    check_instance(
-        "results",
-        results,
-        pd.DataFrame,
-        "pass the results frame of pe.sweep or of a study (pd.read_csv(results.csv)).",
-    )
-    capacity = check_capacity(capacity)
-    labels = _labels(labels)
-    title = _plot_title(title)
-    go = _plotly()
+    capacity, labels, title, go = _results_figure(results, title, capacity, labels)
     chosen = _kinds_with(results, score, kinds)
     label, factor = _score(score, capacity, labels)
     total = len(results) if total is None else check_integer("total", total, 0, 2**62)

@@ -19,6 +19,7 @@ I, and the MVIE is exactly the new ellipsoid.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Literal
 
 import numpy as np
@@ -85,15 +86,28 @@ def max_volume_inscribed_ellipsoid(
     SolverError
         If the solver does not certify an optimum.
     """
+    return fit_ellipsoid(P, method, "mvie", _mvie)
+
+
+def fit_ellipsoid(
+    P: Polytope | HPolytope,
+    method: str,
+    kind: Literal["mvie", "outer"],
+    centred: Callable[[Polytope, str], Ellipsoid],
+) -> Ellipsoid:
+    """The MVIE or the outer ellipsoid (``kind``) of ``P``, in ``P``'s affine set.
+
+    A zonotope's is ``centred(P, method)``, centred at its centre of symmetry; an
+    :class:`HPolytope` has none: its ellipsoid is the free-centre program's.
+    """
     check_method(method)
     check_instance("P", P, (Polytope, HPolytope), "pass a set, such as analysis.polytope.")
     if isinstance(P, HPolytope):  # no centre of symmetry: the free-centre programs
-        from polyell.geometry.free_center import free_center_mvie
+        from polyell.geometry.free_center import free_center_mvee, free_center_mvie
 
-        E = free_center_mvie(P)
-        E.affine_rtol, E.task = P.affine_rtol, P.task
-        return E
-    E = _mvie(P, method)
+        E = free_center_mvie(P) if kind == "mvie" else free_center_mvee(P)
+    else:
+        E = centred(P, method)
     E.affine_rtol, E.task = P.affine_rtol, P.task
     return E
 

@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 
 from polyell.geometry.ellipsoid import Ellipsoid
 from polyell.geometry.hpolytope import HPolytope
-from polyell.geometry.mvie import check_method, ellipsoid_from_shape, log_det_shape
+from polyell.geometry.mvie import ellipsoid_from_shape, fit_ellipsoid, log_det_shape
 from polyell.geometry.polytope import Polytope
 from polyell.validation import check_instance
 
@@ -55,27 +55,20 @@ def min_volume_enclosing_ellipsoid(
     SolverError
         If the solver does not certify an optimum.
     """
-    check_method(method)
-    check_instance("P", P, (Polytope, HPolytope), "pass a set, such as analysis.polytope.")
-    if isinstance(P, HPolytope):  # no centre of symmetry: the free-centre programs
-        from polyell.geometry.free_center import free_center_mvee
+    return fit_ellipsoid(P, method, "outer", _outer)
 
-        E = free_center_mvee(P)
-        E.affine_rtol, E.task = P.affine_rtol, P.task
-        return E
+
+def _outer(P: Polytope, method: str) -> Ellipsoid:
     svd, r = P.svd, P.dim
     if r == 0:
-        E = Ellipsoid(P.center, np.zeros((P.ambient_dim, 0)), np.zeros(0), kind="outer")
-    elif r == 1:  # a segment: the whole of it, as the MVIE
+        return Ellipsoid(P.center, np.zeros((P.ambient_dim, 0)), np.zeros(0), kind="outer")
+    if r == 1:  # a segment: the whole of it, as the MVIE
         semi = svd.sigma * np.abs(svd.V1.T).sum()
-        E = Ellipsoid(P.center, svd.U1, semi, kind="outer")
-    elif P.generators.shape[1] == r:  # a rotated cube: the ball of radius sqrt(r)
-        E = Ellipsoid(P.center, svd.U1, np.sqrt(r) * svd.sigma, kind="outer")
-    else:
-        X = log_det_shape(whitened_vertices(P), method, "the minimum-volume enclosing ellipsoid")
-        E = ellipsoid_from_shape(P, X, -0.5, "outer")
-    E.affine_rtol, E.task = P.affine_rtol, P.task
-    return E
+        return Ellipsoid(P.center, svd.U1, semi, kind="outer")
+    if P.generators.shape[1] == r:  # a rotated cube: the ball of radius sqrt(r)
+        return Ellipsoid(P.center, svd.U1, np.sqrt(r) * svd.sigma, kind="outer")
+    X = log_det_shape(whitened_vertices(P), method, "the minimum-volume enclosing ellipsoid")
+    return ellipsoid_from_shape(P, X, -0.5, "outer")
 
 
 def whitened_vertices(P: Polytope) -> NDArray[np.float64]:

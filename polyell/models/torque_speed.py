@@ -48,14 +48,26 @@ def _positive_sizes(name: str, values: NDArray[np.float64], limit: float, unit: 
             f"{name}[{where}] = {values[index]:g}",
             "a drive's stall torque and no-load speed are positive; give magnitudes.",
         )
-    if values.size and np.max(values) > limit:
-        index = np.unravel_index(int(np.argmax(values)), values.shape)
+    _refuse_oversized(name, values, values, limit, unit, "values")
+
+
+def _refuse_oversized(
+    name: str,
+    values: NDArray[np.float64],
+    sizes: NDArray[np.float64],
+    limit: float,
+    unit: str,
+    what: str,
+) -> None:
+    """Refuse ``values`` whose largest size (the entries of ``sizes``) is beyond ``limit``."""
+    if values.size and np.max(sizes) > limit:
+        index = np.unravel_index(int(np.argmax(sizes)), values.shape)
         where = ", ".join(str(int(i)) for i in index)
         raise InputError(
             name,
-            f"values of size at most {limit:g} {unit}",
+            f"{what} of size at most {limit:g} {unit}",
             f"{name}[{where}] = {values[index]:.3g}",
-            "give the drive's real values (in SI units).",
+            f"give the drive's real {what} (in SI units).",
         )
 
 
@@ -260,14 +272,7 @@ class TorqueSpeed:
             given = grid = check_array(
                 "speeds", speeds, (n, k), what="speeds [rad/s], one row per joint"
             )
-        if np.max(np.abs(grid)) > MAX_SPEED:
-            i, j = (int(v) for v in np.unravel_index(int(np.argmax(np.abs(grid))), grid.shape))
-            raise InputError(
-                "speeds",
-                f"speeds of size at most {MAX_SPEED:g} rad/s",
-                f"speeds[{i}, {j}] = {grid[i, j]:.3g}",
-                "give the drive's real speeds (in SI units).",
-            )
+        _refuse_oversized("speeds", grid, np.abs(grid), MAX_SPEED, "rad/s", "speeds")
         start = np.flatnonzero(grid[:, 0] != 0)
         if start.size:
             i = int(start[0])
@@ -286,14 +291,7 @@ class TorqueSpeed:
                 f"{grid[i, j]:g} then {grid[i, j + 1]:g} (joint {i}, entries {j} and {j + 1})",
                 "sort the table by speed and drop repeated speeds.",
             )
-        if np.max(table) > MAX_TORQUE:
-            i, j = (int(v) for v in np.unravel_index(int(np.argmax(table)), table.shape))
-            raise InputError(
-                "torques",
-                f"torques of size at most {MAX_TORQUE:g} N m",
-                f"torques[{i}, {j}] = {table[i, j]:.3g}",
-                "give the drive's real torques (in SI units).",
-            )
+        _refuse_oversized("torques", table, table, MAX_TORQUE, "N m", "torques")
         negative = np.argwhere(table < 0)
         if negative.size:
             i, j = (int(v) for v in negative[0])
