@@ -116,15 +116,23 @@ def escape_latex(text: object, argument: str = "text") -> str:
 _ENTITY = re.compile(r"&(?=#?[A-Za-z0-9]+;)")
 
 
-def escape_markdown(text: object, argument: str = "text") -> str:
-    r"""Plain text as one Markdown table cell: ``|`` and ``\`` escaped, one line.
+#: Characters with a meaning inline in (GitHub) Markdown: a cell's ``|``, the escape itself,
+#: emphasis, strike-through, code and maths, and a ``]`` that would close a link's text
+#: (``[a](b)``, ``[a][b]``; a unit's ``[m/s^2]`` stays as it is).  Each is written with a
+#: backslash, which prints it.
+_MARKDOWN_SPECIAL = re.compile(r"([\\|*_~`$]|\](?=[(\[]))")
 
-    ``<`` and ``>`` are written as entities, and ``&`` where it would start one
-    (``&lt;``): a label such as ``<script>`` shows as text, never as live HTML where the
-    Markdown is rendered.
+
+def escape_markdown(text: object, argument: str = "text") -> str:
+    r"""Plain text as one Markdown table cell or line, printed as it is.
+
+    ``\ | * _ ~ ` $`` and a ``]`` before ``(`` or ``[`` are escaped with a backslash (no
+    cell ends, no emphasis, strike-through, code, maths or link starts); ``<`` and ``>``
+    are written as entities, and ``&`` where it would start one (``&lt;``): a label such
+    as ``<script>`` shows as text, never as live HTML where the Markdown is rendered.
     """
     clean = check_text(argument, text)
-    return markdown_text(clean.replace("\\", "\\\\").replace("|", r"\|"))
+    return markdown_text(_MARKDOWN_SPECIAL.sub(r"\\\1", clean))
 
 
 def markdown_text(text: str) -> str:

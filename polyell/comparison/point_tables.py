@@ -7,7 +7,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from polyell.comparison.latex_text import check_text, escape_latex, markdown_text
+from polyell.comparison.latex_text import check_text, escape_latex, escape_markdown, markdown_text
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.limits import Directions, limits_table, posture_comparisons
 from polyell.comparison.tables import Style, format_comparison_table, format_limits_table
@@ -150,14 +150,14 @@ def write_point_tables(
             label=f"tab:comparison{suffix}",
         )
         if extension == "md":  # (the text without live HTML)
-            head, intro = markdown_text(prefix), markdown_text(about)
+            head, intro = escape_markdown(prefix, "title"), markdown_text(about)
             limits_text = (
                 f"# {head}directional limits\n\n{intro}"
-                f"{markdown_text(limits_caption[0])}\n\n{limits_text}"
+                f"{escape_markdown(limits_caption[0], 'caption')}\n\n{limits_text}"
             )
             comparison_text = (
                 f"# {head}comparison\n\n{intro}"
-                f"{markdown_text(comparison_caption[0])}\n\n{comparison_text}"
+                f"{escape_markdown(comparison_caption[0], 'caption')}\n\n{comparison_text}"
             )
         texts[f"limits{suffix}.{extension}"] = limits_text
         texts[f"comparison{suffix}.{extension}"] = comparison_text

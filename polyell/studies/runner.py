@@ -20,7 +20,12 @@ from numpy.typing import NDArray
 from polyell.capacities import analyze, capacity_class, takes_horizon
 from polyell.capacities.horizon import robot_horizon
 from polyell.comparison.comparison import SCORE_NAMES, Comparison, compare, compared_kinds
-from polyell.comparison.latex_text import escape_latex, latex_direction, markdown_text
+from polyell.comparison.latex_text import (
+    escape_latex,
+    escape_markdown,
+    latex_direction,
+    markdown_text,
+)
 from polyell.comparison.limits import limits_table
 from polyell.comparison.point_tables import write_point_tables
 from polyell.comparison.summary import (
@@ -216,8 +221,9 @@ def _run_points_capacity(
             qd_text = ", ".join(f"{v:.6g}" for v in point.qd)
             motion = [f"qd = ({qd_text}) rad/s; torque limits at qd [N m]: {limits}", ""]
         numbers += [
-            markdown_text(
-                f"## {point.label}{': ' + point.table.title if point.table.title else ''}"
+            "## "
+            + escape_markdown(
+                f"{point.label}{': ' + point.table.title if point.table.title else ''}", "label"
             ),
             "",
             f"q = ({q_text}) rad",
@@ -1383,7 +1389,7 @@ def _write_summary(
     # the layout's own caption (captions["summary"]) replaces them.
     own = layout.caption("summary")
     if own is not None:  # the Markdown shows it under its heading, as a points study's does
-        markdown += f"{markdown_text(own.plain)}\n\n"
+        markdown += f"{escape_markdown(own.plain, 'caption')}\n\n"
     if list(summaries) == [""]:
         summary = summaries[""]
         caption = (
@@ -1407,7 +1413,7 @@ def _write_summary(
                 )
             )
             table = format_summary_table(summary, "markdown", **options)
-            markdown_tables.append(f"## {robot}\n\n{table}")
+            markdown_tables.append(f"## {escape_markdown(robot, 'robot')}\n\n{table}")
         latex = "\n".join(latex_tables)
         markdown += "\n".join(markdown_tables)
         csv = pd.concat(summaries, names=["robot"]).to_csv()
@@ -1743,7 +1749,7 @@ def _sentence(text: str) -> str:
 def _heading(spec: StudySpec, heading: str) -> str:
     """A Markdown file's title, with the study's description below it (if it has one)."""
     description = f"{markdown_text(spec.file.description)}\n\n" if spec.file.description else ""
-    return f"# {markdown_text(heading)}\n\n{description}"
+    return f"# {escape_markdown(heading, 'title')}\n\n{description}"
 
 
 def _about(spec: StudySpec) -> list[tuple[str, Any]]:

@@ -176,7 +176,7 @@ def test_study_file_candidates_appear_in_every_output(tmp_path):
     np.testing.assert_array_equal(spec.candidates[0].weighting, np.diag([1.0, 4.0, 1.0]))
     run_study(spec, tmp_path / "out")
     table = (tmp_path / "out" / "comparison.md").read_text()
-    assert "heavy_elbow" in table and "ball" in table and "outer (min. volume)" in table
+    assert r"heavy\_elbow" in table and "ball" in table and "outer (min. volume)" in table
     assert r"heavy\_elbow" in (tmp_path / "out" / "comparison.tex").read_text()
     expected = pe.compare(
         paper_analysis(Q),

@@ -122,9 +122,29 @@ def test_markdown_rows_keep_their_columns(text):
     for line in lines:  # 3 columns: 4 unescaped pipes on every line
         cells = line.replace("\\\\", "").replace("\\|", "").count("|")
         assert cells == 4, line
-    plain = escape_markdown(text).replace("\\|", "|").replace("\\\\", "\\")
+    plain = re.sub(r"\\(.)", r"\1", escape_markdown(text))
     plain = plain.replace("&lt;", "<").replace("&gt;", ">").replace("&amp;", "&")
     assert plain == normalized(text)
+
+
+@given(st.text(alphabet=st.characters(blacklist_categories=("Cc", "Cs")), max_size=30))
+def test_markdown_text_renders_as_typed(text):
+    """An independent Markdown parser (markdown-it: CommonMark with GitHub's tables and
+    strike-through) reads an escaped label as the plain text typed: no emphasis, code,
+    link, HTML or entity."""
+    from markdown_it import MarkdownIt
+
+    escaped = escape_markdown(f"x {text} x")  # (no leading #, -, 1. or > block markers)
+    parser = MarkdownIt("commonmark").enable(["strikethrough", "table"])
+    tokens = parser.parseInline(escaped)[0].children
+    assert {token.type for token in tokens} <= {"text"}, escaped
+    assert "".join(token.content for token in tokens) == normalized(f"x {text} x")
+
+
+def test_markdown_escapes_emphasis_code_maths_and_links():
+    assert escape_markdown("*a* _b_ ~~s~~ `c` $d$ [e](f) [g][h] [m/s^2] i|j \\") == (
+        "\\*a\\* \\_b\\_ \\~\\~s\\~\\~ \\`c\\` \\$d\\$ [e\\](f) [g\\][h] [m/s^2] i\\|j \\\\"
+    )
 
 
 EVERY_SCORE = pe.TableLayout(scores=list(DEFAULT_SCORES))

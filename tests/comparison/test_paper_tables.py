@@ -134,7 +134,7 @@ def test_the_papers_own_study_keeps_its_equation_numbers(paper):
     layout = pe.TableLayout(labels="chiacchio2000")
     markdown = format_comparison_table(paper, "markdown", layout=layout)
     assert "new (eq. 32/38)" in markdown and "classic (eq. 27)" in markdown
-    assert "witness max abs(tau_n)" in markdown
+    assert r"witness max abs(tau\_n)" in markdown
     tex = format_comparison_table(paper, "latex", layout=layout)
     assert r"witness $\max \|\tilde\tau\|_\infty$" in tex  # the paper's notation, as LaTeX
     limits = format_limits_table(pe.limits_table(paper), "markdown", layout=layout)
@@ -452,7 +452,7 @@ def test_captions_do_not_start_with_the_title_and_are_the_users_when_set(panda, 
     assert r"\caption{Limits, $e$ against $p$.}" in (folder / "limits.tex").read_text()
     comparison = (folder / "comparison.tex").read_text()
     assert r"\caption{Scores at 3 postures \& 50\% more.}" in comparison
-    assert "Limits of the arm, $e$ against $p$." in (folder / "limits.md").read_text()
+    assert r"Limits of the arm, \$e\$ against \$p\$." in (folder / "limits.md").read_text()
     # the writers take a layout's caption where none is given
     html = format_comparison_table(panda, "html", layout=own)
     assert "<caption>Scores at 3 postures &amp; 50% more.</caption>" in html

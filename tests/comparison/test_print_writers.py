@@ -162,15 +162,20 @@ def _unentity(text: str) -> str:
     return text.replace("&lt;", "<").replace("&gt;", ">").replace("&amp;", "&")
 
 
+def _unescape(text: str) -> str:
+    """Markdown's backslash escapes (``\\|``, ``\\*``, ``\\_``, ...) back to their characters."""
+    return re.sub(r"\\(.)", r"\1", text)
+
+
 def markdown_grids(text: str) -> tuple[list[list[list[str]]], list[str]]:
     """Each Markdown table's rows (header first) as unescaped cells, and the bold titles."""
     grids, titles, current = [], [], None
     for line in text.splitlines():
         if line.startswith("**"):
-            titles.append(_unentity(line[2:-2].replace("\\\\", "\\").replace("\\|", "|")))
+            titles.append(_unentity(_unescape(line[2:-2])))
         elif line.startswith("| "):
             cells = re.split(r"(?<!\\)\|", line.replace("\\\\", "\x00"))[1:-1]
-            cells = [_unentity(c.strip().replace("\\|", "|").replace("\x00", "\\")) for c in cells]
+            cells = [_unentity(_unescape(c.strip().replace("\x00", "\\\\"))) for c in cells]
             if current is None:
                 current = [cells]
                 grids.append(current)

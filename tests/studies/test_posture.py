@@ -372,7 +372,7 @@ def test_tables_are_written(tmp_path, paper_choice):
     assert r"Paper arm \textbar{} x\_dd \& 100\%" in latex
     assert "heavy\\_wrist" in latex
     markdown = paths["markdown"].read_text()
-    assert r"Paper arm \| x_dd & 100%" in markdown and "heavy_wrist" in markdown
+    assert r"Paper arm \| x\_dd & 100%" in markdown and r"heavy\_wrist" in markdown
     back = pd.read_csv(paths["csv"], index_col=[0, 1])
     np.testing.assert_allclose(back["regret"], paper_choice.table["regret"], rtol=1e-15)
 
