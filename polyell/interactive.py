@@ -29,6 +29,7 @@ from polyell.comparison.summary import result_kinds, split_column
 from polyell.comparison.tables import score_display
 from polyell.errors import InputError
 from polyell.export import mesh, polytope_edges
+from polyell.geometry.hpolytope import require_drawable
 from polyell.storage import as_path, write_text_atomically
 from polyell.validation import _describe, check_frame, check_instance, check_integer
 
@@ -218,8 +219,8 @@ def interactive_sets(
     Raises
     ------
     InputError
-        For a task space other than 2-D or 3-D, or labels that are not labels (naming
-        ``labels``).
+        For a task space other than 2-D or 3-D, an empty or unbounded set (naming
+        ``comparison``), or labels that are not labels (naming ``labels``).
     """
     check_instance("comparison", comparison, Comparison, "pass pe.compare(analysis).")
     labels = _labels(labels)
@@ -248,6 +249,7 @@ def interactive_sets(
     unit = analysis.unit()
     rows = [_plain_label(row) for row in analysis.task]
     P = analysis.polytope
+    require_drawable(P, "comparison")  # empty or unbounded: nothing to draw, in 2-D as in 3-D
     figure = go.Figure()
     vertex_text = [
         "<br>".join(f"{label} {value:.4g} {unit}" for label, value in zip(rows, v, strict=True))

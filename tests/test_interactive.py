@@ -463,3 +463,18 @@ def test_panda_study_report_fits_the_page(tmp_path):
     assert visit.values["scenes"] == 3
     scroll_width, client_width = visit.values["page"]
     assert scroll_width <= client_width
+
+
+@pytest.mark.parametrize(
+    ("q", "scale", "got"),
+    [([0.3, 0.6, 0.9], 1e-3, "an empty set"), ([0.0, 0.0, 0.0], 1.0, "unbounded")],
+)
+def test_a_set_with_nothing_to_draw_is_refused_in_2d_as_in_3d(q, scale, got):
+    """An empty force set (torques too weak to hold the arm) and an unbounded one (the
+    stretched arm) have no drawing: refused by name, as plot_sets and 3-D sets are (an
+    empty 2-D set drew its ellipsoids alone)."""
+    arm = pe.robots.load("chiacchio2000")
+    analysis = pe.analyze(arm.dynamics(q), scale * np.asarray(arm.tau_max), capacity="force")
+    comparison = pe.compare(analysis, mvie=False, outer=False)
+    with pytest.raises(pe.InputError, match=f"comparison: .*{got}"):
+        interactive_sets(comparison)
