@@ -20,10 +20,11 @@ import math
 import re
 import sys
 import types
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from difflib import get_close_matches
-from typing import Annotated, Any, ClassVar, Literal, Union, get_args, get_origin
+from typing import Annotated, Any, ClassVar, Literal, TypeGuard, Union, get_args, get_origin
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 from pydantic_core import PydanticUndefined, core_schema
@@ -153,6 +154,25 @@ def _numbers(value: object) -> tuple[float, ...]:
     return tuple(evaluate_list("", value))  # type: ignore[arg-type]
 
 
+def _number_rows(value: list[Any]) -> tuple[tuple[float, ...], ...]:
+    """Each item of ``value`` as a row of numbers (errors name the row: ``[1][0]``)."""
+    return tuple(tuple(evaluate_list(f"[{i}]", row)) for i, row in enumerate(value))
+
+
+def _is_strings(value: object) -> TypeGuard[list[str]]:
+    """Whether ``value`` is a list of strings."""
+    return isinstance(value, list) and all(isinstance(v, str) for v in value)
+
+
+@contextmanager
+def _under(prefix: str) -> Iterator[None]:
+    """Prefix the argument of an InputError raised inside with ``prefix`` (``"[0]"``)."""
+    try:
+        yield
+    except InputError as exn:
+        raise InputError(prefix + exn.argument, exn.expected, exn.got, exn.fix) from None
+
+
 def _string(value: object) -> str:
     if not isinstance(value, str):
         raise InputError(
@@ -167,7 +187,7 @@ def _string(value: object) -> str:
 
 
 def _strings(value: object) -> tuple[str, ...]:
-    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+    if not _is_strings(value):
         raise InputError(
             "",
             "a list of strings",
@@ -216,7 +236,7 @@ def _library(value: object) -> str:
 def _task(value: object) -> str | tuple[str, ...]:
     if isinstance(value, str):
         return value
-    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+    if not _is_strings(value):
         raise InputError(
             "",
             'a list of task rows (among x y z wx wy wz), or "linear", "angular" or "planar"',
@@ -254,7 +274,7 @@ def _matrix3(value: object) -> tuple[tuple[float, ...], ...]:
             _describe(value),
             f"write three rows of three numbers, {example}",
         )
-    rows = tuple(tuple(evaluate_list(f"[{i}]", row)) for i, row in enumerate(value))
+    rows = _number_rows(value)
     if any(len(row) != 3 for row in rows):
         raise InputError(
             "",
@@ -275,7 +295,7 @@ def _matrix(value: object) -> tuple[tuple[float, ...], ...]:
             "e.g. [1, 1, 4] for a diagonal matrix, or rows such as [[1e-3, 0], [0, 2e-3]].",
         )
     if value and all(isinstance(row, list) for row in value):
-        rows = tuple(tuple(evaluate_list(f"[{i}]", row)) for i, row in enumerate(value))
+        rows = _number_rows(value)
         if any(len(row) != len(rows) for row in rows):
             lengths = [len(row) for row in rows]
             raise InputError(
@@ -301,7 +321,7 @@ def _rows(value: object) -> tuple[tuple[float, ...], ...]:
             _describe(value),
             "write one bracketed list per joint, e.g. [[150, 120, 0], [40, 30, 0]].",
         )
-    return tuple(tuple(evaluate_list(f"[{i}]", row)) for i, row in enumerate(value))
+    return _number_rows(value)
 
 
 def _numbers_or_rows(value: object) -> tuple[float, ...] | tuple[tuple[float, ...], ...]:
@@ -311,13 +331,16 @@ def _numbers_or_rows(value: object) -> tuple[float, ...] | tuple[tuple[float, ..
     return _numbers(value)
 
 
+_DIRECTION = 'a direction named by task rows ("x", "-z", "xy", "wx") or a unit vector'
+
+
 def _direction(value: object) -> str | tuple[float, ...]:
     """A named direction (checked against the robot's task rows later) or a unit vector."""
     if isinstance(value, str):
         if not DIRECTION_NAME.fullmatch(value):
             raise InputError(
                 "",
-                'a direction named by task rows ("x", "-z", "xy", "wx") or a unit vector',
+                _DIRECTION,
                 repr(value)[:60],
                 'name task rows, each with an optional sign, e.g. "x", "-z" or "x-y", or give '
                 'a unit vector such as ["-1/2", "sqrt(3)/2"].',
@@ -326,7 +349,7 @@ def _direction(value: object) -> str | tuple[float, ...]:
     if not isinstance(value, list):
         raise InputError(
             "",
-            'a direction named by task rows ("x", "-z", "xy", "wx") or a unit vector',
+            _DIRECTION,
             _describe(value),
             'write a name in quotes, e.g. "x", or a vector in brackets, e.g. [0, 1].',
         )
@@ -355,10 +378,8 @@ def _directions(value: object) -> tuple[str | tuple[float, ...], ...]:
         )
     items = []
     for j, item in enumerate(value):
-        try:
+        with _under(f"[{j}]"):
             items.append(_direction(item))
-        except InputError as exn:
-            raise InputError(f"[{j}]{exn.argument}", exn.expected, exn.got, exn.fix) from None
     return tuple(items)
 
 
@@ -382,7 +403,7 @@ def Choices(valid: tuple[str, ...]) -> Check:
     """A list of strings among ``valid``."""
 
     def check(value: object) -> tuple[str, ...]:
-        if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        if not _is_strings(value):
             raise InputError("", "a list of strings", _describe(value), f"among {list(valid)}.")
         unknown = [v for v in value if v not in valid]
         if unknown:
@@ -416,11 +437,7 @@ def Integer(low: int, high: int) -> Check:
                 f"write a whole number from {low:,} to {high:,} without quotes, e.g. {near}.",
             ) from None
 
-    return Check(
-        check,
-        {"type": "integer", "minimum": low, "maximum": high},
-        "integer",
-    )
+    return Check(check, {"type": "integer", "minimum": low, "maximum": high}, "integer")
 
 
 #: A seed of ``numpy.random.default_rng``; how many configurations a study may hold.
@@ -759,10 +776,8 @@ def _grid(value: object) -> dict[str, float | RangeTable]:
                 f"a key {name!r}",
                 "name the joints q1, q2, ... in order, e.g. q1 = 0.5.",
             )
-        try:
+        with _under(f".{name}"):
             values[name] = _grid_value(item)
-        except InputError as exn:
-            raise InputError(f".{name}{exn.argument}", exn.expected, exn.got, exn.fix) from None
     return values
 
 
@@ -818,11 +833,12 @@ class Table(BaseModel):
     def _known_keys(cls, data: Any) -> Any:
         valid = list(cls.model_fields)
         if not isinstance(data, dict):
+            example = _example(cls.model_fields[valid[0]]) or "..."
             raise InputError(
                 "",
                 f"a table with keys among {valid}",
                 _describe(data),
-                f"write a table of these keys, e.g. {{ {valid[0]} = {_example(cls, valid[0])} }}.",
+                f"write a table of these keys, e.g. {{ {valid[0]} = {example} }}.",
             )
         unknown = sorted(str(name) for name in set(data) - set(valid))
         if unknown:
@@ -834,17 +850,18 @@ class Table(BaseModel):
             )
         for name, field in cls.model_fields.items():
             if field.is_required() and name not in data:
-                extra = field.json_schema_extra
-                assert isinstance(extra, dict)
+                example = _example(field)
                 raise InputError(
                     "",
                     f"a '{name}' {phrase(field.annotation, field.metadata)}",
                     "no such key",
-                    f"add {name} = {extra['x-example']}"
-                    if extra["x-example"]
-                    else f"add the key {name} to the table.",
+                    f"add {name} = {example}" if example else f"add the key {name} to the table.",
                 )
         return data
+
+    def _given(self, names: Sequence[str]) -> list[str]:
+        """Those of the keys ``names`` that the table gives (their value is not None)."""
+        return [name for name in names if getattr(self, name) is not None]
 
 
 class PlanarTable(Table):
@@ -948,8 +965,8 @@ q = [0.1, 0.2, 0.3]"""
 
     @model_validator(mode="after")
     def _one_form(self) -> TorqueSpeedTable:
-        linear = [k for k in ("tau_stall", "qd_no_load") if getattr(self, k) is not None]
-        table = [k for k in ("speeds", "torques") if getattr(self, k) is not None]
+        linear = self._given(("tau_stall", "qd_no_load"))
+        table = self._given(("speeds", "torques"))
         if {len(linear), len(table)} != {0, 2}:  # both keys of one form, none of the other
             raise InputError(
                 "",
@@ -1058,9 +1075,7 @@ q = [0, -0.5, 0, -2, 0, 1.6, 0.8]"""
 
     @model_validator(mode="after")
     def _one_source(self) -> RobotTable:
-        sources = [
-            name for name in ("library", "planar", "urdf") if getattr(self, name) is not None
-        ]
+        sources = self._given(("library", "planar", "urdf"))
         if len(sources) != 1:
             raise InputError(
                 "",
@@ -1068,7 +1083,7 @@ q = [0, -0.5, 0, -2, 0, 1.6, 0.8]"""
                 f"keys {sorted(self.model_fields_set)}",
                 f'e.g. library = "chiacchio2000"; names: {robots.names()}.',
             )
-        options = [name for name in URDF_KEYS if getattr(self, name) is not None]
+        options = self._given(URDF_KEYS)
         if options and (self.planar is not None or self.library == "chiacchio2000"):
             raise InputError("", "no URDF options for a planar arm", f"{options}", "drop them.")
         if self.urdf is not None and self.tip is None:
@@ -1139,10 +1154,8 @@ inverse_at = "lo"'''
                 "move the vector into directions and drop direction.",
             )
         if self.direction is not None:
-            try:
+            with _under(".direction"):  # (numbers already: only the norm may be refused)
                 _direction(list(self.direction))
-            except InputError as exn:
-                raise InputError(".direction", exn.expected, exn.got, exn.fix) from None
         return self
 
 
@@ -1683,11 +1696,7 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
                         'add name = "panda".',
                     )
             _check_file_names("robots", [robot.name for robot in self.robots])
-        kinds = [
-            k
-            for k in ("points", "grid", "random", "trajectory", "posture")
-            if getattr(self, k) is not None
-        ]
+        kinds = self._given(("points", "grid", "random", "trajectory", "posture"))
         if len(kinds) != 1:
             raise InputError(
                 "",
@@ -1749,9 +1758,7 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
         output, compare, kind = self.output, self.compare, self._kind()
         given = output.model_fields_set
         for name in ("split", "transpose"):
-            if name in given and self.points is not None:
-                continue
-            if name in given:
+            if name in given and self.points is None:
                 raise InputError(
                     f"output.{name}",
                     "a key of a study of points (it lays out its comparison and limits tables)",
@@ -1821,7 +1828,7 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
             raise InputError(
                 "output.histograms",
                 "a grid or random study",
-                "a study of points" if self.points is not None else "a posture study",
+                self._kind(),
                 "drop histograms from [output]: the tables give every score of each "
                 + ("point." if self.points is not None else "posture."),
             )
@@ -1845,7 +1852,7 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
             raise InputError(
                 "output.series",
                 "a [trajectory] study",
-                f"{self._kind()}",
+                self._kind(),
                 "drop series from [output] (it draws scores over a trajectory's time).",
             )
         if "csv" in output.model_fields_set and (
@@ -1854,7 +1861,7 @@ q = ["pi/2", "-pi/2", "-pi/2"]"""
             raise InputError(
                 "output.csv",
                 "a grid, random or trajectory study (results.csv holds its configurations)",
-                "a study of points" if self.points is not None else "a posture study",
+                self._kind(),
                 "drop csv: a study of points writes scores.csv, a posture study "
                 "posture_values.csv.",
             )
@@ -2003,11 +2010,10 @@ def _field_at(model: type[Table] | None, loc: Sequence[int | str]) -> tuple[str,
     return found
 
 
-def _example(model: type[Table], name: str) -> str:
-    """The TOML example of a key's value (the reference page's), ``...`` without one."""
-    extra = model.model_fields[name].json_schema_extra
-    example = extra.get("x-example") if isinstance(extra, dict) else None
-    return str(example) if example else "..."
+def _example(field: Any) -> str:
+    """The TOML example of a key's value (the reference page's), ``""`` without one."""
+    extra = field.json_schema_extra
+    return str(extra.get("x-example") or "") if isinstance(extra, dict) else ""
 
 
 def _list_of(field: Any) -> str:
@@ -2050,16 +2056,15 @@ def as_input_error(error: ValidationError, root: str = "") -> InputError:
     path = "".join(f"[{step}]" if isinstance(step, int) else f".{step}" for step in first["loc"])
     field = _field_at(_tables().get(error.title), first["loc"])
     name = field[0] if field is not None else (path.lstrip(".").rsplit(".", 1)[-1] or "value")
-    extra = None if field is None else field[1].json_schema_extra
-    example = str(extra.get("x-example") or "") if isinstance(extra, dict) else ""
+    example = "" if field is None else _example(field[1])
     where = re.sub(r"\[[0-9]+\]", "", path.lstrip(".")) or name
     cause = first.get("ctx", {}).get("error")
+    kind = ""  # pydantic's type of error (``bool_type``); "" for a value type's own
     if isinstance(cause, InputError):
         argument = _join(path, cause.argument)
         expected, got, fix = cause.expected, cause.got, cause.fix
-        if not fix:
-            fix = _type_fix("", name, None, example, where)
     else:
+        kind = first["type"]
         listed = field is not None and _table_in(field[1].annotation) is not None
         expected = {
             "bool_type": "true or false",
@@ -2068,15 +2073,13 @@ def as_input_error(error: ValidationError, root: str = "") -> InputError:
             "model_type": "a table",
             "dict_type": "a table",
             "literal_error": str(first.get("ctx", {}).get("expected", "")),
-        }.get(first["type"], first["msg"])
+        }.get(kind, first["msg"])
         argument, got, fix = path, _describe(first["input"]), ""
-        if first["type"] == "literal_error" and isinstance(first["input"], str):
+        if kind == "literal_error" and isinstance(first["input"], str):
             valid = re.findall(r"'([^']*)'", expected)
             fix = did_you_mean([first["input"]], valid)
-        if not fix:
-            fix = _type_fix(
-                first["type"], name, None if field is None else field[1], example, where
-            )
+    if not fix:
+        fix = _type_fix(kind, name, None if field is None else field[1], example, where)
     if root:
         argument = argument.lstrip(".") or root
     return InputError(argument, expected, got, fix)
@@ -2189,11 +2192,10 @@ def reference_page() -> str:
         lines += [f"## {model.heading}", "", description, ""]
         lines += ["| key | type | default | meaning | example |", "|---|---|---|---|---|"]
         for name, field in model.model_fields.items():
-            extra = field.json_schema_extra
-            assert isinstance(extra, dict)
-            example = f"`{extra['x-example']}`" if extra["x-example"] else ""
+            example = _example(field)
             kind = phrase(field.annotation, field.metadata)
-            cells = [f"`{name}`", kind, _default(field), str(field.description), example]
+            cells = [f"`{name}`", kind, _default(field), str(field.description)]
+            cells.append(f"`{example}`" if example else "")
             lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
         lines += ["", "```toml", model.example, "```", ""]
     return "\n".join(lines)

@@ -15,7 +15,7 @@ import math
 import os
 import re
 import sys
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -124,24 +124,21 @@ class Robot:
         return self.model.velocity_limits()
 
 
+def _given(table: models.Table, names: tuple[str, ...]) -> dict[str, Any]:
+    """The keys ``names`` that a validated table gives (not None), with their values."""
+    return {name: getattr(table, name) for name in names if getattr(table, name) is not None}
+
+
 def _build_robot(table: models.RobotTable, where: str, folder: Path | None) -> Robot:
     """The robot of a validated robot table; model errors name the key (``robot.tau_max``)."""
-    options: dict[str, Any] = {
-        name: getattr(table, name)
-        for name in ("tip", "task", "locked_joints", "gravity", "weights")
-        if getattr(table, name) is not None
-    }
+    options = _given(table, ("tip", "task", "locked_joints", "gravity", "weights"))
     if table.payload is not None:
         payload = table.payload
         with _within(f"{where}.payload"):
             options["payload"] = Payload(payload.mass, payload.com, payload.inertia)
     # The joint limits go to the model, which checks them together (the torque-speed
     # curves against the rated limits); errors name the robot table's keys.
-    limits: dict[str, Any] = {
-        name: getattr(table, name)
-        for name in ("tau_max", "tau_min", "qd_max", "qd_min")
-        if getattr(table, name) is not None
-    }
+    limits = _given(table, ("tau_max", "tau_min", "qd_max", "qd_min"))
     if table.torque_speed is not None:
         limits["torque_speed"] = table.torque_speed.build()
     model: PlanarArm | UrdfRobot
@@ -477,6 +474,11 @@ def _directions(
     return np.array(vectors), tuple(labels)
 
 
+def _by_robot(field: str, names: Sequence[str]) -> str:
+    """A key given per robot, in TOML: ``q = { panda = [...], ur5 = [...] }``."""
+    return f"{field} = {{ " + ", ".join(f"{name} = [...]" for name in names) + " }"
+
+
 def _point_q(
     table: models.PointTable,
     where: str,
@@ -514,9 +516,7 @@ def _point_q(
                 else f"lists of {what} by robot name, among {names} (robots left out are at rest)",
                 f"unknown robot(s) {unknown}" if unknown else f"none for {missing}",
                 did_you_mean(unknown, names)
-                or f"give {field} by the names of [[robots]]: {field} = {{ "
-                + ", ".join(f"{name} = [...]" for name in names)
-                + " }.",
+                or f"give {field} by the names of [[robots]]: {_by_robot(field, names)}.",
             )
         if robot.name not in given:  # (qd only) a robot left out of the table is at rest
             return None
@@ -530,9 +530,7 @@ def _point_q(
             key,
             f"{n} {what}" + (f" (robot {robot.name!r})" if several else ""),
             f"{len(values)}",
-            f"give {field} per robot: {field} = {{ "
-            + ", ".join(f"{name} = [...]" for name in names or ())
-            + " }."
+            f"give {field} per robot: {_by_robot(field, names or ())}."
             if several and not isinstance(given, dict)
             else f"give one value per joint: {n} {what}"
             + (f" for robot {robot.name!r}" if several else "")
@@ -583,7 +581,7 @@ def _point_qd(
         moving = [r.name for r in robots_ if isinstance(r.model, UrdfRobot)]
         if names is not None and len(names) > 1:
             fix = f"leave {robot.name!r} out of qd (a robot left out is at rest): " + (
-                "qd = { " + ", ".join(f"{name} = [...]" for name in moving) + " }."
+                f"{_by_robot('qd', moving)}."
                 if moving
                 else "drop qd (no robot of the study is a URDF robot)."
             )
@@ -760,9 +758,7 @@ def _candidates(
     for index, table in enumerate(tables):
         where = f"candidates[{index}]"
         matrices = {
-            key: np.array(getattr(table, key))
-            for key in ("weighting", "core")
-            if getattr(table, key) is not None
+            key: np.array(value) for key, value in _given(table, ("weighting", "core")).items()
         }
         center = np.array(table.center) if table.center is not None else None
         with _within(where):
@@ -835,8 +831,8 @@ def load_study(path: str | os.PathLike[str]) -> StudySpec:
         )
     posture = _posture(study.posture, robots_[0]) if study.posture is not None else None
     output = study.output
-    if output.maps and sum(axis.values.size > 1 for axis in grid) != 2:
-        varying = sum(axis.values.size > 1 for axis in grid)
+    varying = sum(axis.values.size > 1 for axis in grid)
+    if output.maps and varying != 2:
         sampled = next(
             (f"a [{name}] study" for name in ("random", "trajectory", "points", "posture")
              if getattr(study, name) is not None), "no [grid]"
