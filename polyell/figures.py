@@ -353,6 +353,14 @@ def plot_sets(
     if ax is None:
         ax = Figure(figsize=(4.8, 5.2), layout="constrained").add_subplot()
     check_instance("ax", ax, Axes, "pass a matplotlib Axes (figure.add_subplot()), or no ax.")
+    if ax.name != "rectilinear":  # polar or 3-D axes cannot hold an equal-aspect 2-D drawing
+        raise InputError(
+            "ax",
+            "a 2-D (rectilinear) matplotlib Axes",
+            f"an Axes of projection {ax.name!r}",
+            "pass figure.add_subplot() without a projection, or no ax (plot_sets_3d draws "
+            "3-D sets).",
+        )
     P = analysis.polytope
     vertices = P.vertices if P.dim < 2 else np.vstack([P.vertices, P.vertices[:1]])
     # Segments (a singular configuration) share one line: layered solid strokes of

@@ -325,3 +325,18 @@ def test_series_without_an_abscissa_are_refused_by_name():
         with pytest.raises(pe.InputError) as error:
             call()
         assert error.value.argument == "results"
+
+
+@pytest.mark.parametrize("projection", ["polar", "3d"])
+def test_plot_sets_refuses_axes_that_cannot_hold_a_2d_drawing(projection):
+    """A polar or 3-D ax is refused by name (polar raised matplotlib's ValueError, 3-D drew
+    silently; found by the independent check of issue 31)."""
+    from matplotlib.figure import Figure
+
+    from polyell.figures import plot_sets
+
+    arm = pe.robots.load("chiacchio2000")
+    analysis = pe.analyze(arm.dynamics([np.pi / 2, -np.pi / 2, -np.pi / 2]), arm.tau_max)
+    ax = Figure().add_subplot(projection=projection)
+    with pytest.raises(pe.InputError, match=f"ax: .*projection '{projection}'"):
+        plot_sets(analysis, ax=ax)

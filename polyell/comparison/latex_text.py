@@ -20,6 +20,7 @@ __all__ = [
     "escape_markdown",
     "latex_direction",
     "latex_unit",
+    "markdown_line",
     "markdown_text",
     "unit_power",
 ]
@@ -121,6 +122,8 @@ _ENTITY = re.compile(r"&(?=#?[A-Za-z0-9]+;)")
 #: (``[a](b)``, ``[a][b]``; a unit's ``[m/s^2]`` stays as it is).  Each is written with a
 #: backslash, which prints it.
 _MARKDOWN_SPECIAL = re.compile(r"([\\|*_~`$]|\](?=[(\[]))")
+#: A line's start that makes it a heading, a quote, a list item or a rule: its marker.
+_BLOCK_START = re.compile(r"^( ?\d{0,9})([#>+=.)-])")
 
 
 def escape_markdown(text: object, argument: str = "text") -> str:
@@ -133,6 +136,15 @@ def escape_markdown(text: object, argument: str = "text") -> str:
     """
     clean = check_text(argument, text)
     return markdown_text(_MARKDOWN_SPECIAL.sub(r"\\\1", clean))
+
+
+def markdown_line(text: object, argument: str = "text") -> str:
+    """Plain text as a Markdown paragraph of its own (a caption), printed as it is.
+
+    :func:`escape_markdown`, and a marker that would make the line a heading, a quote, a
+    list item or a rule (``# ``, ``> ``, ``- ``, ``+ ``, ``= ``, ``1. ``, ``1) ``) escaped.
+    """
+    return _BLOCK_START.sub(r"\1\\\2", escape_markdown(text, argument))
 
 
 def markdown_text(text: str) -> str:

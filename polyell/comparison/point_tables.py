@@ -151,14 +151,9 @@ def write_point_tables(
         )
         if extension == "md":  # (the text without live HTML)
             head, intro = escape_markdown(prefix, "title"), markdown_text(about)
-            limits_text = (
-                f"# {head}directional limits\n\n{intro}"
-                f"{escape_markdown(limits_caption[0], 'caption')}\n\n{limits_text}"
-            )
-            comparison_text = (
-                f"# {head}comparison\n\n{intro}"
-                f"{escape_markdown(comparison_caption[0], 'caption')}\n\n{comparison_text}"
-            )
+            # (the tables' Markdown starts with their captions)
+            limits_text = f"# {head}directional limits\n\n{intro}{limits_text}"
+            comparison_text = f"# {head}comparison\n\n{intro}{comparison_text}"
         texts[f"limits{suffix}.{extension}"] = limits_text
         texts[f"comparison{suffix}.{extension}"] = comparison_text
     order = sorted(texts, key=lambda name: (not name.startswith("limits"), name))

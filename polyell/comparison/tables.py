@@ -32,6 +32,7 @@ from polyell.comparison.latex_text import (
     escape_latex,
     escape_markdown,
     latex_unit,
+    markdown_line,
 )
 from polyell.comparison.layout import TableLayout
 from polyell.comparison.printable import PrintTable
@@ -123,7 +124,8 @@ def render_tables(
     digits : int
         Significant digits.
     caption : str or (str, str), optional
-        Plain text, or ``(plain, latex)``: LaTeX's caption (its own markup) and HTML's.
+        Plain text, or ``(plain, latex)``: LaTeX's caption (its own markup); HTML's and
+        Markdown's (a line above the table) are the plain text.  CSV has none.
     label : str, optional
         LaTeX ``\label`` key.
     layout : TableLayout, optional
@@ -155,7 +157,9 @@ def render_tables(
     if style == "markdown":
         from polyell.comparison.write_markdown import markdown_tables
 
-        return markdown_tables(tables, digits)
+        plain = caption[0] if isinstance(caption, tuple) else caption
+        text = "" if plain is None else f"{markdown_line(plain, 'caption')}\n\n"
+        return text + markdown_tables(tables, digits)
     if style == "csv":
         from polyell.comparison.write_csv import csv_tables
 

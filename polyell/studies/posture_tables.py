@@ -313,10 +313,7 @@ def format_posture_table(
         caption = (own.plain, own.latex) if own is not None else None
     if style == "markdown":  # the heading, and the caption given (if any) under it
         heading = f"# {escape_markdown(title, 'title')}\n\n" if title else ""
-        if caption is not None:
-            plain = caption[0] if isinstance(caption, tuple) else caption
-            heading += f"{escape_markdown(plain, 'caption')}\n\n"
-        return heading + render_tables([printable], "markdown", digits)
+        return heading + render_tables([printable], "markdown", digits, caption)
     caption = caption if caption is not None else (title or None)
     text = render_tables(
         [printable],

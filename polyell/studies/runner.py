@@ -24,6 +24,7 @@ from polyell.comparison.latex_text import (
     escape_latex,
     escape_markdown,
     latex_direction,
+    markdown_line,
     markdown_text,
 )
 from polyell.comparison.limits import limits_table
@@ -1389,7 +1390,7 @@ def _write_summary(
     # the layout's own caption (captions["summary"]) replaces them.
     own = layout.caption("summary")
     if own is not None:  # the Markdown shows it under its heading, as a points study's does
-        markdown += f"{escape_markdown(own.plain, 'caption')}\n\n"
+        markdown += f"{markdown_line(own.plain, 'caption')}\n\n"
     if list(summaries) == [""]:
         summary = summaries[""]
         caption = (

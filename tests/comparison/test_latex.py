@@ -29,6 +29,8 @@ from polyell.comparison.tables import (
     check_text,
     escape_latex,
     escape_markdown,
+    format_comparison_table,
+    format_limits_table,
     format_scores_table,
 )
 from polyell.comparison.write_markdown import markdown_grid
@@ -356,3 +358,39 @@ def test_a_points_study_title_with_an_entity_is_written_as_typed(tmp_path):
     paths = write_point_tables({"home": comparison}, None, tmp_path, title="R&amp;D")
     text = next(Path(p) for p in paths if str(p).endswith(".md")).read_text()
     assert "R&amp;amp;D" in text and "R&amp;D:" not in text
+
+
+@given(
+    st.sampled_from(["", "# ", "## ", "> ", "- ", "+ ", "= ", "1. ", "12) ", "---", " - "]),
+    st.text(alphabet=st.characters(blacklist_categories=("Cc", "Cs")), max_size=20),
+)
+def test_a_markdown_caption_is_one_paragraph_as_typed(marker, text):
+    """A caption line that starts like a heading, quote, list or rule stays a paragraph
+    (markdown-it, CommonMark with GitHub's tables and strike-through; found by the
+    independent check of issue 31: "1. item" became a list)."""
+    from markdown_it import MarkdownIt
+
+    from polyell.comparison.latex_text import markdown_line
+
+    typed = f"{marker}{text}x"
+    if not typed.strip():
+        return
+    parser = MarkdownIt("commonmark").enable(["strikethrough", "table"])
+    tokens = parser.parse(markdown_line(typed))
+    assert [token.type for token in tokens] == ["paragraph_open", "inline", "paragraph_close"]
+    children = tokens[1].children
+    assert {token.type for token in children} <= {"text"}
+    assert "".join(token.content for token in children) == normalized(typed).strip()
+
+
+@pytest.mark.parametrize("caption", ["Limits, 1. of 2", ("- Scores", r"Scores, $h$")])
+def test_a_markdown_table_carries_its_caption(paper, caption):
+    """caption= of the writers is shown in Markdown (plain text above the table), as in
+    LaTeX and HTML (it was dropped)."""
+    plain = caption[0] if isinstance(caption, tuple) else caption
+    for table in (
+        format_comparison_table({"a": paper}, "markdown", caption=caption),
+        format_limits_table(paper.limits_table(["x"]), "markdown", caption=caption),
+    ):
+        first = table.split("\n\n")[0]
+        assert re.sub(r"\\(.)", r"\1", first) == plain
