@@ -1516,7 +1516,9 @@ csv = true"""
         "theirs (`comparison_force`, `summary_velocity`): a table left out keeps its default. "
         "Each is plain text (escaped) or `[plain, latex]` (the LaTeX written as is). A table "
         "split into several floats (one per posture or robot) adds the posture's or "
-        "robot's name to each; the Markdown of a points or posture study shows the plain text.",
+        "robot's name to each; the Markdown of a points or posture study shows the plain text "
+        "as typed (the characters Markdown would read as emphasis, code, maths or a link are "
+        "escaped).",
         example='{ limits = "Limits of the Panda.", comparison_force = ["Force scores.", '
         '"Scores of the force ellipsoids, $h$ in N."] }',
         default_text="a default per table, without the study's title",
