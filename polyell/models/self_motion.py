@@ -470,7 +470,6 @@ def _trace(
             )
         if spread < step:
             return _trace(tracer, q0, count, spread / 10.0)
-    if why_forward == "closed":
         # The loop: q0, the points, and back to q0 (shifted by the turns of the periodic
         # joints, so that the closing segment is short).
         last = forward[-1] if forward else q0
